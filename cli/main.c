@@ -1,0 +1,86 @@
+/* elastopt: command-line front end. One file per subcommand (cmd_<name>.c), one line
+ * per subcommand in the table below. */
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "cli.h"
+
+extern const eo_cli_command eo_cmd_list;
+
+const eo_cli_command *const eo_cli_commands[] = {
+    &eo_cmd_list,
+    NULL,
+};
+
+int eo_cli_fail(eo_ctx *ctx, int rc)
+{
+    const char *m = eo_ctx_message(ctx);
+    fprintf(stderr, "elastopt: error: %s\n", m && *m ? m : eo_status_string(rc));
+    return EO_EXIT_BAD_INPUT;
+}
+
+int eo_cli_usage_error(const eo_cli_command *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "elastopt %s: ", cmd->name);
+    vfprintf(stderr, fmt, ap);
+    fprintf(stderr, "\nusage: %s", cmd->usage);
+    va_end(ap);
+    return EO_EXIT_BAD_INPUT;
+}
+
+int eo_cli_wants_help(int argc, char **argv)
+{
+    for (int i = 1; i < argc; i++)
+        if (strcmp(argv[i], "-h") == 0 || strcmp(argv[i], "--help") == 0) return 1;
+    return 0;
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage: elastopt COMMAND [options]\n\n"
+               "Deformable-body simulation where every implicit step is an optimization problem.\n\n"
+               "commands:\n");
+    for (const eo_cli_command *const *c = eo_cli_commands; *c; c++)
+        fprintf(f, "  %-10s %s\n", (*c)->name, (*c)->summary);
+    fprintf(f, "\n`elastopt COMMAND --help` documents each command.\n"
+               "exit status: 0 success, 1 ran but did not converge, 2 bad input or usage.\n");
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return EO_EXIT_BAD_INPUT;
+    }
+    if (strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
+        usage(stdout);
+        return EO_EXIT_OK;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("elastopt %s\n", "0.1.0");
+        return EO_EXIT_OK;
+    }
+    for (const eo_cli_command *const *c = eo_cli_commands; *c; c++) {
+        if (strcmp((*c)->name, argv[1]) != 0) continue;
+        if (eo_cli_wants_help(argc - 1, argv + 1)) {
+            printf("usage: %s", (*c)->usage);
+            return EO_EXIT_OK;
+        }
+        eo_ctx *ctx = NULL;
+        if (eo_ctx_create(NULL, &ctx) < 0) {
+            fprintf(stderr, "elastopt: out of memory\n");
+            return EO_EXIT_BAD_INPUT;
+        }
+        eo_ctx_set_logger(ctx, eo_log_stderr, NULL, EO_LOG_WARN);
+        int rc = (*c)->run(ctx, argc - 1, argv + 1);
+        eo_ctx_destroy(&ctx);
+        return rc;
+    }
+    fprintf(stderr, "elastopt: unknown command '%s'; valid:", argv[1]);
+    for (const eo_cli_command *const *c = eo_cli_commands; *c; c++) fprintf(stderr, " %s", (*c)->name);
+    fprintf(stderr, "\n");
+    return EO_EXIT_BAD_INPUT;
+}

@@ -1,0 +1,63 @@
+/// @file config.h
+/// A configuration document: JSON from a file (or built-in text) plus `-o key=value`
+/// overrides, handed out section by section to descriptor tables (params.h).
+///
+/// Every key of the document must be consumed by some section load; `eo_cfg_finish`
+/// reports any key nobody asked for as EO_ERR_UNKNOWN_KEY with the valid keys at that
+/// level. Errors name the file with line and column (of the key), or the `-o` override
+/// that set the value.
+///
+/// ```c
+/// eo_cfg *cfg; rc = eo_cfg_load(ctx, "scene.json", NULL, &cfg);  // NULL path: builtin text
+/// rc = eo_cfg_override(ctx, cfg, "solver.optimizer=lbfgs");
+/// rc = eo_cfg_section(ctx, cfg, "time", time_desc, &time_opts, NULL);
+/// json_t *b = eo_cfg_get(cfg, "boundary");            // borrowed, for list sections
+/// rc = eo_cfg_finish(ctx, cfg);                        // unknown keys?
+/// eo_cfg_destroy(ctx, &cfg);
+/// ```
+#ifndef ELASTOPT_CONFIG_H
+#define ELASTOPT_CONFIG_H
+
+#include "params.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct eo_cfg eo_cfg;
+
+/// Parse `path` (or, if path is NULL, `builtin_text` named "<builtin>"). Malformed JSON:
+/// EO_ERR_PARSE with file:line:column and jansson's description. Missing file: EO_ERR_IO.
+int eo_cfg_load(eo_ctx *ctx, const char *path, const char *builtin_text, eo_cfg **out);
+/// An empty document.
+int eo_cfg_create_empty(eo_ctx *ctx, eo_cfg **out);
+void eo_cfg_destroy(eo_ctx *ctx, eo_cfg **cfg);
+/// Apply "a.b.c=value": value parsed as JSON if it is JSON, else a string; creates
+/// intermediate objects; list items by index ("boundary.0.fixed=true").
+/// EO_ERR_INVALID for a text without '=' or an empty key.
+int eo_cfg_override(eo_ctx *ctx, eo_cfg *cfg, const char *assignment);
+/// The value at a dotted path, or NULL (borrowed). Marks it (and its parents) consumed.
+json_t *eo_cfg_get(eo_cfg *cfg, const char *path);
+/// Record the valid keys at a level that is not loaded by eo_cfg_section (e.g. the
+/// top level: "mesh", "material", ...), for the unknown-key message.
+void eo_cfg_expect(eo_cfg *cfg, const char *path, const char *const *keys);
+/// Mark a path consumed without reading it (e.g. a subtree handled elsewhere).
+void eo_cfg_consume(eo_cfg *cfg, const char *path);
+/// Load the object at `path` into a params struct (keys in `extra` are skipped; they are
+/// sub-sections the caller loads itself). Absent section: defaults kept, EO_OK.
+int eo_cfg_section(eo_ctx *ctx, eo_cfg *cfg, const char *path, const eo_param_desc *d,
+                   void *obj, const char *const *extra);
+/// The error source for a path: file + text, or "-o" when an override set the value.
+eo_param_src eo_cfg_src(eo_cfg *cfg, const char *path);
+/// Report the first key that no load consumed (EO_ERR_UNKNOWN_KEY listing the keys
+/// that are valid at that level, as recorded by the section loads).
+int eo_cfg_finish(eo_ctx *ctx, eo_cfg *cfg);
+/// The whole document (borrowed), e.g. to echo it.
+json_t *eo_cfg_root(eo_cfg *cfg);
+/// File name the config came from ("<builtin>" if none).
+const char *eo_cfg_file(const eo_cfg *cfg);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

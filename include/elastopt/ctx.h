@@ -1,0 +1,128 @@
+/// @file ctx.h
+/// The elastopt context: allocator with a live-byte counter, logger, last error.
+///
+/// Every library object is created against a context; all its allocations go through
+/// `eo_malloc`/`eo_free` of that context, so `eo_ctx_live_bytes` returning 0 after
+/// everything is destroyed proves there is no leak. The library never prints and never
+/// calls `exit`: errors are returned as negative status codes and the message (with
+/// file, line and element index where one applies) is kept in the context.
+///
+/// ```c
+/// eo_ctx *ctx = NULL;
+/// eo_ctx_create(NULL, &ctx);                  // default allocator, no logger
+/// eo_ctx_set_logger(ctx, eo_log_stderr, NULL, EO_LOG_INFO);
+/// int rc = eo_mesh_read(ctx, path, &mesh);
+/// if (rc < 0) fprintf(stderr, "error: %s\n", eo_ctx_message(ctx));
+/// eo_ctx_destroy(&ctx);
+/// ```
+/// Ownership: the context owns nothing but its own state; objects created with it
+/// must be destroyed before it.
+#ifndef ELASTOPT_CTX_H
+#define ELASTOPT_CTX_H
+
+#include <stddef.h>
+#include <stdarg.h>
+#include "status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct eo_ctx eo_ctx;
+
+/// Allocator hooks; any may be NULL to use the C library. `user` is passed back.
+typedef struct eo_allocator {
+    void *(*malloc_fn)(size_t size, void *user);
+    void *(*realloc_fn)(void *p, size_t size, void *user);
+    void (*free_fn)(void *p, void *user);
+    void *user;
+} eo_allocator;
+
+typedef enum eo_log_level {
+    EO_LOG_ERROR = 0,
+    EO_LOG_WARN = 1,
+    EO_LOG_INFO = 2,
+    EO_LOG_DEBUG = 3
+} eo_log_level;
+
+typedef void (*eo_log_fn)(eo_log_level level, const char *msg, void *user);
+
+/// Location attached to an error. Fields that do not apply are NULL / -1.
+typedef struct eo_errloc {
+    const char *file;  ///< input file (or config key path); NULL if none
+    long line;         ///< 1-based line in that file, -1 if none
+    long column;       ///< 1-based column, -1 if none
+    const char *kind;  ///< what `index` counts ("tet", "vertex", "node"); NULL = "item"
+    long index;        ///< element/vertex/item index (as the input numbers it), -1 if none
+} eo_errloc;
+
+#define EO_ERRLOC_NONE ((eo_errloc){NULL, -1, -1, NULL, -1})
+/// Location in a file: EO_ERRLOC_FILE(path, line).
+#define EO_ERRLOC_FILE(f, l) ((eo_errloc){(f), (l), -1, NULL, -1})
+/// Location of an indexed item, optionally in a file.
+#define EO_ERRLOC_ITEM(f, l, k, i) ((eo_errloc){(f), (l), -1, (k), (i)})
+
+/// Create a context. `alloc` is copied (may be NULL). Returns EO_OK or EO_ERR_NOMEM.
+int eo_ctx_create(const eo_allocator *alloc, eo_ctx **out);
+/// Destroy a context; sets *ctx to NULL; accepts NULL.
+void eo_ctx_destroy(eo_ctx **ctx);
+
+/// Install a logger (NULL = silent) and the most verbose level passed to it.
+void eo_ctx_set_logger(eo_ctx *ctx, eo_log_fn fn, void *user, eo_log_level level);
+/// A ready-made logger writing "level: msg" lines to stderr.
+void eo_log_stderr(eo_log_level level, const char *msg, void *user);
+/// Log a printf-style message through the context's logger (no-op without one).
+void eo_log(eo_ctx *ctx, eo_log_level level, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/// Allocation through the context; counted in live bytes. eo_free accepts NULL.
+void *eo_malloc(eo_ctx *ctx, size_t size);
+void *eo_calloc(eo_ctx *ctx, size_t n, size_t size);
+void *eo_realloc(eo_ctx *ctx, void *p, size_t size);
+void eo_free(eo_ctx *ctx, void *p);
+/// Copy a string into context memory.
+char *eo_strdup(eo_ctx *ctx, const char *s);
+/// Bytes currently allocated through the context.
+size_t eo_ctx_live_bytes(const eo_ctx *ctx);
+/// Failure injection for tests: the n-th allocation from now (1-based) fails; 0 disables.
+void eo_ctx_fail_after(eo_ctx *ctx, long n);
+
+/// Record an error (or warning) and return `status`. The message is formatted as
+/// "<file>:<line>:<column>: <kind> <index>: <text>" with absent parts left out.
+int eo_error_at(eo_ctx *ctx, int status, eo_errloc loc, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+int eo_error_atv(eo_ctx *ctx, int status, eo_errloc loc, const char *fmt, va_list ap);
+/// Shorthand without location.
+#define eo_error(ctx, status, ...) eo_error_at((ctx), (status), EO_ERRLOC_NONE, __VA_ARGS__)
+
+/// The last error message ("" if none) and its status.
+const char *eo_ctx_message(const eo_ctx *ctx);
+int eo_ctx_status(const eo_ctx *ctx);
+/// Forget the last error.
+void eo_ctx_clear_error(eo_ctx *ctx);
+/// Assertion handler for programmer errors (not input errors). Replaceable; the
+/// default prints and aborts.
+typedef void (*eo_assert_fn)(const char *expr, const char *file, int line);
+void eo_set_assert_handler(eo_assert_fn fn);
+void eo_assert_fail(const char *expr, const char *file, int line);
+#define EO_ASSERT(c) ((c) ? (void)0 : eo_assert_fail(#c, __FILE__, __LINE__))
+
+/// Propagate a negative status: `EO_TRY(rc = f(...));` jumps to `fail` on error.
+#define EO_TRY(expr)                                                             \
+    do {                                                                         \
+        if ((expr) < 0) goto fail;                                               \
+    } while (0)
+
+/// Monotonic wall clock in seconds.
+double eo_wtime(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,63 @@
+/// @file io.h
+/// Output: atomic file writing, VTU frames with a .pvd series, small text helpers.
+///
+/// Every file is written under a temporary name in the same folder and renamed over
+/// the target when complete, so a crash never leaves a half-written file.
+///
+/// ```c
+/// eo_afile *f; eo_afile_open(ctx, "out/summary.json", &f);
+/// fprintf(eo_afile_fp(f), "{}\n");
+/// rc = eo_afile_commit(ctx, &f);     // or eo_afile_abort(&f) on error
+/// ```
+#ifndef ELASTOPT_IO_H
+#define ELASTOPT_IO_H
+
+#include <stdio.h>
+#include "mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct eo_afile eo_afile;
+
+/// Open `path` for writing through a temporary file. EO_ERR_IO names the path.
+int eo_afile_open(eo_ctx *ctx, const char *path, eo_afile **out);
+FILE *eo_afile_fp(eo_afile *f);
+/// Flush, fsync-less close and rename into place; frees f and sets *f = NULL.
+int eo_afile_commit(eo_ctx *ctx, eo_afile **f);
+/// Discard the temporary file; accepts NULL.
+void eo_afile_abort(eo_ctx *ctx, eo_afile **f);
+
+/// Create a folder (and parents) if missing; EO_ERR_IO if impossible or not writable.
+int eo_mkdir_p(eo_ctx *ctx, const char *path);
+/// Read a whole file into a NUL-terminated buffer (eo_free it). EO_ERR_IO if missing.
+int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len);
+
+/// Per-frame fields for VTU output; any pointer may be NULL to omit the field.
+typedef struct eo_vtu_fields {
+    const double *x;          ///< current positions 3*nv (NULL: rest positions)
+    const double *displacement;  ///< 3*nv
+    const double *velocity;      ///< 3*nv
+    const double *energy_density;///< nt (ψ per tet)
+    const double *J;             ///< nt (det F)
+    const unsigned char *inverted; ///< nt (1 if J <= 0)
+} eo_vtu_fields;
+
+/// Write one VTU (XML, appended raw binary, little endian) frame.
+int eo_vtu_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const eo_vtu_fields *f);
+
+/// A ParaView .pvd time series: add frames, write the index atomically each time.
+typedef struct eo_pvd eo_pvd;
+int eo_pvd_create(eo_ctx *ctx, const char *pvd_path, eo_pvd **out);
+/// Record frame `vtu_file` (relative to the pvd's folder) at time t and rewrite the .pvd.
+int eo_pvd_add(eo_ctx *ctx, eo_pvd *p, double t, const char *vtu_file);
+void eo_pvd_destroy(eo_ctx *ctx, eo_pvd **p);
+
+/// Boundary surface as Wavefront OBJ at positions x (NULL: rest).
+int eo_obj_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const double *x);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,133 @@
+/// @file material.h
+/// Hyperelastic materials: ψ(F), P = ∂ψ/∂F, ∂P/∂F and its PSD projection.
+///
+/// Conventions: F is 3×3 stored row-major, F[3*i+j] = F_ij. P likewise.
+/// dPdF[(3*i+j)*9 + (3*k+l)] = ∂P_ij/∂F_kl (symmetric 9×9).
+///
+/// Isotropic models are written in singular values: the model gives ψ(σ), ∂ψ/∂σ,
+/// ∂²ψ/∂σ² and the two divided differences of each pair (i,j)
+///     twist_ij = (ψ_i − ψ_j)/(σ_i − σ_j),   flip_ij = (ψ_i + ψ_j)/(σ_i + σ_j)
+/// in closed form (robust at repeated σ). From these the shared kernel (materials/
+/// kernel.c) builds P = U diag(∂ψ/∂σ) Vᵀ and the analytic eigensystem of ∂P/∂F
+/// (Smith, de Goes & Kim 2019): three scaling modes from the 3×3 ∂²ψ/∂σ², and per pair
+/// a twist mode (eigenvalue twist_ij) and a flip mode (flip_ij). Clamping or taking
+/// absolute values of these nine eigenvalues gives the PSD projection with no numeric
+/// eigensolver. A model that is not rotation invariant (`linear`) supplies F-space ops
+/// instead; its Hessian is constant and PSD.
+///
+/// ```c
+/// const eo_material_type *mt; eo_registry_find(ctx, EO_KIND_MATERIAL, "stvk", (const void **)&mt);
+/// eo_material_coef c = eo_material_coef_from(1e5, 0.45, 1000, 0);
+/// eo_material_eval out;
+/// eo_material_evaluate(mt, &c, F, EO_EVAL_HESS, EO_PROJ_CLAMP, &out);
+/// ```
+#ifndef ELASTOPT_MATERIAL_H
+#define ELASTOPT_MATERIAL_H
+
+#include "registry.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// Coefficients shared by all models (from material.E, material.nu, material.density,
+/// material.k). μ = E/(2(1+ν)), λ = Eν/((1+ν)(1−2ν)).
+typedef struct eo_material_coef {
+    double E, nu, mu, lambda;
+    double density;  ///< kg/m³
+    double k;        ///< spring stiffness (N/m), springs only
+} eo_material_coef;
+
+eo_material_coef eo_material_coef_from(double E, double nu, double density, double k);
+
+/// Values of ψ(σ) and its derivatives in singular-value space.
+typedef struct eo_sigma_eval {
+    double psi;        ///< ψ(σ); +INFINITY where undefined (e.g. neo_hookean at J <= 0)
+    double g[3];       ///< ∂ψ/∂σ_i
+    double H[9];       ///< ∂²ψ/∂σ_i∂σ_j (row-major 3×3)
+    double twist[3];   ///< pairs (0,1),(0,2),(1,2): (ψ_i − ψ_j)/(σ_i − σ_j)
+    double flip[3];    ///< same pairs: (ψ_i + ψ_j)/(σ_i + σ_j)
+} eo_sigma_eval;
+
+typedef enum eo_eval_what {
+    EO_EVAL_ENERGY = 0,  ///< ψ only
+    EO_EVAL_GRAD = 1,    ///< ψ and P
+    EO_EVAL_HESS = 2     ///< ψ, P and ∂P/∂F
+} eo_eval_what;
+
+/// Per-element Hessian projection.
+typedef enum eo_proj {
+    EO_PROJ_NONE = 0,   ///< true Hessian
+    EO_PROJ_CLAMP = 1,  ///< negative eigenvalues set to 0
+    EO_PROJ_ABS = 2     ///< eigenvalues replaced by their absolute value
+} eo_proj;
+
+enum {
+    EO_MATERIAL_INVERSION_SAFE = 1,  ///< finite and smooth through J <= 0
+    EO_MATERIAL_EDGE = 2,            ///< a 2-node (spring) model, not a tet model
+    EO_MATERIAL_BARRIER = 4          ///< ψ = +∞ at J <= 0 (optimizers must backtrack)
+};
+
+typedef struct eo_material_type {
+    eo_method_info info;  ///< name, summary; params NULL (coefficients are shared)
+    unsigned flags;       ///< EO_MATERIAL_*
+    /// Isotropic models: fill `out` up to `what` at signed singular values s (σ1 ≥ σ2 ≥ |σ3|,
+    /// σ3 < 0 for inverted). NULL for F-space models.
+    void (*sigma_eval)(const eo_material_coef *c, const double s[3], eo_eval_what what,
+                       eo_sigma_eval *out);
+    /// F-space models (not rotation invariant): ψ, P (9) and dPdF (81) at F. Outputs
+    /// beyond `what` may be NULL. NULL for isotropic models.
+    double (*F_eval)(const eo_material_coef *c, const double F[9], eo_eval_what what,
+                     double P[9], double dPdF[81]);
+    /// Edge models: energy of a spring of rest length L between points a and b;
+    /// gradient (6: d/da, d/db) and Hessian (36) as asked, projected as told.
+    double (*edge_eval)(const eo_material_coef *c, double L, const double a[3],
+                        const double b[3], eo_eval_what what, eo_proj proj, double grad[6],
+                        double hess[36]);
+} eo_material_type;
+
+/// Result of a full evaluation at F.
+typedef struct eo_material_eval {
+    double psi;
+    double P[9];
+    double dPdF[81];    ///< projected as asked
+    double sigma[3];    ///< signed singular values (σ3 < 0 when inverted)
+    double U[9], V[9];  ///< rotations, F = U diag(σ) Vᵀ (row-major)
+    double J;           ///< det F
+    double eig[9];      ///< the nine eigenvalues of the unprojected ∂P/∂F
+                        ///< (3 scaling, 3 twist, 3 flip) for isotropic models
+} eo_material_eval;
+
+/// Evaluate ψ, P and ∂P/∂F at F with projection `proj`. Returns EO_OK; ψ may be
+/// +INFINITY for barrier models at J <= 0 (then P, dPdF are left zero).
+int eo_material_evaluate(const eo_material_type *mt, const eo_material_coef *c,
+                         const double F[9], eo_eval_what what, eo_proj proj,
+                         eo_material_eval *out);
+
+/// Rotation-variant fast path of the SVD used by the hot path (one-sided Jacobi),
+/// and the LAPACKE dgesvd reference; both return U, V ∈ SO(3) (row-major) and signed
+/// σ sorted σ1 ≥ σ2 ≥ |σ3| with the sign of det F on σ3.
+void eo_svd3(const double F[9], double U[9], double s[3], double V[9]);
+int eo_svd3_lapack(const double F[9], double U[9], double s[3], double V[9]);
+
+/// Per-tet element kernel. Precomputed from rest positions: Dm⁻¹ (row-major) and rest
+/// volume w. Given the 12 current coordinates x (vertex-major), computes F = Ds Dm⁻¹,
+/// energy w·ψ, and as asked the 12-gradient and 12×12 Hessian (row-major), projected.
+/// Returns EO_OK; energy +INFINITY for barrier models at J <= 0.
+typedef struct eo_tet_out {
+    double energy;
+    double grad[12];
+    double hess[144];
+    double J;
+    double psi;
+} eo_tet_out;
+int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
+                    const double Dminv[9], double w, const double x[12], eo_eval_what what,
+                    eo_proj proj, eo_tet_out *out);
+/// Dm⁻¹ and rest volume from 12 rest coordinates. EO_ERR_MESH if |det Dm| is tiny.
+int eo_tet_rest(const double X[12], double Dminv[9], double *w);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,150 @@
+/* Files: atomic writing (temporary name + rename), folders, whole-file reads. */
+#define _POSIX_C_SOURCE 200809L
+#include "elastopt/io.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+struct eo_afile {
+    FILE *fp;
+    char *path;
+    char *tmp;
+};
+
+int eo_afile_open(eo_ctx *ctx, const char *path, eo_afile **out)
+{
+    *out = NULL;
+    eo_afile *f = eo_calloc(ctx, 1, sizeof *f);
+    if (!f) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    size_t n = strlen(path);
+    f->path = eo_strdup(ctx, path);
+    f->tmp = eo_malloc(ctx, n + 32);
+    if (!f->path || !f->tmp) {
+        eo_afile_abort(ctx, &f);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    }
+    snprintf(f->tmp, n + 32, "%s.tmp.%ld", path, (long)getpid());
+    f->fp = fopen(f->tmp, "wb");
+    if (!f->fp) {
+        int e = errno;
+        eo_afile_abort(ctx, &f);
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot write: %s", strerror(e));
+    }
+    *out = f;
+    return EO_OK;
+}
+
+FILE *eo_afile_fp(eo_afile *f) { return f->fp; }
+
+int eo_afile_commit(eo_ctx *ctx, eo_afile **pf)
+{
+    eo_afile *f = *pf;
+    int bad = ferror(f->fp);
+    int e = errno;
+    if (fclose(f->fp) != 0 && !bad) {
+        bad = 1;
+        e = errno;
+    }
+    f->fp = NULL;
+    if (bad) {
+        int rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(f->path, -1), "write failed: %s", strerror(e));
+        eo_afile_abort(ctx, pf);
+        return rc;
+    }
+    if (rename(f->tmp, f->path) != 0) {
+        e = errno;
+        int rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(f->path, -1), "cannot rename into place: %s",
+                             strerror(e));
+        eo_afile_abort(ctx, pf);
+        return rc;
+    }
+    eo_free(ctx, f->tmp);
+    f->tmp = NULL;
+    eo_afile_abort(ctx, pf);
+    return EO_OK;
+}
+
+void eo_afile_abort(eo_ctx *ctx, eo_afile **pf)
+{
+    if (!pf || !*pf) return;
+    eo_afile *f = *pf;
+    if (f->fp) fclose(f->fp);
+    if (f->tmp) remove(f->tmp);
+    eo_free(ctx, f->tmp);
+    eo_free(ctx, f->path);
+    eo_free(ctx, f);
+    *pf = NULL;
+}
+
+int eo_mkdir_p(eo_ctx *ctx, const char *path)
+{
+    char buf[4096];
+    if (strlen(path) >= sizeof buf)
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "path too long");
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *p = buf + 1; *p; p++) {
+        if (*p != '/') continue;
+        *p = 0;
+        if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+            return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(buf, -1), "cannot create folder: %s",
+                               strerror(errno));
+        *p = '/';
+    }
+    if (mkdir(buf, 0777) != 0 && errno != EEXIST)
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot create folder: %s",
+                           strerror(errno));
+    struct stat st;
+    if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "not a folder");
+    if (access(buf, W_OK) != 0)
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "folder not writable");
+    return EO_OK;
+}
+
+int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len)
+{
+    *text = NULL;
+    *len = 0;
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fileno(fp), &st) != 0 || S_ISDIR(st.st_mode)) {
+        fclose(fp);
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "not a regular file");
+    }
+    size_t cap = st.st_size > 0 ? (size_t)st.st_size + 1 : 4096, n = 0;
+    char *buf = eo_malloc(ctx, cap);
+    if (!buf) {
+        fclose(fp);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory reading %s", path);
+    }
+    for (;;) {
+        if (n + 1 >= cap) {
+            char *nb = eo_realloc(ctx, buf, cap * 2);
+            if (!nb) {
+                eo_free(ctx, buf);
+                fclose(fp);
+                return eo_error(ctx, EO_ERR_NOMEM, "out of memory reading %s", path);
+            }
+            buf = nb;
+            cap *= 2;
+        }
+        size_t r = fread(buf + n, 1, cap - 1 - n, fp);
+        n += r;
+        if (r == 0) break;
+    }
+    int bad = ferror(fp);
+    fclose(fp);
+    if (bad) {
+        eo_free(ctx, buf);
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "read error");
+    }
+    buf[n] = 0;
+    *text = buf;
+    *len = n;
+    return EO_OK;
+}

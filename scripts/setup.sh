@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Install whatever is missing (Debian 12 packages), configure and build into ./build.
+# Usage: bash scripts/setup.sh [extra meson setup options]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+pkgs=(meson ninja-build pkg-config gcc liblapacke-dev libopenblas-dev libsuitesparse-dev
+      libnlopt-dev coinor-libipopt-dev libjansson-dev gnuplot-nox valgrind)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}" >&2
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
+fi
+if [ ! -f build/build.ninja ]; then
+  meson setup build "$@" >/dev/null
+fi
+ninja -C build >/dev/null
+echo "setup: built ./build/cli/elastopt" >&2

@@ -1,0 +1,225 @@
+/* Core library: status/reason strings, counted allocation and failure injection,
+ * descriptor-driven params (defaults, load, types, ranges, names, echo), config
+ * documents with -o overrides and unknown-key detection with file:line. */
+#include <jansson.h>
+#include <stddef.h>
+#include <string.h>
+
+#include "elastopt/config.h"
+#include "elastopt/registry.h"
+#include "elastopt/status.h"
+#include "testutil.h"
+
+typedef struct {
+    int max_iters;
+    double c1;
+    int verbose;
+    char mode[16];
+    double g[3];
+} demo_params;
+
+static const char *const modes[] = {"fast", "safe", NULL};
+static const eo_param_desc demo_desc[] = {
+    {.key = "max_iters", .kind = EO_PARAM_INT, .offset = offsetof(demo_params, max_iters), .def.i = 50,
+     .min = 1, .range = EO_RANGE_MIN, .help = "iteration cap"},
+    {.key = "c1", .kind = EO_PARAM_DOUBLE, .offset = offsetof(demo_params, c1), .def.d = 1e-4, .min = 0,
+     .max = 1, .range = EO_RANGE_OPEN, .help = "Armijo constant"},
+    {.key = "verbose", .kind = EO_PARAM_BOOL, .offset = offsetof(demo_params, verbose), .def.i = 0,
+     .help = "talk"},
+    {.key = "mode", .kind = EO_PARAM_CHOICE, .offset = offsetof(demo_params, mode),
+     .size = sizeof(((demo_params *)0)->mode), .def.s = "safe", .choices = modes, .help = "mode"},
+    {.key = "g", .kind = EO_PARAM_VEC3, .offset = offsetof(demo_params, g), .def.v = {0, 0, -9.81},
+     .help = "gravity"},
+    {0},
+};
+
+static void test_status(void)
+{
+    CHECK(strcmp(eo_status_string(EO_ERR_PARSE), "malformed input") == 0, "parse string");
+    CHECK(strcmp(eo_status_name(EO_WARN_NOT_PD), "EO_WARN_NOT_PD") == 0, "name");
+    CHECK(EO_WARN_NOT_PD > 0 && EO_ERR_NOMEM < 0, "signs");
+    CHECK(strcmp(eo_reason_name(EO_CONVERGED_DECREMENT), "converged_decrement") == 0, "%s",
+          eo_reason_name(EO_CONVERGED_DECREMENT));
+    CHECK(strcmp(eo_reason_name(EO_DIVERGED_MAX_ITERS), "diverged_max_iters") == 0, "%s",
+          eo_reason_name(EO_DIVERGED_MAX_ITERS));
+    CHECK(strcmp(eo_reason_name(EO_REASON_ITERATING), "iterating") == 0, "%s", eo_reason_name(0));
+    CHECK(eo_reason_is_converged(EO_CONVERGED_GRADIENT) && !eo_reason_is_converged(EO_DIVERGED_NONFINITE), "sign");
+}
+
+static void test_ctx(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    void *a = eo_malloc(ctx, 100);
+    CHECK(eo_ctx_live_bytes(ctx) == 100, "live %zu", eo_ctx_live_bytes(ctx));
+    a = eo_realloc(ctx, a, 300);
+    CHECK(eo_ctx_live_bytes(ctx) == 300, "live %zu", eo_ctx_live_bytes(ctx));
+    eo_free(ctx, a);
+    eo_ctx_fail_after(ctx, 2);
+    void *b = eo_malloc(ctx, 8);
+    void *c = eo_malloc(ctx, 8);
+    CHECK(b != NULL && c == NULL, "second allocation must fail");
+    eo_free(ctx, b);
+    int rc = eo_error_at(ctx, EO_ERR_MESH, EO_ERRLOC_ITEM("a.ele", 7, "tet", 3), "zero volume");
+    CHECK(rc == EO_ERR_MESH, "returns status");
+    CHECK(strcmp(eo_ctx_message(ctx), "a.ele:7: tet 3: zero volume") == 0, "message '%s'", eo_ctx_message(ctx));
+    eo_test_ctx_done(&ctx);
+}
+
+static void test_params(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    demo_params p;
+    eo_params_default(demo_desc, &p);
+    CHECK(p.max_iters == 50 && p.c1 == 1e-4 && !p.verbose && strcmp(p.mode, "safe") == 0 && p.g[2] == -9.81,
+          "defaults");
+    eo_param_src src = {"x.json", "{\n  \"s\": {\n    \"c1\": 2\n  }\n}\n", "s", NULL};
+    json_t *sec = json_loads("{\"max_iters\": 7, \"c1\": 0.5, \"verbose\": true, \"mode\": \"fast\", \"g\": [1,2,3]}", 0, NULL);
+    CHECK(eo_params_load(ctx, demo_desc, &p, sec, NULL, &src) == EO_OK, "load: %s", eo_ctx_message(ctx));
+    CHECK(p.max_iters == 7 && p.c1 == 0.5 && p.verbose && strcmp(p.mode, "fast") == 0 && p.g[1] == 2, "loaded");
+    json_decref(sec);
+
+    /* out of range, with the file line of the key */
+    sec = json_loads("{\"c1\": 2}", 0, NULL);
+    int rc = eo_params_load(ctx, demo_desc, &p, sec, NULL, &src);
+    CHECK(rc == EO_ERR_RANGE, "range rc %d", rc);
+    CHECK(strstr(eo_ctx_message(ctx), "x.json:3:5") && strstr(eo_ctx_message(ctx), "s.c1"), "msg '%s'",
+          eo_ctx_message(ctx));
+    json_decref(sec);
+    /* wrong type */
+    sec = json_loads("{\"max_iters\": \"ten\"}", 0, NULL);
+    CHECK(eo_params_load(ctx, demo_desc, &p, sec, NULL, &src) == EO_ERR_TYPE, "type");
+    CHECK(strstr(eo_ctx_message(ctx), "expected an integer, got string") != NULL, "msg '%s'", eo_ctx_message(ctx));
+    json_decref(sec);
+    /* non-integer for int */
+    sec = json_loads("{\"max_iters\": 2.5}", 0, NULL);
+    CHECK(eo_params_load(ctx, demo_desc, &p, sec, NULL, &src) == EO_ERR_TYPE, "2.5 is not an integer");
+    json_decref(sec);
+    /* unknown key lists the valid keys */
+    sec = json_loads("{\"c2\": 1}", 0, NULL);
+    CHECK(eo_params_load(ctx, demo_desc, &p, sec, NULL, &src) == EO_ERR_UNKNOWN_KEY, "unknown");
+    CHECK(strstr(eo_ctx_message(ctx), "max_iters, c1, verbose, mode, g") != NULL, "msg '%s'", eo_ctx_message(ctx));
+    json_decref(sec);
+    /* unknown choice lists the choices */
+    sec = json_loads("{\"mode\": \"slow\"}", 0, NULL);
+    CHECK(eo_params_load(ctx, demo_desc, &p, sec, NULL, &src) == EO_ERR_UNKNOWN_NAME, "choice");
+    CHECK(strstr(eo_ctx_message(ctx), "valid: fast, safe") != NULL, "msg '%s'", eo_ctx_message(ctx));
+    json_decref(sec);
+    /* vec3 wrong length */
+    sec = json_loads("{\"g\": [1,2]}", 0, NULL);
+    CHECK(eo_params_load(ctx, demo_desc, &p, sec, NULL, &src) == EO_ERR_TYPE, "vec3");
+    json_decref(sec);
+    /* echo round trip */
+    json_t *echo = eo_params_to_json(demo_desc, &p);
+    demo_params q;
+    eo_params_default(demo_desc, &q);
+    CHECK(eo_params_load(ctx, demo_desc, &q, echo, NULL, &src) == EO_OK, "reload echo");
+    CHECK(p.max_iters == q.max_iters && p.c1 == q.c1 && p.verbose == q.verbose && strcmp(p.mode, q.mode) == 0 &&
+              memcmp(p.g, q.g, sizeof p.g) == 0,
+          "echo round trip equal");
+    json_decref(echo);
+    CHECK(eo_params_check(ctx, demo_desc, &p, &src) == EO_OK, "check ok");
+    p.c1 = 0;
+    CHECK(eo_params_check(ctx, demo_desc, &p, &src) == EO_ERR_RANGE, "open range excludes 0");
+    eo_test_ctx_done(&ctx);
+}
+
+static void test_locate(void)
+{
+    const char *t = "{\n \"a\": {\"b\": 1,\n   \"c\": [10, {\"d\": 2}]}\n}";
+    long l = 0, c = 0;
+    CHECK(eo_json_locate(t, "a.b", &l, &c) == 0 && l == 2 && c == 8, "a.b at %ld:%ld", l, c);
+    CHECK(eo_json_locate(t, "a.c.1.d", &l, &c) == 0 && l == 3 && c == 15, "a.c.1.d at %ld:%ld", l, c);
+    CHECK(eo_json_locate(t, "a.x", &l, &c) == -1, "absent");
+    CHECK(eo_json_locate("{\"a\": [1, 2", "a.5", &l, &c) == -1, "truncated text is safe");
+}
+
+static void test_config(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    const char *dir = eo_test_tmpdir("core_config");
+    char path[4200];
+    snprintf(path, sizeof path, "%s/c.json", dir);
+    FILE *f = fopen(path, "w");
+    fputs("{\n  \"s\": {\"max_iters\": 9},\n  \"extra\": {\"zzz\": 1}\n}\n", f);
+    fclose(f);
+    eo_cfg *cfg = NULL;
+    CHECK(eo_cfg_load(ctx, path, NULL, &cfg) == EO_OK, "load %s", eo_ctx_message(ctx));
+    CHECK(eo_cfg_override(ctx, cfg, "s.c1=0.25") == EO_OK, "override");
+    CHECK(eo_cfg_override(ctx, cfg, "s.mode=fast") == EO_OK, "string override");
+    CHECK(eo_cfg_override(ctx, cfg, "novalue") == EO_ERR_INVALID, "no '='");
+    demo_params p;
+    eo_params_default(demo_desc, &p);
+    CHECK(eo_cfg_section(ctx, cfg, "s", demo_desc, &p, NULL) == EO_OK, "section %s", eo_ctx_message(ctx));
+    CHECK(p.max_iters == 9 && p.c1 == 0.25 && strcmp(p.mode, "fast") == 0, "values %d %g %s", p.max_iters, p.c1, p.mode);
+    static const char *const top[] = {"s", NULL};
+    eo_cfg_expect(cfg, "", top);
+    int rc = eo_cfg_finish(ctx, cfg);
+    CHECK(rc == EO_ERR_UNKNOWN_KEY, "unknown top-level key");
+    CHECK(strstr(eo_ctx_message(ctx), "c.json:3:3") && strstr(eo_ctx_message(ctx), "'extra'") &&
+              strstr(eo_ctx_message(ctx), "valid keys here: s"),
+          "msg '%s'", eo_ctx_message(ctx));
+    eo_cfg_destroy(ctx, &cfg);
+
+    /* overrides that are wrong are attributed to the command line */
+    CHECK(eo_cfg_load(ctx, NULL, "{\"s\": {}}", &cfg) == EO_OK, "builtin");
+    CHECK(eo_cfg_override(ctx, cfg, "s.max_iters=abc") == EO_OK, "set");
+    rc = eo_cfg_section(ctx, cfg, "s", demo_desc, &p, NULL);
+    CHECK(rc == EO_ERR_TYPE && strstr(eo_ctx_message(ctx), "command line -o s.max_iters"), "msg '%s'",
+          eo_ctx_message(ctx));
+    CHECK(eo_cfg_override(ctx, cfg, "s.bogus=1") == EO_OK, "set");
+    eo_cfg_consume(cfg, "s.max_iters");
+    eo_cfg_expect(cfg, "", top);
+    rc = eo_cfg_finish(ctx, cfg);
+    CHECK(rc == EO_ERR_UNKNOWN_KEY && strstr(eo_ctx_message(ctx), "-o s.bogus"), "msg '%s'", eo_ctx_message(ctx));
+    eo_cfg_destroy(ctx, &cfg);
+
+    /* malformed JSON gives line and column */
+    f = fopen(path, "w");
+    fputs("{\n  \"s\": {\"max_iters\": 9,}\n}\n", f);
+    fclose(f);
+    rc = eo_cfg_load(ctx, path, NULL, &cfg);
+    CHECK(rc == EO_ERR_PARSE && cfg == NULL, "parse error rc %d", rc);
+    CHECK(strstr(eo_ctx_message(ctx), "c.json:2:") != NULL, "msg '%s'", eo_ctx_message(ctx));
+    /* missing file */
+    rc = eo_cfg_load(ctx, "/nonexistent/x.json", NULL, &cfg);
+    CHECK(rc == EO_ERR_IO && strstr(eo_ctx_message(ctx), "/nonexistent/x.json"), "msg '%s'", eo_ctx_message(ctx));
+    /* failure injection: every allocation failure is reported, nothing leaks */
+    for (long n = 1; n < 40; n++) {
+        eo_ctx_fail_after(ctx, n);
+        rc = eo_cfg_load(ctx, NULL, "{\"s\": {\"c1\": 0.5}}", &cfg);
+        eo_ctx_fail_after(ctx, 0);
+        if (rc == EO_OK) eo_cfg_destroy(ctx, &cfg);
+        CHECK(rc == EO_OK || rc == EO_ERR_NOMEM, "rc %d", rc);
+        CHECK(eo_ctx_live_bytes(ctx) == 0, "leak after failure %ld", n);
+    }
+    eo_test_ctx_done(&ctx);
+}
+
+static void test_registry(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    const void *t = NULL;
+    int rc = eo_registry_find(ctx, EO_KIND_LINSOLVE, "no_such_solver", &t);
+    CHECK(rc == EO_ERR_UNKNOWN_NAME && t == NULL, "unknown name");
+    CHECK(strstr(eo_ctx_message(ctx), "unknown linear solver 'no_such_solver'; valid:") != NULL, "msg '%s'",
+          eo_ctx_message(ctx));
+    for (int k = 0; k < EO_KIND_COUNT; k++)
+        for (const void *const *p = eo_registry_list((eo_kind)k); p && *p; p++) {
+            const eo_method_info *mi = eo_method_info_of(*p);
+            CHECK(mi->name && mi->summary && *mi->summary, "kind %d entry has name and summary", k);
+            const void *found = NULL;
+            CHECK(eo_registry_find(ctx, (eo_kind)k, mi->name, &found) == EO_OK && found == *p, "find %s", mi->name);
+        }
+    eo_test_ctx_done(&ctx);
+}
+
+int main(void)
+{
+    test_status();
+    test_ctx();
+    test_params();
+    test_locate();
+    test_config();
+    test_registry();
+    return eo_test_finish("test_core");
+}
