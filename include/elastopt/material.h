@@ -40,6 +40,19 @@ typedef struct eo_material_coef {
 
 eo_material_coef eo_material_coef_from(double E, double nu, double density, double k);
 
+/// The `material` config section (and each entry of a per-region material list).
+typedef struct eo_material_opts {
+    char model[32];   ///< registry name. Default "stable_neo_hookean".
+    double E;         ///< Young's modulus, Pa. Default 1e5; range (0, inf).
+    double nu;        ///< Poisson ratio. Default 0.45; range (-1, 0.5).
+    double density;   ///< kg/m³. Default 1000; range (0, inf).
+    double k;         ///< spring stiffness, N/m (spring model). Default 1000; range (0, inf).
+} eo_material_opts;
+/// Descriptor table of eo_material_opts (keys model, E, nu, density, k).
+extern const eo_param_desc eo_material_opts_desc[];
+/// Coefficients from options.
+eo_material_coef eo_material_coef_from_opts(const eo_material_opts *o);
+
 /// Values of ψ(σ) and its derivatives in singular-value space.
 typedef struct eo_sigma_eval {
     double psi;        ///< ψ(σ); +INFINITY where undefined (e.g. neo_hookean at J <= 0)
