@@ -4,16 +4,24 @@
 /// Conventions: F is 3×3 stored row-major, F[3*i+j] = F_ij. P likewise.
 /// dPdF[(3*i+j)*9 + (3*k+l)] = ∂P_ij/∂F_kl (symmetric 9×9).
 ///
-/// Isotropic models are written in singular values: the model gives ψ(σ), ∂ψ/∂σ,
-/// ∂²ψ/∂σ² and the two divided differences of each pair (i,j)
+/// Isotropic models are written in signed singular values (F = U Σ Vᵀ, U, V ∈ SO(3),
+/// σ1 ≥ σ2 ≥ |σ3|, σ3 < 0 when det F < 0): the model gives ψ(σ), ψ_i = ∂ψ/∂σ_i,
+/// ∂²ψ/∂σ² and, for each pair (i,j), the two divided differences
 ///     twist_ij = (ψ_i − ψ_j)/(σ_i − σ_j),   flip_ij = (ψ_i + ψ_j)/(σ_i + σ_j)
-/// in closed form (robust at repeated σ). From these the shared kernel (materials/
-/// kernel.c) builds P = U diag(∂ψ/∂σ) Vᵀ and the analytic eigensystem of ∂P/∂F
-/// (Smith, de Goes & Kim 2019): three scaling modes from the 3×3 ∂²ψ/∂σ², and per pair
-/// a twist mode (eigenvalue twist_ij) and a flip mode (flip_ij). Clamping or taking
-/// absolute values of these nine eigenvalues gives the PSD projection with no numeric
-/// eigensolver. A model that is not rotation invariant (`linear`) supplies F-space ops
-/// instead; its Hessian is constant and PSD.
+/// in closed form (exact at repeated σ). From these the shared kernel (materials/
+/// kernel.c) builds P = U diag(ψ_i) Vᵀ and the analytic eigensystem of ∂P/∂F
+/// (Smith, de Goes & Kim 2019; Teran et al. 2005):
+///   - 3 scaling modes U diag(w_m) Vᵀ, (ν_m, w_m) the eigenpairs of the 3×3 ∂²ψ/∂σ²;
+///   - per pair the SYMMETRIC mode U (e_i e_jᵀ + e_j e_iᵀ) Vᵀ/√2 with eigenvalue twist_ij
+///     and the ANTISYMMETRIC mode U (e_i e_jᵀ − e_j e_iᵀ) Vᵀ/√2 with eigenvalue flip_ij.
+/// (The field names follow the formulas above. Smith et al. call the antisymmetric mode
+/// "twist" and the symmetric one "flip"; the pairing used here is the one that passes the
+/// finite-difference tests: perturbing F along U K Vᵀ with K antisymmetric rotates U and
+/// V in opposite senses, which gives (ψ_i + ψ_j)/(σ_i + σ_j).)
+/// Clamping or taking absolute values of these nine eigenvalues gives the PSD
+/// projection with no numeric eigensolver. A model that is not rotation invariant
+/// (`linear`) supplies F-space ops instead; its Hessian is constant and PSD, so every
+/// projection is the identity for it.
 ///
 /// ```c
 /// const eo_material_type *mt; eo_registry_find(ctx, EO_KIND_MATERIAL, "stvk", (const void **)&mt);
@@ -58,8 +66,9 @@ typedef struct eo_sigma_eval {
     double psi;        ///< ψ(σ); +INFINITY where undefined (e.g. neo_hookean at J <= 0)
     double g[3];       ///< ∂ψ/∂σ_i
     double H[9];       ///< ∂²ψ/∂σ_i∂σ_j (row-major 3×3)
-    double twist[3];   ///< pairs (0,1),(0,2),(1,2): (ψ_i − ψ_j)/(σ_i − σ_j)
-    double flip[3];    ///< same pairs: (ψ_i + ψ_j)/(σ_i + σ_j)
+    double twist[3];   ///< pairs (0,1),(0,2),(1,2): (ψ_i − ψ_j)/(σ_i − σ_j), exact at σ_i = σ_j
+    double flip[3];    ///< same pairs: (ψ_i + ψ_j)/(σ_i + σ_j); models singular at
+                       ///< σ_i + σ_j = 0 (corotated kinds) guard the denominator
 } eo_sigma_eval;
 
 typedef enum eo_eval_what {
@@ -107,26 +116,35 @@ typedef struct eo_material_eval {
     double sigma[3];    ///< signed singular values (σ3 < 0 when inverted)
     double U[9], V[9];  ///< rotations, F = U diag(σ) Vᵀ (row-major)
     double J;           ///< det F
-    double eig[9];      ///< the nine eigenvalues of the unprojected ∂P/∂F
-                        ///< (3 scaling, 3 twist, 3 flip) for isotropic models
+    double eig[9];      ///< the nine eigenvalues of the unprojected ∂P/∂F for isotropic
+                        ///< models: 3 scaling, 3 twist (pairs 01,02,12), 3 flip; for
+                        ///< `linear` its constant eigenvalues; 0 for barrier at J <= 0
 } eo_material_eval;
 
-/// Evaluate ψ, P and ∂P/∂F at F with projection `proj`. Returns EO_OK; ψ may be
-/// +INFINITY for barrier models at J <= 0 (then P, dPdF are left zero).
+/// Evaluate ψ, P and ∂P/∂F at F with projection `proj`. Outputs beyond `what` are left
+/// zero; sigma, U, V and J are always filled. Returns EO_OK, or EO_ERR_UNSUPPORTED for
+/// an edge (spring) model. ψ is +INFINITY for barrier models at J <= 0 (then P, dPdF
+/// are zero). Never allocates.
 int eo_material_evaluate(const eo_material_type *mt, const eo_material_coef *c,
                          const double F[9], eo_eval_what what, eo_proj proj,
                          eo_material_eval *out);
 
-/// Rotation-variant fast path of the SVD used by the hot path (one-sided Jacobi),
-/// and the LAPACKE dgesvd reference; both return U, V ∈ SO(3) (row-major) and signed
-/// σ sorted σ1 ≥ σ2 ≥ |σ3| with the sign of det F on σ3.
+/// SVD of a 3×3 F (row-major): the hot-path version (one-sided Jacobi on the columns
+/// of F, relative accuracy for small σ; U completed by cross products when F is rank
+/// deficient) and the LAPACKE dgesvd reference. Both return U, V ∈ SO(3) (row-major)
+/// and signed σ sorted σ1 ≥ σ2 ≥ |σ3| with the sign of det F on σ3.
+/// eo_svd3_lapack returns EO_OK or EO_ERR_INTERNAL if dgesvd fails.
 void eo_svd3(const double F[9], double U[9], double s[3], double V[9]);
 int eo_svd3_lapack(const double F[9], double U[9], double s[3], double V[9]);
 
 /// Per-tet element kernel. Precomputed from rest positions: Dm⁻¹ (row-major) and rest
 /// volume w. Given the 12 current coordinates x (vertex-major), computes F = Ds Dm⁻¹,
 /// energy w·ψ, and as asked the 12-gradient and 12×12 Hessian (row-major), projected.
-/// Returns EO_OK; energy +INFINITY for barrier models at J <= 0.
+/// Convention (notes §4.2–4.3): Ds columns x_i − x_4 (local vertices 0,1,2 minus 3), and
+/// vec(F) = (Dm⁻ᵀ S ⊗ I3) x. Energy w·ψ, gradient w·(∂F/∂x)ᵀ P, Hessian
+/// w·(∂F/∂x)ᵀ ∂P/∂F (∂F/∂x), built from the nine analytic modes (no 12×12 eigensolve).
+/// Outputs beyond `what` are not written. Returns EO_OK, EO_ERR_UNSUPPORTED for an
+/// edge model; energy +INFINITY (grad, hess zero) for barrier models at J <= 0.
 typedef struct eo_tet_out {
     double energy;
     double grad[12];
@@ -137,7 +155,9 @@ typedef struct eo_tet_out {
 int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
                     const double Dminv[9], double w, const double x[12], eo_eval_what what,
                     eo_proj proj, eo_tet_out *out);
-/// Dm⁻¹ and rest volume from 12 rest coordinates. EO_ERR_MESH if |det Dm| is tiny.
+/// Dm⁻¹ and rest volume w = |det Dm|/6 from 12 rest coordinates (vertex-major).
+/// EO_ERR_MESH if det Dm <= 1e-12·(longest Dm column)³, i.e. the rest tet is
+/// degenerate or negatively oriented (ERRATA: bad input); Dminv and w untouched then.
 int eo_tet_rest(const double X[12], double Dminv[9], double *w);
 
 #ifdef __cplusplus

@@ -1,0 +1,47 @@
+/* stable_neo_hookean — Smith, de Goes & Kim 2018, "Stable Neo-Hookean Flesh Simulation".
+ *
+ *   ψ = μ'/2 (I_C − 3) + λ'/2 (J − α)² − μ'/2 log(I_C + 1),
+ *   μ' = 4μ/3,  λ' = λ + 5μ/6,  α = 1 + 3μ'/(4λ')   (rest-stable: P(I) = 0, and the
+ *   small-strain limit is linear elasticity with μ, λ). ψ(I) = λ'/2 (1−α)² − μ'/2 log 4
+ *   is a constant offset. Smooth through inversion (J ≤ 0 is finite).
+ * With I_C = Σσ_i², J = σ1σ2σ3, r = 1/(I_C + 1), (i,j,k) a permutation:
+ *   ψ_i = μ'σ_i(1 − r) + λ'(J − α) σ_jσ_k,
+ *   ∂²ψ/∂σ_i² = μ'(1 − r) + 2μ'σ_i² r² + λ'(σ_jσ_k)²,
+ *   ∂²ψ/∂σ_i∂σ_j = 2μ'σ_iσ_j r² + λ'σ_k(2J − α),
+ *   twist_ij = μ'(1 − r) − λ'(J − α)σ_k,
+ *   flip_ij  = μ'(1 − r) + λ'(J − α)σ_k. */
+#include <math.h>
+
+#include "elastopt/material.h"
+
+static void sigma_eval(const eo_material_coef *c, const double s[3], eo_eval_what what, eo_sigma_eval *o)
+{
+    double mu = 4.0 / 3.0 * c->mu, la = c->lambda + 5.0 / 6.0 * c->mu;
+    double alpha = 1 + 0.75 * mu / la;
+    double J = s[0] * s[1] * s[2];
+    double Ic3 = (s[0] - 1) * (s[0] + 1) + (s[1] - 1) * (s[1] + 1) + (s[2] - 1) * (s[2] + 1);
+    double Ic = Ic3 + 3, r = 1 / (Ic + 1);
+    o->psi = 0.5 * mu * Ic3 + 0.5 * la * (J - alpha) * (J - alpha) - 0.5 * mu * log(Ic + 1);
+    if (what < EO_EVAL_GRAD) return;
+    double cof[3] = {s[1] * s[2], s[0] * s[2], s[0] * s[1]};
+    for (int i = 0; i < 3; i++) o->g[i] = mu * s[i] * (1 - r) + la * (J - alpha) * cof[i];
+    if (what < EO_EVAL_HESS) return;
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            int k = 3 - i - j;
+            o->H[3 * i + j] = i == j ? mu * (1 - r) + 2 * mu * s[i] * s[i] * r * r + la * cof[i] * cof[i]
+                                     : 2 * mu * s[i] * s[j] * r * r + la * s[k] * (2 * J - alpha);
+        }
+    static const int PK[3] = {2, 1, 0}; /* third index of pairs 01, 02, 12 */
+    for (int p = 0; p < 3; p++) {
+        double sk = s[PK[p]];
+        o->twist[p] = mu * (1 - r) - la * (J - alpha) * sk;
+        o->flip[p] = mu * (1 - r) + la * (J - alpha) * sk;
+    }
+}
+
+const eo_material_type eo_material_stable_neo_hookean = {
+    .info = {.name = "stable_neo_hookean", .summary = "stable Neo-Hookean (Smith, de Goes, Kim 2018), smooth through inversion"},
+    .flags = EO_MATERIAL_INVERSION_SAFE,
+    .sigma_eval = sigma_eval,
+};
