@@ -7,8 +7,19 @@
 /// set-up in `factor` and iterate in `solve`.
 ///
 /// `factor` returns EO_WARN_NOT_PD (positive) when the matrix is found not positive
-/// definite (direct Cholesky: the failing column is in the context message), so a
-/// Hessian fix can react by shifting and factoring again.
+/// definite (direct Cholesky: the failing column, in the matrix's own numbering, is in
+/// `stats.not_pd_column` and in the context message "column j: ..."), so a Hessian fix
+/// can react by shifting and factoring again. Iterative methods report what they find
+/// in `solve`: cg/pcg return EO_WARN_NOT_PD on non-positive curvature pᵀAp <= 0;
+/// every iterative method returns EO_WARN_NOT_CONVERGED (stats.residual set) when it
+/// hits its iteration cap, diverges or produces non-finite values. They never loop
+/// without bound and never allocate in `solve` (workspace is sized in `analyze`).
+///
+/// Registered methods (config `solver.linear = "<name>"`, parameters
+/// `solver.<name>.<key>`; `elastopt list` / `--help` show keys and defaults):
+///   cholmod (supernodal LLᵀ), cholmod_ldlt (simplicial LDLᵀ), spqr (sparse QR of the
+///   full matrix), lapack (dense Cholesky, small n), cg, pcg (Jacobi or IC(0)),
+///   jacobi, gauss_seidel, sor.
 ///
 /// ```c
 /// eo_linsolve *ls; eo_linsolve_create(ctx, type, params, &ls);
@@ -18,7 +29,8 @@
 /// eo_linsolve_destroy(&ls);
 /// ```
 /// Ownership: A is borrowed for the lifetime of the factorization (iterative solvers
-/// keep the pointer to apply it); b and x are caller arrays of length A->n.
+/// keep the pointer to apply it); b and x are caller arrays of length A->n; params are
+/// copied at create. On input x is ignored unless the method's `warm_start` is set.
 #ifndef ELASTOPT_LINSOLVE_H
 #define ELASTOPT_LINSOLVE_H
 
@@ -43,22 +55,35 @@ typedef struct eo_linsolve_type {
     size_t state_size;   ///< private state, zeroed and allocated with the object
     int (*setup)(void *st, const void *params, eo_ctx *ctx);            ///< may be NULL
     int (*analyze)(void *st, const eo_csc *A, eo_ctx *ctx);
-    int (*factor)(void *st, const eo_csc *A, eo_ctx *ctx);
+    int (*factor)(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ctx *ctx);
     int (*solve)(void *st, const double *b, double *x, eo_linsolve_stats *stats, eo_ctx *ctx);
     void (*destroy)(void *st, eo_ctx *ctx);                              ///< may be NULL
 } eo_linsolve_type;
 
 typedef struct eo_linsolve eo_linsolve;
 
-/// Create a solver of `type` with `params` (copied; NULL = defaults).
+/// Create a solver of `type` with `params` (the type's params struct, copied; NULL =
+/// defaults of its descriptor table; checked against the table's ranges).
+/// Returns EO_OK, EO_ERR_RANGE / EO_ERR_UNKNOWN_NAME (bad params), EO_ERR_NOMEM.
 int eo_linsolve_create(eo_ctx *ctx, const eo_linsolve_type *type, const void *params,
                        eo_linsolve **out);
+/// Free; sets *ls = NULL; accepts NULL.
 void eo_linsolve_destroy(eo_linsolve **ls);
+/// Symbolic phase for the pattern of A (values ignored). Call again if the pattern
+/// changes. EO_OK, EO_ERR_INVALID, EO_ERR_NOMEM, EO_ERR_UNSUPPORTED (e.g. lapack n >
+/// max_n), EO_ERR_LINSOLVE.
 int eo_linsolve_analyze(eo_linsolve *ls, const eo_csc *A);
+/// Numeric phase for A (same pattern as at analyze). EO_OK, EO_WARN_NOT_PD (column in
+/// stats.not_pd_column), EO_ERR_INVALID (pattern changed / not analyzed), EO_ERR_*.
 int eo_linsolve_factor(eo_linsolve *ls, const eo_csc *A);
+/// x = A⁻¹ b. EO_OK, EO_WARN_NOT_CONVERGED, EO_WARN_NOT_PD (cg/pcg), EO_ERR_*.
 int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x);
 const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls);
 const eo_linsolve_type *eo_linsolve_get_type(const eo_linsolve *ls);
+/// The solver's params struct (the copy it uses; borrowed).
+const void *eo_linsolve_get_params(const eo_linsolve *ls);
+/// Look up a registered solver by name (EO_ERR_UNKNOWN_NAME listing the valid names).
+int eo_linsolve_find(eo_ctx *ctx, const char *name, const eo_linsolve_type **out);
 
 #ifdef __cplusplus
 }

@@ -1,0 +1,135 @@
+/* Generic linear-solver object: one allocation holding the header, the copied params
+ * and the method's private state; forwards analyze/factor/solve with timing and
+ * checks the phase order and that the pattern is the analyzed one. */
+#include "elastopt/linsolve.h"
+
+#include <stdalign.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+struct eo_linsolve {
+    const eo_linsolve_type *type;
+    eo_ctx *ctx;
+    void *params;  /* copy, inside this block */
+    void *state;   /* inside this block */
+    int analyzed, factored, set_up;
+    int n, nnz;
+    eo_linsolve_stats stats;
+};
+
+static size_t round_up(size_t s)
+{
+    size_t a = alignof(max_align_t);
+    return (s + a - 1) / a * a;
+}
+
+int eo_linsolve_find(eo_ctx *ctx, const char *name, const eo_linsolve_type **out)
+{
+    const void *t = NULL;
+    int rc = eo_registry_find(ctx, EO_KIND_LINSOLVE, name, &t);
+    *out = t;
+    return rc;
+}
+
+int eo_linsolve_create(eo_ctx *ctx, const eo_linsolve_type *type, const void *params,
+                       eo_linsolve **out)
+{
+    *out = NULL;
+    if (!type) return eo_error(ctx, EO_ERR_INVALID, "linear solver: no type");
+    size_t hs = round_up(sizeof(eo_linsolve)), ps = round_up(type->info.params_size);
+    eo_linsolve *ls = eo_calloc(ctx, 1, hs + ps + (type->state_size ? type->state_size : 1));
+    if (!ls) return eo_error(ctx, EO_ERR_NOMEM, "linear solver %s: out of memory", type->info.name);
+    ls->type = type;
+    ls->ctx = ctx;
+    ls->params = (char *)ls + hs;
+    ls->state = (char *)ls + hs + ps;
+    ls->stats.not_pd_column = -1;
+    if (type->info.params_size) {
+        if (params) memcpy(ls->params, params, type->info.params_size);
+        else eo_params_default(type->info.params, ls->params);
+        if (type->info.params) {
+            eo_param_src src = {NULL, NULL, NULL, NULL};
+            char path[96];
+            snprintf(path, sizeof path, "solver.%s", type->info.name);
+            src.path = path;
+            int rc = eo_params_check(ctx, type->info.params, ls->params, &src);
+            if (rc < 0) {
+                eo_free(ctx, ls);
+                return rc;
+            }
+        }
+    }
+    if (type->setup) {
+        ls->set_up = 1;
+        int rc = type->setup(ls->state, ls->params, ctx);
+        if (rc < 0) {
+            eo_linsolve_destroy(&ls);
+            return rc;
+        }
+    }
+    *out = ls;
+    return EO_OK;
+}
+
+void eo_linsolve_destroy(eo_linsolve **ls)
+{
+    if (!ls || !*ls) return;
+    eo_linsolve *s = *ls;
+    if (s->type->destroy && (s->set_up || !s->type->setup)) s->type->destroy(s->state, s->ctx);
+    eo_free(s->ctx, s);
+    *ls = NULL;
+}
+
+int eo_linsolve_analyze(eo_linsolve *ls, const eo_csc *A)
+{
+    if (!A || A->n < 0)
+        return eo_error(ls->ctx, EO_ERR_INVALID, "linear solver %s: no matrix", ls->type->info.name);
+    ls->analyzed = ls->factored = 0;
+    double t = eo_wtime();
+    int rc = ls->type->analyze(ls->state, A, ls->ctx);
+    ls->stats.t_analyze += eo_wtime() - t;
+    if (rc < 0) return rc;
+    ls->analyzed = 1;
+    ls->n = A->n;
+    ls->nnz = A->nnz;
+    return rc;
+}
+
+int eo_linsolve_factor(eo_linsolve *ls, const eo_csc *A)
+{
+    const char *name = ls->type->info.name;
+    if (!ls->analyzed)
+        return eo_error(ls->ctx, EO_ERR_INVALID, "linear solver %s: factor before analyze", name);
+    if (!A || A->n != ls->n || A->nnz != ls->nnz)
+        return eo_error(ls->ctx, EO_ERR_INVALID,
+                        "linear solver %s: matrix pattern differs from the analyzed one "
+                        "(n=%d nnz=%d, analyzed n=%d nnz=%d); call analyze again",
+                        name, A ? A->n : -1, A ? A->nnz : -1, ls->n, ls->nnz);
+    ls->factored = 0;
+    ls->stats.not_pd_column = -1;
+    double t = eo_wtime();
+    int rc = ls->type->factor(ls->state, A, &ls->stats, ls->ctx);
+    ls->stats.t_factor += eo_wtime() - t;
+    ls->stats.n_factor++;
+    if (rc == EO_OK) ls->factored = 1;
+    return rc;
+}
+
+int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x)
+{
+    if (!ls->factored)
+        return eo_error(ls->ctx, EO_ERR_INVALID,
+                        "linear solver %s: solve without a successful factor", ls->type->info.name);
+    ls->stats.iterations = 0;
+    ls->stats.residual = -1;
+    double t = eo_wtime();
+    int rc = ls->type->solve(ls->state, b, x, &ls->stats, ls->ctx);
+    ls->stats.t_solve += eo_wtime() - t;
+    ls->stats.n_solve++;
+    return rc;
+}
+
+const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls) { return &ls->stats; }
+const eo_linsolve_type *eo_linsolve_get_type(const eo_linsolve *ls) { return ls->type; }
+const void *eo_linsolve_get_params(const eo_linsolve *ls) { return ls->params; }
