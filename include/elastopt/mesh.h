@@ -76,6 +76,18 @@ void eo_mesh_destroy(eo_ctx *ctx, eo_mesh **m);
 int eo_mesh_generate_box(eo_ctx *ctx, const eo_mesh_gen_opts *o, eo_mesh **out);
 /// Read a mesh file; validates (see eo_mesh_validate). opts may be NULL.
 int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out);
+/// Read a mesh from text in memory (copied; need not be NUL-terminated). `fmt` must be
+/// TETGEN, MEDIT or GMSH; `name` is used in messages. For TETGEN the text is the .node
+/// contents, one NUL byte, then the .ele contents (named name.node / name.ele).
+int eo_mesh_read_buffer(eo_ctx *ctx, const char *text, size_t len, eo_mesh_format fmt,
+                        const char *name, const eo_mesh_read_opts *opts, eo_mesh **out);
+/// Parse a generator spec "gen:SX,SY,SZ:NX,NY,NZ[:5|6]" (sizes > 0, cells >= 1) into *o
+/// (origin 0). EO_ERR_PARSE naming the spec and what was expected.
+int eo_mesh_gen_opts_parse(eo_ctx *ctx, const char *spec, eo_mesh_gen_opts *o);
+/// Load from a file path or a "gen:..." spec (then opts are ignored).
+int eo_mesh_load(eo_ctx *ctx, const char *source, const eo_mesh_read_opts *opts, eo_mesh **out);
+/// Short name of a format ("tetgen", "medit", "gmsh", "vtu", "obj"; "auto").
+const char *eo_mesh_format_name(eo_mesh_format fmt);
 /// Write a mesh (rest positions) in the given or guessed format, atomically.
 int eo_mesh_write(eo_ctx *ctx, const eo_mesh *m, const char *path, eo_mesh_format fmt);
 /// Reorient negative tets, reject/drop zero-volume or duplicate tets, out-of-range

@@ -1,0 +1,690 @@
+/* Tetrahedral meshes: storage, format dispatch, validation, statistics, boundary.
+ *
+ * Signed volume of tet (x0, x1, x2, x3):  V = det[x1-x0, x2-x0, x3-x0] / 6, positive
+ * when x3 lies on the side of triangle (x0, x1, x2) its right-hand normal points to.
+ * Quality is the normalized radius ratio q = 3 r / R (r inradius = 3V / sum of face
+ * areas, R circumradius); q = 1 for a regular tet, -> 0 for a sliver.
+ *
+ * Validation order (eo_mesh_validate): finite coordinates; indices in range; negative
+ * tets reoriented (swap vertices 1 and 2); zero-volume tets (|V| <= min_rel_volume *
+ * mean |V|); duplicate tets (same vertex set); unreferenced vertices. The last three are
+ * errors, or dropped with a warning (EO_WARN_DROPPED) when the options allow it. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "elastopt/io.h"
+#include "elastopt/mesh.h"
+#include "mesh_io.h"
+
+static const eo_mesh_io_type *const formats[] = {
+    &eo_mesh_io_tetgen, &eo_mesh_io_medit, &eo_mesh_io_gmsh, &eo_mesh_io_vtu, &eo_mesh_io_obj, NULL,
+};
+
+eo_mesh_read_opts eo_mesh_read_opts_default(void)
+{
+    return (eo_mesh_read_opts){.format = EO_MESH_AUTO, .drop_degenerate = 0, .drop_unreferenced = 0,
+                               .min_rel_volume = 1e-12};
+}
+
+eo_mesh_gen_opts eo_mesh_gen_opts_default(void)
+{
+    return (eo_mesh_gen_opts){.size = {1, 1, 1}, .origin = {0, 0, 0}, .cells = {4, 4, 4}, .split = 6};
+}
+
+int eo_mesh_create(eo_ctx *ctx, int nv, int nt, eo_mesh **out)
+{
+    *out = NULL;
+    if (nv < 0 || nt < 0) return eo_error(ctx, EO_ERR_INVALID, "negative mesh size %d, %d", nv, nt);
+    eo_mesh *m = eo_calloc(ctx, 1, sizeof *m);
+    if (!m) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (mesh)");
+    m->nv = nv;
+    m->nt = nt;
+    m->X = eo_malloc(ctx, (size_t)(nv ? nv : 1) * 3 * sizeof(double));
+    m->tets = eo_malloc(ctx, (size_t)(nt ? nt : 1) * 4 * sizeof(int));
+    if (!m->X || !m->tets) {
+        eo_mesh_destroy(ctx, &m);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory (mesh of %d vertices, %d tets)", nv, nt);
+    }
+    *out = m;
+    return EO_OK;
+}
+
+void eo_mesh_destroy(eo_ctx *ctx, eo_mesh **pm)
+{
+    if (!pm || !*pm) return;
+    eo_mesh *m = *pm;
+    eo_free(ctx, m->X);
+    eo_free(ctx, m->tets);
+    eo_free(ctx, m->tet_attr);
+    eo_free(ctx, m->vmarker);
+    eo_free(ctx, m);
+    *pm = NULL;
+}
+
+int eo_mesh_src_alloc(eo_ctx *ctx, eo_mesh_src *src, int nv, int nt)
+{
+    int bad = 0;
+    if (nv >= 0) {
+        size_t v = (size_t)(nv ? nv : 1);
+        src->v_line = eo_malloc(ctx, v * sizeof(long));
+        src->v_id = eo_malloc(ctx, v * sizeof(long));
+        bad |= !src->v_line || !src->v_id;
+    }
+    if (nt >= 0) {
+        size_t t = (size_t)(nt ? nt : 1);
+        src->t_line = eo_malloc(ctx, t * sizeof(long));
+        src->t_id = eo_malloc(ctx, t * sizeof(long));
+        bad |= !src->t_line || !src->t_id;
+    }
+    return bad ? eo_error(ctx, EO_ERR_NOMEM, "out of memory (source lines)") : EO_OK;
+}
+
+void eo_mesh_src_free(eo_ctx *ctx, eo_mesh_src *src)
+{
+    eo_free(ctx, src->v_line);
+    eo_free(ctx, src->v_id);
+    eo_free(ctx, src->t_line);
+    eo_free(ctx, src->t_id);
+    eo_free(ctx, src->owned);
+    src->v_line = src->v_id = src->t_line = src->t_id = NULL;
+    src->owned = NULL;
+}
+
+/* ---- formats ----------------------------------------------------------------------- */
+
+static int ends_with(const char *s, const char *suf)
+{
+    size_t n = strlen(s), k = strlen(suf);
+    if (k > n) return 0;
+    for (size_t i = 0; i < k; i++) {
+        char a = s[n - k + i], b = suf[i];
+        if (a >= 'A' && a <= 'Z') a = (char)(a - 'A' + 'a');
+        if (a != b) return 0;
+    }
+    return 1;
+}
+
+static const eo_mesh_io_type *find_by_path(const char *path)
+{
+    for (const eo_mesh_io_type *const *f = formats; *f; f++)
+        for (const char *const *e = (*f)->exts; *e; e++)
+            if (ends_with(path, *e)) return *f;
+    return NULL;
+}
+
+static const eo_mesh_io_type *find_by_format(eo_mesh_format fmt)
+{
+    for (const eo_mesh_io_type *const *f = formats; *f; f++)
+        if ((*f)->format == fmt) return *f;
+    return NULL;
+}
+
+eo_mesh_format eo_mesh_format_from_path(const char *path)
+{
+    const eo_mesh_io_type *t = find_by_path(path);
+    return t ? t->format : EO_MESH_AUTO;
+}
+
+const char *eo_mesh_format_name(eo_mesh_format fmt)
+{
+    const eo_mesh_io_type *t = find_by_format(fmt);
+    return t ? t->name : "auto";
+}
+
+static void list_exts(char *buf, size_t n, int readable)
+{
+    size_t k = 0;
+    buf[0] = 0;
+    for (const eo_mesh_io_type *const *f = formats; *f; f++) {
+        if (readable && !(*f)->read_text && !(*f)->read_path) continue;
+        for (const char *const *e = (*f)->exts; *e && k < n; e++)
+            k += (size_t)snprintf(buf + k, n - k, "%s%s", k ? ", " : "", *e);
+    }
+}
+
+static const eo_mesh_io_type *pick(eo_ctx *ctx, const char *path, eo_mesh_format fmt, int reading, int *rc)
+{
+    const eo_mesh_io_type *t = fmt == EO_MESH_AUTO ? find_by_path(path) : find_by_format(fmt);
+    char exts[256];
+    if (!t) {
+        list_exts(exts, sizeof exts, reading);
+        *rc = eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(path, -1),
+                          "unknown mesh format; expected a file name ending in one of: %s", exts);
+        return NULL;
+    }
+    if (reading && !t->read_text && !t->read_path) {
+        list_exts(exts, sizeof exts, 1);
+        *rc = eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(path, -1),
+                          "%s files can be written, not read; expected one of: %s", t->name, exts);
+        return NULL;
+    }
+    return t;
+}
+
+static int finish_read(eo_ctx *ctx, int rc, eo_mesh **m, const eo_mesh_read_opts *opts, eo_mesh_src *src,
+                       eo_mesh **out)
+{
+    eo_mesh_read_opts def = eo_mesh_read_opts_default();
+    if (!opts) opts = &def;
+    if (rc >= 0) rc = eo_mesh_validate_src(ctx, *m, opts, src);
+    eo_mesh_src_free(ctx, src);
+    if (rc < 0) {
+        eo_mesh_destroy(ctx, m);
+        return rc;
+    }
+    *out = *m;
+    return rc;
+}
+
+/* A TetGen base name "a" given without extension: does "a.node" exist? */
+static int base_has_node(const char *path)
+{
+    char buf[4096];
+    if (snprintf(buf, sizeof buf, "%s.node", path) >= (int)sizeof buf) return 0;
+    FILE *f = fopen(buf, "rb");
+    if (f) fclose(f);
+    return f != NULL;
+}
+
+int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out)
+{
+    *out = NULL;
+    int rc = EO_OK;
+    eo_mesh_format fmt = opts ? opts->format : EO_MESH_AUTO;
+    if (fmt == EO_MESH_AUTO && !find_by_path(path) && base_has_node(path)) fmt = EO_MESH_TETGEN;
+    const eo_mesh_io_type *t = pick(ctx, path, fmt, 1, &rc);
+    if (!t) return rc;
+    eo_mesh *m = NULL;
+    eo_mesh_src src = {0};
+    if (t->read_path) {
+        rc = t->read_path(ctx, path, &m, &src);
+    } else {
+        char *text = NULL;
+        size_t len = 0;
+        rc = eo_read_file(ctx, path, &text, &len);
+        src.vert_file = src.tet_file = path;
+        if (rc >= 0) rc = t->read_text(ctx, text, len, path, &m, &src);
+        eo_free(ctx, text);
+    }
+    return finish_read(ctx, rc, &m, opts, &src, out);
+}
+
+int eo_mesh_read_buffer(eo_ctx *ctx, const char *text, size_t len, eo_mesh_format fmt, const char *name,
+                        const eo_mesh_read_opts *opts, eo_mesh **out)
+{
+    *out = NULL;
+    const eo_mesh_io_type *t = find_by_format(fmt);
+    if (!t || (!t->read_text && fmt != EO_MESH_TETGEN))
+        return eo_error(ctx, EO_ERR_INVALID, "%s: cannot read format '%s' from memory", name,
+                        eo_mesh_format_name(fmt));
+    char *buf = eo_malloc(ctx, len + 1);
+    if (!buf) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    memcpy(buf, text, len);
+    buf[len] = 0;
+    eo_mesh *m = NULL;
+    eo_mesh_src src = {0};
+    int rc;
+    char *names = NULL;
+    if (fmt == EO_MESH_TETGEN) {
+        size_t n = strlen(buf), k = strlen(name) + 8;
+        names = eo_malloc(ctx, 2 * k);
+        if (!names) {
+            eo_free(ctx, buf);
+            return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+        }
+        snprintf(names, k, "%s.node", name);
+        snprintf(names + k, k, "%s.ele", name);
+        src.vert_file = names;
+        src.tet_file = names + k;
+        const char *ele = n < len ? buf + n + 1 : buf + len;
+        rc = eo_tetgen_read_texts(ctx, buf, n, names, ele, (size_t)(buf + len - ele), names + k, &m, &src);
+    } else {
+        src.vert_file = src.tet_file = name;
+        rc = t->read_text(ctx, buf, len, name, &m, &src);
+    }
+    rc = finish_read(ctx, rc, &m, opts, &src, out);
+    eo_free(ctx, names);
+    eo_free(ctx, buf);
+    return rc;
+}
+
+int eo_mesh_write(eo_ctx *ctx, const eo_mesh *m, const char *path, eo_mesh_format fmt)
+{
+    int rc = EO_OK;
+    const eo_mesh_io_type *t = pick(ctx, path, fmt, 0, &rc);
+    if (!t) return rc;
+    return t->write(ctx, m, path);
+}
+
+/* ---- generator spec ----------------------------------------------------------------- */
+
+static int parse_triple(const char **p, double v[3], int integer)
+{
+    for (int i = 0; i < 3; i++) {
+        char *e;
+        if (integer) {
+            long x = strtol(*p, &e, 10);
+            if (e == *p || x < 1 || x > 100000) return -1;
+            v[i] = (double)x;
+        } else {
+            double x = strtod(*p, &e);
+            if (e == *p || !(x > 0) || !isfinite(x)) return -1;
+            v[i] = x;
+        }
+        *p = e;
+        if (i < 2) {
+            if (**p != ',') return -1;
+            (*p)++;
+        }
+    }
+    return 0;
+}
+
+int eo_mesh_gen_opts_parse(eo_ctx *ctx, const char *spec, eo_mesh_gen_opts *o)
+{
+    *o = eo_mesh_gen_opts_default();
+    const char *p = spec;
+    double size[3], cells[3];
+    if (strncmp(p, "gen:", 4) != 0) goto bad;
+    p += 4;
+    if (parse_triple(&p, size, 0) < 0 || *p != ':') goto bad;
+    p++;
+    if (parse_triple(&p, cells, 1) < 0) goto bad;
+    if (*p == ':') {
+        p++;
+        if ((p[0] != '5' && p[0] != '6') || p[1]) goto bad;
+        o->split = p[0] - '0';
+        p++;
+    }
+    if (*p) goto bad;
+    for (int i = 0; i < 3; i++) {
+        o->size[i] = size[i];
+        o->cells[i] = (int)cells[i];
+    }
+    return EO_OK;
+bad:
+    return eo_error_at(ctx, EO_ERR_PARSE, EO_ERRLOC_FILE(spec, -1),
+                       "expected gen:SX,SY,SZ:NX,NY,NZ[:5|6] (sizes > 0, 1 <= cells <= 100000), got '%s'",
+                       p);
+}
+
+int eo_mesh_load(eo_ctx *ctx, const char *source, const eo_mesh_read_opts *opts, eo_mesh **out)
+{
+    *out = NULL;
+    if (strncmp(source, "gen:", 4) == 0) {
+        eo_mesh_gen_opts g;
+        int rc = eo_mesh_gen_opts_parse(ctx, source, &g);
+        if (rc < 0) return rc;
+        return eo_mesh_generate_box(ctx, &g, out);
+    }
+    return eo_mesh_read(ctx, source, opts, out);
+}
+
+/* ---- geometry ----------------------------------------------------------------------- */
+
+double eo_tet_volume(const double *x, const int *t)
+{
+    const double *a = x + 3 * t[0], *b = x + 3 * t[1], *c = x + 3 * t[2], *d = x + 3 * t[3];
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    double v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double w[3] = {d[0] - a[0], d[1] - a[1], d[2] - a[2]};
+    return (u[0] * (v[1] * w[2] - v[2] * w[1]) - u[1] * (v[0] * w[2] - v[2] * w[0]) +
+            u[2] * (v[0] * w[1] - v[1] * w[0])) /
+           6.0;
+}
+
+double eo_mesh_volume(const eo_mesh *m)
+{
+    double s = 0;
+    for (int t = 0; t < m->nt; t++) s += eo_tet_volume(m->X, m->tets + 4 * t);
+    return s;
+}
+
+static void cross(const double *a, const double *b, double *c)
+{
+    c[0] = a[1] * b[2] - a[2] * b[1];
+    c[1] = a[2] * b[0] - a[0] * b[2];
+    c[2] = a[0] * b[1] - a[1] * b[0];
+}
+static double norm3(const double *a) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+
+static double tet_quality(const double *X, const int *t)
+{
+    const double *p[4] = {X + 3 * t[0], X + 3 * t[1], X + 3 * t[2], X + 3 * t[3]};
+    double a[3], b[3], c[3];
+    for (int i = 0; i < 3; i++) {
+        a[i] = p[1][i] - p[0][i];
+        b[i] = p[2][i] - p[0][i];
+        c[i] = p[3][i] - p[0][i];
+    }
+    double bc[3], ca[3], ab[3];
+    cross(b, c, bc);
+    cross(c, a, ca);
+    cross(a, b, ab);
+    double six_v = a[0] * bc[0] + a[1] * bc[1] + a[2] * bc[2];
+    if (six_v <= 0) return 0;
+    double a2 = a[0] * a[0] + a[1] * a[1] + a[2] * a[2];
+    double b2 = b[0] * b[0] + b[1] * b[1] + b[2] * b[2];
+    double c2 = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+    double num[3];
+    for (int i = 0; i < 3; i++) num[i] = a2 * bc[i] + b2 * ca[i] + c2 * ab[i];
+    double R = norm3(num) / (2 * six_v);
+    /* face areas: |ab|/2, |bc|/2, |ca|/2 and the face opposite p0 */
+    double e1[3], e2[3], n[3];
+    for (int i = 0; i < 3; i++) {
+        e1[i] = p[2][i] - p[1][i];
+        e2[i] = p[3][i] - p[1][i];
+    }
+    cross(e1, e2, n);
+    double area = 0.5 * (norm3(ab) + norm3(bc) + norm3(ca) + norm3(n));
+    double r = (six_v / 2) / area; /* 3V / A */
+    return 3 * r / R;
+}
+
+void eo_mesh_stats_compute(const eo_mesh *m, eo_mesh_stats *s)
+{
+    memset(s, 0, sizeof *s);
+    for (int i = 0; i < 3; i++) {
+        s->bbox[i] = m->nv ? INFINITY : 0;
+        s->bbox[3 + i] = m->nv ? -INFINITY : 0;
+    }
+    for (int v = 0; v < m->nv; v++)
+        for (int i = 0; i < 3; i++) {
+            double x = m->X[3 * v + i];
+            if (x < s->bbox[i]) s->bbox[i] = x;
+            if (x > s->bbox[3 + i]) s->bbox[3 + i] = x;
+        }
+    s->min_volume = m->nt ? INFINITY : 0;
+    s->worst_quality = m->nt ? INFINITY : 0;
+    for (int t = 0; t < m->nt; t++) {
+        double v = eo_tet_volume(m->X, m->tets + 4 * t);
+        s->volume += v;
+        if (v < s->min_volume) s->min_volume = v;
+        if (v > s->max_volume) s->max_volume = v;
+        double q = tet_quality(m->X, m->tets + 4 * t);
+        if (q < s->worst_quality) s->worst_quality = q;
+    }
+}
+
+/* ---- validation --------------------------------------------------------------------- */
+
+typedef struct {
+    int k[4];
+    int t;
+} tetkey;
+
+static int cmp_tetkey(const void *a, const void *b)
+{
+    const tetkey *x = a, *y = b;
+    for (int i = 0; i < 4; i++)
+        if (x->k[i] != y->k[i]) return x->k[i] < y->k[i] ? -1 : 1;
+    return (x->t > y->t) - (x->t < y->t);
+}
+
+static void sort_small(int *k, int n)
+{
+    for (int i = 1; i < n; i++)
+        for (int j = i; j > 0 && k[j - 1] > k[j]; j--) {
+            int tmp = k[j];
+            k[j] = k[j - 1];
+            k[j - 1] = tmp;
+        }
+}
+
+static eo_errloc tet_loc(const eo_mesh_src *src, int t)
+{
+    if (src && src->t_line)
+        return EO_ERRLOC_ITEM(src->tet_file, src->t_line[t], "tet", src->t_id[t]);
+    return EO_ERRLOC_ITEM(src ? src->tet_file : NULL, -1, "tet", t);
+}
+
+static eo_errloc vert_loc(const eo_mesh_src *src, int v)
+{
+    if (src && src->v_line)
+        return EO_ERRLOC_ITEM(src->vert_file, src->v_line[v], "vertex", src->v_id[v]);
+    return EO_ERRLOC_ITEM(src ? src->vert_file : NULL, -1, "vertex", v);
+}
+
+static long tet_id(const eo_mesh_src *src, int t) { return src && src->t_id ? src->t_id[t] : t; }
+
+/* Keep tets with keep[t] != 0, compacting every per-tet array. */
+static int compact_tets(eo_mesh *m, const unsigned char *keep, const eo_mesh_src *src)
+{
+    int n = 0;
+    for (int t = 0; t < m->nt; t++) {
+        if (!keep[t]) continue;
+        if (n != t) {
+            memcpy(m->tets + 4 * n, m->tets + 4 * t, 4 * sizeof(int));
+            if (m->tet_attr) m->tet_attr[n] = m->tet_attr[t];
+            if (src && src->t_line) {
+                src->t_line[n] = src->t_line[t];
+                src->t_id[n] = src->t_id[t];
+            }
+        }
+        n++;
+    }
+    int dropped = m->nt - n;
+    m->nt = n;
+    return dropped;
+}
+
+int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts, const eo_mesh_src *src)
+{
+    eo_mesh_read_opts def = eo_mesh_read_opts_default();
+    if (!opts) opts = &def;
+    const char *vfile = src ? src->vert_file : NULL;
+    const char *tfile = src ? src->tet_file : NULL;
+    int rc = EO_OK;
+    unsigned char *flag = NULL;
+    tetkey *keys = NULL;
+    int *map = NULL;
+    int dropped_t = 0, dropped_v = 0;
+
+    if (m->nv == 0) return eo_error_at(ctx, EO_ERR_MESH, EO_ERRLOC_FILE(vfile, -1), "mesh has no vertices");
+    if (m->nt == 0) return eo_error_at(ctx, EO_ERR_MESH, EO_ERRLOC_FILE(tfile, -1), "mesh has no tetrahedra");
+    for (int v = 0; v < m->nv; v++)
+        for (int i = 0; i < 3; i++)
+            if (!isfinite(m->X[3 * v + i]))
+                return eo_error_at(ctx, EO_ERR_NONFINITE, vert_loc(src, v),
+                                   "expected finite coordinates, got %c = %g", "xyz"[i], m->X[3 * v + i]);
+    for (int t = 0; t < m->nt; t++)
+        for (int i = 0; i < 4; i++) {
+            int v = m->tets[4 * t + i];
+            if (v < 0 || v >= m->nv)
+                return eo_error_at(ctx, EO_ERR_MESH, tet_loc(src, t),
+                                   "expected vertex indices in [0, %d), got %d", m->nv, v);
+            for (int j = 0; j < i; j++)
+                if (m->tets[4 * t + j] == v)
+                    return eo_error_at(ctx, EO_ERR_MESH, tet_loc(src, t),
+                                       "expected 4 distinct vertices, got vertex %d twice", v);
+        }
+
+    flag = eo_malloc(ctx, (size_t)(m->nt > m->nv ? m->nt : m->nv) + 1);
+    if (!flag) {
+        rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (validation)");
+        goto fail;
+    }
+
+    /* orientation and zero volume */
+    double mean = 0;
+    int reoriented = 0;
+    for (int t = 0; t < m->nt; t++) {
+        int *tt = m->tets + 4 * t;
+        double v = eo_tet_volume(m->X, tt);
+        if (v < 0) {
+            int tmp = tt[1];
+            tt[1] = tt[2];
+            tt[2] = tmp;
+            reoriented++;
+        }
+        mean += fabs(v);
+    }
+    mean /= m->nt;
+    m->reoriented += reoriented;
+    double vmin = opts->min_rel_volume * mean;
+    int nzero = 0;
+    for (int t = 0; t < m->nt; t++) {
+        double v = eo_tet_volume(m->X, m->tets + 4 * t);
+        flag[t] = !(v <= vmin);
+        if (flag[t]) continue;
+        if (!opts->drop_degenerate) {
+            rc = eo_error_at(ctx, EO_ERR_MESH, tet_loc(src, t),
+                             "zero volume (%g <= %g x mean volume %g); expected a non-degenerate tet "
+                             "(or use drop_degenerate)",
+                             v, opts->min_rel_volume, mean);
+            goto fail;
+        }
+        if (nzero++ == 0) eo_log(ctx, EO_LOG_WARN, "%s: dropping zero-volume tet %ld", tfile ? tfile : "mesh", tet_id(src, t));
+    }
+    if (nzero) dropped_t += compact_tets(m, flag, src);
+    if (m->nt == 0) {
+        rc = eo_error_at(ctx, EO_ERR_MESH, EO_ERRLOC_FILE(tfile, -1), "every tet has zero volume");
+        goto fail;
+    }
+
+    /* duplicates */
+    keys = eo_malloc(ctx, (size_t)m->nt * sizeof *keys);
+    if (!keys) {
+        rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (validation)");
+        goto fail;
+    }
+    for (int t = 0; t < m->nt; t++) {
+        memcpy(keys[t].k, m->tets + 4 * t, 4 * sizeof(int));
+        sort_small(keys[t].k, 4);
+        keys[t].t = t;
+    }
+    qsort(keys, (size_t)m->nt, sizeof *keys, cmp_tetkey);
+    memset(flag, 1, (size_t)m->nt);
+    int ndup = 0;
+    for (int i = 1; i < m->nt; i++) {
+        if (memcmp(keys[i].k, keys[i - 1].k, sizeof keys[i].k) != 0) continue;
+        int t = keys[i].t, first = keys[i].t;
+        for (int j = i - 1; j >= 0 && memcmp(keys[j].k, keys[i].k, sizeof keys[i].k) == 0; j--) first = keys[j].t;
+        if (!opts->drop_degenerate) {
+            rc = eo_error_at(ctx, EO_ERR_MESH, tet_loc(src, t),
+                             "duplicate of tet %ld (same vertex set); expected each tet once "
+                             "(or use drop_degenerate)",
+                             tet_id(src, first));
+            goto fail;
+        }
+        flag[t] = 0;
+        if (ndup++ == 0)
+            eo_log(ctx, EO_LOG_WARN, "%s: dropping duplicate tet %ld (of tet %ld)", tfile ? tfile : "mesh",
+                   tet_id(src, t), tet_id(src, first));
+    }
+    if (ndup) dropped_t += compact_tets(m, flag, src);
+
+    /* unreferenced vertices */
+    memset(flag, 0, (size_t)m->nv);
+    for (int i = 0; i < 4 * m->nt; i++) flag[m->tets[i]] = 1;
+    int nunref = 0;
+    for (int v = 0; v < m->nv; v++) {
+        if (flag[v]) continue;
+        if (!opts->drop_unreferenced) {
+            rc = eo_error_at(ctx, EO_ERR_MESH, vert_loc(src, v),
+                             "not used by any tet; expected every vertex referenced "
+                             "(or use drop_unreferenced)");
+            goto fail;
+        }
+        if (nunref++ == 0)
+            eo_log(ctx, EO_LOG_WARN, "%s: dropping unreferenced vertex %ld", vfile ? vfile : "mesh",
+                   src && src->v_id ? src->v_id[v] : (long)v);
+    }
+    if (nunref) {
+        map = eo_malloc(ctx, (size_t)m->nv * sizeof(int));
+        if (!map) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (validation)");
+            goto fail;
+        }
+        int n = 0;
+        for (int v = 0; v < m->nv; v++) {
+            map[v] = flag[v] ? n : -1;
+            if (!flag[v]) continue;
+            if (n != v) {
+                memcpy(m->X + 3 * n, m->X + 3 * v, 3 * sizeof(double));
+                if (m->vmarker) m->vmarker[n] = m->vmarker[v];
+            }
+            n++;
+        }
+        for (int i = 0; i < 4 * m->nt; i++) m->tets[i] = map[m->tets[i]];
+        dropped_v = m->nv - n;
+        m->nv = n;
+    }
+    m->dropped_tets += dropped_t;
+    m->dropped_vertices += dropped_v;
+    if (dropped_t || dropped_v) {
+        eo_log(ctx, EO_LOG_WARN, "%s: dropped %d degenerate/duplicate tets and %d unreferenced vertices",
+               tfile ? tfile : "mesh", dropped_t, dropped_v);
+        rc = EO_WARN_DROPPED;
+    }
+fail:
+    eo_free(ctx, flag);
+    eo_free(ctx, keys);
+    eo_free(ctx, map);
+    return rc;
+}
+
+int eo_mesh_validate(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts, const char *file)
+{
+    eo_mesh_src src = {.vert_file = file, .tet_file = file};
+    return eo_mesh_validate_src(ctx, m, opts, &src);
+}
+
+/* ---- boundary ------------------------------------------------------------------------ */
+
+typedef struct {
+    int k[3];
+    int t, f;
+} facekey;
+
+static int cmp_facekey(const void *a, const void *b)
+{
+    const facekey *x = a, *y = b;
+    for (int i = 0; i < 3; i++)
+        if (x->k[i] != y->k[i]) return x->k[i] < y->k[i] ? -1 : 1;
+    return 0;
+}
+
+/* outward faces of a positive tet, local indices */
+static const int tet_faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+
+int eo_mesh_boundary_faces(eo_ctx *ctx, const eo_mesh *m, int **faces, int *nf)
+{
+    *faces = NULL;
+    *nf = 0;
+    size_t n = 4 * (size_t)m->nt;
+    facekey *k = eo_malloc(ctx, (n ? n : 1) * sizeof *k);
+    if (!k) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (boundary faces)");
+    for (int t = 0; t < m->nt; t++)
+        for (int f = 0; f < 4; f++) {
+            facekey *q = &k[4 * t + f];
+            for (int i = 0; i < 3; i++) q->k[i] = m->tets[4 * t + tet_faces[f][i]];
+            sort_small(q->k, 3);
+            q->t = t;
+            q->f = f;
+        }
+    qsort(k, n, sizeof *k, cmp_facekey);
+    size_t count = 0;
+    for (size_t i = 0, j; i < n; i = j) {
+        for (j = i + 1; j < n && cmp_facekey(&k[i], &k[j]) == 0; j++) {}
+        if (j - i == 1) count++;
+    }
+    int *out = eo_malloc(ctx, (count ? count : 1) * 3 * sizeof(int));
+    if (!out) {
+        eo_free(ctx, k);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory (boundary faces)");
+    }
+    size_t c = 0;
+    for (size_t i = 0, j; i < n; i = j) {
+        for (j = i + 1; j < n && cmp_facekey(&k[i], &k[j]) == 0; j++) {}
+        if (j - i != 1) continue;
+        for (int a = 0; a < 3; a++) out[3 * c + a] = m->tets[4 * k[i].t + tet_faces[k[i].f][a]];
+        c++;
+    }
+    eo_free(ctx, k);
+    *faces = out;
+    *nf = (int)count;
+    return EO_OK;
+}

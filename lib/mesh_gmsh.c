@@ -1,0 +1,356 @@
+/* Gmsh .msh reader (ASCII 2.2 and 4.1) and writer (ASCII 4.1).
+ *
+ * Reference: Gmsh reference manual, "MSH file format" (versions 2 and 4.1).
+ *  2.2  $Nodes: n, then "tag x y z"; $Elements: n, then
+ *       "tag type ntags tag1..tagN node1..nodeK" — tag1 is the physical group.
+ *  4.1  $Nodes: "numBlocks numNodes minTag maxTag", per block "dim entity parametric n",
+ *       n tags, then n lines "x y z [u v w]"; $Elements: "numBlocks numElements minTag
+ *       maxTag", per block "dim entity type n", then n lines "tag node1..nodeK".
+ * Only tets (type 4) are kept; tet_attr is the physical tag (2.2, 0 if none) or the
+ * entity tag (4.1). Every other element type and every other section ($Entities,
+ * $PhysicalNames, IPC's $Surface, ...) is skipped line by line.
+ * The writer emits one node block and one element block per run of equal tet_attr. */
+#include <string.h>
+
+#include "elastopt/io.h"
+#include "mesh_io.h"
+#include "textscan.h"
+
+typedef struct {
+    eo_scan s;
+    eo_ctx *ctx;
+    eo_mesh_src *src;
+    eo_mesh *m;      /* created at $Nodes with its vertices */
+    long *tags;      /* node tags */
+    eo_tagmap map;
+    int v41;         /* 1: version 4.1, 0: 2.x */
+    int cap;         /* tet capacity */
+} gmsh_reader;
+
+static int make_map(gmsh_reader *r)
+{
+    int dup = -1;
+    int rc = eo_tagmap_build(r->ctx, r->tags, r->m->nv, &r->map, &dup);
+    if (rc == EO_ERR_PARSE)
+        return eo_error_at(r->ctx, rc, EO_ERRLOC_ITEM(r->s.file, r->src->v_line[dup], "node", r->tags[dup]),
+                           "node tag repeated; expected unique node tags");
+    return rc;
+}
+
+static int alloc_nodes(gmsh_reader *r, int n)
+{
+    if (r->m) return eo_scan_error(&r->s, EO_ERR_PARSE, "second $Nodes section; expected one");
+    int rc = eo_mesh_create(r->ctx, n, 0, &r->m);
+    if (rc < 0) return rc;
+    r->m->nt = 0;
+    r->tags = eo_malloc(r->ctx, (size_t)(n ? n : 1) * sizeof(long));
+    if (!r->tags) return eo_error(r->ctx, EO_ERR_NOMEM, "out of memory (node tags)");
+    return eo_mesh_src_alloc(r->ctx, r->src, n, -1);
+}
+
+static int read_xyz(gmsh_reader *r, int i)
+{
+    eo_scan *s = &r->s;
+    double *x = r->m->X + 3 * i;
+    int rc;
+    if ((rc = eo_scan_double(s, "x coordinate", &x[0])) < 0) return rc;
+    if ((rc = eo_scan_double(s, "y coordinate", &x[1])) < 0) return rc;
+    return eo_scan_double(s, "z coordinate", &x[2]);
+}
+
+static int nodes_22(gmsh_reader *r)
+{
+    eo_scan *s = &r->s;
+    int n, rc;
+    if ((rc = eo_scan_count(s, "node count", &n)) < 0) return rc;
+    if ((rc = alloc_nodes(r, n)) < 0) return rc;
+    for (int i = 0; i < n; i++) {
+        eo_scan_skip(s);
+        r->src->v_line[i] = s->line;
+        if ((rc = eo_scan_long(s, "node tag", &r->tags[i])) < 0) return rc;
+        r->src->v_id[i] = r->tags[i];
+        eo_scan_item(s, "node", r->tags[i]);
+        if ((rc = read_xyz(r, i)) < 0) return rc;
+        if ((rc = eo_scan_eol(s, "x y z")) < 0) return rc;
+    }
+    eo_scan_item(s, NULL, -1);
+    if ((rc = eo_scan_expect(s, "$EndNodes")) < 0) return rc;
+    return make_map(r);
+}
+
+static int nodes_41(gmsh_reader *r)
+{
+    eo_scan *s = &r->s;
+    int nb, n, rc;
+    long mintag, maxtag;
+    if ((rc = eo_scan_count(s, "node block count", &nb)) < 0) return rc;
+    if ((rc = eo_scan_count(s, "node count", &n)) < 0) return rc;
+    if ((rc = eo_scan_long(s, "minimum node tag", &mintag)) < 0) return rc;
+    if ((rc = eo_scan_long(s, "maximum node tag", &maxtag)) < 0) return rc;
+    if ((rc = alloc_nodes(r, n)) < 0) return rc;
+    int done = 0;
+    for (int b = 0; b < nb; b++) {
+        int dim, param, k;
+        long ent;
+        if ((rc = eo_scan_int(s, "entity dimension", 0, 3, &dim)) < 0) return rc;
+        if ((rc = eo_scan_long(s, "entity tag", &ent)) < 0) return rc;
+        if ((rc = eo_scan_int(s, "parametric flag", 0, 1, &param)) < 0) return rc;
+        if ((rc = eo_scan_count(s, "nodes in block", &k)) < 0) return rc;
+        if (k > n - done)
+            return eo_scan_error(s, EO_ERR_PARSE, "block of %d nodes exceeds the %d announced in the $Nodes header",
+                                 k, n);
+        for (int i = done; i < done + k; i++) {
+            eo_scan_skip(s);
+            r->src->v_line[i] = s->line;
+            if ((rc = eo_scan_long(s, "node tag", &r->tags[i])) < 0) return rc;
+            r->src->v_id[i] = r->tags[i];
+        }
+        for (int i = done; i < done + k; i++) {
+            eo_scan_item(s, "node", r->tags[i]);
+            eo_scan_skip(s);
+            r->src->v_line[i] = s->line;
+            if ((rc = read_xyz(r, i)) < 0) return rc;
+            for (int p = 0; p < (param ? dim : 0); p++) {
+                double u;
+                if ((rc = eo_scan_double(s, "parametric coordinate", &u)) < 0) return rc;
+            }
+            if ((rc = eo_scan_eol(s, "x y z")) < 0) return rc;
+        }
+        eo_scan_item(s, NULL, -1);
+        done += k;
+    }
+    if (done != n) {
+        char w[96];
+        snprintf(w, sizeof w, "another node block (%d of %d nodes read)", done, n);
+        return eo_scan_fail(s, w);
+    }
+    if ((rc = eo_scan_expect(s, "$EndNodes")) < 0) return rc;
+    for (int i = 0; i < n; i++)
+        if (r->tags[i] < mintag || r->tags[i] > maxtag)
+            return eo_error_at(r->ctx, EO_ERR_PARSE, EO_ERRLOC_ITEM(s->file, r->src->v_line[i], "node", r->tags[i]),
+                               "expected a node tag in [%ld, %ld] as the $Nodes header says", mintag, maxtag);
+    return make_map(r);
+}
+
+static int alloc_elements(gmsh_reader *r, int n)
+{
+    if (!r->m) return eo_scan_error(&r->s, EO_ERR_PARSE, "$Elements before $Nodes; expected $Nodes first");
+    if (r->cap) return eo_scan_error(&r->s, EO_ERR_PARSE, "second $Elements section; expected one");
+    eo_mesh *m = r->m;
+    r->cap = n ? n : 1;
+    eo_free(r->ctx, m->tets);
+    m->tets = eo_malloc(r->ctx, (size_t)r->cap * 4 * sizeof(int));
+    m->tet_attr = eo_malloc(r->ctx, (size_t)r->cap * sizeof(int));
+    if (!m->tets || !m->tet_attr) return eo_error(r->ctx, EO_ERR_NOMEM, "out of memory (%d elements)", n);
+    return eo_mesh_src_alloc(r->ctx, r->src, -1, r->cap);
+}
+
+/* Read the 4 node tags of tet `tag` on the current line into the next tet slot. */
+static int read_tet(gmsh_reader *r, long tag, long line, int attr)
+{
+    eo_scan *s = &r->s;
+    eo_mesh *m = r->m;
+    int t = m->nt, rc;
+    eo_scan_item(s, "tet", tag);
+    for (int a = 0; a < 4; a++) {
+        long nt;
+        if ((rc = eo_scan_long(s, "node tag", &nt)) < 0) return rc;
+        int v = eo_tagmap_find(&r->map, nt);
+        if (v < 0) return eo_scan_error(s, EO_ERR_MESH, "node %ld: expected a node tag defined in $Nodes", nt);
+        m->tets[4 * t + a] = v;
+    }
+    if ((rc = eo_scan_eol(s, "the 4 nodes of a tet")) < 0) return rc;
+    eo_scan_item(s, NULL, -1);
+    m->tet_attr[t] = attr;
+    r->src->t_line[t] = line;
+    r->src->t_id[t] = tag;
+    m->nt++;
+    return EO_OK;
+}
+
+static int elements_22(gmsh_reader *r)
+{
+    eo_scan *s = &r->s;
+    int n, rc;
+    if ((rc = eo_scan_count(s, "element count", &n)) < 0) return rc;
+    if ((rc = alloc_elements(r, n)) < 0) return rc;
+    for (int i = 0; i < n; i++) {
+        long tag;
+        int type, ntags, phys = 0;
+        eo_scan_skip(s);
+        long line = s->line;
+        if ((rc = eo_scan_long(s, "element tag", &tag)) < 0) return rc;
+        eo_scan_item(s, "element", tag);
+        if ((rc = eo_scan_int(s, "element type", 1, 1000, &type)) < 0) return rc;
+        if ((rc = eo_scan_int(s, "number of tags", 0, 1000, &ntags)) < 0) return rc;
+        for (int k = 0; k < ntags; k++) {
+            long v;
+            if ((rc = eo_scan_long(s, "element tag value", &v)) < 0) return rc;
+            if (k == 0) phys = (int)v;
+        }
+        if (type == 4) {
+            if ((rc = read_tet(r, tag, line, phys)) < 0) return rc;
+        } else {
+            eo_scan_skip_line(s);
+        }
+        eo_scan_item(s, NULL, -1);
+    }
+    return eo_scan_expect(s, "$EndElements");
+}
+
+static int elements_41(gmsh_reader *r)
+{
+    eo_scan *s = &r->s;
+    int nb, n, rc;
+    long mintag, maxtag;
+    if ((rc = eo_scan_count(s, "element block count", &nb)) < 0) return rc;
+    if ((rc = eo_scan_count(s, "element count", &n)) < 0) return rc;
+    if ((rc = eo_scan_long(s, "minimum element tag", &mintag)) < 0) return rc;
+    if ((rc = eo_scan_long(s, "maximum element tag", &maxtag)) < 0) return rc;
+    if ((rc = alloc_elements(r, n)) < 0) return rc;
+    int done = 0;
+    for (int b = 0; b < nb; b++) {
+        int dim, type, k;
+        long ent;
+        if ((rc = eo_scan_int(s, "entity dimension", 0, 3, &dim)) < 0) return rc;
+        if ((rc = eo_scan_long(s, "entity tag", &ent)) < 0) return rc;
+        if ((rc = eo_scan_int(s, "element type", 1, 1000, &type)) < 0) return rc;
+        if ((rc = eo_scan_count(s, "elements in block", &k)) < 0) return rc;
+        if (k > n - done)
+            return eo_scan_error(s, EO_ERR_PARSE,
+                                 "block of %d elements exceeds the %d announced in the $Elements header", k, n);
+        if (type != 4) {
+            if ((rc = eo_scan_skip_lines(s, k, "element lines")) < 0) return rc;
+            done += k;
+            continue;
+        }
+        if ((rc = eo_scan_eol(s, "the element block header")) < 0) return rc;
+        for (int i = 0; i < k; i++) {
+            long tag;
+            eo_scan_skip(s);
+            long line = s->line;
+            if ((rc = eo_scan_long(s, "element tag", &tag)) < 0) return rc;
+            if ((rc = read_tet(r, tag, line, (int)ent)) < 0) return rc;
+        }
+        done += k;
+    }
+    if (done != n) {
+        char w[96];
+        snprintf(w, sizeof w, "another element block (%d of %d elements read)", done, n);
+        return eo_scan_fail(s, w);
+    }
+    return eo_scan_expect(s, "$EndElements");
+}
+
+/* Skip a section whose "$Name" was consumed: up to the line starting "$EndName". */
+static int skip_section(gmsh_reader *r, const char *name, size_t len)
+{
+    eo_scan *s = &r->s;
+    char end[80];
+    snprintf(end, sizeof end, "$End%.*s", (int)(len > 60 ? 60 : len), name + 1);
+    long start = s->line;
+    for (;;) {
+        eo_scan_skip_line(s);
+        if (!eo_scan_skip(s))
+            return eo_scan_error(s, EO_ERR_PARSE, "expected '%s' closing the section opened on line %ld, got end of file",
+                                 end, start);
+        if (eo_scan_accept(s, end)) return EO_OK;
+    }
+}
+
+static int read_gmsh(eo_ctx *ctx, const char *text, size_t len, const char *file, eo_mesh **out, eo_mesh_src *src)
+{
+    gmsh_reader r = {.ctx = ctx, .src = src};
+    eo_scan *s = &r.s;
+    eo_scan_init(s, ctx, file, text, len, 0);
+    int rc = EO_OK, ftype, dsize;
+    double version;
+    if ((rc = eo_scan_expect(s, "$MeshFormat")) < 0) goto fail;
+    if ((rc = eo_scan_double(s, "format version", &version)) < 0) goto fail;
+    if (!(version >= 2.0 && version < 3.0) && version != 4.1) {
+        rc = eo_scan_error(s, EO_ERR_UNSUPPORTED, "expected MSH version 2.2 or 4.1, got %g", version);
+        goto fail;
+    }
+    r.v41 = version == 4.1;
+    if ((rc = eo_scan_int(s, "file type", 0, 1, &ftype)) < 0) goto fail;
+    if (ftype != 0) {
+        rc = eo_scan_error(s, EO_ERR_UNSUPPORTED, "binary .msh files are not supported; expected ASCII (file type 0)");
+        goto fail;
+    }
+    if ((rc = eo_scan_int(s, "data size", 1, 64, &dsize)) < 0) goto fail;
+    if ((rc = eo_scan_expect(s, "$EndMeshFormat")) < 0) goto fail;
+    for (;;) {
+        const char *t;
+        size_t n;
+        if (!eo_scan_peek(s, &t, &n)) break;
+        if (eo_scan_accept(s, "$Nodes")) {
+            rc = r.v41 ? nodes_41(&r) : nodes_22(&r);
+        } else if (eo_scan_accept(s, "$Elements")) {
+            rc = r.v41 ? elements_41(&r) : elements_22(&r);
+        } else if (t[0] == '$' && n > 1 && !(n > 4 && memcmp(t, "$End", 4) == 0)) {
+            s->p += n;
+            rc = skip_section(&r, t, n);
+        } else {
+            rc = eo_scan_fail(s, "a section such as '$Nodes' or '$Elements'");
+        }
+        if (rc < 0) goto fail;
+    }
+    if (!r.m) {
+        rc = eo_scan_error(s, EO_ERR_PARSE, "expected a $Nodes section, got end of file");
+        goto fail;
+    }
+    if (!r.cap) {
+        rc = eo_scan_error(s, EO_ERR_PARSE, "expected an $Elements section, got end of file");
+        goto fail;
+    }
+    if (r.m->nt == 0) {
+        rc = eo_error_at(ctx, EO_ERR_MESH, EO_ERRLOC_FILE(file, -1),
+                         "no tetrahedra (element type 4) found; expected a volume mesh");
+        goto fail;
+    }
+fail:
+    eo_free(ctx, r.tags);
+    eo_tagmap_deinit(ctx, &r.map);
+    if (rc < 0) eo_mesh_destroy(ctx, &r.m);
+    *out = r.m;
+    return rc;
+}
+
+static int write_gmsh(eo_ctx *ctx, const eo_mesh *m, const char *path)
+{
+    eo_afile *af = NULL;
+    int rc = eo_afile_open(ctx, path, &af);
+    if (rc < 0) return rc;
+    FILE *f = eo_afile_fp(af);
+    fprintf(f, "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
+    fprintf(f, "$Nodes\n1 %d 1 %d\n3 1 0 %d\n", m->nv, m->nv, m->nv);
+    for (int v = 0; v < m->nv; v++) fprintf(f, "%d\n", v + 1);
+    for (int v = 0; v < m->nv; v++)
+        fprintf(f, "%.17g %.17g %.17g\n", m->X[3 * v], m->X[3 * v + 1], m->X[3 * v + 2]);
+    fprintf(f, "$EndNodes\n");
+    int nblocks = 0;
+    for (int t = 0; t < m->nt; t++)
+        if (t == 0 || (m->tet_attr && m->tet_attr[t] != m->tet_attr[t - 1])) nblocks++;
+    fprintf(f, "$Elements\n%d %d 1 %d\n", nblocks, m->nt, m->nt);
+    for (int t = 0; t < m->nt;) {
+        int attr = m->tet_attr ? m->tet_attr[t] : 1, e = t + 1;
+        while (e < m->nt && m->tet_attr && m->tet_attr[e] == attr) e++;
+        fprintf(f, "3 %d 4 %d\n", attr, e - t);
+        for (; t < e; t++) {
+            const int *q = m->tets + 4 * t;
+            fprintf(f, "%d %d %d %d %d\n", t + 1, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+        }
+    }
+    fprintf(f, "$EndElements\n");
+    return eo_afile_commit(ctx, &af);
+}
+
+static const char *const gmsh_exts[] = {".msh", NULL};
+
+const eo_mesh_io_type eo_mesh_io_gmsh = {
+    .format = EO_MESH_GMSH,
+    .name = "gmsh",
+    .exts = gmsh_exts,
+    .read_text = read_gmsh,
+    .write = write_gmsh,
+};

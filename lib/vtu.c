@@ -1,0 +1,269 @@
+/* VTK XML unstructured grid (.vtu) frames, ParaView .pvd series, boundary OBJ.
+ *
+ * Reference: "VTK File Formats" (VTK user's guide, XML formats). A frame is written
+ * with every array in one <AppendedData encoding="raw"> block: after the '_' marker,
+ * each array is a UInt64 byte count followed by its little-endian bytes; a DataArray's
+ * `offset` is the position of its count relative to the byte after '_'.
+ *   Points: Float64 ×3; Cells: connectivity Int64, offsets Int64, types UInt8 (10 = tet)
+ *   PointData: displacement, velocity (Float64 ×3); CellData: energy_density, J
+ *   (Float64), inverted (UInt8), region (Int32, when the mesh has tet attributes).
+ * The .pvd index lists every frame so far and is rewritten atomically after each one.
+ * The OBJ holds the outward boundary triangles and only the vertices they use. */
+#include <stdint.h>
+#include <string.h>
+
+#include "elastopt/io.h"
+#include "mesh_io.h"
+
+/* ---- little-endian output -------------------------------------------------------- */
+
+static int host_is_le(void)
+{
+    const uint16_t one = 1;
+    unsigned char b;
+    memcpy(&b, &one, 1);
+    return b == 1;
+}
+
+/* Write n items of `size` bytes in little-endian order. */
+static void put_le(FILE *f, const void *data, size_t size, size_t n)
+{
+    if (host_is_le()) {
+        fwrite(data, size, n, f);
+        return;
+    }
+    const unsigned char *p = data;
+    unsigned char buf[8];
+    for (size_t i = 0; i < n; i++, p += size) {
+        for (size_t k = 0; k < size; k++) buf[k] = p[size - 1 - k];
+        fwrite(buf, size, 1, f);
+    }
+}
+
+static void put_u64(FILE *f, uint64_t v) { put_le(f, &v, 8, 1); }
+
+typedef enum { A_F64, A_I64, A_U8, A_I32 } atype;
+static const char *const atype_name[] = {"Float64", "Int64", "UInt8", "Int32"};
+static const size_t atype_size[] = {8, 8, 1, 4};
+
+typedef struct {
+    const char *name;
+    atype type;
+    int ncomp;
+    size_t n;          /* items (tuples * ncomp) */
+    const void *data;  /* NULL: generated (connectivity, offsets, types, rest X) */
+} varray;
+
+static void header_array(FILE *f, const varray *a, uint64_t *offset)
+{
+    fprintf(f, "        <DataArray type=\"%s\" Name=\"%s\"", atype_name[a->type], a->name);
+    if (a->ncomp > 1) fprintf(f, " NumberOfComponents=\"%d\"", a->ncomp);
+    fprintf(f, " format=\"appended\" offset=\"%llu\"/>\n", (unsigned long long)*offset);
+    *offset += 8 + a->n * atype_size[a->type];
+}
+
+int eo_vtu_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const eo_vtu_fields *fl)
+{
+    eo_vtu_fields none = {0};
+    if (!fl) fl = &none;
+    const size_t nv = (size_t)m->nv, nt = (size_t)m->nt;
+    varray pts = {"Points", A_F64, 3, 3 * nv, fl->x ? fl->x : m->X};
+    varray conn = {"connectivity", A_I64, 1, 4 * nt, NULL};
+    varray offs = {"offsets", A_I64, 1, nt, NULL};
+    varray types = {"types", A_U8, 1, nt, NULL};
+    varray pd[2], cd[4];
+    int npd = 0, ncd = 0;
+    if (fl->displacement) pd[npd++] = (varray){"displacement", A_F64, 3, 3 * nv, fl->displacement};
+    if (fl->velocity) pd[npd++] = (varray){"velocity", A_F64, 3, 3 * nv, fl->velocity};
+    if (fl->energy_density) cd[ncd++] = (varray){"energy_density", A_F64, 1, nt, fl->energy_density};
+    if (fl->J) cd[ncd++] = (varray){"J", A_F64, 1, nt, fl->J};
+    if (fl->inverted) cd[ncd++] = (varray){"inverted", A_U8, 1, nt, fl->inverted};
+    if (m->tet_attr) cd[ncd++] = (varray){"region", A_I32, 1, nt, m->tet_attr};
+
+    eo_afile *af = NULL;
+    int rc = eo_afile_open(ctx, path, &af);
+    if (rc < 0) return rc;
+    FILE *f = eo_afile_fp(af);
+    uint64_t off = 0;
+    fprintf(f, "<?xml version=\"1.0\"?>\n"
+               "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+               "header_type=\"UInt64\">\n"
+               "  <UnstructuredGrid>\n"
+               "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n",
+            nv, nt);
+    if (npd) {
+        fprintf(f, "      <PointData>\n");
+        for (int i = 0; i < npd; i++) header_array(f, &pd[i], &off);
+        fprintf(f, "      </PointData>\n");
+    }
+    if (ncd) {
+        fprintf(f, "      <CellData>\n");
+        for (int i = 0; i < ncd; i++) header_array(f, &cd[i], &off);
+        fprintf(f, "      </CellData>\n");
+    }
+    fprintf(f, "      <Points>\n");
+    header_array(f, &pts, &off);
+    fprintf(f, "      </Points>\n      <Cells>\n");
+    header_array(f, &conn, &off);
+    header_array(f, &offs, &off);
+    header_array(f, &types, &off);
+    fprintf(f, "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _");
+    /* data in the same order as the headers */
+    for (int i = 0; i < npd; i++) {
+        put_u64(f, pd[i].n * atype_size[pd[i].type]);
+        put_le(f, pd[i].data, atype_size[pd[i].type], pd[i].n);
+    }
+    for (int i = 0; i < ncd; i++) {
+        put_u64(f, cd[i].n * atype_size[cd[i].type]);
+        put_le(f, cd[i].data, atype_size[cd[i].type], cd[i].n);
+    }
+    put_u64(f, pts.n * 8);
+    put_le(f, pts.data, 8, pts.n);
+    put_u64(f, conn.n * 8);
+    for (size_t i = 0; i < 4 * nt; i++) {
+        int64_t v = m->tets[i];
+        put_le(f, &v, 8, 1);
+    }
+    put_u64(f, offs.n * 8);
+    for (size_t t = 0; t < nt; t++) {
+        int64_t v = (int64_t)(4 * (t + 1));
+        put_le(f, &v, 8, 1);
+    }
+    put_u64(f, types.n);
+    for (size_t t = 0; t < nt; t++) fputc(10, f);
+    fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
+    return eo_afile_commit(ctx, &af);
+}
+
+static int write_vtu_rest(eo_ctx *ctx, const eo_mesh *m, const char *path) { return eo_vtu_write(ctx, path, m, NULL); }
+
+/* ---- .pvd series ------------------------------------------------------------------- */
+
+typedef struct {
+    double t;
+    char *file;
+} pvd_frame;
+
+struct eo_pvd {
+    char *path;
+    pvd_frame *frames;
+    int n, cap;
+};
+
+int eo_pvd_create(eo_ctx *ctx, const char *pvd_path, eo_pvd **out)
+{
+    *out = NULL;
+    eo_pvd *p = eo_calloc(ctx, 1, sizeof *p);
+    if (!p || !(p->path = eo_strdup(ctx, pvd_path))) {
+        eo_free(ctx, p);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory (pvd)");
+    }
+    *out = p;
+    return EO_OK;
+}
+
+static void xml_attr(FILE *f, const char *s)
+{
+    for (; *s; s++) {
+        switch (*s) {
+        case '&': fputs("&amp;", f); break;
+        case '<': fputs("&lt;", f); break;
+        case '>': fputs("&gt;", f); break;
+        case '"': fputs("&quot;", f); break;
+        default: fputc(*s, f);
+        }
+    }
+}
+
+int eo_pvd_add(eo_ctx *ctx, eo_pvd *p, double t, const char *vtu_file)
+{
+    if (p->n == p->cap) {
+        int cap = p->cap ? 2 * p->cap : 16;
+        pvd_frame *nf = eo_realloc(ctx, p->frames, (size_t)cap * sizeof *nf);
+        if (!nf) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (pvd)");
+        p->frames = nf;
+        p->cap = cap;
+    }
+    char *file = eo_strdup(ctx, vtu_file);
+    if (!file) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (pvd)");
+    p->frames[p->n++] = (pvd_frame){t, file};
+    eo_afile *af = NULL;
+    int rc = eo_afile_open(ctx, p->path, &af);
+    if (rc < 0) return rc;
+    FILE *f = eo_afile_fp(af);
+    fprintf(f, "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+               "  <Collection>\n");
+    for (int i = 0; i < p->n; i++) {
+        fprintf(f, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"", p->frames[i].t);
+        xml_attr(f, p->frames[i].file);
+        fprintf(f, "\"/>\n");
+    }
+    fprintf(f, "  </Collection>\n</VTKFile>\n");
+    return eo_afile_commit(ctx, &af);
+}
+
+void eo_pvd_destroy(eo_ctx *ctx, eo_pvd **pp)
+{
+    if (!pp || !*pp) return;
+    eo_pvd *p = *pp;
+    for (int i = 0; i < p->n; i++) eo_free(ctx, p->frames[i].file);
+    eo_free(ctx, p->frames);
+    eo_free(ctx, p->path);
+    eo_free(ctx, p);
+    *pp = NULL;
+}
+
+/* ---- boundary OBJ -------------------------------------------------------------------- */
+
+int eo_obj_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const double *x)
+{
+    if (!x) x = m->X;
+    int *faces = NULL, nf = 0, *map = NULL;
+    eo_afile *af = NULL;
+    int rc = eo_mesh_boundary_faces(ctx, m, &faces, &nf);
+    if (rc < 0) return rc;
+    map = eo_malloc(ctx, (size_t)(m->nv ? m->nv : 1) * sizeof(int));
+    if (!map) {
+        rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (obj)");
+        goto fail;
+    }
+    for (int v = 0; v < m->nv; v++) map[v] = -1;
+    if ((rc = eo_afile_open(ctx, path, &af)) < 0) goto fail;
+    FILE *f = eo_afile_fp(af);
+    fprintf(f, "# boundary surface written by elastopt: %d triangles\n", nf);
+    int n = 0;
+    for (int i = 0; i < 3 * nf; i++) {
+        int v = faces[i];
+        if (map[v] >= 0) continue;
+        map[v] = ++n;
+        fprintf(f, "v %.17g %.17g %.17g\n", x[3 * v], x[3 * v + 1], x[3 * v + 2]);
+    }
+    for (int i = 0; i < nf; i++)
+        fprintf(f, "f %d %d %d\n", map[faces[3 * i]], map[faces[3 * i + 1]], map[faces[3 * i + 2]]);
+    rc = eo_afile_commit(ctx, &af);
+fail:
+    eo_afile_abort(ctx, &af);
+    eo_free(ctx, map);
+    eo_free(ctx, faces);
+    return rc;
+}
+
+static int write_obj_rest(eo_ctx *ctx, const eo_mesh *m, const char *path) { return eo_obj_write(ctx, path, m, NULL); }
+
+static const char *const vtu_exts[] = {".vtu", NULL};
+static const char *const obj_exts[] = {".obj", NULL};
+
+const eo_mesh_io_type eo_mesh_io_vtu = {
+    .format = EO_MESH_VTU,
+    .name = "vtu",
+    .exts = vtu_exts,
+    .write = write_vtu_rest,
+};
+
+const eo_mesh_io_type eo_mesh_io_obj = {
+    .format = EO_MESH_OBJ,
+    .name = "obj",
+    .exts = obj_exts,
+    .read_text = NULL,
+    .write = write_obj_rest,
+};
