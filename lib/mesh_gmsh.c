@@ -247,7 +247,7 @@ static int skip_section(gmsh_reader *r, const char *name, size_t len)
 {
     eo_scan *s = &r->s;
     char end[80];
-    snprintf(end, sizeof end, "$End%.*s", (int)(len > 60 ? 60 : len), name + 1);
+    snprintf(end, sizeof end, "$End%.*s", (int)(len > 61 ? 60 : len - 1), name + 1);
     long start = s->line;
     for (;;) {
         eo_scan_skip_line(s);
