@@ -7,11 +7,13 @@
 #include "cli.h"
 
 extern const eo_cli_command eo_cmd_list;
+extern const eo_cli_command eo_cmd_material;
 extern const eo_cli_command eo_cmd_mesh, eo_cmd_convert;
 
 const eo_cli_command *const eo_cli_commands[] = {
     &eo_cmd_list,
     &eo_cmd_mesh, &eo_cmd_convert,
+    &eo_cmd_material,
     NULL,
 };
 
