@@ -1,0 +1,206 @@
+/// @file scene.h
+/// A scene: mesh, materials, mass, gravity, boundary conditions, initial state, time
+/// stepping and output options — everything of a simulation except the solver, loaded
+/// from a configuration document (config.h) or a built-in scene by name.
+///
+/// ```c
+/// eo_cfg *cfg; eo_scene *sc;
+/// rc = eo_scene_cfg_load(ctx, "examples/twist.json", NULL, &cfg);  // or (NULL, "twist")
+/// rc = eo_cfg_override(ctx, cfg, "time.steps=10");
+/// rc = eo_scene_load(ctx, cfg, &sc);      // every key but `solver`
+/// ... load the solver from cfg (solver.h), then eo_cfg_finish(ctx, cfg) ...
+/// printf("%d tets, %d steps of %g s\n", sc->mesh->nt, sc->time.steps, sc->time.dt);
+/// eo_scene_destroy(ctx, &sc); eo_cfg_destroy(ctx, &cfg);
+/// ```
+/// Ownership: the scene owns its mesh, material and boundary arrays; it borrows
+/// nothing from the cfg after eo_scene_load returns.
+///
+/// Config keys (top level; `elastopt help` prints the tables with defaults):
+///   description        free text, ignored
+///   mesh.file | mesh.generate.{size, cells, split, origin}, mesh.drop_degenerate
+///                      a relative mesh.file is resolved against the config's folder
+///   material.*         eo_material_opts_desc (model, E, nu, density, k)
+///   materials          list of per-region materials: each entry selects tets by
+///                      "attribute": k (mesh tet attribute) or "box": [[x0,y0,z0],[x1,y1,z1]]
+///                      (tet centroid inside) and has the keys of `material`, whose values
+///                      it inherits; the last matching entry wins
+///   mass               "consistent" (ρV/10, ρV/20 per tet) | "lumped" (ρV/4 per vertex)
+///   gravity            3-vector, m/s², default [0, 0, -9.81]
+///   boundary           list; each entry selects rest vertices by exactly one of
+///                      "box": [[lo],[hi]] (inside, inclusive, with a tolerance of 1e-9
+///                      of the mesh size), "plane": {"point", "normal"} (on the side the
+///                      normal points to, (X − p)·n ≥ −tol), "marker": k (vertex marker),
+///                      and prescribes their motion: "fixed": true | "translate": velocity
+///                      (position x₀ + t·v) | "rotate": {"axis", "center", "rate"} (angle
+///                      rate·t about the axis through center); optional "until": t (the
+///                      motion stops, the set stays where it is) and "release": t (after
+///                      it the set is free). Later entries override earlier ones.
+///   initial            {"scale": [sx,sy,sz], "velocity": [vx,vy,vz],
+///                       "reflect": {"point", "normal"}, "random_ball": {"radius", "seed"}}
+///                      applied to the rest positions in the order scale, reflect,
+///                      random_ball; velocity is the uniform initial velocity
+///   time.integrator, time.dt, time.steps
+///   output.dir, output.every, output.vtu
+///   solver.*           the solver's section (solver.h), loaded by the caller
+#ifndef ELASTOPT_SCENE_H
+#define ELASTOPT_SCENE_H
+
+#include "config.h"
+#include "material.h"
+#include "mesh.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+struct eo_integrator_type;
+
+/// Top-level scalar keys.
+typedef struct eo_scene_opts {
+    char description[256];  ///< free text. Default "".
+    char mass[16];          ///< "consistent" | "lumped". Default "consistent".
+    double gravity[3];      ///< m/s². Default [0, 0, -9.81].
+} eo_scene_opts;
+
+/// `mesh` section.
+typedef struct eo_scene_mesh_opts {
+    char file[512];         ///< mesh file (TetGen, MEDIT, Gmsh). Default "" (generate).
+    int drop_degenerate;    ///< drop zero-volume/duplicate tets with a warning. Default false.
+} eo_scene_mesh_opts;
+
+/// `mesh.generate` section (a box of hexahedral cells split into tets).
+typedef struct eo_scene_generate_opts {
+    double size[3];         ///< m. Default [1, 0.1, 0.1].
+    double cells[3];        ///< cells per axis (integers >= 1). Default [20, 2, 2].
+    int split;              ///< 5 or 6 tets per cell. Default 6.
+    double origin[3];       ///< minimum corner, m. Default [0, 0, 0].
+} eo_scene_generate_opts;
+
+/// `time` section.
+typedef struct eo_scene_time_opts {
+    char integrator[32];    ///< newmark | backward_euler | static. Default "newmark".
+    double dt;              ///< step, s; > 0. Default 0.01.
+    int steps;              ///< number of steps, >= 1. Default 30.
+} eo_scene_time_opts;
+
+/// `output` section.
+typedef struct eo_scene_output_opts {
+    char dir[512];          ///< output folder. Default "out".
+    int every;              ///< write a VTU frame every k steps, 0 = none. Default 1.
+    int vtu;                ///< write VTU frames and the .pvd. Default true.
+} eo_scene_output_opts;
+
+/// `initial` section (scalar part).
+typedef struct eo_scene_initial_opts {
+    double scale[3];        ///< per-axis scale about the rest centroid. Default [1, 1, 1].
+    double velocity[3];     ///< uniform initial velocity, m/s. Default [0, 0, 0].
+} eo_scene_initial_opts;
+
+/// A plane {point, normal} (`initial.reflect`, `boundary.N.plane`).
+typedef struct eo_scene_plane_opts {
+    double point[3];        ///< Default [0, 0, 0].
+    double normal[3];       ///< non-zero. Default [1, 0, 0].
+} eo_scene_plane_opts;
+
+/// `initial.random_ball`.
+typedef struct eo_scene_ball_opts {
+    double radius;          ///< m, > 0. Default 1.
+    int seed;               ///< random seed. Default 1.
+} eo_scene_ball_opts;
+
+/// Scalar keys of one `boundary` entry.
+typedef struct eo_scene_bc_opts {
+    int marker;             ///< vertex marker selector, -1 = not used. Default -1.
+    int fixed;              ///< fixed at the initial position. Default false.
+    double translate[3];    ///< velocity of a translation, m/s. Default [0, 0, 0].
+    double until;           ///< motion stops at this time, s; < 0 = never. Default -1.
+    double release;         ///< set becomes free after this time, s; < 0 = never. Default -1.
+} eo_scene_bc_opts;
+
+/// `boundary.N.rotate`.
+typedef struct eo_scene_rotate_opts {
+    double axis[3];         ///< rotation axis (normalized on load). Default [1, 0, 0].
+    double center[3];       ///< a point on the axis, m. Default [0, 0, 0].
+    double rate;            ///< angular velocity, rad/s. Default 0.
+} eo_scene_rotate_opts;
+
+extern const eo_param_desc eo_scene_opts_desc[];
+extern const eo_param_desc eo_scene_mesh_opts_desc[];
+extern const eo_param_desc eo_scene_generate_opts_desc[];
+extern const eo_param_desc eo_scene_time_opts_desc[];
+extern const eo_param_desc eo_scene_output_opts_desc[];
+extern const eo_param_desc eo_scene_initial_opts_desc[];
+extern const eo_param_desc eo_scene_plane_opts_desc[];
+extern const eo_param_desc eo_scene_ball_opts_desc[];
+extern const eo_param_desc eo_scene_bc_opts_desc[];
+extern const eo_param_desc eo_scene_rotate_opts_desc[];
+/// The scene's documented sections ({NULL} terminated), for `elastopt help`.
+extern const eo_cfg_doc eo_scene_docs[];
+
+typedef enum eo_bc_select { EO_BC_BOX, EO_BC_PLANE, EO_BC_MARKER } eo_bc_select;
+typedef enum eo_bc_motion { EO_BC_FIXED, EO_BC_TRANSLATE, EO_BC_ROTATE } eo_bc_motion;
+
+/// One boundary condition with its selected vertices.
+typedef struct eo_bc {
+    eo_bc_select select;
+    eo_bc_motion motion;
+    double box[6];          ///< lo xyz, hi xyz (EO_BC_BOX)
+    eo_scene_plane_opts plane;  ///< EO_BC_PLANE (normal normalized)
+    eo_scene_bc_opts opts;  ///< marker, translate, until, release
+    eo_scene_rotate_opts rotate;  ///< EO_BC_ROTATE (axis normalized)
+    int nverts;             ///< selected vertices (>= 1)
+    int *verts;             ///< owned
+} eo_bc;
+
+/// One material region.
+typedef struct eo_scene_material {
+    eo_material_opts opts;
+    const eo_material_type *type;
+    eo_material_coef coef;
+} eo_scene_material;
+
+typedef struct eo_scene {
+    eo_scene_opts opts;
+    eo_scene_mesh_opts mesh_opts;
+    eo_scene_generate_opts gen;
+    int generated;                     ///< 1 if the mesh was generated
+    eo_mesh *mesh;                     ///< owned
+    int lumped;                        ///< 1: lumped mass
+    int nmat;                          ///< regions (>= 1); region 0 is `material`
+    eo_scene_material *mat;            ///< owned, nmat
+    int *tet_mat;                      ///< owned, nt: region of each tet
+    int nbc;
+    eo_bc *bc;                         ///< owned, nbc
+    eo_scene_initial_opts initial;
+    int has_reflect, has_ball;
+    eo_scene_plane_opts reflect;
+    eo_scene_ball_opts ball;
+    eo_scene_time_opts time;
+    const struct eo_integrator_type *integrator;
+    eo_scene_output_opts output;
+    char file[512];                    ///< config file ("<builtin>" if none)
+} eo_scene;
+
+/// Load a configuration document: `path` if not NULL, else the built-in scene `name`
+/// (NULL: "cantilever", the default). EO_ERR_UNKNOWN_NAME lists the built-in scenes.
+int eo_scene_cfg_load(eo_ctx *ctx, const char *path, const char *name, eo_cfg **out);
+/// Read every scene key of cfg (all but `solver`, which is declared valid at the top
+/// level), build or read the mesh, select boundary vertices, check everything.
+/// Errors name the file with the line of the key (or the -o override): unknown keys,
+/// wrong types, ranges, a boundary entry selecting no vertex, mesh problems.
+int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out);
+void eo_scene_destroy(eo_ctx *ctx, eo_scene **sc);
+/// The resolved options (every section with its defaults filled in) as a new JSON object.
+json_t *eo_scene_to_json(const eo_scene *sc);
+
+/// A built-in scene: the registry (EO_KIND_SCENE) entry, JSON text identical in
+/// meaning to examples/<name>.json.
+typedef struct eo_scene_type {
+    eo_method_info info;
+    const char *json;
+} eo_scene_type;
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,112 @@
+/// @file step.h
+/// The step engine: each implicit time step of a scene as an optimization problem
+///
+///     min_x g(x) = ½‖x − x̃‖²_M + w·(E(x) − cᵀx)
+///
+/// over the FREE coordinates (constrained vertices take their prescribed positions and
+/// are eliminated, not penalized). E is the elastic energy Σₜ Vₜ ψ(Fₜ) plus the gravity
+/// potential −f_gᵀx (f_g = M g, ρV/4·g per tet vertex for both masses); the integrator
+/// (eo_integrator_type, registry kind EO_KIND_INTEGRATOR) gives the weight w, the
+/// predictor x̃, the linear term c and the velocity update:
+///
+///   newmark (β = ¼, γ = ½)  w = h²/4, x̃ = xₙ + h vₙ, c = fₙ = −∇E(xₙ),
+///                           vₙ₊₁ = 2(xₙ₊₁ − xₙ)/h − vₙ       (energy conserving)
+///   backward_euler          w = h², x̃ = xₙ + h vₙ, c = 0, vₙ₊₁ = (xₙ₊₁ − xₙ)/h
+///   static                  no inertia term, w = 1, c = 0, v = 0   (equilibrium)
+///
+/// (Newmark in this form equals ½‖x − y‖²_M + (h²/4)E(x) with y = xₙ + h vₙ + (h²/4)M⁻¹fₙ
+/// up to a constant, without solving with M; see ERRATA for 002 §3.1.)
+///
+/// ```c
+/// eo_step *st; eo_step_create(ctx, scene, &st);      // scene borrowed, must outlive st
+/// for (int k = 0; k < scene->time.steps; k++) {
+///     eo_objective *obj; eo_step_begin(st, &obj);    // objective of step k (borrowed)
+///     double *x = eo_step_guess(st);                 // obj->n free coordinates, in/out
+///     eo_solver_minimize(solver, obj, x, NULL, NULL, &res);
+///     eo_step_end(st, x);                            // xₙ₊₁, vₙ₊₁, t += h
+/// }
+/// eo_step_destroy(&st);
+/// ```
+/// Ownership: the step owns the objective, its Hessian (assembled into a pattern built
+/// once per set of constrained vertices, rebuilt only when a boundary set is released)
+/// and all state vectors; accessors return borrowed pointers.
+/// No allocation happens inside objective evaluations.
+#ifndef ELASTOPT_STEP_H
+#define ELASTOPT_STEP_H
+
+#include "objective.h"
+#include "scene.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// A time integrator (registry kind EO_KIND_INTEGRATOR).
+typedef struct eo_integrator_type {
+    eo_method_info info;
+    int inertia;        ///< 1: the ½‖x − x̃‖²_M term is present
+    int force_n;        ///< 1: linear term c = fₙ = −∇E(xₙ) (trapezoidal forces)
+    /// Weight w of E for step h.
+    double (*weight)(double h);
+    /// Predictor x̃ (n coordinates) from xₙ, vₙ.
+    void (*predict)(int n, double h, const double *xn, const double *vn, double *xt);
+    /// Velocity vₙ₊₁ from xₙ, vₙ and the solution x.
+    void (*velocity)(int n, double h, const double *xn, const double *vn, const double *x,
+                     double *v);
+} eo_integrator_type;
+
+typedef struct eo_step eo_step;
+
+/// Create the step problem of a scene (borrowed; must outlive the step) and set the
+/// initial state (eo_step_reset). Errors: EO_ERR_MESH (bad rest tet), EO_ERR_NOMEM.
+int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out);
+void eo_step_destroy(eo_step **st);
+/// Initial state of the scene: rest positions transformed by `initial`, its velocity,
+/// t = 0, step index 0.
+int eo_step_reset(eo_step *st);
+/// Set the state (3·nv positions and velocities, copied) and time.
+int eo_step_set_state(eo_step *st, const double *x, const double *v, double t);
+/// Build the objective of the next step (t → t + h) and the starting guess; *obj is
+/// borrowed until the next begin. Its n may change between steps when a boundary set
+/// is released.
+int eo_step_begin(eo_step *st, eo_objective **obj);
+/// The free coordinates of the starting guess (obj->n values, borrowed, writable):
+/// the better (lower g) of xₙ and the predictor x̃; the solver works on it in place.
+double *eo_step_guess(eo_step *st);
+/// Accept the free coordinates x as xₙ₊₁: update positions, velocities, time, index.
+int eo_step_end(eo_step *st, const double *x);
+
+/// Borrowed state: positions and velocities (3·nv), rest positions, mesh.
+const double *eo_step_x(const eo_step *st);
+const double *eo_step_v(const eo_step *st);
+const double *eo_step_x0(const eo_step *st);   ///< positions at t = 0
+double eo_step_time(const eo_step *st);
+int eo_step_index(const eo_step *st);
+const eo_mesh *eo_step_mesh(const eo_step *st);
+/// Full coordinate of free coordinate i, and the free index of full coordinate j (-1 if
+/// constrained) for the current objective.
+int eo_step_free_to_full(const eo_step *st, int i);
+int eo_step_full_to_free(const eo_step *st, int j);
+/// Lumped mass of each vertex (nv), borrowed.
+const double *eo_step_vertex_mass(const eo_step *st);
+
+/// Diagnostics of the current state.
+typedef struct eo_step_stats {
+    double com[3];          ///< centre of mass
+    double max_disp;        ///< max over vertices of ‖x − X‖ (X rest)
+    double min_J;           ///< min over tets of det F
+    double max_J;
+    int inverted;           ///< tets with det F <= 0
+    double kinetic;         ///< ½ vᵀMv with the scene's mass matrix
+    double elastic;         ///< Σₜ Vₜ ψ(Fₜ)
+    double gravity;         ///< −f_gᵀx
+} eo_step_stats;
+int eo_step_stats_compute(eo_step *st, eo_step_stats *s);
+/// Per-tet fields of the current state: energy density ψ, det F, inverted flag (any
+/// pointer may be NULL; arrays of nt).
+int eo_step_fields(eo_step *st, double *psi, double *J, unsigned char *inverted);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

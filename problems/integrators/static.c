@@ -1,0 +1,35 @@
+/* Static equilibrium: no inertia, each "step" solves
+ *
+ *     xₙ₊₁ = argmin E(x)   (elastic energy + gravity potential, weight 1)
+ *
+ * with the boundary conditions at tₙ₊₁ (so prescribed motions give a quasi-static
+ * loading path); the velocity is 0. The previous solution is the starting guess.
+ * Needs enough constrained vertices to remove the rigid motions. */
+#include "elastopt/step.h"
+
+static double weight(double h)
+{
+    (void)h;
+    return 1.0;
+}
+
+static void predict(int n, double h, const double *xn, const double *vn, double *xt)
+{
+    (void)h, (void)vn;
+    for (int i = 0; i < n; i++) xt[i] = xn[i];
+}
+
+static void velocity(int n, double h, const double *xn, const double *vn, const double *x, double *v)
+{
+    (void)h, (void)xn, (void)vn, (void)x;
+    for (int i = 0; i < n; i++) v[i] = 0;
+}
+
+const eo_integrator_type eo_integrator_static = {
+    .info = {.name = "static", .summary = "static equilibrium min E(x), no inertia, velocity 0"},
+    .inertia = 0,
+    .force_n = 0,
+    .weight = weight,
+    .predict = predict,
+    .velocity = velocity,
+};

@@ -1,0 +1,541 @@
+/* Scene configuration: descriptor tables of every scene section and the loader that
+ * turns a configuration document into an eo_scene (mesh, per-tet materials, boundary
+ * vertex sets, initial-state transform, integrator, output options).
+ *
+ * Each params section is read with eo_cfg_section (unknown keys fail at load with the
+ * valid keys listed); the list sections (`materials`, `boundary`) are read item by item
+ * with the same tables at paths "materials.N", "boundary.N". Semantic errors (a
+ * boundary entry selecting no vertex, two selectors, a zero normal, ...) are reported
+ * with the file:line of the offending key, or the -o override that set it. */
+#include <jansson.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "elastopt/scene.h"
+#include "elastopt/step.h"
+
+/* ---------------------------------------------------------------- descriptor tables */
+
+static const char *const mass_choices[] = {"consistent", "lumped", NULL};
+
+#define SZ(T, f) sizeof(((T *)0)->f)
+
+const eo_param_desc eo_scene_opts_desc[] = {
+    {.key = "description", .kind = EO_PARAM_STRING, .offset = offsetof(eo_scene_opts, description),
+     .size = SZ(eo_scene_opts, description), .def.s = "", .help = "free text describing the scene (ignored)"},
+    {.key = "mass", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_scene_opts, mass),
+     .size = SZ(eo_scene_opts, mass), .def.s = "consistent", .choices = mass_choices,
+     .help = "mass matrix: consistent (rhoV/10, rhoV/20 per tet) or lumped (rhoV/4 per vertex)"},
+    {.key = "gravity", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_opts, gravity),
+     .def.v = {0, 0, -9.81}, .help = "gravitational acceleration (m/s^2)"},
+    {0},
+};
+
+const eo_param_desc eo_scene_mesh_opts_desc[] = {
+    {.key = "file", .kind = EO_PARAM_STRING, .offset = offsetof(eo_scene_mesh_opts, file),
+     .size = SZ(eo_scene_mesh_opts, file), .def.s = "",
+     .help = "mesh file (.node/.ele, .mesh, .msh), relative to the config's folder; empty = mesh.generate"},
+    {.key = "drop_degenerate", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_mesh_opts, drop_degenerate),
+     .def.i = 0, .help = "drop zero-volume/duplicate tets and unreferenced vertices with a warning"},
+    {0},
+};
+
+const eo_param_desc eo_scene_generate_opts_desc[] = {
+    {.key = "size", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_generate_opts, size),
+     .def.v = {1, 0.1, 0.1}, .help = "box extent along x, y, z (m)"},
+    {.key = "cells", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_generate_opts, cells),
+     .def.v = {20, 2, 2}, .help = "hexahedral cells along x, y, z (integers >= 1)"},
+    {.key = "split", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_generate_opts, split), .def.i = 6,
+     .min = 5, .max = 6, .range = EO_RANGE_CLOSED, .help = "tets per cell (5 or 6)"},
+    {.key = "origin", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_generate_opts, origin),
+     .def.v = {0, 0, 0}, .help = "minimum corner (m)"},
+    {0},
+};
+
+const eo_param_desc eo_scene_time_opts_desc[] = {
+    {.key = "integrator", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_scene_time_opts, integrator),
+     .size = SZ(eo_scene_time_opts, integrator), .def.s = "newmark", .method_kind = EO_KIND_INTEGRATOR,
+     .help = "time integrator (registered name)"},
+    {.key = "dt", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_time_opts, dt), .def.d = 0.01,
+     .min = 0, .range = EO_RANGE_POSITIVE, .help = "time step (s)"},
+    {.key = "steps", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_time_opts, steps), .def.i = 30,
+     .min = 1, .range = EO_RANGE_MIN, .help = "number of time steps"},
+    {0},
+};
+
+const eo_param_desc eo_scene_output_opts_desc[] = {
+    {.key = "dir", .kind = EO_PARAM_STRING, .offset = offsetof(eo_scene_output_opts, dir),
+     .size = SZ(eo_scene_output_opts, dir), .def.s = "out", .help = "output folder (elastopt run --out overrides)"},
+    {.key = "every", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_output_opts, every), .def.i = 1,
+     .min = 0, .range = EO_RANGE_MIN, .help = "write a VTU frame every k steps (0 = none)"},
+    {.key = "vtu", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_output_opts, vtu), .def.i = 1,
+     .help = "write VTU frames and the .pvd series"},
+    {0},
+};
+
+const eo_param_desc eo_scene_initial_opts_desc[] = {
+    {.key = "scale", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_initial_opts, scale),
+     .def.v = {1, 1, 1}, .help = "scale of the rest shape about its centre of mass, per axis"},
+    {.key = "velocity", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_initial_opts, velocity),
+     .def.v = {0, 0, 0}, .help = "uniform initial velocity (m/s)"},
+    {0},
+};
+
+const eo_param_desc eo_scene_plane_opts_desc[] = {
+    {.key = "point", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_plane_opts, point),
+     .def.v = {0, 0, 0}, .help = "a point of the plane (m)"},
+    {.key = "normal", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_plane_opts, normal),
+     .def.v = {1, 0, 0}, .help = "plane normal (non-zero; normalized)"},
+    {0},
+};
+
+const eo_param_desc eo_scene_ball_opts_desc[] = {
+    {.key = "radius", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_ball_opts, radius), .def.d = 1,
+     .min = 0, .range = EO_RANGE_POSITIVE, .help = "radius of the ball around the centre of mass (m)"},
+    {.key = "seed", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_ball_opts, seed), .def.i = 1,
+     .help = "random seed"},
+    {0},
+};
+
+const eo_param_desc eo_scene_bc_opts_desc[] = {
+    {.key = "marker", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_bc_opts, marker), .def.i = -1,
+     .help = "select the vertices with this mesh vertex marker"},
+    {.key = "fixed", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_bc_opts, fixed), .def.i = 0,
+     .help = "hold the vertices at their initial positions"},
+    {.key = "translate", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_bc_opts, translate),
+     .def.v = {0, 0, 0}, .help = "move the vertices with this velocity (m/s): x0 + t v"},
+    {.key = "until", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_bc_opts, until), .def.d = -1,
+     .help = "the motion stops at this time (s); < 0 = never"},
+    {.key = "release", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_bc_opts, release), .def.d = -1,
+     .help = "the vertices become free after this time (s); < 0 = never"},
+    {0},
+};
+
+const eo_param_desc eo_scene_rotate_opts_desc[] = {
+    {.key = "axis", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_rotate_opts, axis),
+     .def.v = {1, 0, 0}, .help = "rotation axis (non-zero; normalized)"},
+    {.key = "center", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_rotate_opts, center),
+     .def.v = {0, 0, 0}, .help = "a point on the axis (m)"},
+    {.key = "rate", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_rotate_opts, rate), .def.d = 0,
+     .help = "angular velocity (rad/s); angle = rate * t"},
+    {0},
+};
+
+const eo_cfg_doc eo_scene_docs[] = {
+    {"", eo_scene_opts_desc, "top-level scene keys (also: mesh, material, materials, boundary, initial, time, solver, output)"},
+    {"mesh", eo_scene_mesh_opts_desc, "the mesh: a file or mesh.generate"},
+    {"mesh.generate", eo_scene_generate_opts_desc, "generated box of hexahedral cells split into tets"},
+    {"time", eo_scene_time_opts_desc, "time stepping"},
+    {"output", eo_scene_output_opts_desc, "what `elastopt run` writes"},
+    {"initial", eo_scene_initial_opts_desc, "initial state (also initial.reflect {point, normal}, initial.random_ball)"},
+    {"initial.reflect", eo_scene_plane_opts_desc, "reflect the rest shape through a plane (fully inverted start)"},
+    {"initial.random_ball", eo_scene_ball_opts_desc, "scatter vertices uniformly in a ball (random start)"},
+    {"boundary.N", eo_scene_bc_opts_desc, "boundary list entry: selector (box | plane | marker) and motion (fixed | translate | rotate)"},
+    {"boundary.N.plane", eo_scene_plane_opts_desc, "select rest vertices with (X - point).normal >= 0"},
+    {"boundary.N.rotate", eo_scene_rotate_opts_desc, "rotate the set about an axis"},
+    {NULL, NULL, NULL},
+};
+
+/* ---------------------------------------------------------------- errors */
+
+static int cfg_err(eo_ctx *ctx, eo_cfg *cfg, const char *path, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+static int cfg_err(eo_ctx *ctx, eo_cfg *cfg, const char *path, int status, const char *fmt, ...)
+{
+    char text[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    eo_param_src src = eo_cfg_src(cfg, path);
+    char needle[600];
+    snprintf(needle, sizeof needle, "\n%s", path);
+    const char *o = src.overridden ? strstr(src.overridden, needle) : NULL;
+    if (o && (o[strlen(needle)] == '\n' || o[strlen(needle)] == '.'))
+        return eo_error(ctx, status, "command line -o %s: %s", path, text);
+    eo_errloc loc = EO_ERRLOC_NONE;
+    loc.file = src.file;
+    if (src.text) eo_json_locate(src.text, path, &loc.line, &loc.column);
+    return eo_error_at(ctx, status, loc, "key '%s': %s", path, text);
+}
+
+/* [[x0,y0,z0],[x1,y1,z1]] → box[6] */
+static int read_box(eo_ctx *ctx, eo_cfg *cfg, const char *path, const json_t *v, double box[6])
+{
+    if (!json_is_array(v) || json_array_size(v) != 2)
+        return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected [[x0,y0,z0],[x1,y1,z1]], got %s",
+                       eo_json_type_name(v));
+    for (int i = 0; i < 2; i++) {
+        json_t *c = json_array_get(v, (size_t)i);
+        if (!json_is_array(c) || json_array_size(c) != 3)
+            return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected [[x0,y0,z0],[x1,y1,z1]]; corner %d is not 3 numbers", i);
+        for (int k = 0; k < 3; k++) {
+            json_t *e = json_array_get(c, (size_t)k);
+            if (!json_is_number(e) || !isfinite(json_number_value(e)))
+                return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "corner %d component %d is not a finite number", i, k);
+            box[3 * i + k] = json_number_value(e);
+        }
+    }
+    for (int k = 0; k < 3; k++)
+        if (box[k] > box[3 + k])
+            return cfg_err(ctx, cfg, path, EO_ERR_RANGE, "empty box: lower corner above upper corner along axis %d", k);
+    return EO_OK;
+}
+
+static int normalize(double v[3])
+{
+    double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (!(n > 0)) return -1;
+    for (int k = 0; k < 3; k++) v[k] /= n;
+    return 0;
+}
+
+static const json_t *member(const json_t *obj, const char *key)
+{
+    return json_is_object(obj) ? json_object_get(obj, key) : NULL;
+}
+
+/* ---------------------------------------------------------------- sections */
+
+static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    static const char *const extra[] = {"generate", NULL};
+    int rc = eo_cfg_section(ctx, cfg, "mesh", eo_scene_mesh_opts_desc, &sc->mesh_opts, extra);
+    if (rc < 0) return rc;
+    rc = eo_cfg_section(ctx, cfg, "mesh.generate", eo_scene_generate_opts_desc, &sc->gen, NULL);
+    if (rc < 0) return rc;
+    int has_gen = eo_cfg_get(cfg, "mesh.generate") != NULL;
+    if (sc->mesh_opts.file[0] && has_gen)
+        return cfg_err(ctx, cfg, "mesh.generate", EO_ERR_INVALID, "give mesh.file or mesh.generate, not both");
+    if (!sc->mesh_opts.file[0]) {
+        eo_mesh_gen_opts g = eo_mesh_gen_opts_default();
+        for (int k = 0; k < 3; k++) {
+            double c = sc->gen.cells[k];
+            if (!(c >= 1) || c != floor(c) || c > 1e6)
+                return cfg_err(ctx, cfg, "mesh.generate.cells", EO_ERR_RANGE,
+                               "cells must be integers >= 1; component %d is %g", k, c);
+            if (!(sc->gen.size[k] > 0))
+                return cfg_err(ctx, cfg, "mesh.generate.size", EO_ERR_RANGE,
+                               "size must be positive; component %d is %g", k, sc->gen.size[k]);
+            g.size[k] = sc->gen.size[k];
+            g.origin[k] = sc->gen.origin[k];
+            g.cells[k] = (int)c;
+        }
+        g.split = sc->gen.split;
+        sc->generated = 1;
+        return eo_mesh_generate_box(ctx, &g, &sc->mesh);
+    }
+    /* a relative path is relative to the config file's folder */
+    char path[1100];
+    const char *cfile = eo_cfg_file(cfg);
+    const char *slash = strrchr(cfile, '/');
+    if (sc->mesh_opts.file[0] != '/' && cfile[0] != '<' && slash)
+        snprintf(path, sizeof path, "%.*s/%s", (int)(slash - cfile), cfile, sc->mesh_opts.file);
+    else
+        snprintf(path, sizeof path, "%s", sc->mesh_opts.file);
+    eo_mesh_read_opts ro = eo_mesh_read_opts_default();
+    ro.drop_degenerate = sc->mesh_opts.drop_degenerate;
+    ro.drop_unreferenced = sc->mesh_opts.drop_degenerate;
+    rc = eo_mesh_read(ctx, path, &ro, &sc->mesh);
+    return rc;
+}
+
+static int load_materials(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    const eo_mesh *m = sc->mesh;
+    eo_material_opts m0;
+    eo_params_default(eo_material_opts_desc, &m0);
+    int rc = eo_cfg_section(ctx, cfg, "material", eo_material_opts_desc, &m0, NULL);
+    if (rc < 0) return rc;
+    json_t *list = eo_cfg_get(cfg, "materials");
+    if (list && !json_is_array(list))
+        return cfg_err(ctx, cfg, "materials", EO_ERR_TYPE, "expected a list of region materials, got %s",
+                       eo_json_type_name(list));
+    int nreg = list ? (int)json_array_size(list) : 0;
+    sc->nmat = 1 + nreg;
+    sc->mat = eo_calloc(ctx, (size_t)sc->nmat, sizeof *sc->mat);
+    sc->tet_mat = eo_calloc(ctx, (size_t)(m->nt > 0 ? m->nt : 1), sizeof(int));
+    if (!sc->mat || !sc->tet_mat) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    sc->mat[0].opts = m0;
+    static const char *const extra[] = {"attribute", "box", NULL};
+    for (int r = 0; r < sc->nmat; r++) {
+        char path[64];
+        snprintf(path, sizeof path, r == 0 ? "material" : "materials.%d", r - 1);
+        eo_scene_material *mat = sc->mat + r;
+        if (r > 0) {
+            mat->opts = m0;
+            rc = eo_cfg_section(ctx, cfg, path, eo_material_opts_desc, &mat->opts, extra);
+            if (rc < 0) return rc;
+        }
+        rc = eo_registry_find(ctx, EO_KIND_MATERIAL, mat->opts.model, (const void **)&mat->type);
+        if (rc < 0) return cfg_err(ctx, cfg, path, rc, "%s", eo_ctx_message(ctx));
+        mat->coef = eo_material_coef_from_opts(&mat->opts);
+        if (r == 0) continue;
+        char sub[96];
+        snprintf(sub, sizeof sub, "%s.attribute", path);
+        json_t *attr = eo_cfg_get(cfg, sub);
+        snprintf(sub, sizeof sub, "%s.box", path);
+        json_t *boxv = eo_cfg_get(cfg, sub);
+        if ((attr != NULL) == (boxv != NULL))
+            return cfg_err(ctx, cfg, path, EO_ERR_INVALID,
+                           "a region material selects its tets by exactly one of \"attribute\" or \"box\"");
+        double box[6];
+        long a = 0;
+        if (attr) {
+            snprintf(sub, sizeof sub, "%s.attribute", path);
+            if (!json_is_integer(attr))
+                return cfg_err(ctx, cfg, sub, EO_ERR_TYPE, "expected an integer, got %s", eo_json_type_name(attr));
+            if (!m->tet_attr)
+                return cfg_err(ctx, cfg, sub, EO_ERR_INVALID, "the mesh has no tet attributes");
+            a = (long)json_integer_value(attr);
+        } else {
+            rc = read_box(ctx, cfg, sub, boxv, box);
+            if (rc < 0) return rc;
+        }
+        int count = 0;
+        for (int k = 0; k < m->nt; k++) {
+            int hit;
+            if (attr) {
+                hit = m->tet_attr[k] == a;
+            } else {
+                double c[3] = {0, 0, 0};
+                for (int q = 0; q < 4; q++)
+                    for (int d = 0; d < 3; d++) c[d] += 0.25 * m->X[3 * m->tets[4 * k + q] + d];
+                hit = c[0] >= box[0] && c[0] <= box[3] && c[1] >= box[1] && c[1] <= box[4] &&
+                      c[2] >= box[2] && c[2] <= box[5];
+            }
+            if (hit) {
+                sc->tet_mat[k] = r;
+                count++;
+            }
+        }
+        if (!count) return cfg_err(ctx, cfg, path, EO_ERR_INVALID, "region material selects no tet");
+    }
+    return EO_OK;
+}
+
+static int load_boundary(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    const eo_mesh *m = sc->mesh;
+    json_t *list = eo_cfg_get(cfg, "boundary");
+    if (!list) return EO_OK;
+    if (!json_is_array(list))
+        return cfg_err(ctx, cfg, "boundary", EO_ERR_TYPE, "expected a list of boundary conditions, got %s",
+                       eo_json_type_name(list));
+    sc->nbc = (int)json_array_size(list);
+    if (!sc->nbc) return EO_OK;
+    sc->bc = eo_calloc(ctx, (size_t)sc->nbc, sizeof *sc->bc);
+    if (!sc->bc) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    /* tolerance for box/plane selection: relative to the mesh size */
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int v = 0; v < m->nv; v++)
+        for (int k = 0; k < 3; k++) {
+            if (m->X[3 * v + k] < lo[k]) lo[k] = m->X[3 * v + k];
+            if (m->X[3 * v + k] > hi[k]) hi[k] = m->X[3 * v + k];
+        }
+    double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
+                       (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double tol = 1e-9 * (diag > 0 ? diag : 1);
+    static const char *const extra[] = {"box", "plane", "rotate", NULL};
+    for (int b = 0; b < sc->nbc; b++) {
+        eo_bc *bc = sc->bc + b;
+        char path[64], sub[96];
+        snprintf(path, sizeof path, "boundary.%d", b);
+        const json_t *item = json_array_get(list, (size_t)b);
+        eo_params_default(eo_scene_bc_opts_desc, &bc->opts);
+        eo_params_default(eo_scene_plane_opts_desc, &bc->plane);
+        eo_params_default(eo_scene_rotate_opts_desc, &bc->rotate);
+        int rc = eo_cfg_section(ctx, cfg, path, eo_scene_bc_opts_desc, &bc->opts, extra);
+        if (rc < 0) return rc;
+        int nsel = (member(item, "box") != NULL) + (member(item, "plane") != NULL) + (member(item, "marker") != NULL);
+        if (nsel != 1)
+            return cfg_err(ctx, cfg, path, EO_ERR_INVALID,
+                           "a boundary entry selects vertices by exactly one of \"box\", \"plane\", \"marker\" (found %d)",
+                           nsel);
+        int nmot = bc->opts.fixed + (member(item, "translate") != NULL) + (member(item, "rotate") != NULL);
+        if (nmot != 1)
+            return cfg_err(ctx, cfg, path, EO_ERR_INVALID,
+                           "a boundary entry needs exactly one of \"fixed\": true, \"translate\", \"rotate\" (found %d)",
+                           nmot);
+        if (member(item, "box")) {
+            bc->select = EO_BC_BOX;
+            snprintf(sub, sizeof sub, "%s.box", path);
+            rc = read_box(ctx, cfg, sub, eo_cfg_get(cfg, sub), bc->box);
+            if (rc < 0) return rc;
+        } else if (member(item, "plane")) {
+            bc->select = EO_BC_PLANE;
+            snprintf(sub, sizeof sub, "%s.plane", path);
+            rc = eo_cfg_section(ctx, cfg, sub, eo_scene_plane_opts_desc, &bc->plane, NULL);
+            if (rc < 0) return rc;
+            snprintf(sub, sizeof sub, "%s.plane.normal", path);
+            if (normalize(bc->plane.normal) < 0) return cfg_err(ctx, cfg, sub, EO_ERR_RANGE, "zero normal");
+        } else {
+            bc->select = EO_BC_MARKER;
+            snprintf(sub, sizeof sub, "%s.marker", path);
+            if (!m->vmarker) return cfg_err(ctx, cfg, sub, EO_ERR_INVALID, "the mesh has no vertex markers");
+        }
+        if (bc->opts.fixed) {
+            bc->motion = EO_BC_FIXED;
+        } else if (member(item, "translate")) {
+            bc->motion = EO_BC_TRANSLATE;
+        } else {
+            bc->motion = EO_BC_ROTATE;
+            snprintf(sub, sizeof sub, "%s.rotate", path);
+            rc = eo_cfg_section(ctx, cfg, sub, eo_scene_rotate_opts_desc, &bc->rotate, NULL);
+            if (rc < 0) return rc;
+            snprintf(sub, sizeof sub, "%s.rotate.axis", path);
+            if (normalize(bc->rotate.axis) < 0) return cfg_err(ctx, cfg, sub, EO_ERR_RANGE, "zero axis");
+        }
+        /* select */
+        bc->verts = eo_malloc(ctx, (size_t)(m->nv > 0 ? m->nv : 1) * sizeof(int));
+        if (!bc->verts) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+        for (int v = 0; v < m->nv; v++) {
+            const double *X = m->X + 3 * v;
+            int hit = 0;
+            switch (bc->select) {
+            case EO_BC_BOX:
+                hit = 1;
+                for (int k = 0; k < 3; k++) hit &= X[k] >= bc->box[k] - tol && X[k] <= bc->box[3 + k] + tol;
+                break;
+            case EO_BC_PLANE: {
+                const double *p = bc->plane.point, *n = bc->plane.normal;
+                hit = (X[0] - p[0]) * n[0] + (X[1] - p[1]) * n[1] + (X[2] - p[2]) * n[2] >= -tol;
+                break;
+            }
+            case EO_BC_MARKER: hit = m->vmarker[v] == bc->opts.marker; break;
+            }
+            if (hit) bc->verts[bc->nverts++] = v;
+        }
+        if (!bc->nverts) return cfg_err(ctx, cfg, path, EO_ERR_INVALID, "boundary entry selects no vertex");
+    }
+    return EO_OK;
+}
+
+static int load_initial(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    static const char *const extra[] = {"reflect", "random_ball", NULL};
+    int rc = eo_cfg_section(ctx, cfg, "initial", eo_scene_initial_opts_desc, &sc->initial, extra);
+    if (rc < 0) return rc;
+    eo_params_default(eo_scene_plane_opts_desc, &sc->reflect);
+    eo_params_default(eo_scene_ball_opts_desc, &sc->ball);
+    rc = eo_cfg_section(ctx, cfg, "initial.reflect", eo_scene_plane_opts_desc, &sc->reflect, NULL);
+    if (rc < 0) return rc;
+    rc = eo_cfg_section(ctx, cfg, "initial.random_ball", eo_scene_ball_opts_desc, &sc->ball, NULL);
+    if (rc < 0) return rc;
+    sc->has_reflect = eo_cfg_get(cfg, "initial.reflect") != NULL;
+    sc->has_ball = eo_cfg_get(cfg, "initial.random_ball") != NULL;
+    if (sc->has_reflect && normalize(sc->reflect.normal) < 0)
+        return cfg_err(ctx, cfg, "initial.reflect.normal", EO_ERR_RANGE, "zero normal");
+    return EO_OK;
+}
+
+/* ---------------------------------------------------------------- public */
+
+int eo_scene_cfg_load(eo_ctx *ctx, const char *path, const char *name, eo_cfg **out)
+{
+    *out = NULL;
+    if (path) return eo_cfg_load(ctx, path, NULL, out);
+    const eo_scene_type *t;
+    int rc = eo_registry_find(ctx, EO_KIND_SCENE, name ? name : "cantilever", (const void **)&t);
+    if (rc < 0) return rc;
+    return eo_cfg_load(ctx, NULL, t->json, out);
+}
+
+void eo_scene_destroy(eo_ctx *ctx, eo_scene **psc)
+{
+    if (!psc || !*psc) return;
+    eo_scene *sc = *psc;
+    eo_mesh_destroy(ctx, &sc->mesh);
+    eo_free(ctx, sc->mat);
+    eo_free(ctx, sc->tet_mat);
+    for (int b = 0; b < sc->nbc; b++) eo_free(ctx, sc->bc[b].verts);
+    eo_free(ctx, sc->bc);
+    eo_free(ctx, sc);
+    *psc = NULL;
+}
+
+int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
+{
+    static const char *const top[] = {"mesh", "material", "materials", "boundary", "initial",
+                                      "time", "solver", "output", NULL};
+    *out = NULL;
+    eo_scene *sc = eo_calloc(ctx, 1, sizeof *sc);
+    if (!sc) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (scene)");
+    eo_params_default(eo_scene_opts_desc, &sc->opts);
+    eo_params_default(eo_scene_mesh_opts_desc, &sc->mesh_opts);
+    eo_params_default(eo_scene_generate_opts_desc, &sc->gen);
+    eo_params_default(eo_scene_time_opts_desc, &sc->time);
+    eo_params_default(eo_scene_output_opts_desc, &sc->output);
+    eo_params_default(eo_scene_initial_opts_desc, &sc->initial);
+    snprintf(sc->file, sizeof sc->file, "%s", eo_cfg_file(cfg));
+    int rc;
+    EO_TRY(rc = eo_cfg_section(ctx, cfg, "", eo_scene_opts_desc, &sc->opts, top));
+    sc->lumped = strcmp(sc->opts.mass, "lumped") == 0;
+    EO_TRY(rc = eo_cfg_section(ctx, cfg, "time", eo_scene_time_opts_desc, &sc->time, NULL));
+    EO_TRY(rc = eo_registry_find(ctx, EO_KIND_INTEGRATOR, sc->time.integrator, (const void **)&sc->integrator));
+    EO_TRY(rc = eo_cfg_section(ctx, cfg, "output", eo_scene_output_opts_desc, &sc->output, NULL));
+    EO_TRY(rc = load_mesh(ctx, cfg, sc));
+    if (sc->mesh->nt < 1) {
+        rc = cfg_err(ctx, cfg, "mesh", EO_ERR_MESH, "the mesh has no tet");
+        goto fail;
+    }
+    EO_TRY(rc = load_materials(ctx, cfg, sc));
+    EO_TRY(rc = load_boundary(ctx, cfg, sc));
+    EO_TRY(rc = load_initial(ctx, cfg, sc));
+    *out = sc;
+    return EO_OK;
+fail:
+    eo_scene_destroy(ctx, &sc);
+    return rc;
+}
+
+json_t *eo_scene_to_json(const eo_scene *sc)
+{
+    json_t *o = eo_params_to_json(eo_scene_opts_desc, &sc->opts);
+    json_t *mesh = eo_params_to_json(eo_scene_mesh_opts_desc, &sc->mesh_opts);
+    if (sc->generated) json_object_set_new(mesh, "generate", eo_params_to_json(eo_scene_generate_opts_desc, &sc->gen));
+    json_object_set_new(mesh, "vertices", json_integer(sc->mesh->nv));
+    json_object_set_new(mesh, "tets", json_integer(sc->mesh->nt));
+    json_object_set_new(o, "mesh", mesh);
+    json_object_set_new(o, "material", eo_params_to_json(eo_material_opts_desc, &sc->mat[0].opts));
+    json_t *mats = json_array();
+    for (int r = 1; r < sc->nmat; r++) {
+        json_t *e = eo_params_to_json(eo_material_opts_desc, &sc->mat[r].opts);
+        int n = 0;
+        for (int k = 0; k < sc->mesh->nt; k++) n += sc->tet_mat[k] == r;
+        json_object_set_new(e, "tets", json_integer(n));
+        json_array_append_new(mats, e);
+    }
+    json_object_set_new(o, "materials", mats);
+    static const char *const sel[] = {"box", "plane", "marker"};
+    static const char *const mot[] = {"fixed", "translate", "rotate"};
+    json_t *bcs = json_array();
+    for (int b = 0; b < sc->nbc; b++) {
+        const eo_bc *bc = sc->bc + b;
+        json_t *e = eo_params_to_json(eo_scene_bc_opts_desc, &bc->opts);
+        json_object_set_new(e, "select", json_string(sel[bc->select]));
+        json_object_set_new(e, "motion", json_string(mot[bc->motion]));
+        if (bc->select == EO_BC_BOX)
+            json_object_set_new(e, "box", json_pack("[[fff][fff]]", bc->box[0], bc->box[1], bc->box[2], bc->box[3],
+                                                    bc->box[4], bc->box[5]));
+        if (bc->select == EO_BC_PLANE) json_object_set_new(e, "plane", eo_params_to_json(eo_scene_plane_opts_desc, &bc->plane));
+        if (bc->motion == EO_BC_ROTATE)
+            json_object_set_new(e, "rotate", eo_params_to_json(eo_scene_rotate_opts_desc, &bc->rotate));
+        json_object_set_new(e, "vertices", json_integer(bc->nverts));
+        json_array_append_new(bcs, e);
+    }
+    json_object_set_new(o, "boundary", bcs);
+    json_t *ini = eo_params_to_json(eo_scene_initial_opts_desc, &sc->initial);
+    if (sc->has_reflect) json_object_set_new(ini, "reflect", eo_params_to_json(eo_scene_plane_opts_desc, &sc->reflect));
+    if (sc->has_ball) json_object_set_new(ini, "random_ball", eo_params_to_json(eo_scene_ball_opts_desc, &sc->ball));
+    json_object_set_new(o, "initial", ini);
+    json_object_set_new(o, "time", eo_params_to_json(eo_scene_time_opts_desc, &sc->time));
+    json_object_set_new(o, "output", eo_params_to_json(eo_scene_output_opts_desc, &sc->output));
+    return o;
+}

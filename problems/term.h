@@ -1,0 +1,87 @@
+/* Objective terms of a step problem (private to problems/).
+ *
+ * g(x) = Σ_terms term(x): each term adds its energy, its gradient (into the FULL
+ * 3·nv gradient; the step gathers the free entries) and its Hessian (into the shared
+ * fixed-pattern assembler over the free coordinates). Terms see the full coordinate
+ * vector with constrained entries already set to their prescribed values, so they
+ * never deal with elimination except through the free ids of the shared tet group.
+ *
+ * Life cycle: create (term_*_create, allocations here), `attach` each time the pattern
+ * is (re)built — before eo_assembler_finalize, to register elements — and `prepare`
+ * after finalize (precompute constant values such as the consistent mass). Energy,
+ * gradient and Hessian never allocate. */
+#ifndef EO_PROBLEMS_TERM_H
+#define EO_PROBLEMS_TERM_H
+
+#include "elastopt/material.h"
+#include "elastopt/mesh.h"
+#include "elastopt/sparse.h"
+
+/* Data shared by every term of one step problem (owned by step.c). */
+typedef struct eo_sys {
+    eo_ctx *ctx;
+    const eo_mesh *mesh;
+    int nv, nt, n_full;
+    const double *Dminv;        /* 9·nt rest inverse edge matrices */
+    const double *vol;          /* nt rest volumes */
+    const double *rho;          /* nt densities */
+    const eo_material_type *const *tet_type;   /* nt */
+    const eo_material_coef *const *tet_coef;   /* nt */
+    const double *vmass;        /* nv lumped vertex masses (ρV/4 summed) */
+    /* current pattern */
+    const int *full2free;       /* n_full: free id or -1 */
+    const int *tet_dofs;        /* 12·nt free ids (-1 constrained) */
+    eo_assembler *as;           /* NULL until attached */
+    int tet_group;              /* assembler group of the tets (12 ids each) */
+    /* element workspace for the blocked parallel loops */
+    int block;                  /* tets per block */
+    double *elem_g;             /* 12·block */
+    double *elem_H;             /* 144·block */
+    int parallel;               /* 1: use OpenMP in element loops */
+} eo_sys;
+
+typedef struct eo_term eo_term;
+
+typedef struct eo_term_ops {
+    const char *name;
+    /* Energy at full x; +INFINITY where undefined. */
+    double (*energy)(eo_term *t, const eo_sys *s, const double *x);
+    /* Energy, and gradient added into g (full). */
+    double (*gradient)(eo_term *t, const eo_sys *s, const double *x, double *g);
+    /* Hessian added into the assembler (free coordinates). */
+    int (*hessian)(eo_term *t, const eo_sys *s, const double *x, eo_proj proj);
+    /* Optional: register elements in s->as (before finalize). */
+    int (*attach)(eo_term *t, eo_sys *s);
+    /* Optional: precompute after finalize. */
+    int (*prepare)(eo_term *t, eo_sys *s);
+    void (*destroy)(eo_term *t, eo_ctx *ctx);
+} eo_term_ops;
+
+struct eo_term {
+    const eo_term_ops *ops;
+    double weight;              /* integrator weight w (elastic, gravity, linear, spring);
+                                   the inertia term ignores it (always 1) */
+    double *vec;                /* term-specific full vector (x̃, c), may be NULL */
+    void *data;                 /* term-specific */
+};
+
+/* Constructors (allocate through s->ctx; *out owned by the caller, freed with
+ * eo_term_destroy). */
+int eo_term_inertia_create(eo_sys *s, int lumped, eo_term **out);
+int eo_term_elastic_create(eo_sys *s, eo_term **out);
+int eo_term_gravity_create(eo_sys *s, const double g[3], eo_term **out);
+int eo_term_linear_create(eo_sys *s, eo_term **out);
+int eo_term_spring_create(eo_sys *s, eo_term **out);   /* EO_OK with *out NULL: no springs */
+void eo_term_destroy(eo_ctx *ctx, eo_term **t);
+
+/* Shared helper: allocate a term with a full-length vector if `with_vec`. */
+int eo_term_alloc(eo_sys *s, const eo_term_ops *ops, int with_vec, eo_term **out);
+
+/* Element loop helpers. */
+static inline void eo_gather12(const double *x, const int *tet, double x12[12])
+{
+    for (int a = 0; a < 4; a++)
+        for (int c = 0; c < 3; c++) x12[3 * a + c] = x[3 * tet[a] + c];
+}
+
+#endif

@@ -1,0 +1,57 @@
+/* Gravity term: −w · f_gᵀx with f_g = M g.
+ *
+ * For a constant field g the consistent and the lumped mass give the same force: each
+ * row of M_t = ρV/20 (I₄ + 𝟙𝟙ᵀ) ⊗ I₃ sums to ρV/20 · 5 = ρV/4, so f_g on vertex v is
+ * m_v g with m_v = Σ_{t∋v} ρₜVₜ/4 (s->vmass). Linear in x: no Hessian. */
+#include "term.h"
+
+typedef struct gravity_data {
+    double g[3];
+} gravity_data;
+
+static double energy(eo_term *t, const eo_sys *s, const double *x)
+{
+    const gravity_data *d = t->data;
+    double e = 0;
+    for (int v = 0; v < s->nv; v++)
+        e -= s->vmass[v] * (d->g[0] * x[3 * v] + d->g[1] * x[3 * v + 1] + d->g[2] * x[3 * v + 2]);
+    return t->weight * e;
+}
+
+static double gradient(eo_term *t, const eo_sys *s, const double *x, double *grad)
+{
+    const gravity_data *d = t->data;
+    for (int v = 0; v < s->nv; v++)
+        for (int c = 0; c < 3; c++) grad[3 * v + c] -= t->weight * s->vmass[v] * d->g[c];
+    return energy(t, s, x);
+}
+
+static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
+{
+    (void)t, (void)s, (void)x, (void)proj;
+    return EO_OK;
+}
+
+static void destroy(eo_term *t, eo_ctx *ctx) { eo_free(ctx, t->data); }
+
+static const eo_term_ops gravity_ops = {
+    .name = "gravity",
+    .energy = energy,
+    .gradient = gradient,
+    .hessian = hessian,
+    .destroy = destroy,
+};
+
+int eo_term_gravity_create(eo_sys *s, const double g[3], eo_term **out)
+{
+    int rc = eo_term_alloc(s, &gravity_ops, 0, out);
+    if (rc < 0) return rc;
+    gravity_data *d = eo_malloc(s->ctx, sizeof *d);
+    if (!d) {
+        eo_term_destroy(s->ctx, out);
+        return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory");
+    }
+    for (int c = 0; c < 3; c++) d->g[c] = g[c];
+    (*out)->data = d;
+    return EO_OK;
+}

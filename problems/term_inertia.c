@@ -1,0 +1,154 @@
+/* Inertia term: ½ (x − x̃)ᵀ M (x − x̃), weight 1 (absent for the static integrator).
+ *
+ * Consistent mass (002 §4.1 with the ERRATA's volume form): per tet
+ *     M_t = ρV/20 · (I₄ + 𝟙𝟙ᵀ) ⊗ I₃      (ρV/10 on the diagonal, ρV/20 off it),
+ * so dᵀM_t d = ρV/20 (Σᵢ‖dᵢ‖² + ‖Σᵢ dᵢ‖²) and (M_t d)ᵢ = ρV/20 (dᵢ + Σⱼ dⱼ).
+ * Lumped mass: ρV/4 on each tet vertex (s->vmass), M = diag(m_v) ⊗ I₃.
+ * The consistent Hessian is constant: its values in the fixed pattern are computed once
+ * per pattern (prepare) and added with one vector loop per assembly. */
+#include <string.h>
+
+#include "term.h"
+
+typedef struct inertia_data {
+    int lumped;
+    double *mass_val;   /* consistent: M's values in the pattern (nnz), per attach */
+    int nnz;
+} inertia_data;
+
+static double energy(eo_term *t, const eo_sys *s, const double *x)
+{
+    const inertia_data *d = t->data;
+    const double *xt = t->vec;
+    double e = 0;
+    if (d->lumped) {
+        for (int v = 0; v < s->nv; v++) {
+            double q = 0;
+            for (int c = 0; c < 3; c++) {
+                double dd = x[3 * v + c] - xt[3 * v + c];
+                q += dd * dd;
+            }
+            e += s->vmass[v] * q;
+        }
+        return 0.5 * e;
+    }
+    for (int k = 0; k < s->nt; k++) {
+        const int *tet = s->mesh->tets + 4 * k;
+        double sum[3] = {0, 0, 0}, q = 0;
+        for (int a = 0; a < 4; a++)
+            for (int c = 0; c < 3; c++) {
+                double dd = x[3 * tet[a] + c] - xt[3 * tet[a] + c];
+                q += dd * dd;
+                sum[c] += dd;
+            }
+        e += s->rho[k] * s->vol[k] / 20.0 * (q + sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+    }
+    return 0.5 * e;
+}
+
+static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
+{
+    const inertia_data *d = t->data;
+    const double *xt = t->vec;
+    double e = 0;
+    if (d->lumped) {
+        for (int v = 0; v < s->nv; v++)
+            for (int c = 0; c < 3; c++) {
+                double dd = x[3 * v + c] - xt[3 * v + c];
+                e += s->vmass[v] * dd * dd;
+                g[3 * v + c] += s->vmass[v] * dd;
+            }
+        return 0.5 * e;
+    }
+    for (int k = 0; k < s->nt; k++) {
+        const int *tet = s->mesh->tets + 4 * k;
+        double dd[12], sum[3] = {0, 0, 0}, q = 0;
+        for (int a = 0; a < 4; a++)
+            for (int c = 0; c < 3; c++) {
+                dd[3 * a + c] = x[3 * tet[a] + c] - xt[3 * tet[a] + c];
+                q += dd[3 * a + c] * dd[3 * a + c];
+                sum[c] += dd[3 * a + c];
+            }
+        double m = s->rho[k] * s->vol[k] / 20.0;
+        e += m * (q + sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+        for (int a = 0; a < 4; a++)
+            for (int c = 0; c < 3; c++) g[3 * tet[a] + c] += m * (dd[3 * a + c] + sum[c]);
+    }
+    return 0.5 * e;
+}
+
+static void tet_mass_matrix(double m, double Ke[144])
+{
+    memset(Ke, 0, 144 * sizeof(double));
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++)
+            for (int c = 0; c < 3; c++) Ke[(3 * a + c) * 12 + 3 * b + c] = m * (a == b ? 2.0 : 1.0);
+}
+
+static int prepare(eo_term *t, eo_sys *s)
+{
+    inertia_data *d = t->data;
+    if (d->lumped) return EO_OK;
+    eo_csc *H = eo_assembler_matrix(s->as);
+    eo_free(s->ctx, d->mass_val);
+    d->mass_val = eo_malloc(s->ctx, (size_t)(H->nnz > 0 ? H->nnz : 1) * sizeof(double));
+    if (!d->mass_val) return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (mass matrix)");
+    d->nnz = H->nnz;
+    eo_assembler_zero(s->as);
+    double Ke[144];
+    for (int k = 0; k < s->nt; k++) {
+        tet_mass_matrix(s->rho[k] * s->vol[k] / 20.0, Ke);
+        eo_assembler_add(s->as, s->tet_group, k, Ke);
+    }
+    memcpy(d->mass_val, H->val, (size_t)H->nnz * sizeof(double));
+    eo_assembler_zero(s->as);
+    return EO_OK;
+}
+
+static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
+{
+    (void)x;
+    (void)proj;
+    const inertia_data *d = t->data;
+    if (d->lumped) {
+        for (int j = 0; j < s->n_full; j++) {
+            int i = s->full2free[j];
+            if (i >= 0) eo_assembler_add_diag(s->as, i, s->vmass[j / 3]);
+        }
+        return EO_OK;
+    }
+    eo_csc *H = eo_assembler_matrix(s->as);
+    EO_ASSERT(H->nnz == d->nnz);
+    for (int k = 0; k < d->nnz; k++) H->val[k] += d->mass_val[k];
+    return EO_OK;
+}
+
+static void destroy(eo_term *t, eo_ctx *ctx)
+{
+    inertia_data *d = t->data;
+    if (d) eo_free(ctx, d->mass_val);
+    eo_free(ctx, d);
+}
+
+static const eo_term_ops inertia_ops = {
+    .name = "inertia",
+    .energy = energy,
+    .gradient = gradient,
+    .hessian = hessian,
+    .prepare = prepare,
+    .destroy = destroy,
+};
+
+int eo_term_inertia_create(eo_sys *s, int lumped, eo_term **out)
+{
+    int rc = eo_term_alloc(s, &inertia_ops, 1, out);
+    if (rc < 0) return rc;
+    inertia_data *d = eo_calloc(s->ctx, 1, sizeof *d);
+    if (!d) {
+        eo_term_destroy(s->ctx, out);
+        return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory");
+    }
+    d->lumped = lumped;
+    (*out)->data = d;
+    return EO_OK;
+}

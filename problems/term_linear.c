@@ -1,0 +1,35 @@
+/* Linear term: −w · cᵀx with a full-length vector c (t->vec) set by the step before
+ * each solve. Newmark uses it for the trapezoidal force of the previous state,
+ * c = fₙ = −∇E(xₙ) (elastic and gravity forces at xₙ), so that
+ *     g(x) = ½‖x − x̃‖²_M + (h²/4)(E(x) − fₙᵀx),   x̃ = xₙ + h vₙ,
+ * whose stationarity M(x − xₙ − h vₙ) = (h²/4)(f(x) + fₙ) is the Newmark update with
+ * β = ¼, γ = ½, with no solve with M. No Hessian. */
+#include "term.h"
+
+static double energy(eo_term *t, const eo_sys *s, const double *x)
+{
+    double e = 0;
+    for (int j = 0; j < s->n_full; j++) e -= t->vec[j] * x[j];
+    return t->weight * e;
+}
+
+static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
+{
+    for (int j = 0; j < s->n_full; j++) g[j] -= t->weight * t->vec[j];
+    return energy(t, s, x);
+}
+
+static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
+{
+    (void)t, (void)s, (void)x, (void)proj;
+    return EO_OK;
+}
+
+static const eo_term_ops linear_ops = {
+    .name = "linear",
+    .energy = energy,
+    .gradient = gradient,
+    .hessian = hessian,
+};
+
+int eo_term_linear_create(eo_sys *s, eo_term **out) { return eo_term_alloc(s, &linear_ops, 1, out); }

@@ -1,0 +1,171 @@
+/* Spring term: w · Σₑ E_spring(‖x_b − x_a‖; Lₑ, k) over the edges of the tets whose
+ * region material is an edge model (EO_MATERIAL_EDGE, e.g. `spring`); the mass still
+ * comes from the tets (ρV). Rest length Lₑ = ‖X_b − X_a‖ at the rest positions. The
+ * material's edge_eval gives energy, 6-gradient and (projected) 6×6 Hessian.
+ * Absent (no term) when no region uses an edge model. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "term.h"
+
+typedef struct spring_data {
+    int ne;
+    int *ab;                              /* 2·ne vertex ids */
+    double *L;                            /* ne rest lengths */
+    const eo_material_type **type;        /* ne */
+    const eo_material_coef **coef;        /* ne */
+    int group;                            /* assembler group (6 ids per edge) */
+    int *dofs;                            /* 6·ne free ids */
+} spring_data;
+
+static int cmp_edge(const void *a, const void *b)
+{
+    const int *x = a, *y = b;
+    if (x[0] != y[0]) return x[0] < y[0] ? -1 : 1;
+    if (x[1] != y[1]) return x[1] < y[1] ? -1 : 1;
+    return 0;
+}
+
+static double edge(const spring_data *d, int e, const double *x, eo_eval_what what, eo_proj proj,
+                   double g[6], double H[36])
+{
+    const int a = d->ab[2 * e], b = d->ab[2 * e + 1];
+    return d->type[e]->edge_eval(d->coef[e], d->L[e], x + 3 * a, x + 3 * b, what, proj, g, H);
+}
+
+static double energy(eo_term *t, const eo_sys *s, const double *x)
+{
+    (void)s;
+    const spring_data *d = t->data;
+    double e = 0;
+    for (int k = 0; k < d->ne; k++) e += edge(d, k, x, EO_EVAL_ENERGY, EO_PROJ_NONE, NULL, NULL);
+    return isnan(e) ? INFINITY : t->weight * e;
+}
+
+static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
+{
+    (void)s;
+    const spring_data *d = t->data;
+    double e = 0, ge[6];
+    for (int k = 0; k < d->ne; k++) {
+        e += edge(d, k, x, EO_EVAL_GRAD, EO_PROJ_NONE, ge, NULL);
+        const int a = d->ab[2 * k], b = d->ab[2 * k + 1];
+        for (int c = 0; c < 3; c++) {
+            g[3 * a + c] += t->weight * ge[c];
+            g[3 * b + c] += t->weight * ge[3 + c];
+        }
+    }
+    return isnan(e) ? INFINITY : t->weight * e;
+}
+
+static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
+{
+    const spring_data *d = t->data;
+    double ge[6], He[36];
+    for (int k = 0; k < d->ne; k++) {
+        edge(d, k, x, EO_EVAL_HESS, proj, ge, He);
+        for (int q = 0; q < 36; q++) He[q] *= t->weight;
+        eo_assembler_add(s->as, d->group, k, He);
+    }
+    return EO_OK;
+}
+
+static int attach(eo_term *t, eo_sys *s)
+{
+    spring_data *d = t->data;
+    for (int k = 0; k < d->ne; k++)
+        for (int i = 0; i < 2; i++)
+            for (int c = 0; c < 3; c++) d->dofs[6 * k + 3 * i + c] = s->full2free[3 * d->ab[2 * k + i] + c];
+    int h = eo_assembler_add_elements(s->ctx, s->as, d->ne, 6, d->dofs);
+    if (h < 0) return h;
+    d->group = h;
+    return EO_OK;
+}
+
+static void destroy(eo_term *t, eo_ctx *ctx)
+{
+    spring_data *d = t->data;
+    if (!d) return;
+    eo_free(ctx, d->ab);
+    eo_free(ctx, d->L);
+    eo_free(ctx, d->type);
+    eo_free(ctx, d->coef);
+    eo_free(ctx, d->dofs);
+    eo_free(ctx, d);
+}
+
+static const eo_term_ops spring_ops = {
+    .name = "spring",
+    .energy = energy,
+    .gradient = gradient,
+    .hessian = hessian,
+    .attach = attach,
+    .destroy = destroy,
+};
+
+int eo_term_spring_create(eo_sys *s, eo_term **out)
+{
+    static const int pairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+    *out = NULL;
+    int nspring_tets = 0;
+    for (int k = 0; k < s->nt; k++)
+        if (s->tet_type[k]->flags & EO_MATERIAL_EDGE) nspring_tets++;
+    if (!nspring_tets) return EO_OK;
+    /* candidate edges (a < b, region tet) sorted, then unique */
+    int *cand = eo_malloc(s->ctx, (size_t)nspring_tets * 6 * 3 * sizeof(int));
+    if (!cand) return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (springs)");
+    int nc = 0;
+    for (int k = 0; k < s->nt; k++) {
+        if (!(s->tet_type[k]->flags & EO_MATERIAL_EDGE)) continue;
+        const int *tet = s->mesh->tets + 4 * k;
+        for (int p = 0; p < 6; p++) {
+            int a = tet[pairs[p][0]], b = tet[pairs[p][1]];
+            cand[3 * nc] = a < b ? a : b;
+            cand[3 * nc + 1] = a < b ? b : a;
+            cand[3 * nc + 2] = k;
+            nc++;
+        }
+    }
+    qsort(cand, (size_t)nc, 3 * sizeof(int), cmp_edge);
+    int ne = 0;
+    for (int i = 0; i < nc; i++)
+        if (i == 0 || cmp_edge(cand + 3 * i, cand + 3 * (i - 1)) != 0) ne++;
+    int rc = eo_term_alloc(s, &spring_ops, 0, out);
+    if (rc < 0) {
+        eo_free(s->ctx, cand);
+        return rc;
+    }
+    spring_data *d = eo_calloc(s->ctx, 1, sizeof *d);
+    if (d) {
+        d->ne = ne;
+        d->ab = eo_malloc(s->ctx, (size_t)ne * 2 * sizeof(int));
+        d->L = eo_malloc(s->ctx, (size_t)ne * sizeof(double));
+        d->type = eo_malloc(s->ctx, (size_t)ne * sizeof *d->type);
+        d->coef = eo_malloc(s->ctx, (size_t)ne * sizeof *d->coef);
+        d->dofs = eo_malloc(s->ctx, (size_t)ne * 6 * sizeof(int));
+    }
+    (*out)->data = d;
+    if (!d || !d->ab || !d->L || !d->type || !d->coef || !d->dofs) {
+        eo_free(s->ctx, cand);
+        eo_term_destroy(s->ctx, out);
+        return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (springs)");
+    }
+    ne = 0;
+    for (int i = 0; i < nc; i++) {
+        if (i > 0 && cmp_edge(cand + 3 * i, cand + 3 * (i - 1)) == 0) continue;
+        int a = cand[3 * i], b = cand[3 * i + 1], k = cand[3 * i + 2];
+        d->ab[2 * ne] = a;
+        d->ab[2 * ne + 1] = b;
+        double L2 = 0;
+        for (int c = 0; c < 3; c++) {
+            double dx = s->mesh->X[3 * b + c] - s->mesh->X[3 * a + c];
+            L2 += dx * dx;
+        }
+        d->L[ne] = sqrt(L2);
+        d->type[ne] = s->tet_type[k];
+        d->coef[ne] = s->tet_coef[k];
+        ne++;
+    }
+    eo_free(s->ctx, cand);
+    return EO_OK;
+}
