@@ -277,7 +277,8 @@ int eo_tet_rest(const double X[12], double Dminv[9], double *w)
         if (l > len) len = l;
     }
     double d = det3(Dm);
-    if (!(d > 1e-12 * len * len * len) || !isfinite(d)) return EO_ERR_MESH;
+    /* F = Ds Dm⁻¹ does not depend on the orientation; only degenerate tets are refused. */
+    if (!(fabs(d) > 1e-12 * len * len * len) || !isfinite(d)) return EO_ERR_MESH;
     double inv = 1 / d;
     Dminv[0] = (Dm[4] * Dm[8] - Dm[5] * Dm[7]) * inv;
     Dminv[1] = (Dm[2] * Dm[7] - Dm[1] * Dm[8]) * inv;
@@ -288,6 +289,6 @@ int eo_tet_rest(const double X[12], double Dminv[9], double *w)
     Dminv[6] = (Dm[3] * Dm[7] - Dm[4] * Dm[6]) * inv;
     Dminv[7] = (Dm[1] * Dm[6] - Dm[0] * Dm[7]) * inv;
     Dminv[8] = (Dm[0] * Dm[4] - Dm[1] * Dm[3]) * inv;
-    *w = d / 6;
+    *w = fabs(d) / 6;
     return EO_OK;
 }

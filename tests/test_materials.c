@@ -300,7 +300,7 @@ static void test_projection(const eo_material_type *mt)
 }
 
 /* ---------------------------------------------------------------- tet element */
-static void rand_tet(double X[12])
+static void rand_tet(double X[12], int flip)
 {
     static const double reg[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
     double Dm[9];
@@ -309,13 +309,18 @@ static void rand_tet(double X[12])
         for (int a = 0; a < 3; a++)
             for (int c = 0; c < 3; c++) Dm[3 * a + c] = X[3 * c + a] - X[9 + a];
     } while (det3(Dm) < 0.3);
+    if (flip) /* mesh-layer orientation: swap vertices 1 and 2 */
+        for (int a = 0; a < 3; a++) {
+            double t = X[3 + a];
+            X[3 + a] = X[6 + a], X[6 + a] = t;
+        }
 }
 static void test_tet(const eo_material_type *mt)
 {
     double worstg = 0, worsth = 0;
     for (int t = 0; t < 16; t++) {
         double X[12], x[12], Dminv[9], w;
-        rand_tet(X);
+        rand_tet(X, t & 1);
         CHECK(eo_tet_rest(X, Dminv, &w) == EO_OK, "rest");
         double F0[9];
         if (t < 12) {
@@ -387,8 +392,19 @@ static void test_tet_rest(void)
     CHECK_CLOSE(w, fabs(det3(Dm)) / 6, 1e-14);
     double flat[12] = {1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 0, 0};
     CHECK(eo_tet_rest(flat, Dminv, &w) == EO_ERR_MESH, "degenerate rest tet");
-    double neg[12] = {0, 1, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0};
-    CHECK(eo_tet_rest(neg, Dminv, &w) == EO_ERR_MESH, "negatively oriented rest tet");
+    /* the mesh layer's orientation (det[x1-x0, x2-x0, x3-x0] > 0) has det Dm < 0: accepted, same F */
+    double neg[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, Dn[9], wn, A[9] = {1.1, 0.2, 0, -0.1, 0.9, 0.3, 0, 0.1, 1.2};
+    CHECK(eo_tet_rest(neg, Dn, &wn) == EO_OK, "positively oriented mesh tet");
+    CHECK_CLOSE(wn, 1.0 / 6.0, 1e-15);
+    double xn[12], Dsn[9], Fn[9];
+    for (int v = 0; v < 4; v++)
+        for (int a = 0; a < 3; a++) xn[3 * v + a] = A[3 * a] * neg[3 * v] + A[3 * a + 1] * neg[3 * v + 1] + A[3 * a + 2] * neg[3 * v + 2];
+    for (int a = 0; a < 3; a++)
+        for (int c = 0; c < 3; c++) Dsn[3 * a + c] = xn[3 * c + a] - xn[9 + a];
+    mul3(Dsn, Dn, Fn);
+    for (int i = 0; i < 9; i++) CHECK_CLOSE(Fn[i], A[i], 1e-14);
+    double tiny[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0.5, 0.5, 1e-14};
+    CHECK(eo_tet_rest(tiny, Dminv, &w) == EO_ERR_MESH, "nearly flat rest tet");
 }
 
 /* ---------------------------------------------------------------- spring */

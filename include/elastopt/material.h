@@ -156,8 +156,10 @@ int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
                     const double Dminv[9], double w, const double x[12], eo_eval_what what,
                     eo_proj proj, eo_tet_out *out);
 /// Dm⁻¹ and rest volume w = |det Dm|/6 from 12 rest coordinates (vertex-major).
-/// EO_ERR_MESH if det Dm <= 1e-12·(longest Dm column)³, i.e. the rest tet is
-/// degenerate or negatively oriented (ERRATA: bad input); Dminv and w untouched then.
+/// EO_ERR_MESH if |det Dm| <= 1e-12·(longest Dm column)³ (degenerate rest tet); Dminv
+/// and w untouched then. Both orientations are accepted: F = Ds Dm⁻¹ is independent of
+/// it, and the mesh layer orients tets so that det[x1−x0, x2−x0, x3−x0] > 0, which is
+/// det Dm < 0 in the notes' Dm = [x1−x4, x2−x4, x3−x4] convention.
 int eo_tet_rest(const double X[12], double Dminv[9], double *w);
 
 #ifdef __cplusplus
