@@ -2,24 +2,41 @@
 /// Optimizers, Hessian fixes, line searches and stopping rules, each chosen by name.
 ///
 /// The solver of one step problem is assembled from four pluggable pieces:
-///   solver.optimizer   newton, gradient_descent, lbfgs, ...   (eo_optimizer_type)
-///   solver.hessian_fix none, shift, clamp, abs                 (eo_hessfix_type)
-///   solver.linesearch  backtracking, exact, none               (eo_linesearch_type)
-///   solver.stop        newton_decrement, gradient              (eo_stop_type)
+///   solver.optimizer   newton, gradient_descent, lbfgs          (eo_optimizer_type)
+///   solver.hessian_fix none, shift, clamp, abs                  (eo_hessfix_type)
+///   solver.linesearch  backtracking, exact, none                (eo_linesearch_type)
+///   solver.stop        newton_decrement, gradient               (eo_stop_type)
 ///   solver.linear      cholmod, cholmod_ldlt, ...               (eo_linsolve_type)
-/// and each method's parameters live in config section `solver.<method name>`.
+/// plus solver.tol, solver.max_iters, solver.time_budget (eo_solver_opts), and each
+/// method's parameters live in config section `solver.<method name>` (e.g.
+/// `solver.backtracking.c1`, `solver.shift.shift_init`, `solver.lbfgs.history`). Sections
+/// of methods that are registered but not selected are read and checked too, so one
+/// config may carry settings for several methods and switch with `-o solver.optimizer=...`.
 ///
 /// ```c
-/// eo_solver *s; eo_solver_create(ctx, &opts, obj->n, &s);  // opts: names + params
+/// eo_solver_opts o; eo_solver_opts_default(&o);
+/// rc = eo_solver_opts_load(ctx, cfg, &o);                  // section "solver" (cfg may be NULL)
+/// eo_solver *s; rc = eo_solver_create(ctx, &o, cfg, obj->n, &s); // + sections solver.<name>
 /// eo_solve_result r;
-/// eo_solver_minimize(s, obj, x, on_iter, user, &r);        // x: start in, minimizer out
+/// rc = eo_solver_minimize(s, obj, x, on_iter, user, &r);   // x: start in, minimizer out
 /// printf("%s after %d iterations\n", eo_reason_string(r.reason), r.iterations);
 /// eo_solver_destroy(&s);
 /// ```
-/// No allocation happens inside the iterations: workspace is sized in create.
+/// Ownership: the solver copies opts and all params; the objective and x are borrowed
+/// for the duration of minimize. No allocation happens inside the iterations: workspace
+/// is sized in create. The only exception is Newton's first iteration on a Hessian whose
+/// pattern it has not seen (eo_linsolve_analyze, once per pattern).
+///
+/// The tolerance `solver.tol` (default 1e-10) is read by the stopping rule:
+///  - newton_decrement: λ²/2 = −∇gᵀp/2 ≤ tol, in the units of g (for the step objective
+///    ½‖x − x̃‖²_M + w E, kg·m²). λ²/2 estimates g(x) − g*, so tol = 1e-10 means
+///    ‖x − x*‖_H ≲ √(2·tol) ≈ 1.4e-5 m·√kg.
+///  - gradient: ‖∇g‖₂ ≤ tol·max(‖∇g(x₀)‖₂, floor) (relative to the start of this
+///    minimization).
 #ifndef ELASTOPT_SOLVER_H
 #define ELASTOPT_SOLVER_H
 
+#include "config.h"
 #include "linsolve.h"
 #include "objective.h"
 
@@ -28,21 +45,28 @@ extern "C" {
 #endif
 
 /// What one iteration reports (to the CSV log and the benchmark recorder).
+///
+/// Record k describes the iterate x_k and what was done from it: g and ‖∇g‖ at x_k, the
+/// direction computed at x_k (its decrement and the Hessian shift used for it) and the
+/// line search from x_k along it (α, evaluations). The last record (reason ≠ 0) has
+/// α = NAN and, if the run stopped before a direction was computed, decrement = NAN.
+/// A callback that returns non-zero stops the run before the step of its record is
+/// accepted (reason EO_DIVERGED_EXTERNAL; x out = that record's x_k).
 typedef struct eo_iter_info {
     int iteration;        ///< 0 = the start point, then 1, 2, ...
     double time;          ///< seconds since the start of this minimization
-    double g;             ///< objective
-    double grad_norm;     ///< ‖∇g‖₂
-    double decrement;     ///< λ²/2 = −∇gᵀp/2 of the direction taken (NAN if none)
-    double alpha;         ///< accepted step length (NAN at iteration 0)
-    int ls_evals;         ///< objective evaluations in the line search
-    double shift;         ///< Hessian shift c used (0 if none)
-    int inverted;         ///< inverted elements at the iterate (-1 if unknown)
+    double g;             ///< objective at x_k
+    double grad_norm;     ///< ‖∇g(x_k)‖₂
+    double decrement;     ///< λ²/2 = −α₀∇gᵀp/2 of the direction computed at x_k (NAN if none)
+    double alpha;         ///< step length accepted from x_k (NAN on the last record)
+    int ls_evals;         ///< objective evaluations in the line search from x_k
+    double shift;         ///< Hessian shift c used for the direction (0 if none)
+    int inverted;         ///< inverted elements at x_k (-1 if unknown)
     int reason;           ///< reason if this is the last iteration, else 0
-    const double *x;      ///< the iterate (borrowed, valid during the callback)
+    const double *x;      ///< the iterate x_k (borrowed, valid during the callback)
 } eo_iter_info;
 
-/// Callback after every iteration; return non-zero to stop (reason EXTERNAL).
+/// Callback after every iteration; return non-zero to stop (reason EO_DIVERGED_EXTERNAL).
 typedef int (*eo_iter_fn)(const eo_iter_info *info, void *user);
 
 /// Context given to a stopping rule.
@@ -59,9 +83,9 @@ typedef struct eo_stop_info {
 
 typedef struct eo_stop_type {
     eo_method_info info;
-    /// Positive eo_reason if converged, 0 to go on. Called twice per iteration: once
-    /// after the gradient (decrement = NAN) and, for direction-based rules, once after
-    /// the direction is known.
+    /// Positive eo_reason if converged, 0 to go on. Called once after the gradient at
+    /// each iterate (decrement = NAN) and, for rules with needs_direction, once more
+    /// after the direction is known.
     int (*check)(const void *params, const eo_stop_info *si);
     int needs_direction;  ///< 1 if the rule needs the decrement (newton_decrement)
 } eo_stop_type;
@@ -69,13 +93,15 @@ typedef struct eo_stop_type {
 typedef struct eo_linesearch_type {
     eo_method_info info;
     /// Find α along p from x (g0 = g(x), dg0 = ∇g(x)ᵀp < 0). Writes the accepted point
-    /// to xnew and g(xnew) to *gnew, the step to *alpha, evaluations to *nevals.
-    /// A trial with non-finite g is rejected and the step shrunk. `alpha0` is the first
-    /// trial. Returns EO_OK, or a positive warning EO_WARN_NOT_CONVERGED when no
-    /// acceptable step was found (then xnew/gnew hold the best point found, possibly x).
+    /// to xnew and g(xnew) to *gnew, the step to *alpha, objective evaluations (value
+    /// or gradient calls) to *nevals. `work` is caller scratch of n doubles.
+    /// A trial with non-finite g is never accepted. `alpha0` is the first trial.
+    /// Returns EO_OK, a positive warning EO_WARN_NOT_CONVERGED when no acceptable step
+    /// was found (then xnew/gnew hold the best point found, possibly x with *alpha = 0),
+    /// or a negative status from the objective.
     int (*search)(const void *params, eo_objective *obj, const double *x, const double *p,
                   double g0, double dg0, double alpha0, double *xnew, double *gnew,
-                  double *alpha, int *nevals, eo_ctx *ctx);
+                  double *alpha, int *nevals, double *work, eo_ctx *ctx);
 } eo_linesearch_type;
 
 /// Hessian fix: how Newton makes its system positive definite.
@@ -83,7 +109,58 @@ typedef struct eo_hessfix_type {
     eo_method_info info;
     eo_proj elem_proj;   ///< per-element projection used when assembling (clamp, abs)
     int shifts;          ///< 1: adds c·I and retries on EO_WARN_NOT_PD / non-descent
+    int safeguard;       ///< shifts = 0: 1 = still shift (counted) if the projected
+                         ///< Hessian is not PD (clamp, abs); 0 = fall back to −∇g (none)
 } eo_hessfix_type;
+
+/// Parameters of the c·I shift (config `solver.shift.*`, also `solver.clamp.*` and
+/// `solver.abs.*` for their safeguard). Scale s = mean |H_ii| (1 if that is 0).
+typedef struct eo_hessfix_shift_params {
+    double shift_init;   ///< first non-zero shift, relative to s (default 1e-8)
+    double shift_grow;   ///< factor on each retry: c = max(c_min, grow·c) (default 10)
+    double shift_shrink; ///< after a success the next iteration starts at c/shrink,
+                         ///< or at 0 when that is below c_min (default 10)
+    double shift_max;    ///< give up (EO_DIVERGED_NOT_PD) above this, relative to s (1e12)
+} eo_hessfix_shift_params;
+/// Descriptor of eo_hessfix_shift_params (shared by shift, clamp, abs).
+extern const eo_param_desc eo_hessfix_shift_params_desc[];
+
+/// Newton (config `solver.newton.*`).
+typedef struct eo_newton_params {
+    double descent_eps;  ///< p is a descent direction iff ∇gᵀp < −eps‖∇g‖‖p‖ (1e-12)
+} eo_newton_params;
+
+/// Gradient descent (config `solver.gradient_descent.*`).
+typedef struct eo_gradient_descent_params {
+    int scaled;          ///< p = −D⁻¹∇g with D = objective metric (lumped mass) (true)
+    char alpha0[16];     ///< first trial step after the first iteration: "bb" (Barzilai–
+                         ///< Borwein, α₀ = sᵀDs/sᵀy) or "double" (2·α_prev) (default "bb")
+} eo_gradient_descent_params;
+
+/// L-BFGS (config `solver.lbfgs.*`).
+typedef struct eo_lbfgs_params {
+    int history;         ///< stored pairs m (default 8)
+    int scaled;          ///< initial inverse Hessian γ·D⁻¹ with D = metric (true)
+} eo_lbfgs_params;
+
+/// Backtracking (config `solver.backtracking.*`).
+typedef struct eo_backtracking_params {
+    double c1;           ///< Armijo constant (1e-4)
+    double shrink;       ///< α ← shrink·α after a rejected trial (0.5)
+    int max_evals;       ///< trials before giving up (60)
+} eo_backtracking_params;
+
+/// Exact line search (config `solver.exact.*`).
+typedef struct eo_exact_params {
+    double tol;          ///< stop when |φ'(α)| ≤ tol·|φ'(0)| or the bracket is narrower
+                         ///< than tol·α (1e-8)
+    int max_evals;       ///< evaluations before giving up (100)
+} eo_exact_params;
+
+/// Gradient stopping rule (config `solver.gradient.*`).
+typedef struct eo_stop_gradient_params {
+    double floor;        ///< lower bound of the scale ‖∇g(x₀)‖, units of ∇g (1e-300)
+} eo_stop_gradient_params;
 
 typedef struct eo_solver eo_solver;
 
@@ -93,7 +170,7 @@ typedef struct eo_solver_ctx {
     eo_ctx *ctx;
     eo_linsolve *linear;                ///< NULL for methods that do not solve systems
     const eo_hessfix_type *hessfix;
-    const void *hessfix_params;
+    const void *hessfix_params;         ///< eo_hessfix_shift_params or NULL (= defaults)
     const eo_linesearch_type *linesearch;
     const void *linesearch_params;
     const eo_stop_type *stop;
@@ -108,11 +185,15 @@ typedef struct eo_solver_ctx {
 /// Result of one minimization.
 typedef struct eo_solve_result {
     int reason;           ///< eo_reason
-    int iterations;
-    double g, grad_norm, decrement;
+    int iterations;       ///< accepted steps
+    double g, grad_norm, decrement;  ///< at the returned x (decrement NAN if not computed)
     double time;          ///< seconds
-    long n_value, n_gradient, n_hessian, n_factor;
+    long n_value, n_gradient, n_hessian, n_factor;  ///< calls during this minimization
     int status;           ///< eo_status of the last library call (0 unless an error)
+    long n_fallback;      ///< directions replaced by the (scaled) steepest descent one
+                          ///< (newton + hessian_fix none; lbfgs memory resets)
+    long n_shifted;       ///< newton iterations whose direction needed a shift c > 0
+                          ///< (the fix for `shift`, the safeguard for clamp/abs)
 } eo_solve_result;
 
 typedef struct eo_optimizer_type {
@@ -123,15 +204,67 @@ typedef struct eo_optimizer_type {
     /// Size workspace for n variables. Called once before minimize (and again if n changes).
     int (*setup)(void *st, const void *params, int n, eo_ctx *ctx);
     /// Minimize from x (in: start, out: last iterate). Must record every iteration
-    /// through sc->on_iter (if set) and end with a reason in res.
+    /// through sc->on_iter (if set) and end with a reason in res. Returns EO_OK (also
+    /// when the reason is negative) or a negative status (objective error, bad input).
     int (*minimize)(void *st, const void *params, const eo_solver_ctx *sc, double *x,
                     eo_solve_result *res);
     void (*destroy)(void *st, eo_ctx *ctx);
 } eo_optimizer_type;
 
-/// Shared helper for optimizers: report an iteration (fills time, calls on_iter);
-/// returns non-zero if the callback asked to stop.
+extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_gradient_descent,
+    eo_optimizer_lbfgs;
+extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfix_clamp,
+    eo_hessfix_abs;
+extern const eo_linesearch_type eo_linesearch_backtracking, eo_linesearch_exact,
+    eo_linesearch_none;
+extern const eo_stop_type eo_stop_newton_decrement, eo_stop_gradient;
+
+/// Shared helper for optimizers: report an iteration (fills time = now − t0, calls
+/// sc->on_iter); returns non-zero if the callback asked to stop.
 int eo_solver_report(const eo_solver_ctx *sc, double t0, eo_iter_info *info);
+
+/// Solver choice: config section `solver` (descriptor eo_solver_opts_desc).
+typedef struct eo_solver_opts {
+    char optimizer[32];    ///< registered optimizer (default "newton")
+    char hessian_fix[32];  ///< registered Hessian fix (default "clamp")
+    char linesearch[32];   ///< registered line search (default "backtracking")
+    char stop[32];         ///< registered stopping rule (default "newton_decrement")
+    char linear[32];       ///< registered linear solver (default "cholmod"), used only by
+                           ///< optimizers that solve systems (newton)
+    double tol;            ///< stopping tolerance, see the file comment (default 1e-10)
+    int max_iters;         ///< iteration cap → EO_DIVERGED_MAX_ITERS (default 100)
+    double time_budget;    ///< seconds per minimization, 0 = none (default 0)
+} eo_solver_opts;
+extern const eo_param_desc eo_solver_opts_desc[];
+
+/// Defaults of every field.
+void eo_solver_opts_default(eo_solver_opts *o);
+/// Load config section `solver` into o (keys of eo_solver_opts_desc; the names of all
+/// registered solver methods are accepted as sub-sections, read by eo_solver_create;
+/// anything else is EO_ERR_UNKNOWN_KEY). cfg NULL: no-op.
+int eo_solver_opts_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver_opts *o);
+/// Resolve every name (EO_ERR_UNKNOWN_NAME listing the valid ones), load each method's
+/// params from `solver.<name>` (cfg may be NULL: defaults), check the sections of the
+/// registered but unselected methods too, create the linear solver if the optimizer
+/// needs one and size the workspace for n variables. opts NULL = defaults; copied.
+/// Returns EO_OK, EO_ERR_UNKNOWN_NAME, EO_ERR_UNKNOWN_KEY, EO_ERR_TYPE, EO_ERR_RANGE,
+/// EO_ERR_INVALID, EO_ERR_NOMEM.
+int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n,
+                     eo_solver **out);
+/// Minimize obj (obj->n must equal the n of create) from x (in/out). on_iter may be
+/// NULL. Returns EO_OK with the reason in res (negative reasons are not errors), or a
+/// negative status (EO_ERR_INVALID for a size mismatch, an objective error).
+int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on_iter,
+                       void *user, eo_solve_result *res);
+/// Free; sets *s = NULL; accepts NULL.
+void eo_solver_destroy(eo_solver **s);
+/// The options in use (borrowed).
+const eo_solver_opts *eo_solver_get_opts(const eo_solver *s);
+/// The linear solver (borrowed; NULL if the optimizer needs none), e.g. for its stats.
+eo_linsolve *eo_solver_get_linsolve(const eo_solver *s);
+/// Echo of the effective configuration: the `solver` section with the selected
+/// methods' parameter sections. New reference (NULL on out of memory).
+json_t *eo_solver_to_json(const eo_solver *s);
 
 #ifdef __cplusplus
 }

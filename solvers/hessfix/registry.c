@@ -2,5 +2,9 @@
 #include "elastopt/solver.h"
 
 const void *const eo_registry_hessfix[] = {
+    &eo_hessfix_none,
+    &eo_hessfix_shift,
+    &eo_hessfix_clamp,
+    &eo_hessfix_abs,
     NULL,
 };

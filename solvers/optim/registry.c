@@ -2,5 +2,8 @@
 #include "elastopt/solver.h"
 
 const void *const eo_registry_optimizer[] = {
+    &eo_optimizer_newton,
+    &eo_optimizer_gradient_descent,
+    &eo_optimizer_lbfgs,
     NULL,
 };

@@ -2,5 +2,7 @@
 #include "elastopt/solver.h"
 
 const void *const eo_registry_stop[] = {
+    &eo_stop_newton_decrement,
+    &eo_stop_gradient,
     NULL,
 };

@@ -1,0 +1,252 @@
+/* The solver object: resolves the method names of eo_solver_opts through the
+ * registries, loads each method's params from config section `solver.<name>`, owns the
+ * optimizer state and the linear solver, and runs minimize. Also eo_solver_report, the
+ * per-iteration reporting helper shared by the optimizers. */
+#include "elastopt/solver.h"
+
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+/* The kinds whose methods live in config section solver.<name>. */
+static const eo_kind solver_kinds[] = {EO_KIND_OPTIMIZER, EO_KIND_HESSFIX, EO_KIND_LINESEARCH,
+                                       EO_KIND_STOP, EO_KIND_LINSOLVE};
+#define N_KINDS (sizeof solver_kinds / sizeof solver_kinds[0])
+
+struct eo_solver {
+    eo_ctx *ctx;
+    eo_solver_opts opts;
+    int n;
+    const void *type[N_KINDS];  /* selected ops table per kind (linear: NULL if unused) */
+    void *params[N_KINDS];      /* their params (NULL if none) */
+    void *opt_state;
+    int opt_set_up;
+    eo_linsolve *linear;
+};
+
+#define OPTS_STR(field) .size = sizeof(((eo_solver_opts *)0)->field)
+
+const eo_param_desc eo_solver_opts_desc[] = {
+    {.key = "optimizer", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, optimizer),
+     OPTS_STR(optimizer), .def.s = "newton", .method_kind = EO_KIND_OPTIMIZER,
+     .help = "optimizer minimizing each step problem"},
+    {.key = "hessian_fix", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, hessian_fix),
+     OPTS_STR(hessian_fix), .def.s = "clamp", .method_kind = EO_KIND_HESSFIX,
+     .help = "how Newton makes its Hessian positive definite"},
+    {.key = "linesearch", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linesearch),
+     OPTS_STR(linesearch), .def.s = "backtracking", .method_kind = EO_KIND_LINESEARCH,
+     .help = "line search along each direction"},
+    {.key = "stop", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, stop),
+     OPTS_STR(stop), .def.s = "newton_decrement", .method_kind = EO_KIND_STOP,
+     .help = "stopping rule (reads tol)"},
+    {.key = "linear", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linear),
+     OPTS_STR(linear), .def.s = "cholmod", .method_kind = EO_KIND_LINSOLVE,
+     .help = "linear solver for Newton systems"},
+    {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_solver_opts, tol), .def.d = 1e-10,
+     .min = 0, .range = EO_RANGE_POSITIVE,
+     .help = "newton_decrement: lambda^2/2 <= tol (units of g); gradient: relative reduction"},
+    {.key = "max_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_solver_opts, max_iters),
+     .def.i = 100, .min = 0, .max = 100000000, .range = EO_RANGE_CLOSED,
+     .help = "iteration cap per minimization (reason diverged_max_iters)"},
+    {.key = "time_budget", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_solver_opts, time_budget),
+     .def.d = 0, .min = 0, .range = EO_RANGE_MIN, .help = "seconds per minimization, 0 = none"},
+    {0},
+};
+
+void eo_solver_opts_default(eo_solver_opts *o) { eo_params_default(eo_solver_opts_desc, o); }
+
+int eo_solver_report(const eo_solver_ctx *sc, double t0, eo_iter_info *info)
+{
+    info->time = eo_wtime() - t0;
+    return sc->on_iter ? sc->on_iter(info, sc->user) : 0;
+}
+
+/* Names of every registered method of the solver kinds that has parameters, for the
+ * sub-sections accepted in `solver`. */
+#define MAX_EXTRA 256
+static void method_section_names(const char **names, size_t cap)
+{
+    size_t k = 0;
+    for (size_t i = 0; i < N_KINDS; i++)
+        for (const void *const *t = eo_registry_list(solver_kinds[i]); t && *t; t++) {
+            const eo_method_info *mi = eo_method_info_of(*t);
+            if (!mi->params || !mi->params_size) continue;
+            int dup = 0;
+            for (size_t j = 0; j < k; j++)
+                if (strcmp(names[j], mi->name) == 0) dup = 1;
+            if (!dup && k + 1 < cap) names[k++] = mi->name;
+        }
+    names[k] = NULL;
+}
+
+int eo_solver_opts_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver_opts *o)
+{
+    if (!cfg) return EO_OK;
+    const char *names[MAX_EXTRA];
+    method_section_names(names, MAX_EXTRA);
+    return eo_cfg_section(ctx, cfg, "solver", eo_solver_opts_desc, o, names);
+}
+
+/* Allocate and load the params of one method (NULL if it has none). */
+static int load_params(eo_ctx *ctx, eo_cfg *cfg, const void *type, void **out)
+{
+    const eo_method_info *mi = eo_method_info_of(type);
+    *out = NULL;
+    if (!mi->params || !mi->params_size) return EO_OK;
+    void *p = eo_calloc(ctx, 1, mi->params_size);
+    if (!p) return eo_error(ctx, EO_ERR_NOMEM, "solver: out of memory");
+    eo_params_default(mi->params, p);
+    if (cfg) {
+        char path[96];
+        snprintf(path, sizeof path, "solver.%s", mi->name);
+        int rc = eo_cfg_section(ctx, cfg, path, mi->params, p, NULL);
+        if (rc < 0) {
+            eo_free(ctx, p);
+            return rc;
+        }
+    }
+    *out = p;
+    return EO_OK;
+}
+
+static const char *opts_name(const eo_solver_opts *o, eo_kind kind)
+{
+    switch (kind) {
+    case EO_KIND_OPTIMIZER: return o->optimizer;
+    case EO_KIND_HESSFIX: return o->hessian_fix;
+    case EO_KIND_LINESEARCH: return o->linesearch;
+    case EO_KIND_STOP: return o->stop;
+    case EO_KIND_LINSOLVE: return o->linear;
+    default: return "";
+    }
+}
+
+int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n,
+                     eo_solver **out)
+{
+    int rc = EO_OK;
+    *out = NULL;
+    if (n < 0) return eo_error(ctx, EO_ERR_INVALID, "solver: n = %d < 0", n);
+    eo_solver *s = eo_calloc(ctx, 1, sizeof *s);
+    if (!s) return eo_error(ctx, EO_ERR_NOMEM, "solver: out of memory");
+    s->ctx = ctx;
+    s->n = n;
+    if (opts) s->opts = *opts;
+    else eo_solver_opts_default(&s->opts);
+    if (!(s->opts.tol > 0 && isfinite(s->opts.tol))) {
+        rc = eo_error(ctx, EO_ERR_RANGE, "key 'solver.tol': value %g must be > 0", s->opts.tol);
+        goto fail;
+    }
+    if (s->opts.max_iters < 0) {
+        rc = eo_error(ctx, EO_ERR_RANGE, "key 'solver.max_iters': value %d must be >= 0",
+                      s->opts.max_iters);
+        goto fail;
+    }
+    if (!(s->opts.time_budget >= 0 && isfinite(s->opts.time_budget))) {
+        rc = eo_error(ctx, EO_ERR_RANGE, "key 'solver.time_budget': value %g must be >= 0",
+                      s->opts.time_budget);
+        goto fail;
+    }
+
+    /* resolve the selected methods; the linear solver only if the optimizer needs one */
+    for (size_t i = 0; i < N_KINDS; i++) {
+        if (solver_kinds[i] == EO_KIND_LINSOLVE &&
+            !((const eo_optimizer_type *)s->type[0])->needs_linear)
+            continue;
+        EO_TRY(rc = eo_registry_find(ctx, solver_kinds[i], opts_name(&s->opts, solver_kinds[i]),
+                                     &s->type[i]));
+        EO_TRY(rc = load_params(ctx, cfg, s->type[i], &s->params[i]));
+    }
+    /* check the sections of the registered methods that are not selected */
+    if (cfg) {
+        for (size_t i = 0; i < N_KINDS; i++)
+            for (const void *const *t = eo_registry_list(solver_kinds[i]); t && *t; t++) {
+                if (*t == s->type[i]) continue;
+                void *p = NULL;
+                EO_TRY(rc = load_params(ctx, cfg, *t, &p));
+                eo_free(ctx, p);
+            }
+    }
+
+    const eo_optimizer_type *opt = s->type[0];
+    if (opt->needs_linear) {
+        EO_TRY(rc = eo_linsolve_create(ctx, s->type[N_KINDS - 1], s->params[N_KINDS - 1],
+                                       &s->linear));
+    }
+    s->opt_state = eo_calloc(ctx, 1, opt->state_size ? opt->state_size : 1);
+    if (!s->opt_state) {
+        rc = eo_error(ctx, EO_ERR_NOMEM, "solver: out of memory");
+        goto fail;
+    }
+    s->opt_set_up = 1;
+    EO_TRY(rc = opt->setup(s->opt_state, s->params[0], n, ctx));
+    *out = s;
+    return EO_OK;
+fail:
+    eo_solver_destroy(&s);
+    return rc;
+}
+
+void eo_solver_destroy(eo_solver **sp)
+{
+    if (!sp || !*sp) return;
+    eo_solver *s = *sp;
+    eo_ctx *ctx = s->ctx;
+    const eo_optimizer_type *opt = s->type[0];
+    if (s->opt_state && s->opt_set_up && opt->destroy) opt->destroy(s->opt_state, ctx);
+    eo_free(ctx, s->opt_state);
+    eo_linsolve_destroy(&s->linear);
+    for (size_t i = 0; i < N_KINDS; i++) eo_free(ctx, s->params[i]);
+    eo_free(ctx, s);
+    *sp = NULL;
+}
+
+int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on_iter,
+                       void *user, eo_solve_result *res)
+{
+    memset(res, 0, sizeof *res);
+    res->decrement = NAN;
+    if (!obj || !x)
+        return res->status = eo_error(s->ctx, EO_ERR_INVALID, "solver: no objective or no x");
+    if (obj->n != s->n)
+        return res->status = eo_error(s->ctx, EO_ERR_INVALID,
+                                      "solver created for n = %d, objective has n = %d", s->n,
+                                      obj->n);
+    const eo_optimizer_type *opt = s->type[0];
+    eo_solver_ctx sc = {
+        .obj = obj,
+        .ctx = s->ctx,
+        .linear = s->linear,
+        .hessfix = s->type[1],
+        .hessfix_params = s->params[1],
+        .linesearch = s->type[2],
+        .linesearch_params = s->params[2],
+        .stop = s->type[3],
+        .stop_params = s->params[3],
+        .tol = s->opts.tol,
+        .max_iters = s->opts.max_iters,
+        .time_budget = s->opts.time_budget,
+        .on_iter = on_iter,
+        .user = user,
+    };
+    return opt->minimize(s->opt_state, s->params[0], &sc, x, res);
+}
+
+const eo_solver_opts *eo_solver_get_opts(const eo_solver *s) { return &s->opts; }
+eo_linsolve *eo_solver_get_linsolve(const eo_solver *s) { return s->linear; }
+
+json_t *eo_solver_to_json(const eo_solver *s)
+{
+    eo_solver_opts o = s->opts;
+    if (!s->linear) o.linear[0] = 0;
+    json_t *j = eo_params_to_json(eo_solver_opts_desc, &o);
+    if (!j) return NULL;
+    if (!s->linear) json_object_del(j, "linear");
+    for (size_t i = 0; i < N_KINDS; i++) {
+        if (!s->type[i] || !s->params[i]) continue;
+        const eo_method_info *mi = eo_method_info_of(s->type[i]);
+        json_object_set_new(j, mi->name, eo_params_to_json(mi->params, s->params[i]));
+    }
+    return j;
+}

@@ -1,0 +1,65 @@
+/* Backtracking line search with the Armijo condition (registry key "backtracking").
+ *
+ * φ(α) = g(x + αp), φ(0) = g0, φ'(0) = ∇gᵀp = dg0 < 0. Trials α = α₀, shrink·α₀,
+ * shrink²·α₀, … until the sufficient-decrease (Armijo) condition
+ *     φ(α) ≤ φ(0) + c1·α·φ'(0)
+ * holds with φ(α) finite. A trial where g is +∞ (outside the domain of a barrier
+ * material, an inverted element) or NaN is rejected like a too-long step. After
+ * max_evals rejected trials the search returns x itself (α = 0) and
+ * EO_WARN_NOT_CONVERGED (Nocedal & Wright, Numerical Optimization, Alg. 3.1). */
+#include <math.h>
+#include <stddef.h>
+
+#include "elastopt/solver.h"
+
+static const eo_param_desc bt_desc[] = {
+    {.key = "c1", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_backtracking_params, c1),
+     .def.d = 1e-4, .min = 0, .max = 1, .range = EO_RANGE_MIN | EO_RANGE_MAX_OPEN,
+     .help = "Armijo constant: accept g(x+ap) <= g + c1*a*grad'p"},
+    {.key = "shrink", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_backtracking_params, shrink),
+     .def.d = 0.5, .min = 0, .max = 1, .range = EO_RANGE_OPEN, .help = "step factor after a rejected trial"},
+    {.key = "max_evals", .kind = EO_PARAM_INT, .offset = offsetof(eo_backtracking_params, max_evals),
+     .def.i = 60, .min = 1, .max = 10000, .range = EO_RANGE_CLOSED, .help = "trials before giving up"},
+    {0},
+};
+
+static int bt_search(const void *params, eo_objective *obj, const double *x, const double *p,
+                     double g0, double dg0, double alpha0, double *xnew, double *gnew,
+                     double *alpha, int *nevals, double *work, eo_ctx *ctx)
+{
+    eo_backtracking_params def;
+    const eo_backtracking_params *bp = params;
+    const int n = obj->n;
+    (void)work, (void)ctx;
+    if (!bp) {
+        eo_params_default(bt_desc, &def);
+        bp = &def;
+    }
+    double a = alpha0 > 0 && isfinite(alpha0) ? alpha0 : 1;
+    *nevals = 0;
+    for (int k = 0; k < bp->max_evals; k++) {
+        double f;
+        for (int i = 0; i < n; i++) xnew[i] = x[i] + a * p[i];
+        int rc = eo_objective_value(obj, xnew, &f);
+        ++*nevals;
+        if (rc < 0) return rc;
+        if (isfinite(f) && f <= g0 + bp->c1 * a * dg0) {
+            *gnew = f;
+            *alpha = a;
+            return EO_OK;
+        }
+        a *= bp->shrink;
+    }
+    for (int i = 0; i < n; i++) xnew[i] = x[i];
+    *gnew = g0;
+    *alpha = 0;
+    return EO_WARN_NOT_CONVERGED;
+}
+
+const eo_linesearch_type eo_linesearch_backtracking = {
+    .info = {.name = "backtracking",
+             .summary = "Armijo backtracking: shrink until g(x+ap) <= g + c1*a*grad'p",
+             .params = bt_desc,
+             .params_size = sizeof(eo_backtracking_params)},
+    .search = bt_search,
+};

@@ -1,0 +1,45 @@
+/* No line search (registry key "none"): take the optimizer's first trial step.
+ *
+ * α = α₀ (1 for newton and lbfgs, the Barzilai–Borwein step for gradient_descent),
+ * accepted whatever g does there, unless g(x + αp) is not finite: then α is halved until
+ * it is (at most 60 halvings; then x itself is returned with EO_WARN_NOT_CONVERGED).
+ * Pure Newton steps: converges quadratically near a minimizer, may diverge far from it.
+ * No parameters. */
+#include <math.h>
+
+#include "elastopt/solver.h"
+
+static int none_search(const void *params, eo_objective *obj, const double *x, const double *p,
+                       double g0, double dg0, double alpha0, double *xnew, double *gnew,
+                       double *alpha, int *nevals, double *work, eo_ctx *ctx)
+{
+    const int n = obj->n;
+    (void)params, (void)dg0, (void)work, (void)ctx;
+    double a = alpha0 > 0 && isfinite(alpha0) ? alpha0 : 1;
+    *nevals = 0;
+    for (int k = 0; k <= 60; k++) {
+        double f;
+        for (int i = 0; i < n; i++) xnew[i] = x[i] + a * p[i];
+        int rc = eo_objective_value(obj, xnew, &f);
+        ++*nevals;
+        if (rc < 0) return rc;
+        if (isfinite(f)) {
+            *gnew = f;
+            *alpha = a;
+            return EO_OK;
+        }
+        a *= 0.5;
+    }
+    for (int i = 0; i < n; i++) xnew[i] = x[i];
+    *gnew = g0;
+    *alpha = 0;
+    return EO_WARN_NOT_CONVERGED;
+}
+
+const eo_linesearch_type eo_linesearch_none = {
+    .info = {.name = "none",
+             .summary = "full step a = a0, halved only where g is not finite",
+             .params = NULL,
+             .params_size = 0},
+    .search = none_search,
+};

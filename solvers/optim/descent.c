@@ -1,0 +1,182 @@
+/* The line-search descent loop shared by newton, gradient_descent and lbfgs.
+ *
+ * At iterate x_k (k = 0, 1, ...):
+ *   g_k = g(x_k), ∇g_k                                  (one gradient call)
+ *   non-finite g or ∇g                    → EO_DIVERGED_NONFINITE
+ *   stop rule without direction           → its reason (e.g. ‖∇g‖ small)
+ *   time budget exceeded                  → EO_DIVERGED_TIME_BUDGET
+ *   p_k = direction(x_k)   (optimizer)    → its reason if none (not PD, linear solve)
+ *   ∇g_kᵀp_k ≥ 0 or non-finite            → EO_DIVERGED_NOT_DESCENT
+ *   λ_k²/2 = −α₀∇g_kᵀp_k/2;  stop rule with direction → e.g. EO_CONVERGED_DECREMENT
+ *   k = max_iters                         → EO_DIVERGED_MAX_ITERS
+ *   line search from x_k along p_k, first trial α₀ → x_{k+1}
+ *     accepted when the search returns EO_OK, or a warning but g(x_{k+1}) < g_k;
+ *     else                                → EO_DIVERGED_LINESEARCH (x stays x_k)
+ *   record k is reported (callback non-zero → EO_DIVERGED_EXTERNAL, x stays x_k)
+ * The last record carries the reason. Converged reasons are checked before the
+ * iteration cap, so a run that converges exactly at k = max_iters says so.
+ * Nothing here allocates. */
+#include "descent.h"
+
+#include <string.h>
+
+int eo_descent_ws_init(eo_ctx *ctx, int n, eo_descent_ws *w)
+{
+    memset(w, 0, sizeof *w);
+    if (n < 0) return eo_error(ctx, EO_ERR_INVALID, "optimizer: n = %d < 0", n);
+    size_t m = (size_t)(n > 0 ? n : 1);
+    w->n = n;
+    w->p = eo_calloc(ctx, 5 * m, sizeof(double));
+    if (!w->p) return eo_error(ctx, EO_ERR_NOMEM, "optimizer: out of memory (n = %d)", n);
+    w->grad = w->p + m;
+    w->grad_new = w->p + 2 * m;
+    w->x_new = w->p + 3 * m;
+    w->work = w->p + 4 * m;
+    return EO_OK;
+}
+
+void eo_descent_ws_deinit(eo_ctx *ctx, eo_descent_ws *w)
+{
+    eo_free(ctx, w->p);
+    memset(w, 0, sizeof *w);
+}
+
+int eo_descent_metric(const eo_solver_ctx *sc, double *d)
+{
+    int n = sc->obj->n, ok = 0;
+    if (sc->obj->ops->metric_diag && sc->obj->ops->metric_diag(sc->obj->data, d) >= 0) {
+        ok = 1;
+        for (int i = 0; i < n; i++)
+            if (!(isfinite(d[i]) && d[i] > 0)) ok = 0;
+        if (!ok)
+            eo_log(sc->ctx, EO_LOG_WARN,
+                   "objective metric has a non-positive or non-finite entry; using identity");
+    }
+    if (!ok)
+        for (int i = 0; i < n; i++) d[i] = 1;
+    return ok;
+}
+
+static int inverted_at(const eo_solver_ctx *sc, const double *x)
+{
+    const eo_objective *o = sc->obj;
+    return o->ops->inverted_count ? o->ops->inverted_count(o->data, x) : -1;
+}
+
+int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
+                        const eo_solver_ctx *sc, eo_descent_ws *w, double *x,
+                        eo_solve_result *res)
+{
+    eo_objective *obj = sc->obj;
+    const int n = obj->n;
+    const double t0 = eo_wtime();
+    const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
+    double *grad = w->grad, *grad_new = w->grad_new, *p = w->p;
+    double g = NAN, gn = NAN, gn0, g_prev = NAN, step_norm = NAN, last_dec = NAN;
+    int rc = EO_OK, reason = 0, k = 0;
+
+    memset(res, 0, sizeof *res);
+    res->decrement = NAN;
+    if (n != w->n) {
+        rc = eo_error(sc->ctx, EO_ERR_INVALID, "optimizer set up for n = %d, objective has n = %d",
+                      w->n, n);
+        goto done;
+    }
+    rc = eo_objective_gradient(obj, x, &g, grad);
+    if (rc < 0) goto done;
+    gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
+    gn0 = gn;
+    if (ops->begin) {
+        rc = ops->begin(st, params, sc, x, g, grad, res);
+        if (rc < 0) goto done;
+    }
+    for (k = 0;; k++) {
+        eo_iter_info info = {.iteration = k, .g = g, .grad_norm = gn, .decrement = NAN,
+                             .alpha = NAN, .ls_evals = 0, .shift = 0,
+                             .inverted = inverted_at(sc, x), .reason = 0, .x = x};
+        eo_stop_info si = {.iteration = k, .g = g, .g_prev = g_prev, .grad_norm = gn,
+                           .grad_norm0 = gn0, .decrement = NAN, .step_norm = step_norm,
+                           .x_norm = eo_norm2(n, x), .tol = sc->tol};
+        double dg = NAN, alpha0 = 1;
+        if (!isfinite(g) || !isfinite(gn)) reason = EO_DIVERGED_NONFINITE;
+        if (!reason) reason = sc->stop->check(sc->stop_params, &si);
+        if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget)
+            reason = EO_DIVERGED_TIME_BUDGET;
+        if (!reason) {
+            eo_direction_out d = {.alpha0 = 1, .shift = 0, .reason = 0};
+            rc = ops->direction(st, params, sc, x, g, grad, p, &d, res);
+            if (rc < 0) goto done;
+            info.shift = d.shift;
+            alpha0 = d.alpha0;
+            reason = d.reason;
+            if (!reason) {
+                dg = eo_dot(n, grad, p);
+                if (!(dg < 0) || !isfinite(dg)) {
+                    reason = EO_DIVERGED_NOT_DESCENT;
+                } else {
+                    info.decrement = last_dec = -alpha0 * dg / 2;
+                    if (sc->stop->needs_direction) {
+                        si.decrement = info.decrement;
+                        reason = sc->stop->check(sc->stop_params, &si);
+                    }
+                }
+            }
+        }
+        if (!reason && k >= sc->max_iters) reason = EO_DIVERGED_MAX_ITERS;
+        if (reason) {
+            info.reason = reason;
+            eo_solver_report(sc, t0, &info);
+            break;
+        }
+        double gnew = NAN, alpha = 0;
+        int nev = 0;
+        rc = sc->linesearch->search(sc->linesearch_params, obj, x, p, g, dg, alpha0, w->x_new,
+                                    &gnew, &alpha, &nev, w->work, sc->ctx);
+        info.ls_evals = nev;
+        if (rc < 0) goto done;
+        if (!isfinite(gnew) || !(rc == EO_OK || gnew < g) || !(alpha > 0)) {
+            reason = EO_DIVERGED_LINESEARCH;
+            info.reason = reason;
+            rc = EO_OK;
+            eo_solver_report(sc, t0, &info);
+            break;
+        }
+        rc = EO_OK;
+        info.alpha = alpha;
+        if (eo_solver_report(sc, t0, &info)) {
+            reason = EO_DIVERGED_EXTERNAL;
+            break;
+        }
+        /* accept */
+        double gchk;
+        rc = eo_objective_gradient(obj, w->x_new, &gchk, grad_new);
+        if (rc < 0) goto done;
+        if (ops->accepted) ops->accepted(st, params, x, w->x_new, grad, grad_new, p, alpha);
+        double s2 = 0;
+        for (int i = 0; i < n; i++) {
+            double s = w->x_new[i] - x[i];
+            s2 += s * s;
+            x[i] = w->x_new[i];
+        }
+        step_norm = sqrt(s2);
+        double *t = grad;
+        grad = grad_new;
+        grad_new = t;
+        g_prev = g;
+        g = gchk;
+        gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
+        last_dec = NAN;
+    }
+done:
+    res->reason = reason;
+    res->iterations = k;
+    res->g = g;
+    res->grad_norm = gn;
+    res->decrement = last_dec;
+    res->time = eo_wtime() - t0;
+    res->n_value = obj->n_value - nv0;
+    res->n_gradient = obj->n_gradient - ng0;
+    res->n_hessian = obj->n_hessian - nh0;
+    res->status = rc < 0 ? rc : EO_OK;
+    return rc < 0 ? rc : EO_OK;
+}

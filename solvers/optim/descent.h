@@ -1,0 +1,64 @@
+/* Shared loop of the line-search descent optimizers (newton, gradient_descent, lbfgs).
+ *
+ * Each optimizer supplies only its direction (and what it learns from an accepted
+ * step); the loop does evaluation, stopping tests, line search, acceptance, reporting
+ * and the result. Internal to solvers/optim. */
+#ifndef EO_OPTIM_DESCENT_H
+#define EO_OPTIM_DESCENT_H
+
+#include <math.h>
+
+#include "elastopt/solver.h"
+
+/* Workspace of the loop, sized once in setup. */
+typedef struct eo_descent_ws {
+    int n;
+    double *p, *grad, *grad_new, *x_new, *work;
+} eo_descent_ws;
+
+int eo_descent_ws_init(eo_ctx *ctx, int n, eo_descent_ws *w);
+void eo_descent_ws_deinit(eo_ctx *ctx, eo_descent_ws *w);
+
+/* What the direction routine returns besides p. */
+typedef struct eo_direction_out {
+    double alpha0;  /* first line-search trial; the decrement is −alpha0·∇gᵀp/2 */
+    double shift;   /* Hessian shift used (0 if none) */
+    int reason;     /* negative eo_reason when no direction could be computed */
+} eo_direction_out;
+
+typedef struct eo_descent_ops {
+    /* Called once at the start (x₀, g, ∇g known). May be NULL. */
+    int (*begin)(void *st, const void *params, const eo_solver_ctx *sc, const double *x,
+                 double g, const double *grad, eo_solve_result *res);
+    /* Direction p (n) at x. Negative return = error status; reasons go in out->reason. */
+    int (*direction)(void *st, const void *params, const eo_solver_ctx *sc, const double *x,
+                     double g, const double *grad, double *p, eo_direction_out *out,
+                     eo_solve_result *res);
+    /* The step x → x_new (length alpha along p) was accepted. May be NULL. */
+    void (*accepted)(void *st, const void *params, const double *x, const double *x_new,
+                     const double *grad, const double *grad_new, const double *p, double alpha);
+} eo_descent_ops;
+
+int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
+                        const eo_solver_ctx *sc, eo_descent_ws *w, double *x,
+                        eo_solve_result *res);
+
+static inline double eo_dot(int n, const double *a, const double *b)
+{
+    double s = 0;
+    for (int i = 0; i < n; i++) s += a[i] * b[i];
+    return s;
+}
+static inline double eo_norm2(int n, const double *a) { return sqrt(eo_dot(n, a, a)); }
+static inline double eo_norm_inf(int n, const double *a)
+{
+    double m = 0;
+    for (int i = 0; i < n; i++) m = fabs(a[i]) > m ? fabs(a[i]) : m;
+    return m;
+}
+
+/* Load the objective's diagonal metric into d (n) if available and usable (every entry
+ * finite and > 0); else fill d with ones. Returns 1 if the metric is used. */
+int eo_descent_metric(const eo_solver_ctx *sc, double *d);
+
+#endif
