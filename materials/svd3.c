@@ -4,7 +4,7 @@
  *   A = F, V = I; for each column pair (p,q) with α = ‖a_p‖², β = ‖a_q‖², γ = a_p·a_q,
  *   a plane rotation with ζ = (β−α)/(2γ), t = sign(ζ)/(|ζ| + √(1+ζ²)), c = 1/√(1+t²),
  *   s = c t makes a_p ⟂ a_q; the same rotation accumulates into V. Sweeps stop when
- *   every |γ| ≤ ε √(αβ) (quadratic convergence, typically 3–5 sweeps). Then F V = A has
+ *   every γ² ≤ ε² αβ (quadratic convergence, typically 3–5 sweeps). Then F V = A has
  *   orthogonal columns whose norms are the singular values. Because the rotations act
  *   on F itself (not on FᵀF), small σ keep their relative accuracy.
  * Finishing:
@@ -14,6 +14,7 @@
  *     unit vector ⟂ u1 when a2 vanishes (rank 1); u3 = u1 × u2 always, so U ∈ SO(3)
  *     without dividing by a small σ3;
  *   - σ_i = u_iᵀ a_i; σ3 is signed and carries the sign of det F (inverted elements).
+ * F with entries beyond 2^±200 is scaled by an exact power of two first.
  * Reference eo_svd3_lapack — LAPACKE_dgesvd, then the same sign convention: if
  * det U < 0 negate u3 and σ3; if det V < 0 negate v3 and σ3. */
 #include <float.h>
@@ -52,15 +53,23 @@ void eo_svd3(const double F[9], double U[9], double s[3], double V[9])
 {
     /* a[c] = column c of F, v[c] = column c of V */
     double a[3][3], v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    double mx = 0;
     for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) a[c][r] = F[3 * r + c];
+        for (int c = 0; c < 3; c++) a[c][r] = F[3 * r + c], mx = fmax(mx, fabs(F[3 * r + c]));
+    /* Exact power-of-two scaling keeps γ² and αβ below overflow / above underflow. */
+    int ex = 0;
+    if (mx > 0x1p200 || (mx < 0x1p-200 && mx > 0)) {
+        frexp(mx, &ex);
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) a[c][r] = ldexp(a[c][r], -ex);
+    }
     static const int P[3] = {0, 0, 1}, Q[3] = {1, 2, 2};
     for (int sweep = 0; sweep < 40; sweep++) {
         int rotated = 0;
         for (int k = 0; k < 3; k++) {
             int p = P[k], q = Q[k];
             double alpha = dot3(a[p], a[p]), beta = dot3(a[q], a[q]), gamma = dot3(a[p], a[q]);
-            if (!(fabs(gamma) > DBL_EPSILON * sqrt(alpha) * sqrt(beta))) continue;
+            if (!(gamma * gamma > (DBL_EPSILON * DBL_EPSILON) * alpha * beta)) continue;
             rotated = 1;
             double zeta = (beta - alpha) / (2 * gamma);
             double t = fabs(zeta) > 1e150 ? 0.5 / zeta
@@ -110,6 +119,8 @@ void eo_svd3(const double F[9], double U[9], double s[3], double V[9])
     s[0] = dot3(u[0], a[0]);
     s[1] = dot3(u[1], a[1]);
     s[2] = dot3(u[2], a[2]);
+    if (ex)
+        for (int k = 0; k < 3; k++) s[k] = ldexp(s[k], ex);
     for (int r = 0; r < 3; r++)
         for (int c = 0; c < 3; c++) {
             U[3 * r + c] = u[c][r];
