@@ -335,11 +335,22 @@ double eo_tet_volume(const double *x, const int *t)
            6.0;
 }
 
+/* Neumaier's compensated sum: the total volume of a 10^6-tet mesh stays exact to ~1 ulp. */
+typedef struct {
+    double s, c;
+} ksum;
+static void ksum_add(ksum *k, double x)
+{
+    double t = k->s + x;
+    k->c += fabs(k->s) >= fabs(x) ? (k->s - t) + x : (x - t) + k->s;
+    k->s = t;
+}
+
 double eo_mesh_volume(const eo_mesh *m)
 {
-    double s = 0;
-    for (int t = 0; t < m->nt; t++) s += eo_tet_volume(m->X, m->tets + 4 * t);
-    return s;
+    ksum k = {0, 0};
+    for (int t = 0; t < m->nt; t++) ksum_add(&k, eo_tet_volume(m->X, m->tets + 4 * t));
+    return k.s + k.c;
 }
 
 static void cross(const double *a, const double *b, double *c)
@@ -398,14 +409,16 @@ void eo_mesh_stats_compute(const eo_mesh *m, eo_mesh_stats *s)
         }
     s->min_volume = m->nt ? INFINITY : 0;
     s->worst_quality = m->nt ? INFINITY : 0;
+    ksum k = {0, 0};
     for (int t = 0; t < m->nt; t++) {
         double v = eo_tet_volume(m->X, m->tets + 4 * t);
-        s->volume += v;
+        ksum_add(&k, v);
         if (v < s->min_volume) s->min_volume = v;
         if (v > s->max_volume) s->max_volume = v;
         double q = tet_quality(m->X, m->tets + 4 * t);
         if (q < s->worst_quality) s->worst_quality = q;
     }
+    s->volume = k.s + k.c;
 }
 
 /* ---- validation --------------------------------------------------------------------- */

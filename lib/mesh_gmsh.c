@@ -65,8 +65,8 @@ static int nodes_22(gmsh_reader *r)
     if ((rc = eo_scan_count(s, "node count", &n)) < 0) return rc;
     if ((rc = alloc_nodes(r, n)) < 0) return rc;
     for (int i = 0; i < n; i++) {
-        eo_scan_skip(s);
-        r->src->v_line[i] = s->line;
+        eo_scan_item(s, NULL, -1);
+        r->src->v_line[i] = eo_scan_record(s);
         if ((rc = eo_scan_long(s, "node tag", &r->tags[i])) < 0) return rc;
         r->src->v_id[i] = r->tags[i];
         eo_scan_item(s, "node", r->tags[i]);
@@ -100,15 +100,14 @@ static int nodes_41(gmsh_reader *r)
             return eo_scan_error(s, EO_ERR_PARSE, "block of %d nodes exceeds the %d announced in the $Nodes header",
                                  k, n);
         for (int i = done; i < done + k; i++) {
-            eo_scan_skip(s);
-            r->src->v_line[i] = s->line;
+            r->src->v_line[i] = eo_scan_record(s);
             if ((rc = eo_scan_long(s, "node tag", &r->tags[i])) < 0) return rc;
             r->src->v_id[i] = r->tags[i];
+            if ((rc = eo_scan_eol(s, "a node tag")) < 0) return rc;
         }
         for (int i = done; i < done + k; i++) {
             eo_scan_item(s, "node", r->tags[i]);
-            eo_scan_skip(s);
-            r->src->v_line[i] = s->line;
+            r->src->v_line[i] = eo_scan_record(s);
             if ((rc = read_xyz(r, i)) < 0) return rc;
             for (int p = 0; p < (param ? dim : 0); p++) {
                 double u;
@@ -177,8 +176,8 @@ static int elements_22(gmsh_reader *r)
     for (int i = 0; i < n; i++) {
         long tag;
         int type, ntags, phys = 0;
-        eo_scan_skip(s);
-        long line = s->line;
+        eo_scan_item(s, NULL, -1);
+        long line = eo_scan_record(s);
         if ((rc = eo_scan_long(s, "element tag", &tag)) < 0) return rc;
         eo_scan_item(s, "element", tag);
         if ((rc = eo_scan_int(s, "element type", 1, 1000, &type)) < 0) return rc;
@@ -227,8 +226,7 @@ static int elements_41(gmsh_reader *r)
         if ((rc = eo_scan_eol(s, "the element block header")) < 0) return rc;
         for (int i = 0; i < k; i++) {
             long tag;
-            eo_scan_skip(s);
-            long line = s->line;
+            long line = eo_scan_record(s);
             if ((rc = eo_scan_long(s, "element tag", &tag)) < 0) return rc;
             if ((rc = read_tet(r, tag, line, (int)ent)) < 0) return rc;
         }
@@ -334,7 +332,7 @@ static int write_gmsh(eo_ctx *ctx, const eo_mesh *m, const char *path)
     fprintf(f, "$Elements\n%d %d 1 %d\n", nblocks, m->nt, m->nt);
     for (int t = 0; t < m->nt;) {
         int attr = m->tet_attr ? m->tet_attr[t] : 1, e = t + 1;
-        while (e < m->nt && m->tet_attr && m->tet_attr[e] == attr) e++;
+        while (e < m->nt && (!m->tet_attr || m->tet_attr[e] == attr)) e++;
         fprintf(f, "3 %d 4 %d\n", attr, e - t);
         for (; t < e; t++) {
             const int *q = m->tets + 4 * t;

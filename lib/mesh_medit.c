@@ -48,8 +48,7 @@ static int read_medit(eo_ctx *ctx, const char *text, size_t len, const char *fil
             for (int v = 0; v < nv; v++) {
                 double *x = m->X + 3 * v;
                 eo_scan_item(s, "vertex", v + 1);
-                eo_scan_skip(s);
-                src->v_line[v] = s->line;
+                src->v_line[v] = eo_scan_record(s);
                 src->v_id[v] = v + 1;
                 if ((rc = eo_scan_double(s, "x coordinate", &x[0])) < 0 ||
                     (rc = eo_scan_double(s, "y coordinate", &x[1])) < 0 ||
@@ -79,8 +78,7 @@ static int read_medit(eo_ctx *ctx, const char *text, size_t len, const char *fil
             if ((rc = eo_mesh_src_alloc(ctx, src, -1, nt)) < 0) goto fail;
             for (int q = 0; q < nt; q++) {
                 eo_scan_item(s, "tet", q + 1);
-                eo_scan_skip(s);
-                src->t_line[q] = s->line;
+                src->t_line[q] = eo_scan_record(s);
                 src->t_id[q] = q + 1;
                 for (int a = 0; a < 4; a++) {
                     long v;

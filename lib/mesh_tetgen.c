@@ -34,8 +34,8 @@ static int read_node(eo_scan *s, eo_mesh **out, eo_mesh_src *src, int *base)
     *base = 0;
     for (int v = 0; v < n; v++) {
         long idx;
-        eo_scan_skip(s);
-        src->v_line[v] = s->line;
+        eo_scan_item(s, NULL, -1);
+        src->v_line[v] = eo_scan_record(s);
         if ((rc = eo_scan_long(s, "point index", &idx)) < 0) return rc;
         if (v == 0) {
             if (idx != 0 && idx != 1) {
@@ -86,8 +86,8 @@ static int read_ele(eo_scan *s, eo_mesh *m, eo_mesh_src *src, int base)
     int ebase = 0;
     for (int t = 0; t < n; t++) {
         long idx;
-        eo_scan_skip(s);
-        src->t_line[t] = s->line;
+        eo_scan_item(s, NULL, -1);
+        src->t_line[t] = eo_scan_record(s);
         if ((rc = eo_scan_long(s, "tetrahedron index", &idx)) < 0) return rc;
         eo_scan_item(s, "tet", idx);
         if (t == 0) {

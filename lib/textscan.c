@@ -18,6 +18,7 @@ void eo_scan_init(eo_scan *s, eo_ctx *ctx, const char *file, const char *text, s
     s->comment = comment;
     s->kind = NULL;
     s->index = -1;
+    s->in_record = 0;
 }
 
 static int is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
@@ -34,6 +35,7 @@ int eo_scan_skip(eo_scan *s)
         while (p < end && is_space(*p)) p++;
         if (p >= end) break;
         if (*p == '\n') {
+            if (s->in_record) break;
             s->line++;
             p++;
             continue;
@@ -49,7 +51,15 @@ int eo_scan_skip(eo_scan *s)
         break;
     }
     s->p = p;
-    return p < end;
+    return p < end && *p != '\n';
+}
+
+long eo_scan_record(eo_scan *s)
+{
+    s->in_record = 0;
+    eo_scan_skip(s);
+    s->in_record = 1;
+    return s->line;
 }
 
 static size_t token_len(const eo_scan *s, const char *p)
@@ -95,7 +105,15 @@ int eo_scan_fail(eo_scan *s, const char *what)
 {
     const char *t;
     size_t n;
-    if (!eo_scan_peek(s, &t, &n)) return eo_scan_error(s, EO_ERR_PARSE, "expected %s, got end of file", what);
+    if (!eo_scan_peek(s, &t, &n)) {
+        /* name the last line, not the empty one after the final newline */
+        long line = s->line;
+        if (s->p >= s->end && line > 1 && s->end[-1] == '\n') s->line = line - 1;
+        int rc = s->p < s->end ? eo_scan_error(s, EO_ERR_PARSE, "expected %s, got end of line", what)
+                               : eo_scan_error(s, EO_ERR_PARSE, "expected %s, got end of file", what);
+        s->line = line;
+        return rc;
+    }
     /* printable excerpt of the token */
     char buf[40];
     size_t k = 0;
@@ -193,6 +211,7 @@ int eo_scan_eol(eo_scan *s, const char *what)
     while (p < s->end && is_space(*p)) p++;
     if (p >= s->end || *p == '\n' || (s->comment && *p == s->comment)) {
         s->p = p;
+        s->in_record = 0;
         return EO_OK;
     }
     s->p = p;
@@ -204,6 +223,7 @@ int eo_scan_eol(eo_scan *s, const char *what)
 void eo_scan_skip_line(eo_scan *s)
 {
     const char *p = s->p;
+    s->in_record = 0;
     while (p < s->end && *p != '\n') p++;
     if (p < s->end) {
         p++;

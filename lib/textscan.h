@@ -26,6 +26,7 @@ typedef struct eo_scan {
     char comment;      /* comment character to end of line, 0 for none */
     const char *kind;  /* item being read, for messages ("tet", "vertex"); NULL = none */
     long index;        /* its index as the input numbers it, -1 = none */
+    int in_record;     /* 1: tokens do not cross the end of the line (see eo_scan_record) */
 } eo_scan;
 
 void eo_scan_init(eo_scan *s, eo_ctx *ctx, const char *file, const char *text, size_t len, char comment);
@@ -37,6 +38,11 @@ static inline void eo_scan_item(eo_scan *s, const char *kind, long index)
 }
 /* Skip whitespace, newlines and comments. Returns 1 if a token follows, 0 at the end. */
 int eo_scan_skip(eo_scan *s);
+/* Start a one-line record: skip to its first token (crossing blank lines and comments)
+ * and keep the following reads on that line, so a missing field reads "got end of
+ * line" instead of taking the next line's first number. eo_scan_eol ends the record.
+ * Returns the record's line. */
+long eo_scan_record(eo_scan *s);
 /* Next token (not NUL-terminated) without consuming it; 0 at the end. */
 int eo_scan_peek(eo_scan *s, const char **tok, size_t *n);
 /* 1 if the next token equals word (and consumes it), else 0. */
@@ -53,7 +59,7 @@ int eo_scan_count(eo_scan *s, const char *what, int *v);
 /* A double (strtod syntax, including nan/inf: callers check finiteness). */
 int eo_scan_double(eo_scan *s, const char *what, double *v);
 /* Only blanks or a comment may follow on this line: "expected end of line after
- * <what>, got 'tok'" otherwise. */
+ * <what>, got 'tok'" otherwise. Ends a record. */
 int eo_scan_eol(eo_scan *s, const char *what);
 /* Skip the rest of the current line. */
 void eo_scan_skip_line(eo_scan *s);

@@ -1,0 +1,872 @@
+/* Mesh suite: box generator (counts, volume, orientation, conformity, boundary area),
+ * round trips through every writer/reader pair, the shared IPC meshes, hand-written
+ * Gmsh 2.2 / TetGen (0- and 1-based) / MEDIT files, VTU/PVD/OBJ output, every bad-input
+ * case (status code and a message naming file, line or index), unwritable output,
+ * allocation-failure injection over every reader and writer, and load time.
+ *
+ * The IPC bar meshes in ../shared/meshes come from ipc-sim/IPC (input/tetMeshes/
+ * bar-2523.msh and bar-14114.msh, MIT licence, the IPC authors). */
+#include <dirent.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "elastopt/io.h"
+#include "elastopt/mesh.h"
+#include "testutil.h"
+
+static char tmp[4096];
+
+static const char *tpath(const char *name)
+{
+    static char buf[8][8400];
+    static int k;
+    k = (k + 1) % 8;
+    snprintf(buf[k], sizeof buf[k], "%s/%s", tmp, name);
+    return buf[k];
+}
+
+static void put_file(const char *name, const char *text)
+{
+    FILE *f = fopen(tpath(name), "wb");
+    if (!f) {
+        fprintf(stderr, "cannot write %s\n", tpath(name));
+        exit(1);
+    }
+    fputs(text, f);
+    fclose(f);
+}
+
+/* rc must equal want and the message contain every (NULL-terminated) substring. */
+static void expect_err(eo_ctx *ctx, int rc, int want, const char *label, ...)
+{
+    CHECK(rc == want, "%s: status %s, expected %s (message '%s')", label, eo_status_name(rc), eo_status_name(want),
+          eo_ctx_message(ctx));
+    va_list ap;
+    va_start(ap, label);
+    for (const char *s = va_arg(ap, const char *); s; s = va_arg(ap, const char *))
+        CHECK(strstr(eo_ctx_message(ctx), s) != NULL, "%s: message '%s' lacks '%s'", label, eo_ctx_message(ctx), s);
+    va_end(ap);
+    eo_ctx_clear_error(ctx);
+}
+
+static int read_file_status(eo_ctx *ctx, const char *name, const eo_mesh_read_opts *o, eo_mesh **m)
+{
+    return eo_mesh_read(ctx, tpath(name), o, m);
+}
+
+/* Number of directory entries whose name contains sub. */
+static int count_files(const char *dir, const char *sub)
+{
+    DIR *d = opendir(dir);
+    int n = 0;
+    if (!d) return 0;
+    for (struct dirent *e; (e = readdir(d));)
+        if (strstr(e->d_name, sub)) n++;
+    closedir(d);
+    return n;
+}
+
+/* ---- generator -------------------------------------------------------------------- */
+
+typedef struct {
+    int k[3];
+} face3;
+
+static int cmp_face(const void *a, const void *b) { return memcmp(a, b, sizeof(face3)); }
+
+static void sort3(int *k)
+{
+    for (int i = 1; i < 3; i++)
+        for (int j = i; j > 0 && k[j - 1] > k[j]; j--) {
+            int t = k[j];
+            k[j] = k[j - 1];
+            k[j - 1] = t;
+        }
+}
+
+static double tri_area(const double *X, const int *f)
+{
+    const double *a = X + 3 * f[0], *b = X + 3 * f[1], *c = X + 3 * f[2];
+    double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+static void test_generator(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    for (int split = 5; split <= 6; split++) {
+        eo_mesh_gen_opts g = eo_mesh_gen_opts_default();
+        double L[3] = {2, 0.5, 1.5}, O[3] = {1, -1, 0.25};
+        int C[3] = {3, 4, 5};
+        for (int i = 0; i < 3; i++) {
+            g.size[i] = L[i];
+            g.origin[i] = O[i];
+            g.cells[i] = C[i];
+        }
+        g.split = split;
+        eo_mesh *m = NULL;
+        CHECK(eo_mesh_generate_box(ctx, &g, &m) == EO_OK, "generate: %s", eo_ctx_message(ctx));
+        if (!m) continue;
+        CHECK(m->nv == 4 * 5 * 6 && m->nt == 3 * 4 * 5 * split, "split %d: %d vertices %d tets", split, m->nv, m->nt);
+        CHECK_CLOSE(eo_mesh_volume(m), L[0] * L[1] * L[2], 1e-12);
+        int nonpos = 0;
+        for (int t = 0; t < m->nt; t++) nonpos += eo_tet_volume(m->X, m->tets + 4 * t) <= 0;
+        CHECK(nonpos == 0, "split %d: %d non-positive tets", split, nonpos);
+        /* conforming: every face shared by 2 tets, or by 1 tet and lying on the box boundary */
+        face3 *f = malloc(sizeof *f * 4 * (size_t)m->nt);
+        static const int lf[4][3] = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
+        for (int t = 0; t < m->nt; t++)
+            for (int q = 0; q < 4; q++) {
+                for (int a = 0; a < 3; a++) f[4 * t + q].k[a] = m->tets[4 * t + lf[q][a]];
+                sort3(f[4 * t + q].k);
+            }
+        qsort(f, 4 * (size_t)m->nt, sizeof *f, cmp_face);
+        int bad = 0, nbound = 0;
+        for (int i = 0, j; i < 4 * m->nt; i = j) {
+            for (j = i + 1; j < 4 * m->nt && cmp_face(&f[i], &f[j]) == 0; j++) {}
+            if (j - i > 2) bad++;
+            if (j - i == 1) {
+                nbound++;
+                int on = 0;
+                for (int ax = 0; ax < 3; ax++)
+                    for (int side = 0; side < 2; side++) {
+                        double plane = O[ax] + side * L[ax];
+                        int all = 1;
+                        for (int a = 0; a < 3; a++) all &= fabs(m->X[3 * f[i].k[a] + ax] - plane) < 1e-12;
+                        on |= all;
+                    }
+                if (!on) bad++;
+            }
+        }
+        free(f);
+        CHECK(bad == 0, "split %d: %d non-conforming faces", split, bad);
+        int *bf = NULL, nf = 0;
+        CHECK(eo_mesh_boundary_faces(ctx, m, &bf, &nf) == EO_OK, "boundary");
+        CHECK(nf == nbound, "boundary faces %d vs %d", nf, nbound);
+        double area = 0;
+        for (int i = 0; i < nf; i++) area += tri_area(m->X, bf + 3 * i);
+        CHECK_CLOSE(area, 2 * (L[0] * L[1] + L[1] * L[2] + L[0] * L[2]), 1e-12);
+        /* outward: sum over faces of (centroid . n) dA = 3 V (divergence theorem) */
+        double flux = 0;
+        for (int i = 0; i < nf; i++) {
+            const double *a = m->X + 3 * bf[3 * i], *b = m->X + 3 * bf[3 * i + 1], *c = m->X + 3 * bf[3 * i + 2];
+            double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+            double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+            for (int k = 0; k < 3; k++) flux += (a[k] + b[k] + c[k]) / 3 * n[k] / 2;
+        }
+        CHECK_CLOSE(flux, 3 * L[0] * L[1] * L[2], 1e-12);
+        eo_free(ctx, bf);
+        CHECK(eo_mesh_validate(ctx, m, NULL, "gen") == EO_OK && m->reoriented == 0, "generated mesh validates: %s",
+              eo_ctx_message(ctx));
+        eo_mesh_stats s;
+        eo_mesh_stats_compute(m, &s);
+        CHECK(s.bbox[0] == O[0] && s.bbox[5] == O[2] + L[2], "bbox %g %g", s.bbox[0], s.bbox[5]);
+        CHECK(s.worst_quality > 0.3 && s.worst_quality <= 1, "quality %g", s.worst_quality);
+        eo_mesh_destroy(ctx, &m);
+    }
+    /* spec parsing */
+    eo_mesh_gen_opts g;
+    CHECK(eo_mesh_gen_opts_parse(ctx, "gen:10,0.5,1:20,2,3:5", &g) == EO_OK && g.cells[0] == 20 && g.split == 5 &&
+              g.size[1] == 0.5,
+          "parse");
+    expect_err(ctx, eo_mesh_gen_opts_parse(ctx, "gen:1,1:2,2,2", &g), EO_ERR_PARSE, "bad spec", "gen:1,1:2,2,2",
+               "expected gen:", NULL);
+    expect_err(ctx, eo_mesh_gen_opts_parse(ctx, "gen:1,1,1:2,0,2", &g), EO_ERR_PARSE, "zero cells", "expected", NULL);
+    expect_err(ctx, eo_mesh_gen_opts_parse(ctx, "gen:1,1,1:2,2,2:7", &g), EO_ERR_PARSE, "split 7", "expected", NULL);
+    eo_mesh *m = NULL;
+    CHECK(eo_mesh_load(ctx, "gen:1,1,1:2,2,2", NULL, &m) == EO_OK && m->nt == 48, "load gen");
+    eo_mesh_destroy(ctx, &m);
+    eo_test_ctx_done(&ctx);
+}
+
+/* ---- round trips ------------------------------------------------------------------- */
+
+static void same_mesh(const eo_mesh *a, const eo_mesh *b, const char *label, int attrs)
+{
+    CHECK(a->nv == b->nv && a->nt == b->nt, "%s: counts %d/%d vs %d/%d", label, a->nv, a->nt, b->nv, b->nt);
+    if (a->nv != b->nv || a->nt != b->nt) return;
+    CHECK(memcmp(a->X, b->X, sizeof(double) * 3 * (size_t)a->nv) == 0, "%s: coordinates differ", label);
+    CHECK(memcmp(a->tets, b->tets, sizeof(int) * 4 * (size_t)a->nt) == 0, "%s: tets differ", label);
+    CHECK_CLOSE(eo_mesh_volume(b), eo_mesh_volume(a), 1e-12);
+    if (attrs) {
+        CHECK(b->tet_attr && memcmp(a->tet_attr, b->tet_attr, sizeof(int) * (size_t)a->nt) == 0, "%s: attrs", label);
+    }
+}
+
+static void round_trip(eo_ctx *ctx, const eo_mesh *m, const char *tag, int attrs)
+{
+    static const char *const ext[] = {".node", ".mesh", ".msh", NULL};
+    for (int i = 0; ext[i]; i++) {
+        char name[128], label[160];
+        snprintf(name, sizeof name, "rt_%s%s", tag, ext[i]);
+        snprintf(label, sizeof label, "round trip %s", name);
+        int rc = eo_mesh_write(ctx, m, tpath(name), EO_MESH_AUTO);
+        CHECK(rc == EO_OK, "%s: write: %s", label, eo_ctx_message(ctx));
+        eo_mesh *b = NULL;
+        rc = eo_mesh_read(ctx, tpath(name), NULL, &b);
+        CHECK(rc == EO_OK, "%s: read: %s", label, eo_ctx_message(ctx));
+        if (!b) continue;
+        same_mesh(m, b, label, attrs);
+        /* and once more through the next format: read, write, read */
+        eo_mesh_destroy(ctx, &b);
+    }
+    /* chain: msh -> node -> mesh -> msh gives the same mesh */
+    eo_mesh *a = NULL, *b = NULL, *c = NULL;
+    char n1[128], n2[128], n3[128];
+    snprintf(n1, sizeof n1, "rt_%s.msh", tag);
+    snprintf(n2, sizeof n2, "chain_%s.ele", tag);
+    snprintf(n3, sizeof n3, "chain_%s.mesh", tag);
+    CHECK(eo_mesh_read(ctx, tpath(n1), NULL, &a) == EO_OK, "chain read");
+    CHECK(a && eo_mesh_write(ctx, a, tpath(n2), EO_MESH_AUTO) == EO_OK, "chain write ele");
+    CHECK(eo_mesh_read(ctx, tpath(n2), NULL, &b) == EO_OK, "chain read ele: %s", eo_ctx_message(ctx));
+    CHECK(b && eo_mesh_write(ctx, b, tpath(n3), EO_MESH_AUTO) == EO_OK, "chain write mesh");
+    CHECK(eo_mesh_read(ctx, tpath(n3), NULL, &c) == EO_OK, "chain read mesh");
+    if (c) same_mesh(m, c, "chain", attrs);
+    eo_mesh_destroy(ctx, &a);
+    eo_mesh_destroy(ctx, &b);
+    eo_mesh_destroy(ctx, &c);
+}
+
+static void test_round_trips(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    eo_mesh_gen_opts g = eo_mesh_gen_opts_default();
+    g.size[0] = 1.0 / 3; /* coordinates that need all 17 digits */
+    g.cells[0] = 3;
+    g.cells[1] = 2;
+    g.cells[2] = 5;
+    g.split = 5;
+    eo_mesh *m = NULL;
+    CHECK(eo_mesh_generate_box(ctx, &g, &m) == EO_OK, "gen");
+    m->tet_attr = eo_malloc(ctx, sizeof(int) * (size_t)m->nt);
+    for (int t = 0; t < m->nt; t++) m->tet_attr[t] = 1 + t / 7; /* runs of equal attributes */
+    round_trip(ctx, m, "gen", 1);
+    eo_mesh_destroy(ctx, &m);
+
+    eo_mesh_read_opts o = eo_mesh_read_opts_default();
+    CHECK(eo_mesh_read(ctx, eo_test_shared_path("meshes/ipc_bar-2523.msh"), &o, &m) == EO_OK, "ipc read: %s",
+          eo_ctx_message(ctx));
+    if (m) round_trip(ctx, m, "ipc", 1);
+    eo_mesh_destroy(ctx, &m);
+    eo_test_ctx_done(&ctx);
+}
+
+/* ---- real and hand-written files ------------------------------------------------- */
+
+static void test_ipc(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    static const struct {
+        const char *file;
+        int nv, nt;
+    } ipc[] = {{"meshes/ipc_bar-2523.msh", 886, 2523}, {"meshes/ipc_bar-14114.msh", 3842, 14114}};
+    for (int i = 0; i < 2; i++) {
+        eo_mesh *m = NULL;
+        int rc = eo_mesh_read(ctx, eo_test_shared_path(ipc[i].file), NULL, &m);
+        CHECK(rc == EO_OK, "%s: %s", ipc[i].file, eo_ctx_message(ctx));
+        if (!m) continue;
+        CHECK(m->nv == ipc[i].nv && m->nt == ipc[i].nt, "%s: %d %d", ipc[i].file, m->nv, m->nt);
+        CHECK_CLOSE(eo_mesh_volume(m), 5.0, 1e-12);
+        CHECK(m->reoriented == 0, "reoriented %d", m->reoriented);
+        eo_mesh_stats s;
+        eo_mesh_stats_compute(m, &s);
+        CHECK(s.bbox[0] == 0 && s.bbox[1] == 0 && s.bbox[2] == 0 && s.bbox[3] == 10 && s.bbox[4] == 0.5 && s.bbox[5] == 1,
+              "bbox");
+        CHECK(s.min_volume > 0 && s.worst_quality > 0, "positive");
+        int *bf = NULL, nf = 0;
+        CHECK(eo_mesh_boundary_faces(ctx, m, &bf, &nf) == EO_OK, "boundary");
+        double area = 0;
+        for (int f = 0; f < nf; f++) area += tri_area(m->X, bf + 3 * f);
+        CHECK_CLOSE(area, 2 * (10 * 0.5 + 0.5 * 1 + 10 * 1), 1e-12);
+        if (i == 0) CHECK(nf == 1618, "bar-2523 has 1618 surface triangles ($Surface), got %d", nf);
+        eo_free(ctx, bf);
+        eo_mesh_destroy(ctx, &m);
+    }
+    eo_test_ctx_done(&ctx);
+}
+
+/* unit cube corner tets: 5 nodes, two tets sharing a face */
+static const char *gmsh22 =
+    "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+    "$PhysicalNames\n2\n2 5 \"skin with spaces\"\n3 7 \"body\"\n$EndPhysicalNames\n"
+    "$Nodes\n5\n10 0 0 0\n20 1 0 0\n30 0 1 0\n40 0 0 1\n50 1 1 1\n$EndNodes\n"
+    "$Elements\n4\n"
+    "1 1 2 5 1 10 20\n"
+    "2 2 2 5 1 10 20 30\n"
+    "3 4 2 7 1 10 20 30 40\n"
+    "4 4 2 8 1 20 40 30 50\n" /* negative orientation: reoriented */
+    "$EndElements\n"
+    "$NodeData\n1\n\"u\"\n$EndNodeData\n";
+
+static void test_gmsh22(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    put_file("g22.msh", gmsh22);
+    eo_mesh *m = NULL;
+    int rc = read_file_status(ctx, "g22.msh", NULL, &m);
+    CHECK(rc == EO_OK, "gmsh 2.2: %s", eo_ctx_message(ctx));
+    if (m) {
+        CHECK(m->nv == 5 && m->nt == 2, "counts %d %d", m->nv, m->nt);
+        CHECK(m->tet_attr && m->tet_attr[0] == 7 && m->tet_attr[1] == 8, "physical tags");
+        CHECK(m->reoriented == 1, "reoriented %d", m->reoriented);
+        CHECK_CLOSE(eo_mesh_volume(m), 1.0 / 6 + 1.0 / 3, 1e-12);
+        CHECK(m->tets[0] == 0 && m->tets[1] == 1, "node tags mapped to indices");
+    }
+    eo_mesh_destroy(ctx, &m);
+    /* the same through the in-memory entry point */
+    rc = eo_mesh_read_buffer(ctx, gmsh22, strlen(gmsh22), EO_MESH_GMSH, "mem.msh", NULL, &m);
+    CHECK(rc == EO_OK && m && m->nt == 2, "buffer: %s", eo_ctx_message(ctx));
+    eo_mesh_destroy(ctx, &m);
+    eo_test_ctx_done(&ctx);
+}
+
+static const char *tg_node0 = "# cube corner + apex\n"
+                              "5 3 2 1\n"
+                              "0 0 0 0  0.5 1.5  3\n"
+                              "1 1 0 0  0.5 1.5  0\n"
+                              "2 0 1 0  0.5 1.5  0 # trailing comment\n"
+                              "\n"
+                              "3 0 0 1  0.5 1.5  4\n"
+                              "4 1 1 1  0.5 1.5  -1\n";
+static const char *tg_ele0 = "2 4 1\n"
+                             "0 0 1 2 3 11\n"
+                             "1 1 3 2 4 -2\n"
+                             "# Generated by hand\n";
+
+static void test_tetgen(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    put_file("tg0.node", tg_node0);
+    put_file("tg0.ele", tg_ele0);
+    put_file("tg1.node", "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n");
+    put_file("tg1.ele", "2 10 0\n1 1 2 3 4 1 1 1 1 1 1\n2 2 4 3 5 1 1 1 1 1 1\n");
+    const char *names[] = {"tg0.node", "tg0.ele", "tg0", "tg1.ele"};
+    for (int i = 0; i < 4; i++) {
+        eo_mesh *m = NULL;
+        int rc = read_file_status(ctx, names[i], NULL, &m);
+        CHECK(rc == EO_OK, "%s: %s", names[i], eo_ctx_message(ctx));
+        if (!m) continue;
+        CHECK(m->nv == 5 && m->nt == 2, "%s: counts", names[i]);
+        CHECK_CLOSE(eo_mesh_volume(m), 1.0 / 6 + 1.0 / 3, 1e-12);
+        if (i < 3) {
+            CHECK(m->vmarker && m->vmarker[0] == 3 && m->vmarker[4] == -1, "markers");
+            CHECK(m->tet_attr && m->tet_attr[0] == 11 && m->tet_attr[1] == -2, "attributes");
+        } else {
+            CHECK(!m->vmarker && !m->tet_attr, "1-based without markers/attributes");
+            CHECK(m->tets[0] == 0 && m->tets[3] == 3, "1-based indices shifted");
+        }
+        eo_mesh_destroy(ctx, &m);
+    }
+    /* in-memory: node text, NUL, ele text */
+    size_t a = strlen(tg_node0), b = strlen(tg_ele0);
+    char *buf = malloc(a + b + 1);
+    memcpy(buf, tg_node0, a);
+    buf[a] = 0;
+    memcpy(buf + a + 1, tg_ele0, b);
+    eo_mesh *m = NULL;
+    CHECK(eo_mesh_read_buffer(ctx, buf, a + b + 1, EO_MESH_TETGEN, "mem", NULL, &m) == EO_OK && m && m->nt == 2,
+          "tetgen buffer: %s", eo_ctx_message(ctx));
+    eo_mesh_destroy(ctx, &m);
+    free(buf);
+    eo_test_ctx_done(&ctx);
+}
+
+static const char *medit_ok = "MeshVersionFormatted 2\n# comment\nDimension\n3\n"
+                              "Vertices\n5\n0 0 0 1\n1 0 0 1\n0 1 0 2\n0 0 1 2\n1 1 1 9\n"
+                              "Corners\n1\n1\n"
+                              "Triangles\n2\n1 2 3 4\n2 3 4 4\n"
+                              "Tetrahedra\n2\n1 2 3 4 3\n2 4 3 5 6\n"
+                              "Edges\n1\n1 2 0\n"
+                              "End\n";
+
+static void test_medit(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    put_file("ok.mesh", medit_ok);
+    eo_mesh *m = NULL;
+    int rc = read_file_status(ctx, "ok.mesh", NULL, &m);
+    CHECK(rc == EO_OK, "medit: %s", eo_ctx_message(ctx));
+    if (m) {
+        CHECK(m->nv == 5 && m->nt == 2, "counts");
+        CHECK(m->tet_attr && m->tet_attr[0] == 3 && m->tet_attr[1] == 6, "tet references -> tet_attr");
+        CHECK(m->vmarker && m->vmarker[4] == 9, "vertex references");
+        CHECK_CLOSE(eo_mesh_volume(m), 0.5, 1e-12);
+    }
+    eo_mesh_destroy(ctx, &m);
+    eo_test_ctx_done(&ctx);
+}
+
+/* ---- VTU / PVD / OBJ ------------------------------------------------------------- */
+
+static char *slurp(const char *path, size_t *n)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long len = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *b = malloc((size_t)len + 1);
+    *n = fread(b, 1, (size_t)len, f);
+    b[*n] = 0;
+    fclose(f);
+    return b;
+}
+
+static long attr_long(const char *s, const char *key)
+{
+    const char *p = strstr(s, key);
+    return p ? strtol(p + strlen(key), NULL, 10) : -1;
+}
+
+static uint64_t le64(const unsigned char *p)
+{
+    uint64_t v = 0;
+    for (int i = 7; i >= 0; i--) v = v << 8 | p[i];
+    return v;
+}
+
+static void test_vtu(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    eo_mesh *m = NULL;
+    CHECK(eo_mesh_load(ctx, "gen:2,1,1:2,1,1:6", NULL, &m) == EO_OK, "gen");
+    if (!m) return;
+    int nv = m->nv, nt = m->nt;
+    double *u = calloc(3 * (size_t)nv, sizeof(double)), *vel = calloc(3 * (size_t)nv, sizeof(double));
+    double *psi = calloc((size_t)nt, sizeof(double)), *J = calloc((size_t)nt, sizeof(double));
+    unsigned char *inv = calloc((size_t)nt, 1);
+    for (int i = 0; i < 3 * nv; i++) u[i] = 0.01 * i;
+    for (int t = 0; t < nt; t++) {
+        J[t] = 1 - 0.1 * t;
+        inv[t] = J[t] <= 0;
+    }
+    eo_vtu_fields f = {.displacement = u, .velocity = vel, .energy_density = psi, .J = J, .inverted = inv};
+    CHECK(eo_vtu_write(ctx, tpath("f0.vtu"), m, &f) == EO_OK, "vtu: %s", eo_ctx_message(ctx));
+    size_t n = 0;
+    char *s = slurp(tpath("f0.vtu"), &n);
+    CHECK(s != NULL, "vtu exists");
+    if (s) {
+        CHECK(strncmp(s, "<?xml", 5) == 0 && strstr(s, "header_type=\"UInt64\"") && strstr(s, "byte_order=\"LittleEndian\""),
+              "header");
+        CHECK(attr_long(s, "NumberOfPoints=\"") == nv && attr_long(s, "NumberOfCells=\"") == nt, "counts");
+        const char *names[] = {"displacement", "velocity", "energy_density", "J", "inverted", "Points",
+                               "connectivity", "offsets", "types"};
+        const size_t bytes[] = {24u * nv, 24u * nv, 8u * nt, 8u * nt, 1u * nt, 24u * nv, 32u * nt, 8u * nt, 1u * nt};
+        char *app = strstr(s, "<AppendedData encoding=\"raw\">");
+        CHECK(app != NULL, "appended block");
+        const unsigned char *data = app ? (const unsigned char *)strchr(app, '_') + 1 : NULL;
+        uint64_t pos = 0;
+        for (int i = 0; i < 9 && data; i++) {
+            char key[64];
+            snprintf(key, sizeof key, "Name=\"%s\"", names[i]);
+            const char *d = strstr(s, key);
+            CHECK(d != NULL, "array %s present", names[i]);
+            if (!d) break;
+            long off = attr_long(d, "offset=\"");
+            CHECK((uint64_t)off == pos, "%s offset %ld, expected %llu", names[i], off, (unsigned long long)pos);
+            uint64_t cnt = le64(data + pos);
+            CHECK(cnt == bytes[i], "%s byte count %llu, expected %zu", names[i], (unsigned long long)cnt, bytes[i]);
+            if (i == 5) CHECK(memcmp(data + pos + 8, m->X, 8) == 0, "first point bytes");
+            pos += 8 + cnt;
+        }
+        if (data) {
+            const char *tail = (const char *)data + pos;
+            CHECK((size_t)(tail - s) <= n && strncmp(tail, "\n  </AppendedData>\n</VTKFile>\n", 30) == 0,
+                  "appended data ends exactly before the closing tags");
+            CHECK(data[pos - 1] == 10, "last cell type is VTK_TETRA");
+        }
+        free(s);
+    }
+    /* pvd series */
+    eo_pvd *p = NULL;
+    CHECK(eo_pvd_create(ctx, tpath("series.pvd"), &p) == EO_OK, "pvd");
+    for (int k = 0; k < 3; k++) {
+        char name[32];
+        snprintf(name, sizeof name, "f%d.vtu", k);
+        if (k) CHECK(eo_vtu_write(ctx, tpath(name), m, NULL) == EO_OK, "frame");
+        CHECK(eo_pvd_add(ctx, p, 0.1 * k, name) == EO_OK, "pvd add");
+        s = slurp(tpath("series.pvd"), &n);
+        int count = 0;
+        for (const char *q = s; q && (q = strstr(q, "<DataSet")); q++) count++;
+        CHECK(count == k + 1, "pvd lists %d frames after %d adds", count, k + 1);
+        CHECK(s && strstr(s, "</VTKFile>"), "pvd complete");
+        free(s);
+    }
+    eo_pvd_destroy(ctx, &p);
+    CHECK(p == NULL, "destroy sets NULL");
+    /* obj: closed surface, Euler characteristic 2 */
+    CHECK(eo_obj_write(ctx, tpath("b.obj"), m, NULL) == EO_OK, "obj");
+    s = slurp(tpath("b.obj"), &n);
+    int nvv = 0, nff = 0;
+    for (char *line = s; line && *line;) {
+        if (line[0] == 'v' && line[1] == ' ') nvv++;
+        if (line[0] == 'f' && line[1] == ' ') nff++;
+        char *e = strchr(line, '\n');
+        line = e ? e + 1 : NULL;
+    }
+    CHECK(nff == 2 * 2 * (2 * 1 + 1 * 1 + 2 * 1) && nvv - nff / 2 == 2, "obj %d vertices %d faces", nvv, nff);
+    free(s);
+    CHECK(count_files(tmp, ".tmp.") == 0, "no temporary files left");
+    free(u);
+    free(vel);
+    free(psi);
+    free(J);
+    free(inv);
+    eo_mesh_destroy(ctx, &m);
+    eo_test_ctx_done(&ctx);
+}
+
+/* ---- bad input ---------------------------------------------------------------------- */
+
+static void test_bad_input(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    eo_mesh *m = NULL;
+    eo_mesh_read_opts drop = eo_mesh_read_opts_default();
+    drop.drop_degenerate = 1;
+    drop.drop_unreferenced = 1;
+    int rc;
+
+    /* missing files */
+    expect_err(ctx, read_file_status(ctx, "nope.msh", NULL, &m), EO_ERR_IO, "missing", "nope.msh", "cannot open", NULL);
+    put_file("half.node", "1 3 0 0\n1 0 0 0\n");
+    expect_err(ctx, read_file_status(ctx, "half.node", NULL, &m), EO_ERR_IO, "missing .ele", "half.ele", NULL);
+    expect_err(ctx, read_file_status(ctx, "x.stl", NULL, &m), EO_ERR_UNSUPPORTED, "unknown extension", "x.stl", ".msh",
+               NULL);
+    CHECK(m == NULL, "no mesh on failure");
+
+    /* empty files */
+    put_file("empty.msh", "");
+    put_file("empty.mesh", "  \n\n");
+    put_file("empty.node", "# nothing\n");
+    put_file("empty.ele", "");
+    expect_err(ctx, read_file_status(ctx, "empty.msh", NULL, &m), EO_ERR_PARSE, "empty msh", "empty.msh:1:",
+               "expected '$MeshFormat', got end of file", NULL);
+    expect_err(ctx, read_file_status(ctx, "empty.mesh", NULL, &m), EO_ERR_PARSE, "empty mesh", "empty.mesh:2:",
+               "expected 'MeshVersionFormatted'", NULL);
+    expect_err(ctx, read_file_status(ctx, "empty.node", NULL, &m), EO_ERR_PARSE, "empty node", "empty.node:1:",
+               "expected point count, got end of file", NULL);
+
+    /* truncated: the IPC mesh cut in the middle of its elements */
+    char *text = NULL;
+    size_t len = 0;
+    CHECK(eo_read_file(ctx, eo_test_shared_path("meshes/ipc_bar-2523.msh"), &text, &len) == EO_OK, "read ipc");
+    if (text) {
+        char *cut = strstr(text, "$EndElements") - 100; /* inside the last element lines */
+        *cut = 0;
+        put_file("trunc.msh", text);
+        long line = 1;
+        for (char *q = text; *q; q++) line += *q == '\n' && q[1];
+        char want[64];
+        snprintf(want, sizeof want, "trunc.msh:%ld:", line);
+        expect_err(ctx, read_file_status(ctx, "trunc.msh", NULL, &m), EO_ERR_PARSE, "truncated", want, "expected",
+                   "end of file", NULL);
+        /* truncated in the nodes */
+        text[strstr(text, "$Nodes") - text + 5000] = 0;
+        put_file("trunc2.msh", text);
+        expect_err(ctx, read_file_status(ctx, "trunc2.msh", NULL, &m), EO_ERR_PARSE, "truncated nodes", "trunc2.msh:",
+                   "got end of file", NULL);
+        eo_free(ctx, text);
+    }
+    put_file("trunc.mesh", "MeshVersionFormatted 1\nDimension 3\nVertices\n4\n0 0 0 0\n1 0 0 0\n");
+    expect_err(ctx, read_file_status(ctx, "trunc.mesh", NULL, &m), EO_ERR_PARSE, "truncated medit", "trunc.mesh:6:",
+               "vertex 3", "expected x coordinate, got end of file", NULL);
+
+    /* wrong counts */
+    put_file("count.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n5\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
+                          "$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n");
+    expect_err(ctx, read_file_status(ctx, "count.msh", NULL, &m), EO_ERR_PARSE, "node count too high", "count.msh:10:",
+               "expected node tag, got '$EndNodes'", NULL);
+    put_file("count2.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
+                           "$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n2 4 0 1 2 3 4\n$EndElements\n");
+    expect_err(ctx, read_file_status(ctx, "count2.msh", NULL, &m), EO_ERR_PARSE, "element count too low",
+               "count2.msh:14:", "expected '$EndElements', got '2'", NULL);
+    put_file("count3.node", "3 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+    put_file("count3.ele", "1 4 0\n1 1 2 3 4\n");
+    expect_err(ctx, read_file_status(ctx, "count3.node", NULL, &m), EO_ERR_PARSE, "tetgen count too low",
+               "count3.node:5:", "expected end of file after 3 points, got '4'", NULL);
+    put_file("count4.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+    put_file("count4.ele", "2 4 0\n1 1 2 3 4\n");
+    expect_err(ctx, read_file_status(ctx, "count4.ele", NULL, &m), EO_ERR_PARSE, "tetgen count too high",
+               "count4.ele:2:", "expected tetrahedron index, got end of file", NULL);
+    put_file("count5.ele", "1 4 0\n1 1 2 3 4\n");
+    put_file("count6.ele", "1 4 0\n1 1 2 3 4\n");
+    put_file("skip.ele", "1 4 0\n1 1 2 3 4\n");
+    put_file("count5.node", "4 3 1 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+    expect_err(ctx, read_file_status(ctx, "count5.node", NULL, &m), EO_ERR_PARSE, "missing attribute column",
+               "count5.node:2:", "vertex 1", "expected point attribute, got end of line", NULL);
+    put_file("count6.node", "4 3 0 0\n1 0 0 0 7\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+    expect_err(ctx, read_file_status(ctx, "count6.node", NULL, &m), EO_ERR_PARSE, "extra column", "count6.node:2:",
+               "vertex 1", "expected end of line", "got '7'", NULL);
+    put_file("huge.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n2000000000\n1 0 0 0\n$EndNodes\n");
+    expect_err(ctx, read_file_status(ctx, "huge.msh", NULL, &m), EO_ERR_PARSE, "absurd count", "huge.msh:5:",
+               "expected node count between 0 and", "got '2000000000'", NULL);
+    put_file("block.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 3 1 3\n3 1 0 4\n1\n2\n3\n4\n"
+                          "0 0 0\n1 0 0\n0 1 0\n0 0 1\n$EndNodes\n");
+    expect_err(ctx, read_file_status(ctx, "block.msh", NULL, &m), EO_ERR_PARSE, "block larger than header",
+               "block.msh:6:", "block of 4 nodes exceeds the 3", NULL);
+
+    /* non-numeric tokens */
+    put_file("nan_tok.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 one 0\n4 0 0 1\n");
+    put_file("nan_tok.ele", "1 4 0\n1 1 2 3 4\n");
+    expect_err(ctx, read_file_status(ctx, "nan_tok.node", NULL, &m), EO_ERR_PARSE, "non-numeric", "nan_tok.node:4:",
+               "vertex 3", "expected y coordinate, got 'one'", NULL);
+    put_file("tok.mesh", "MeshVersionFormatted 1\nDimension 3\nVertices\n4\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n"
+                         "Tetrahedra\n1\n1 2 3x 4 0\nEnd\n");
+    expect_err(ctx, read_file_status(ctx, "tok.mesh", NULL, &m), EO_ERR_PARSE, "glued token", "tok.mesh:11:", "tet 1",
+               "expected vertex index, got '3x'", NULL);
+    put_file("tok.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n"
+                        "0 0 0\n1 0 0\n0 1.5.2 0\n0 0 1\n$EndNodes\n");
+    expect_err(ctx, read_file_status(ctx, "tok.msh", NULL, &m), EO_ERR_PARSE, "bad float", "tok.msh:13:", "node 3",
+               "expected y coordinate, got '1.5.2'", NULL);
+
+    /* NaN / Inf coordinates */
+    put_file("nan.node", "4 3 0 0\n1 0 0 0\n2 nan 0 0\n3 0 1 0\n4 0 0 1\n");
+    put_file("nan.ele", "1 4 0\n1 1 2 3 4\n");
+    expect_err(ctx, read_file_status(ctx, "nan.node", NULL, &m), EO_ERR_NONFINITE, "nan", "nan.node:3:", "vertex 2",
+               "finite", NULL);
+    put_file("inf.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 -inf\n"
+                        "$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n");
+    expect_err(ctx, read_file_status(ctx, "inf.msh", NULL, &m), EO_ERR_NONFINITE, "inf", "inf.msh:9:", "vertex 4",
+               "z = -inf", NULL);
+    put_file("big.mesh", "MeshVersionFormatted 1\nDimension 3\nVertices\n4\n0 0 0 0\n1e999 0 0 0\n0 1 0 0\n0 0 1 0\n"
+                         "Tetrahedra\n1\n1 2 3 4 0\nEnd\n");
+    expect_err(ctx, read_file_status(ctx, "big.mesh", NULL, &m), EO_ERR_NONFINITE, "overflow", "big.mesh:6:",
+               "vertex 2", NULL);
+
+    /* indices out of range */
+    put_file("range.node", "4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n");
+    put_file("range.ele", "2 4 0\n1 1 2 3 4\n2 1 2 3 9\n");
+    expect_err(ctx, read_file_status(ctx, "range.ele", NULL, &m), EO_ERR_MESH, "tetgen range", "range.ele:3:", "tet 2",
+               "expected point index in [1, 4], got 9", NULL);
+    put_file("range0.node", "4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n");
+    put_file("range0.ele", "1 4 0\n0 0 1 2 4\n");
+    expect_err(ctx, read_file_status(ctx, "range0.node", NULL, &m), EO_ERR_MESH, "tetgen 0-based range",
+               "range0.ele:2:", "tet 0", "[0, 3], got 4", NULL);
+    put_file("range.mesh", "MeshVersionFormatted 1\nDimension 3\nVertices\n4\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n"
+                           "Tetrahedra\n1\n1 2 0 4 0\nEnd\n");
+    expect_err(ctx, read_file_status(ctx, "range.mesh", NULL, &m), EO_ERR_MESH, "medit range", "range.mesh:11:",
+               "tet 1", "[1, 4], got 0", NULL);
+    put_file("range.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
+                          "$EndNodes\n$Elements\n1\n17 4 0 1 2 3 5\n$EndElements\n");
+    expect_err(ctx, read_file_status(ctx, "range.msh", NULL, &m), EO_ERR_MESH, "gmsh undefined node", "range.msh:13:",
+               "tet 17", "node 5: expected a node tag defined in $Nodes", NULL);
+    {
+        /* through the API: validate catches what a caller built */
+        eo_mesh *b = NULL;
+        eo_mesh_load(ctx, "gen:1,1,1:1,1,1", NULL, &b);
+        b->tets[4 * 3 + 2] = -1;
+        expect_err(ctx, eo_mesh_validate(ctx, b, NULL, "api"), EO_ERR_MESH, "api range", "api: tet 3",
+                   "expected vertex indices in [0, 8), got -1", NULL);
+        b->tets[4 * 3 + 2] = 5;
+        b->X[3 * 6 + 1] = NAN;
+        expect_err(ctx, eo_mesh_validate(ctx, b, NULL, "api"), EO_ERR_NONFINITE, "api nan", "api: vertex 6", NULL);
+        eo_mesh_destroy(ctx, &b);
+    }
+    put_file("dupnode.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n2 0 1 0\n4 0 0 1\n"
+                            "$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n");
+    expect_err(ctx, read_file_status(ctx, "dupnode.msh", NULL, &m), EO_ERR_PARSE, "duplicate node tag",
+               "dupnode.msh:8:", "node 2", "repeated", NULL);
+
+    /* duplicate tets (same vertex set, other order) */
+    put_file("dup.node", "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n");
+    put_file("dup.ele", "3 4 0\n1 1 2 3 4\n2 2 4 3 5\n3 4 3 2 1\n");
+    expect_err(ctx, read_file_status(ctx, "dup.ele", NULL, &m), EO_ERR_MESH, "duplicate tet", "dup.ele:4:", "tet 3",
+               "duplicate of tet 1", NULL);
+    rc = read_file_status(ctx, "dup.ele", &drop, &m);
+    CHECK(rc == EO_WARN_DROPPED && m && m->nt == 2 && m->dropped_tets == 1, "duplicate dropped: rc %d", rc);
+    if (m) CHECK_CLOSE(eo_mesh_volume(m), 0.5, 1e-12);
+    eo_mesh_destroy(ctx, &m);
+
+    /* zero-volume tet (coplanar points) */
+    put_file("flat.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
+                         "5 1 1 0\n6 2 2 0\n$EndNodes\n$Elements\n2\n1 4 0 1 2 3 4\n2 4 0 2 3 5 6\n$EndElements\n");
+    expect_err(ctx, read_file_status(ctx, "flat.msh", NULL, &m), EO_ERR_MESH, "zero volume", "flat.msh:16:", "tet 2",
+               "zero volume", NULL);
+    rc = read_file_status(ctx, "flat.msh", &drop, &m);
+    CHECK(rc == EO_WARN_DROPPED && m && m->nt == 1 && m->nv == 4 && m->dropped_tets == 1 && m->dropped_vertices == 2,
+          "zero-volume dropped (and its now unreferenced vertices): rc %d", rc);
+    eo_mesh_destroy(ctx, &m);
+
+    /* unreferenced vertex: error, then dropped + renumbered */
+    put_file("unref.mesh", "MeshVersionFormatted 1\nDimension 3\nVertices\n6\n0 0 0 0\n9 9 9 0\n1 0 0 0\n0 1 0 0\n"
+                           "0 0 1 0\n1 1 1 5\nTetrahedra\n2\n1 3 4 5 0\n3 5 4 6 0\nEnd\n");
+    expect_err(ctx, read_file_status(ctx, "unref.mesh", NULL, &m), EO_ERR_MESH, "unreferenced", "unref.mesh:6:",
+               "vertex 2", "not used by any tet", NULL);
+    eo_mesh_read_opts du = eo_mesh_read_opts_default();
+    du.drop_unreferenced = 1;
+    rc = read_file_status(ctx, "unref.mesh", &du, &m);
+    CHECK(rc == EO_WARN_DROPPED && m && m->nv == 5 && m->dropped_vertices == 1, "unreferenced dropped: rc %d", rc);
+    if (m) {
+        CHECK(m->tets[1] == 1 && m->tets[7] == 4 && m->vmarker[4] == 5, "renumbered with markers");
+        CHECK_CLOSE(eo_mesh_volume(m), 0.5, 1e-12);
+    }
+    eo_mesh_destroy(ctx, &m);
+
+    /* format-level problems */
+    put_file("bin.msh", "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n");
+    expect_err(ctx, read_file_status(ctx, "bin.msh", NULL, &m), EO_ERR_UNSUPPORTED, "binary", "bin.msh:2:", "ASCII",
+               NULL);
+    put_file("v3.msh", "$MeshFormat\n3.0 0 8\n$EndMeshFormat\n");
+    expect_err(ctx, read_file_status(ctx, "v3.msh", NULL, &m), EO_ERR_UNSUPPORTED, "version", "v3.msh:2:",
+               "expected MSH version 2.2 or 4.1, got 3", NULL);
+    put_file("nosurf.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Surface\n1\n1 2 3\n");
+    expect_err(ctx, read_file_status(ctx, "nosurf.msh", NULL, &m), EO_ERR_PARSE, "unclosed section", "nosurf.msh:",
+               "expected '$EndSurface'", NULL);
+    put_file("notets.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n3\n1 0 0 0\n2 1 0 0\n3 0 1 0\n$EndNodes\n"
+                           "$Elements\n1\n1 2 0 1 2 3\n$EndElements\n");
+    expect_err(ctx, read_file_status(ctx, "notets.msh", NULL, &m), EO_ERR_MESH, "no tets", "notets.msh",
+               "no tetrahedra", NULL);
+    put_file("dim2.mesh", "MeshVersionFormatted 1\nDimension 2\n");
+    expect_err(ctx, read_file_status(ctx, "dim2.mesh", NULL, &m), EO_ERR_PARSE, "2d medit", "dim2.mesh:2:",
+               "expected dimension 3 in [3, 3], got '2'", NULL);
+    put_file("skip.node", "4 3 0 0\n1 0 0 0\n3 1 0 0\n4 0 1 0\n5 0 0 1\n");
+    expect_err(ctx, read_file_status(ctx, "skip.node", NULL, &m), EO_ERR_PARSE, "non-consecutive", "skip.node:3:",
+               "expected point index 2 (consecutive), got 3", NULL);
+    CHECK(m == NULL, "no mesh after failures");
+    eo_test_ctx_done(&ctx);
+}
+
+/* ---- unwritable output ------------------------------------------------------------- */
+
+static void test_unwritable(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    eo_mesh *m = NULL;
+    eo_mesh_load(ctx, "gen:1,1,1:2,2,2", NULL, &m);
+    put_file("plainfile", "x");
+    static const char *const ext[] = {".node", ".mesh", ".msh", ".vtu", ".obj"};
+    for (int i = 0; i < 5; i++) {
+        char p1[4300], p2[4300];
+        snprintf(p1, sizeof p1, "%s/no/such/dir/out%s", tmp, ext[i]);
+        snprintf(p2, sizeof p2, "%s/plainfile/out%s", tmp, ext[i]); /* parent is a file: fails even as root */
+        expect_err(ctx, eo_mesh_write(ctx, m, p1, EO_MESH_AUTO), EO_ERR_IO, "missing folder", "no/such/dir/out",
+                   "cannot write", NULL);
+        expect_err(ctx, eo_mesh_write(ctx, m, p2, EO_MESH_AUTO), EO_ERR_IO, "parent is a file", "plainfile/out",
+                   "cannot write", NULL);
+    }
+    expect_err(ctx, eo_mesh_write(ctx, m, tpath("out.xyz"), EO_MESH_AUTO), EO_ERR_UNSUPPORTED, "unknown ext",
+               "out.xyz", NULL);
+    CHECK(count_files(tmp, "out") == 0, "nothing written");
+    eo_mesh_destroy(ctx, &m);
+    eo_test_ctx_done(&ctx);
+}
+
+/* ---- failure injection ----------------------------------------------------------- */
+
+static void inject(const char *label, int (*op)(eo_ctx *, void *), void *arg)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    int ok = 0, failures = 0;
+    for (long n = 1; n < 10000 && !ok; n++) {
+        eo_ctx_fail_after(ctx, n);
+        int rc = op(ctx, arg);
+        eo_ctx_fail_after(ctx, 0);
+        if (rc >= 0) ok = 1;
+        else {
+            failures++;
+            CHECK(rc == EO_ERR_NOMEM, "%s: allocation %ld: status %s (%s)", label, n, eo_status_name(rc),
+                  eo_ctx_message(ctx));
+        }
+        CHECK(eo_ctx_live_bytes(ctx) == 0, "%s: allocation %ld failed: %zu bytes leaked", label, n,
+              eo_ctx_live_bytes(ctx));
+        if (eo_ctx_live_bytes(ctx)) break;
+    }
+    CHECK(ok && failures > 0, "%s: succeeded after %d injected failures", label, failures);
+    eo_test_ctx_done(&ctx);
+}
+
+static int op_read(eo_ctx *ctx, void *arg)
+{
+    eo_mesh *m = NULL;
+    eo_mesh_read_opts o = eo_mesh_read_opts_default();
+    o.drop_degenerate = o.drop_unreferenced = 1;
+    int rc = eo_mesh_read(ctx, arg, &o, &m);
+    eo_mesh_destroy(ctx, &m);
+    return rc;
+}
+
+static int op_write(eo_ctx *ctx, void *arg)
+{
+    eo_mesh *m = NULL;
+    int rc = eo_mesh_load(ctx, "gen:1,1,1:2,2,2:5", NULL, &m);
+    if (rc >= 0) rc = eo_mesh_write(ctx, m, arg, EO_MESH_AUTO);
+    eo_mesh_destroy(ctx, &m);
+    return rc;
+}
+
+static int op_series(eo_ctx *ctx, void *arg)
+{
+    (void)arg;
+    eo_mesh *m = NULL;
+    eo_pvd *p = NULL;
+    int rc = eo_mesh_load(ctx, "gen:1,1,1:1,1,1", NULL, &m);
+    if (rc >= 0) rc = eo_pvd_create(ctx, tpath("inj.pvd"), &p);
+    for (int k = 0; k < 3 && rc >= 0; k++) rc = eo_pvd_add(ctx, p, k, "frame.vtu");
+    eo_pvd_destroy(ctx, &p);
+    eo_mesh_destroy(ctx, &m);
+    return rc;
+}
+
+static void test_injection(void)
+{
+    char p[6][4300];
+    snprintf(p[0], sizeof p[0], "%s", eo_test_shared_path("meshes/ipc_bar-2523.msh"));
+    snprintf(p[1], sizeof p[1], "%s", tpath("g22.msh"));
+    snprintf(p[2], sizeof p[2], "%s", tpath("tg0"));
+    snprintf(p[3], sizeof p[3], "%s", tpath("ok.mesh"));
+    snprintf(p[4], sizeof p[4], "%s", tpath("unref.mesh"));
+    snprintf(p[5], sizeof p[5], "%s", tpath("dup.ele"));
+    for (int i = 0; i < 6; i++) inject(p[i], op_read, p[i]);
+    static const char *const ext[] = {"inj.node", "inj.mesh", "inj.msh", "inj.vtu", "inj.obj"};
+    for (int i = 0; i < 5; i++) {
+        char q[4300];
+        snprintf(q, sizeof q, "%s", tpath(ext[i]));
+        inject(q, op_write, q);
+    }
+    inject("pvd", op_series, NULL);
+    CHECK(count_files(tmp, ".tmp.") == 0, "no temporary files left after injected failures");
+}
+
+/* ---- load time ----------------------------------------------------------------------- */
+
+static void test_load_time(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    eo_mesh *m = NULL;
+    /* 34 x 34 x 29 cells x 6 = 201144 tets */
+    CHECK(eo_mesh_load(ctx, "gen:1,1,1:34,34,29", NULL, &m) == EO_OK, "gen big");
+    static const char *const names[] = {"big.msh", "big.mesh", "big.node"};
+    for (int i = 0; i < 3; i++) {
+        CHECK(eo_mesh_write(ctx, m, tpath(names[i]), EO_MESH_AUTO) == EO_OK, "write %s", names[i]);
+        eo_mesh *b = NULL;
+        double t0 = eo_wtime();
+        int rc = eo_mesh_read(ctx, tpath(names[i]), NULL, &b);
+        double dt = eo_wtime() - t0;
+        CHECK(rc == EO_OK && b && b->nt == m->nt, "read %s", names[i]);
+        printf("load %-9s %d vertices %d tets: %.3f s\n", names[i], m->nv, m->nt, dt);
+        eo_mesh_destroy(ctx, &b);
+    }
+    eo_mesh_destroy(ctx, &m);
+    eo_test_ctx_done(&ctx);
+}
+
+int main(void)
+{
+    snprintf(tmp, sizeof tmp, "%s", eo_test_tmpdir("mesh"));
+    test_generator();
+    test_round_trips();
+    test_ipc();
+    test_gmsh22();
+    test_tetgen();
+    test_medit();
+    test_vtu();
+    test_bad_input();
+    test_unwritable();
+    test_injection();
+    test_load_time();
+    return eo_test_finish("test_mesh");
+}
