@@ -32,7 +32,7 @@ static int make_map(gmsh_reader *r)
     int dup = -1;
     int rc = eo_tagmap_build(r->ctx, r->tags, r->m->nv, &r->map, &dup);
     if (rc == EO_ERR_PARSE)
-        return eo_error_at(r->ctx, rc, EO_ERRLOC_ITEM(r->s.file, r->src->v_line[dup], "node", r->tags[dup]),
+        return eo_error_at(r->ctx, rc, EO_ERRLOC_ITEM(r->s.file, r->src->v_line[dup], "vertex", r->tags[dup]),
                            "node tag repeated; expected unique node tags");
     return rc;
 }
@@ -69,7 +69,7 @@ static int nodes_22(gmsh_reader *r)
         r->src->v_line[i] = eo_scan_record(s);
         if ((rc = eo_scan_long(s, "node tag", &r->tags[i])) < 0) return rc;
         r->src->v_id[i] = r->tags[i];
-        eo_scan_item(s, "node", r->tags[i]);
+        eo_scan_item(s, "vertex", r->tags[i]);
         if ((rc = read_xyz(r, i)) < 0) return rc;
         if ((rc = eo_scan_eol(s, "x y z")) < 0) return rc;
     }
@@ -106,7 +106,7 @@ static int nodes_41(gmsh_reader *r)
             if ((rc = eo_scan_eol(s, "a node tag")) < 0) return rc;
         }
         for (int i = done; i < done + k; i++) {
-            eo_scan_item(s, "node", r->tags[i]);
+            eo_scan_item(s, "vertex", r->tags[i]);
             r->src->v_line[i] = eo_scan_record(s);
             if ((rc = read_xyz(r, i)) < 0) return rc;
             for (int p = 0; p < (param ? dim : 0); p++) {
@@ -126,7 +126,7 @@ static int nodes_41(gmsh_reader *r)
     if ((rc = eo_scan_expect(s, "$EndNodes")) < 0) return rc;
     for (int i = 0; i < n; i++)
         if (r->tags[i] < mintag || r->tags[i] > maxtag)
-            return eo_error_at(r->ctx, EO_ERR_PARSE, EO_ERRLOC_ITEM(s->file, r->src->v_line[i], "node", r->tags[i]),
+            return eo_error_at(r->ctx, EO_ERR_PARSE, EO_ERRLOC_ITEM(s->file, r->src->v_line[i], "vertex", r->tags[i]),
                                "expected a node tag in [%ld, %ld] as the $Nodes header says", mintag, maxtag);
     return make_map(r);
 }

@@ -620,7 +620,7 @@ static void test_bad_input(void)
                "expected vertex index, got '3x'", NULL);
     put_file("tok.msh", "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 4 1 4\n3 1 0 4\n1\n2\n3\n4\n"
                         "0 0 0\n1 0 0\n0 1.5.2 0\n0 0 1\n$EndNodes\n");
-    expect_err(ctx, read_file_status(ctx, "tok.msh", NULL, &m), EO_ERR_PARSE, "bad float", "tok.msh:13:", "node 3",
+    expect_err(ctx, read_file_status(ctx, "tok.msh", NULL, &m), EO_ERR_PARSE, "bad float", "tok.msh:13:", "vertex 3",
                "expected y coordinate, got '1.5.2'", NULL);
 
     /* NaN / Inf coordinates */
@@ -669,7 +669,7 @@ static void test_bad_input(void)
     put_file("dupnode.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n2 0 1 0\n4 0 0 1\n"
                             "$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n");
     expect_err(ctx, read_file_status(ctx, "dupnode.msh", NULL, &m), EO_ERR_PARSE, "duplicate node tag",
-               "dupnode.msh:8:", "node 2", "repeated", NULL);
+               "dupnode.msh:8:", "vertex 2", "repeated", NULL);
 
     /* duplicate tets (same vertex set, other order) */
     put_file("dup.node", "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n");
