@@ -3,10 +3,14 @@
  * φ(α) = g(x + αp), φ(0) = g0, φ'(0) = ∇gᵀp = dg0 < 0. Trials α = α₀, shrink·α₀,
  * shrink²·α₀, … until the sufficient-decrease (Armijo) condition
  *     φ(α) ≤ φ(0) + c1·α·φ'(0)
- * holds with φ(α) finite. A trial where g is +∞ (outside the domain of a barrier
+ * holds with φ(α) finite — or, at rounding level (when the predicted decrease
+ * α|φ'(0)| is below 100·ε_g, ε_g = 4·ε_mach·|φ(0)|), φ(α) ≤ φ(0) + ε_g: there the
+ * Armijo test would compare rounding noise and fail near every minimizer whose g* ≠ 0
+ * (as in Hager & Zhang's approximate Wolfe conditions). A trial where g is +∞ (outside the domain of a barrier
  * material, an inverted element) or NaN is rejected like a too-long step. After
  * max_evals rejected trials the search returns x itself (α = 0) and
  * EO_WARN_NOT_CONVERGED (Nocedal & Wright, Numerical Optimization, Alg. 3.1). */
+#include <float.h>
 #include <math.h>
 #include <stddef.h>
 
@@ -36,6 +40,7 @@ static int bt_search(const void *params, eo_objective *obj, const double *x, con
         bp = &def;
     }
     double a = alpha0 > 0 && isfinite(alpha0) ? alpha0 : 1;
+    const double noise = 4 * DBL_EPSILON * fabs(g0);
     *nevals = 0;
     for (int k = 0; k < bp->max_evals; k++) {
         double f;
@@ -43,7 +48,8 @@ static int bt_search(const void *params, eo_objective *obj, const double *x, con
         int rc = eo_objective_value(obj, xnew, &f);
         ++*nevals;
         if (rc < 0) return rc;
-        if (isfinite(f) && f <= g0 + bp->c1 * a * dg0) {
+        if (isfinite(f) && (f <= g0 + bp->c1 * a * dg0 ||
+                            (-a * dg0 <= 100 * noise && f <= g0 + noise))) {
             *gnew = f;
             *alpha = a;
             return EO_OK;

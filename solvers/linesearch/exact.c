@@ -14,6 +14,8 @@
  *    bracket; bisection when hi is +∞, when the interpolant fails, or when the bracket
  *    did not halve in two trials. Every interpolant is exact for quadratic φ, so a
  *    quadratic g is minimized along the line to rounding in one or two trials.
+ * Values within 4·ε_mach·|φ(0)| of each other count as equal (then the sign of φ'
+ * decides), so the search keeps working where g only changes at rounding level.
  * Converged (EO_OK) when |φ'(lo)| ≤ tol·|φ'(0)| or the bracket is narrower than
  * tol·|α|; returns lo, the best point. Why derivatives and not golden section on values
  * alone: from values only, the minimizer of φ is determined to about √ε_mach ≈ 1.5e-8
@@ -21,6 +23,7 @@
  * (002 Example 2) to 1e-10; the sign of φ' keeps the bracket correct to rounding.
  * After max_evals trials the best point is returned with EO_WARN_NOT_CONVERGED (x
  * itself, α = 0, if nothing was better). A non-finite φ is never accepted. */
+#include <float.h>
 #include <math.h>
 #include <stddef.h>
 
@@ -96,6 +99,7 @@ static int exact_search(const void *params, eo_objective *obj, const double *x, 
         ep = &def;
     }
     const double dtol = ep->tol * fabs(dg0);
+    const double noise = 4 * DBL_EPSILON * fabs(g0); /* values closer than this tie */
     pt lo = {0, g0, dg0}, hi = {NAN, NAN, NAN}, t;
     int have_hi = 0, converged = 0, rc;
     double a = alpha0 > 0 && isfinite(alpha0) ? alpha0 : 1;
@@ -104,7 +108,7 @@ static int exact_search(const void *params, eo_objective *obj, const double *x, 
     /* 1. bracket */
     while (*nevals < ep->max_evals) {
         if ((rc = eval(obj, x, p, a, xnew, work, &t, nevals)) < 0) return rc;
-        if (!isfinite(t.f) || t.f > lo.f) {
+        if (!isfinite(t.f) || t.f > lo.f + noise) {
             hi = t;
             have_hi = 1;
             break;
@@ -141,7 +145,7 @@ static int exact_search(const void *params, eo_objective *obj, const double *x, 
         if (c < bmin) c = bmin;
         if (c > bmax) c = bmax;
         if ((rc = eval(obj, x, p, c, xnew, work, &t, nevals)) < 0) return rc;
-        if (!isfinite(t.f) || t.f > lo.f) {
+        if (!isfinite(t.f) || t.f > lo.f + noise) {
             hi = t;
         } else {
             if (fabs(t.d) <= dtol) {

@@ -1,0 +1,697 @@
+/* Optimizer contract suite: every optimizer × line search × Hessian fix × stopping rule
+ * on small analytic problems (convex quadratic, the notes' ill-conditioned quadratic,
+ * extended Rosenbrock, a −log barrier that is +∞ outside its domain, separable double
+ * wells), plus: the notes' Example 2 iterates of exact-line-search gradient descent,
+ * Newton's quadratic convergence and decrement ≈ g − g*, the iteration cap, no
+ * allocation inside minimize, config sections, non-finite start, callback stop. */
+#include <jansson.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "elastopt/config.h"
+#include "elastopt/solver.h"
+#include "testutil.h"
+
+/* ---- test problems ------------------------------------------------------------------ */
+enum { P_QUAD, P_ILL, P_ROSEN, P_BARRIER, P_DWELL, P_COUNT };
+#define NMAX 8
+
+typedef struct tprob {
+    int kind, n;
+    const char *name;
+    double x0[NMAX], xstar[NMAX], gstar;
+    double A[NMAX * NMAX], b[NMAX];  /* quad */
+    double gamma;                      /* ill */
+    double a[NMAX];                    /* barrier, dwell coefficients */
+    int with_metric;
+    /* runtime */
+    eo_csc *H;
+    double Hd[NMAX * NMAX], gs[NMAX];
+    long n_inf;
+} tprob;
+
+/* value, gradient (if grad), dense Hessian (if Hd); +INFINITY outside the domain */
+static double peval(tprob *p, const double *x, double *grad, double *Hd)
+{
+    const int n = p->n;
+    double g = 0;
+    if (grad) memset(grad, 0, sizeof(double) * n);
+    if (Hd) memset(Hd, 0, sizeof(double) * n * n);
+    switch (p->kind) {
+    case P_QUAD:
+        for (int i = 0; i < n; i++) {
+            double Ax = 0;
+            for (int j = 0; j < n; j++) Ax += p->A[i * n + j] * x[j];
+            g += 0.5 * x[i] * Ax - p->b[i] * x[i];
+            if (grad) grad[i] = Ax - p->b[i];
+            if (Hd)
+                for (int j = 0; j < n; j++) Hd[i * n + j] = p->A[i * n + j];
+        }
+        break;
+    case P_ILL:
+        g = 0.5 * (x[0] * x[0] + p->gamma * x[1] * x[1]);
+        if (grad) grad[0] = x[0], grad[1] = p->gamma * x[1];
+        if (Hd) Hd[0] = 1, Hd[3] = p->gamma;
+        break;
+    case P_ROSEN:
+        for (int i = 0; i < n; i += 2) {
+            double u = x[i], v = x[i + 1], r = v - u * u;
+            g += 100 * r * r + (1 - u) * (1 - u);
+            if (grad) grad[i] = -400 * r * u - 2 * (1 - u), grad[i + 1] = 200 * r;
+            if (Hd) {
+                Hd[i * n + i] = 1200 * u * u - 400 * v + 2;
+                Hd[i * n + i + 1] = Hd[(i + 1) * n + i] = -400 * u;
+                Hd[(i + 1) * n + i + 1] = 200;
+            }
+        }
+        break;
+    case P_BARRIER:
+        for (int i = 0; i < n; i++) {
+            if (!(x[i] > 0)) {
+                p->n_inf++;
+                return INFINITY;
+            }
+            g += p->a[i] * x[i] - log(x[i]) + 0.5 * (x[i] - 1 / p->a[i]) * (x[i] - 1 / p->a[i]);
+            if (grad) grad[i] = p->a[i] - 1 / x[i] + (x[i] - 1 / p->a[i]);
+            if (Hd) Hd[i * n + i] = 1 / (x[i] * x[i]) + 1;
+        }
+        break;
+    case P_DWELL:
+        for (int i = 0; i < n; i++) {
+            double t = x[i];
+            g += t * t * t * t / 4 - t * t / 2 + p->a[i] * t;
+            if (grad) grad[i] = t * t * t - t + p->a[i];
+            if (Hd) Hd[i * n + i] = 3 * t * t - 1;
+        }
+        break;
+    }
+    return g;
+}
+
+static int op_value(void *d, const double *x, double *g)
+{
+    *g = peval(d, x, NULL, NULL);
+    return EO_OK;
+}
+static int op_gradient(void *d, const double *x, double *g, double *grad)
+{
+    *g = peval(d, x, grad, NULL);
+    return EO_OK;
+}
+static int op_hessian(void *d, const double *x, eo_proj proj, eo_csc **H)
+{
+    tprob *p = d;
+    (void)proj; /* no per-element structure here: projection does not apply */
+    peval(p, x, p->gs, p->Hd);
+    for (int j = 0, k = 0; j < p->n; j++)
+        for (int i = 0; i <= j; i++) p->H->val[k++] = p->Hd[i * p->n + j];
+    *H = p->H;
+    return EO_OK;
+}
+static int op_metric(void *d, double *m)
+{
+    tprob *p = d;
+    for (int i = 0; i < p->n; i++) m[i] = p->A[i * p->n + i];
+    return EO_OK;
+}
+static int op_inverted(void *d, const double *x)
+{
+    tprob *p = d;
+    int c = 0;
+    for (int i = 0; i < p->n; i++) c += x[i] <= 0;
+    return c;
+}
+
+static const eo_objective_ops ops_plain = {.value = op_value, .gradient = op_gradient,
+                                           .hessian = op_hessian};
+static const eo_objective_ops ops_metric = {.value = op_value, .gradient = op_gradient,
+                                            .hessian = op_hessian, .metric_diag = op_metric};
+static const eo_objective_ops ops_barrier = {.value = op_value, .gradient = op_gradient,
+                                             .hessian = op_hessian, .inverted_count = op_inverted};
+
+/* local minimizer of t⁴/4 − t²/2 + c t nearest to t (Newton from the right well) */
+static double dwell_min(double c, double t)
+{
+    double r = t >= 0 ? 1.5 : -1.5;
+    for (int k = 0; k < 100; k++) r -= (r * r * r - r + c) / (3 * r * r - 1);
+    return r;
+}
+
+static void prob_init(eo_ctx *ctx, tprob *p, int kind)
+{
+    memset(p, 0, sizeof *p);
+    p->kind = kind;
+    switch (kind) {
+    case P_QUAD: {
+        p->name = "quad";
+        p->n = 5;
+        p->with_metric = 1;
+        double B[25];
+        eo_test_seed(7);
+        for (int i = 0; i < 25; i++) B[i] = eo_test_rand(-1, 1);
+        for (int i = 0; i < 5; i++)
+            for (int j = 0; j < 5; j++) {
+                double s = i == j ? 1 + i : 0; /* diag spread: A = BᵀB + diag(1..5) */
+                for (int k = 0; k < 5; k++) s += B[k * 5 + i] * B[k * 5 + j];
+                p->A[i * 5 + j] = s;
+            }
+        for (int i = 0; i < 5; i++) p->b[i] = eo_test_rand(-2, 2), p->x0[i] = eo_test_rand(-3, 3);
+        /* x* = A⁻¹b by Gaussian elimination */
+        double M[25], y[5];
+        memcpy(M, p->A, sizeof M);
+        memcpy(y, p->b, sizeof y);
+        for (int k = 0; k < 5; k++)
+            for (int i = k + 1; i < 5; i++) {
+                double f = M[i * 5 + k] / M[k * 5 + k];
+                for (int j = k; j < 5; j++) M[i * 5 + j] -= f * M[k * 5 + j];
+                y[i] -= f * y[k];
+            }
+        for (int i = 4; i >= 0; i--) {
+            double s = y[i];
+            for (int j = i + 1; j < 5; j++) s -= M[i * 5 + j] * p->xstar[j];
+            p->xstar[i] = s / M[i * 5 + i];
+        }
+        p->gstar = peval(p, p->xstar, NULL, NULL);
+        break;
+    }
+    case P_ILL:
+        p->name = "ill";
+        p->n = 2;
+        p->gamma = 10;
+        p->x0[0] = 10, p->x0[1] = 1;
+        break;
+    case P_ROSEN:
+        p->name = "rosenbrock";
+        p->n = 4;
+        p->x0[0] = -1.2, p->x0[1] = 1, p->x0[2] = 0.5, p->x0[3] = 1; /* (0.5,1): H indefinite */
+        for (int i = 0; i < 4; i++) p->xstar[i] = 1;
+        break;
+    case P_BARRIER: {
+        p->name = "barrier";
+        p->n = 4;
+        const double a[4] = {1, 2, 5, 10};
+        for (int i = 0; i < 4; i++) p->a[i] = a[i], p->x0[i] = 3, p->xstar[i] = 1 / a[i];
+        p->gstar = peval(p, p->xstar, NULL, NULL);
+        break;
+    }
+    case P_DWELL: {
+        p->name = "double_well";
+        p->n = 3;
+        const double c[3] = {0.1, -0.2, 0.05}, t0[3] = {0.05, -0.1, 0.2};
+        for (int i = 0; i < 3; i++) p->a[i] = c[i], p->x0[i] = t0[i];
+        break;
+    }
+    }
+    int n = p->n;
+    if (eo_csc_create(ctx, n, n * (n + 1) / 2, &p->H) < 0) abort();
+    for (int j = 0, k = 0; j < n; j++) {
+        p->H->colptr[j] = k;
+        for (int i = 0; i <= j; i++) p->H->rowind[k++] = i;
+        p->H->colptr[j + 1] = k;
+    }
+}
+
+static eo_objective prob_objective(tprob *p)
+{
+    eo_objective o = {.n = p->n, .data = p,
+                      .ops = p->with_metric ? &ops_metric
+                             : p->kind == P_BARRIER ? &ops_barrier
+                                                    : &ops_plain};
+    return o;
+}
+
+/* ‖x − x*‖∞, x* the reference (double wells: the local minimizer of each term nearest x) */
+static double prob_error(const tprob *p, const double *x)
+{
+    double e = 0;
+    for (int i = 0; i < p->n; i++) {
+        double r = p->kind == P_DWELL ? dwell_min(p->a[i], x[i]) : p->xstar[i];
+        e = fmax(e, fabs(x[i] - r));
+    }
+    return isfinite(e) ? e : INFINITY;
+}
+
+/* ---- iteration log ------------------------------------------------------------------ */
+#define LOGMAX 6000
+typedef struct tlog {
+    int count, bad_order, nonfinite_g, last_reason, inverted_seen, stop_at;
+    eo_iter_info rec[LOGMAX];
+    double x[LOGMAX][2];
+} tlog;
+
+static int on_iter(const eo_iter_info *info, void *user)
+{
+    tlog *L = user;
+    if (info->iteration != L->count) L->bad_order++;
+    if (!isfinite(info->g)) L->nonfinite_g++;
+    if (info->inverted != -1) L->inverted_seen++;
+    if (L->count < LOGMAX) {
+        L->rec[L->count] = *info;
+        L->x[L->count][0] = info->x[0];
+        L->x[L->count][1] = info->x[1];
+    }
+    L->count++;
+    L->last_reason = info->reason;
+    return L->stop_at > 0 && info->iteration + 1 >= L->stop_at;
+}
+
+/* ---- running one configuration ------------------------------------------------------ */
+typedef struct run_cfg {
+    const char *opt, *hf, *ls, *stop, *linear;
+    double tol;
+    int max_iters;
+    const char *overrides[4];
+} run_cfg;
+
+static int run(eo_ctx *ctx, tprob *p, const run_cfg *rc, double *x, tlog *L, eo_solve_result *res)
+{
+    eo_solver_opts o;
+    eo_solver_opts_default(&o);
+    snprintf(o.optimizer, sizeof o.optimizer, "%s", rc->opt);
+    snprintf(o.hessian_fix, sizeof o.hessian_fix, "%s", rc->hf ? rc->hf : "clamp");
+    snprintf(o.linesearch, sizeof o.linesearch, "%s", rc->ls ? rc->ls : "backtracking");
+    snprintf(o.stop, sizeof o.stop, "%s", rc->stop ? rc->stop : "newton_decrement");
+    snprintf(o.linear, sizeof o.linear, "%s", rc->linear ? rc->linear : "cholmod");
+    if (rc->tol > 0) o.tol = rc->tol;
+    if (rc->max_iters > 0) o.max_iters = rc->max_iters;
+    eo_cfg *cfg = NULL;
+    if (eo_cfg_create_empty(ctx, &cfg) < 0) abort();
+    for (int i = 0; i < 4 && rc->overrides[i]; i++)
+        if (eo_cfg_override(ctx, cfg, rc->overrides[i]) < 0) abort();
+    eo_solver *s = NULL;
+    int st = eo_solver_create(ctx, &o, cfg, p->n, &s);
+    CHECK(st == EO_OK, "create %s/%s/%s: %s", rc->opt, o.hessian_fix, o.linesearch, eo_ctx_message(ctx));
+    if (st == EO_OK) st = eo_cfg_finish(ctx, cfg);
+    CHECK(st == EO_OK, "cfg finish: %s", eo_ctx_message(ctx));
+    eo_cfg_destroy(ctx, &cfg);
+    if (!s) return st;
+    memcpy(x, p->x0, sizeof(double) * p->n);
+    eo_objective obj = prob_objective(p);
+    if (L) memset(L, 0, sizeof *L);
+    st = eo_solver_minimize(s, &obj, x, L ? on_iter : NULL, L, res);
+    eo_solver_destroy(&s);
+    return st;
+}
+
+/* ---- the sweep ----------------------------------------------------------------------- */
+static const char *const optimizers[] = {"newton", "gradient_descent", "lbfgs"};
+static const char *const hessfixes[] = {"none", "shift", "clamp", "abs"};
+static const char *const linesearches[] = {"backtracking", "exact", "none"};
+static const char *const stops[] = {"newton_decrement", "gradient"};
+
+/* 1 if the combination must reach the minimizer (else it must only end with a reason). */
+static int must_converge(int prob, const char *opt, const char *hf, const char *ls)
+{
+    int nonconvex = prob == P_ROSEN || prob == P_DWELL;
+    if (strcmp(ls, "none") == 0) /* full steps: only where they provably work */
+        return (prob == P_QUAD || prob == P_ILL) && strcmp(opt, "lbfgs") != 0;
+    if (strcmp(opt, "newton") == 0) return !(nonconvex && strcmp(hf, "none") == 0);
+    if (strcmp(opt, "gradient_descent") == 0) return prob != P_ROSEN;
+    return 1;
+}
+
+static void test_sweep(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    static tlog L;
+    int combos = 0, converged = 0;
+    for (int pk = 0; pk < P_COUNT; pk++) {
+        tprob p;
+        prob_init(ctx, &p, pk);
+        for (size_t oi = 0; oi < 3; oi++)
+            for (size_t hi = 0; hi < 4; hi++) {
+                int newton = oi == 0;
+                if (!newton && hi != 2) continue; /* the fix only matters to newton */
+                for (size_t li = 0; li < 3; li++)
+                    for (size_t si = 0; si < 2; si++) {
+                        run_cfg rc = {.opt = optimizers[oi], .hf = hessfixes[hi], .ls = linesearches[li],
+                                      .stop = stops[si], .tol = si == 0 ? 1e-16 : 1e-10,
+                                      .max_iters = newton ? 100 : oi == 1 ? 5000 : 1000};
+                        double x[NMAX];
+                        eo_solve_result res;
+                        p.n_inf = 0;
+                        int st = run(ctx, &p, &rc, x, &L, &res);
+                        int must = must_converge(pk, rc.opt, rc.hf, rc.ls);
+                        char tag[160];
+                        snprintf(tag, sizeof tag, "%s: %s/%s/%s/%s", p.name, rc.opt, newton ? rc.hf : "-",
+                                 rc.ls, rc.stop);
+                        combos++;
+                        CHECK(st == EO_OK, "%s: status %d %s", tag, st, eo_ctx_message(ctx));
+                        CHECK(res.reason != 0, "%s: no reason", tag);
+                        CHECK(L.count == res.iterations + 1 || res.reason == EO_DIVERGED_EXTERNAL,
+                              "%s: %d records for %d iterations", tag, L.count, res.iterations);
+                        CHECK(L.bad_order == 0 && L.last_reason == res.reason, "%s: log order/reason", tag);
+                        CHECK(L.nonfinite_g == 0, "%s: an infinite g was accepted", tag);
+                        CHECK(isnan(L.rec[(L.count - 1) % LOGMAX].alpha), "%s: last alpha", tag);
+                        CHECK(L.inverted_seen == (pk == P_BARRIER ? L.count : 0), "%s: inverted count", tag);
+                        double err = prob_error(&p, x);
+                        if (must) {
+                            CHECK(res.reason > 0 && err <= 1e-6, "%s: reason %s, |x - x*| = %.3g after %d it",
+                                  tag, eo_reason_name(res.reason), err, res.iterations);
+                            converged += res.reason > 0 && err <= 1e-6;
+                        }
+                        if (newton && strcmp(rc.hf, "none") == 0 && (pk == P_ROSEN || pk == P_DWELL))
+                            CHECK(res.n_fallback > 0, "%s: expected steepest-descent fallbacks", tag);
+                        if (newton && strcmp(rc.hf, "none") != 0 && pk == P_DWELL)
+                            CHECK(res.n_shifted > 0 && res.n_fallback == 0, "%s: expected shifts", tag);
+                        if (getenv("EO_TEST_VERBOSE"))
+                            printf("%-60s %-22s it %4d  err %.2e  fb %ld sh %ld  nv %ld ng %ld\n", tag,
+                                   eo_reason_name(res.reason), res.iterations, err, res.n_fallback,
+                                   res.n_shifted, res.n_value, res.n_gradient);
+                    }
+            }
+        eo_csc_destroy(ctx, &p.H);
+    }
+    printf("sweep: %d combinations, %d required to converge did\n", combos, converged);
+    eo_test_ctx_done(&ctx);
+}
+
+/* Barrier: the first Newton step leaves the domain; every line search must shrink. */
+static void test_barrier_infinite_trials(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    static tlog L;
+    tprob p;
+    prob_init(ctx, &p, P_BARRIER);
+    for (size_t li = 0; li < 3; li++) {
+        run_cfg rc = {.opt = "newton", .hf = "shift", .ls = linesearches[li], .tol = 1e-16};
+        double x[NMAX];
+        eo_solve_result res;
+        p.n_inf = 0;
+        run(ctx, &p, &rc, x, &L, &res);
+        CHECK(p.n_inf > 0, "%s: no trial outside the domain", rc.ls);
+        CHECK(L.nonfinite_g == 0 && res.reason != 0, "%s: accepted +inf or no reason", rc.ls);
+        for (int i = 0; i < p.n; i++) CHECK(x[i] > 0, "%s: x outside the domain", rc.ls);
+    }
+    eo_csc_destroy(ctx, &p.H);
+    eo_test_ctx_done(&ctx);
+}
+
+/* 002 Example 2: exact line search gradient descent on ½(x₁² + γx₂²) from (γ, 1). */
+static void test_example2(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    static tlog L;
+    const double gammas[] = {10, 3, 100};
+    for (int gi = 0; gi < 3; gi++) {
+        tprob p;
+        prob_init(ctx, &p, P_ILL);
+        double gm = gammas[gi];
+        p.gamma = gm, p.x0[0] = gm, p.x0[1] = 1;
+        run_cfg rc = {.opt = "gradient_descent", .ls = "exact", .stop = "gradient", .tol = 1e-300,
+                      .max_iters = 40,
+                      .overrides = {"solver.gradient_descent.scaled=false", "solver.exact.tol=1e-14"}};
+        double x[NMAX];
+        eo_solve_result res;
+        run(ctx, &p, &rc, x, &L, &res);
+        double r = (gm - 1) / (gm + 1), maxerr = 0;
+        int k;
+        for (k = 0; k < L.count && k <= 40; k++) {
+            double e1 = fabs(L.x[k][0] - gm * pow(r, k)), e2 = fabs(L.x[k][1] - pow(-r, k));
+            maxerr = fmax(maxerr, fmax(e1, e2));
+        }
+        CHECK(L.count >= 30, "gamma %g: only %d iterates", gm, L.count);
+        CHECK(maxerr <= 1e-10, "gamma %g: max |x_k - analytic| = %.3g over %d iterates", gm, maxerr, k);
+        eo_csc_destroy(ctx, &p.H);
+    }
+    eo_test_ctx_done(&ctx);
+}
+
+/* Newton: quadratic convergence and λ²/2 ≈ g − g* from the iteration log. */
+static void test_newton_rates(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    static tlog L;
+    const int probs[] = {P_BARRIER, P_ROSEN};
+    for (int q = 0; q < 2; q++) {
+        tprob p;
+        prob_init(ctx, &p, probs[q]);
+        run_cfg rc = {.opt = "newton", .hf = "shift", .ls = "backtracking", .stop = "gradient",
+                      .tol = 1e-300, .max_iters = 100,
+                      .overrides = {"solver.gradient.floor=1"}};
+        double x[NMAX];
+        eo_solve_result res;
+        run(ctx, &p, &rc, x, &L, &res);
+        CHECK(prob_error(&p, x) <= 1e-8, "%s: not converged (%s)", p.name, eo_reason_name(res.reason));
+        /* quadratic: last steps with ‖∇g_k‖ < 1e-1 and ‖∇g_{k+1}‖ above rounding */
+        int pairs = 0;
+        double cmax = 0;
+        for (int k = 0; k + 1 < L.count; k++) {
+            double a = L.rec[k].grad_norm, b = L.rec[k + 1].grad_norm;
+            if (a < 1e-1 && b > 1e-13 && L.rec[k].alpha == 1) {
+                pairs++;
+                cmax = fmax(cmax, b / (a * a));
+            }
+        }
+        CHECK(pairs >= 2, "%s: only %d pairs in the quadratic phase", p.name, pairs);
+        CHECK(cmax <= 1e3, "%s: |g_k+1| <= C |g_k|^2 needs C = %g", p.name, cmax);
+        /* decrement estimates g − g* */
+        int checked = 0;
+        for (int k = 0; k < L.count; k++) {
+            double dec = L.rec[k].decrement, gap = L.rec[k].g - p.gstar;
+            if (!(dec < 1e-3 && dec > 1e-11)) continue;
+            checked++;
+            CHECK(fabs(gap - dec) <= 0.05 * dec, "%s it %d: lambda^2/2 = %.6g, g - g* = %.6g", p.name, k,
+                  dec, gap);
+        }
+        CHECK(checked >= 1, "%s: no decrement in range", p.name);
+        eo_csc_destroy(ctx, &p.H);
+    }
+    eo_test_ctx_done(&ctx);
+}
+
+static void test_max_iters_and_stops(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    static tlog L;
+    tprob p;
+    prob_init(ctx, &p, P_ROSEN);
+    double x[NMAX];
+    eo_solve_result res;
+    run_cfg rc = {.opt = "gradient_descent", .stop = "gradient", .tol = 1e-12, .max_iters = 5};
+    run(ctx, &p, &rc, x, &L, &res);
+    CHECK(res.reason == EO_DIVERGED_MAX_ITERS && res.iterations == 5 && L.count == 6,
+          "reason %s, %d iterations", eo_reason_name(res.reason), res.iterations);
+    run_cfg rn = {.opt = "newton", .hf = "shift", .tol = 1e-16, .max_iters = 2};
+    run(ctx, &p, &rn, x, &L, &res);
+    CHECK(res.reason == EO_DIVERGED_MAX_ITERS && res.iterations == 2, "newton: %s",
+          eo_reason_name(res.reason));
+    /* callback stop */
+    run_cfg rl = {.opt = "lbfgs", .stop = "gradient", .tol = 1e-12};
+    memset(&L, 0, sizeof L);
+    L.stop_at = 3;
+    {
+        eo_solver_opts o;
+        eo_solver_opts_default(&o);
+        snprintf(o.optimizer, sizeof o.optimizer, "%s", rl.opt);
+        eo_solver *s;
+        CHECK(eo_solver_create(ctx, &o, NULL, p.n, &s) == EO_OK, "%s", eo_ctx_message(ctx));
+        eo_objective obj = prob_objective(&p);
+        memcpy(x, p.x0, sizeof x);
+        eo_solver_minimize(s, &obj, x, on_iter, &L, &res);
+        CHECK(res.reason == EO_DIVERGED_EXTERNAL && L.count == 3 && res.iterations == 2,
+              "callback stop: %s, %d records", eo_reason_name(res.reason), L.count);
+        CHECK(x[0] == L.x[2][0] && x[1] == L.x[2][1], "x is the last reported iterate");
+        eo_solver_destroy(&s);
+    }
+    /* start at the minimizer: gradient exactly 0 */
+    {
+        tprob q;
+        prob_init(ctx, &q, P_ILL);
+        q.x0[0] = q.x0[1] = 0;
+        run_cfg r0 = {.opt = "newton", .hf = "clamp"};
+        run(ctx, &q, &r0, x, &L, &res);
+        CHECK(res.reason == EO_CONVERGED_GRADIENT && res.iterations == 0, "zero gradient: %s",
+              eo_reason_name(res.reason));
+        eo_csc_destroy(ctx, &q.H);
+    }
+    /* non-finite start */
+    {
+        tprob q;
+        prob_init(ctx, &q, P_BARRIER);
+        q.x0[2] = -1;
+        for (size_t oi = 0; oi < 3; oi++) {
+            run_cfg r1 = {.opt = optimizers[oi]};
+            run(ctx, &q, &r1, x, &L, &res);
+            CHECK(res.reason == EO_DIVERGED_NONFINITE && res.iterations == 0 && L.count == 1,
+                  "%s: non-finite start gives %s", r1.opt, eo_reason_name(res.reason));
+        }
+        eo_csc_destroy(ctx, &q.H);
+    }
+    /* not PD beyond the shift cap */
+    {
+        tprob q;
+        prob_init(ctx, &q, P_DWELL);
+        run_cfg r2 = {.opt = "newton", .hf = "shift",
+                      .overrides = {"solver.shift.shift_max=1e-6", "solver.shift.shift_init=1e-9"}};
+        run(ctx, &q, &r2, x, &L, &res);
+        CHECK(res.reason == EO_DIVERGED_NOT_PD, "shift cap: %s", eo_reason_name(res.reason));
+        eo_csc_destroy(ctx, &q.H);
+    }
+    eo_csc_destroy(ctx, &p.H);
+    eo_test_ctx_done(&ctx);
+}
+
+/* ---- allocation counting ------------------------------------------------------------- */
+typedef struct counter {
+    long calls;
+} counter;
+static void *c_malloc(size_t n, void *u)
+{
+    ((counter *)u)->calls++;
+    return malloc(n);
+}
+static void *c_realloc(void *p, size_t n, void *u)
+{
+    ((counter *)u)->calls++;
+    return realloc(p, n);
+}
+static void c_free(void *p, void *u)
+{
+    (void)u;
+    free(p);
+}
+
+static void test_no_alloc(void)
+{
+    counter cnt = {0};
+    eo_allocator al = {c_malloc, c_realloc, c_free, &cnt};
+    eo_ctx *ctx = NULL;
+    eo_ctx_create(&al, &ctx);
+    for (int pk = 0; pk < P_COUNT; pk++) {
+        tprob p;
+        prob_init(ctx, &p, pk);
+        for (size_t oi = 0; oi < 3; oi++)
+            for (size_t li = 0; li < 3; li++) {
+                eo_solver_opts o;
+                eo_solver_opts_default(&o);
+                snprintf(o.optimizer, sizeof o.optimizer, "%s", optimizers[oi]);
+                snprintf(o.linesearch, sizeof o.linesearch, "%s", linesearches[li]);
+                snprintf(o.hessian_fix, sizeof o.hessian_fix, "shift");
+                eo_solver *s = NULL;
+                CHECK(eo_solver_create(ctx, &o, NULL, p.n, &s) == EO_OK, "%s", eo_ctx_message(ctx));
+                if (!s) continue;
+                eo_objective obj = prob_objective(&p);
+                double x[NMAX];
+                eo_solve_result res;
+                for (int rep = 0; rep < 2; rep++) {
+                    memcpy(x, p.x0, sizeof x);
+                    long c0 = cnt.calls;
+                    size_t live0 = eo_ctx_live_bytes(ctx);
+                    eo_solver_minimize(s, &obj, x, NULL, NULL, &res);
+                    /* newton analyzes a new pattern once (first minimize) */
+                    if (rep == 1 || oi != 0) {
+                        CHECK(cnt.calls == c0, "%s/%s on %s: %ld allocations inside minimize",
+                              optimizers[oi], linesearches[li], p.name, cnt.calls - c0);
+                        CHECK(eo_ctx_live_bytes(ctx) == live0, "live bytes changed");
+                    }
+                }
+                eo_solver_destroy(&s);
+            }
+        eo_csc_destroy(ctx, &p.H);
+    }
+    CHECK(eo_ctx_live_bytes(ctx) == 0, "%zu bytes leaked", eo_ctx_live_bytes(ctx));
+    eo_ctx_destroy(&ctx);
+}
+
+/* ---- configuration ------------------------------------------------------------------ */
+static void test_config(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    const char *text =
+        "{\"solver\": {\"optimizer\": \"lbfgs\", \"tol\": 1e-9, \"max_iters\": 50,\n"
+        "  \"lbfgs\": {\"history\": 5}, \"newton\": {\"descent_eps\": 1e-10},\n"
+        "  \"backtracking\": {\"c1\": 0.001}, \"shift\": {\"shift_grow\": 4},\n"
+        "  \"gradient\": {\"floor\": 1e-8}}}";
+    eo_cfg *cfg;
+    CHECK(eo_cfg_load(ctx, NULL, text, &cfg) == EO_OK, "%s", eo_ctx_message(ctx));
+    eo_solver_opts o;
+    eo_solver_opts_default(&o);
+    CHECK(strcmp(o.optimizer, "newton") == 0 && strcmp(o.hessian_fix, "clamp") == 0 &&
+              o.tol == 1e-10 && o.max_iters == 100 && strcmp(o.linear, "cholmod") == 0,
+          "defaults");
+    CHECK(eo_solver_opts_load(ctx, cfg, &o) == EO_OK, "%s", eo_ctx_message(ctx));
+    CHECK(strcmp(o.optimizer, "lbfgs") == 0 && o.tol == 1e-9 && o.max_iters == 50, "loaded");
+    eo_solver *s = NULL;
+    CHECK(eo_solver_create(ctx, &o, cfg, 4, &s) == EO_OK, "%s", eo_ctx_message(ctx));
+    CHECK(eo_cfg_finish(ctx, cfg) == EO_OK, "unselected sections consumed: %s", eo_ctx_message(ctx));
+    CHECK(s && eo_solver_get_linsolve(s) == NULL, "no linear solver for lbfgs");
+    if (s) {
+        json_t *j = eo_solver_to_json(s);
+        json_t *h = json_object_get(json_object_get(j, "lbfgs"), "history");
+        CHECK(h && json_integer_value(h) == 5, "echo of lbfgs.history");
+        CHECK(json_object_get(j, "backtracking") != NULL, "echo of the line search");
+        json_decref(j);
+    }
+    eo_solver_destroy(&s);
+    eo_cfg_destroy(ctx, &cfg);
+
+    /* unknown sub-section, unknown key, wrong type, unknown names */
+    const char *bad[] = {
+        "{\"solver\": {\"newtn\": {}}}",
+        "{\"solver\": {\"lbfgs\": {\"histroy\": 3}}}",
+        "{\"solver\": {\"backtracking\": {\"c1\": \"x\"}}}",
+        "{\"solver\": {\"exact\": {\"tol\": 2}}}",
+        "{\"solver\": {\"optimizer\": \"newtonn\"}}",
+    };
+    const int want[] = {EO_ERR_UNKNOWN_KEY, EO_ERR_UNKNOWN_KEY, EO_ERR_TYPE, EO_ERR_RANGE,
+                        EO_ERR_UNKNOWN_NAME};
+    for (int i = 0; i < 5; i++) {
+        CHECK(eo_cfg_load(ctx, NULL, bad[i], &cfg) == EO_OK, "load");
+        eo_solver_opts_default(&o);
+        int rc = eo_solver_opts_load(ctx, cfg, &o);
+        if (rc == EO_OK) {
+            rc = eo_solver_create(ctx, &o, cfg, 2, &s);
+            eo_solver_destroy(&s);
+        }
+        CHECK(rc == want[i], "bad config %d: rc %d (%s)", i, rc, eo_ctx_message(ctx));
+        eo_cfg_destroy(ctx, &cfg);
+    }
+    /* names set in C, not from a config */
+    eo_solver_opts_default(&o);
+    snprintf(o.linesearch, sizeof o.linesearch, "wolfe");
+    CHECK(eo_solver_create(ctx, &o, NULL, 2, &s) == EO_ERR_UNKNOWN_NAME &&
+              strstr(eo_ctx_message(ctx), "backtracking, exact, none"),
+          "unknown line search message: %s", eo_ctx_message(ctx));
+    CHECK(s == NULL, "no object on failure");
+    /* no two solver-section methods with parameters share a name across kinds */
+    const eo_kind kinds[] = {EO_KIND_OPTIMIZER, EO_KIND_HESSFIX, EO_KIND_LINESEARCH, EO_KIND_STOP,
+                             EO_KIND_LINSOLVE};
+    int clash = 0;
+    for (int a = 0; a < 5; a++)
+        for (int b = a + 1; b < 5; b++)
+            for (const void *const *t = eo_registry_list(kinds[a]); *t; t++)
+                for (const void *const *u = eo_registry_list(kinds[b]); *u; u++) {
+                    const eo_method_info *ma = eo_method_info_of(*t), *mb = eo_method_info_of(*u);
+                    if (strcmp(ma->name, mb->name) == 0 && (ma->params || mb->params)) {
+                        clash++;
+                        fprintf(stderr, "section solver.%s is ambiguous\n", ma->name);
+                    }
+                }
+    CHECK(clash == 0, "%d ambiguous solver.<name> sections", clash);
+    /* failure injection: every allocation of create can fail cleanly */
+    for (long k = 1; k < 40; k++) {
+        eo_solver_opts_default(&o);
+        eo_ctx_fail_after(ctx, k);
+        int rc = eo_solver_create(ctx, &o, NULL, 6, &s);
+        eo_ctx_fail_after(ctx, 0);
+        if (rc == EO_OK) {
+            eo_solver_destroy(&s);
+            break;
+        }
+        CHECK(rc < 0 && s == NULL, "fail after %ld: rc %d", k, rc);
+    }
+    eo_test_ctx_done(&ctx);
+}
+
+int main(void)
+{
+    test_config();
+    test_example2();
+    test_newton_rates();
+    test_barrier_infinite_trials();
+    test_max_iters_and_stops();
+    test_no_alloc();
+    test_sweep();
+    return eo_test_finish("test_solvers");
+}
