@@ -540,6 +540,14 @@ static void contract_one(solver_cfg *c)
     } else {
         CHECK(rc != EO_OK || rel_res(A, b, x) < 1e-6, "%s: indefinite: ok status must mean solved", L);
     }
+    /* Hessian-fix flow: after a not-PD factor, shifted values factor fine again */
+    testmat_fill(&T, 1.0, 0.0, 5);
+    dense_solve(A, b, ref, 1);
+    rc = run(ctx, ls, A, b, x, 0, &frc);
+    CHECK(rc == EO_OK && rel_err(n, x, ref) < tol && eo_linsolve_get_stats(ls)->not_pd_column == -1,
+          "%s: refactor after indefinite: rc %d err %g", L, rc, rel_err(n, x, ref));
+    testmat_fill(&T, -2.05, 0.0, 4);
+    dense_solve(A, b, ref, 0);
     if (!strcmp(name, "cholmod_ldlt")) {
         solver_cfg c2 = *c;
         set_param(ctx, &c2, "allow_indefinite", "true");

@@ -44,7 +44,7 @@ extern "C" {
 /// Statistics of the last solve.
 typedef struct eo_linsolve_stats {
     int iterations;      ///< iterative methods: iterations of the last solve (direct: 0)
-    double residual;     ///< relative residual ‖b − Ax‖/‖b‖ of the last solve, if known
+    double residual;     ///< relative residual ‖b − Ax‖/‖b‖ of the last solve; -1 if not computed
     int not_pd_column;   ///< column where positive definiteness failed, -1 if none
     double t_analyze, t_factor, t_solve;  ///< accumulated seconds
     long n_factor, n_solve;
