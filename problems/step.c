@@ -39,6 +39,7 @@ struct eo_step {
     double h;
     /* rest data */
     double *Dminv, *vol, *rho, *vmass;
+    double *psi_rest;     /* nt: ψ(I) of each tet's material (reported energies are relative to it) */
     const eo_material_type **tet_type;
     const eo_material_coef **tet_coef;
     /* state */
@@ -275,7 +276,7 @@ void eo_step_destroy(eo_step **pst)
     eo_ctx *ctx = st->ctx;
     for (int i = 0; i < st->nterms; i++) eo_term_destroy(ctx, &st->terms[i]);
     eo_assembler_destroy(ctx, &st->as);
-    void *arrays[] = {st->Dminv, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
+    void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
                       st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->vbc,
                       st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->sys.elem_g,
                       st->sys.elem_H};
@@ -301,6 +302,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     size_t nv = (size_t)m->nv, nt = (size_t)m->nt, nf = (size_t)st->n_full;
     st->Dminv = eo_malloc(ctx, 9 * nt * sizeof(double));
     st->vol = eo_malloc(ctx, nt * sizeof(double));
+    st->psi_rest = eo_calloc(ctx, nt, sizeof(double));
     st->rho = eo_malloc(ctx, nt * sizeof(double));
     st->vmass = eo_calloc(ctx, nv, sizeof(double));
     st->tet_type = eo_malloc(ctx, nt * sizeof *st->tet_type);
@@ -320,7 +322,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->sys.block = BLOCK;
     st->sys.elem_g = eo_malloc(ctx, 12 * (size_t)BLOCK * sizeof(double));
     st->sys.elem_H = eo_malloc(ctx, 144 * (size_t)BLOCK * sizeof(double));
-    if (!st->Dminv || !st->vol || !st->rho || !st->vmass || !st->tet_type || !st->tet_coef || !st->x ||
+    if (!st->Dminv || !st->psi_rest || !st->vol || !st->rho || !st->vmass || !st->tet_type || !st->tet_coef || !st->x ||
         !st->v || !st->x0 || !st->xw || !st->gfull || !st->vnew || !st->guess || !st->vbc ||
         !st->vbc_new || !st->full2free || !st->free2full || !st->tet_dofs || !st->sys.elem_g ||
         !st->sys.elem_H) {
@@ -340,6 +342,12 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
         st->tet_type[k] = mat->type;
         st->tet_coef[k] = &mat->coef;
         st->rho[k] = mat->coef.density;
+        if (!(mat->type->flags & EO_MATERIAL_EDGE)) {
+            static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+            eo_material_eval ev;
+            eo_material_evaluate(mat->type, &mat->coef, I3, EO_EVAL_ENERGY, EO_PROJ_NONE, &ev);
+            st->psi_rest[k] = ev.psi;
+        }
         for (int a = 0; a < 4; a++) st->vmass[m->tets[4 * k + a]] += st->rho[k] * st->vol[k] / 4.0;
     }
     /* shared data for the terms */
@@ -352,14 +360,13 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     s->Dminv = st->Dminv;
     s->vol = st->vol;
     s->rho = st->rho;
+    s->psi_rest = st->psi_rest;
     s->tet_type = st->tet_type;
     s->tet_coef = st->tet_coef;
     s->vmass = st->vmass;
     s->full2free = st->full2free;
     s->tet_dofs = st->tet_dofs;
-#if defined(_OPENMP)
-    s->parallel = m->nt >= PARALLEL_MIN_TETS && omp_get_max_threads() > 1;
-#endif
+    s->parallel = 0; /* serial by default: see eo_step_set_parallel */
     /* the term list: a scene pays only for the terms it uses */
     eo_term *t = NULL;
     if (st->integ->inertia) {
@@ -519,6 +526,17 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
 
 double *eo_step_guess(eo_step *st) { return st->guess; }
 
+int eo_step_set_parallel(eo_step *st, int on)
+{
+#if defined(_OPENMP)
+    st->sys.parallel = on && st->nt >= PARALLEL_MIN_TETS && omp_get_max_threads() > 1;
+#else
+    (void)on;
+    st->sys.parallel = 0;
+#endif
+    return st->sys.parallel;
+}
+
 int eo_step_end(eo_step *st, const double *x)
 {
     const double h = st->h, t1 = st->t + h;
@@ -622,7 +640,7 @@ int eo_step_fields(eo_step *st, double *psi, double *J, unsigned char *inverted)
             eo_gather12(st->x, st->sc->mesh->tets + 4 * k, x12);
             eo_tet_evaluate(st->tet_type[k], st->tet_coef[k], st->Dminv + 9 * k, st->vol[k], x12,
                             EO_EVAL_ENERGY, EO_PROJ_NONE, &out);
-            p = out.psi;
+            p = out.psi - st->psi_rest[k];
         }
         if (psi) psi[k] = p;
         if (J) J[k] = Jk;

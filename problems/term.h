@@ -25,6 +25,9 @@ typedef struct eo_sys {
     const double *Dminv;        /* 9·nt rest inverse edge matrices */
     const double *vol;          /* nt rest volumes */
     const double *rho;          /* nt densities */
+    const double *psi_rest;     /* nt: ψ(I) of the tet's material; the elastic term reports
+                                   Vₜ(ψ(Fₜ) − ψ(I)) so that g carries no large constant
+                                   (it would eat the digits the Armijo test compares) */
     const eo_material_type *const *tet_type;   /* nt */
     const eo_material_coef *const *tet_coef;   /* nt */
     const double *vmass;        /* nv lumped vertex masses (ρV/4 summed) */

@@ -1,5 +1,8 @@
 /* Elastic term: w · Σₜ Vₜ ψₜ(Fₜ),  Fₜ = Dₛ(x) Dₘ⁻¹  (002 §4.2–4.3, ERRATA eq. 28).
  *
+ * Energies are reported relative to the rest state, Vₜ(ψ(Fₜ) − ψ(I)): some models
+ * (stable Neo-Hookean) have ψ(I) ≠ 0, and a constant of 10⁴ in g would leave the line
+ * search's Armijo test comparing differences below its rounding error.
  * Per tet the material kernel eo_tet_evaluate gives Vψ, its 12-gradient and 12×12
  * Hessian (projected per element as asked: none, clamp, abs). Tets of an edge
  * (spring) material are skipped here; the spring term handles them.
@@ -29,7 +32,7 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
         eo_gather12(x, s->mesh->tets + 4 * k, x12);
         eo_tet_evaluate(s->tet_type[k], s->tet_coef[k], s->Dminv + 9 * k, s->vol[k], x12,
                         EO_EVAL_ENERGY, EO_PROJ_NONE, &out);
-        e += out.energy;
+        e += out.energy - s->vol[k] * s->psi_rest[k];
     }
     if (isnan(e)) e = INFINITY;
     return t->weight * e;
@@ -53,7 +56,7 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
             eo_gather12(x, s->mesh->tets + 4 * k, x12);
             eo_tet_evaluate(s->tet_type[k], s->tet_coef[k], s->Dminv + 9 * k, s->vol[k], x12,
                             EO_EVAL_GRAD, EO_PROJ_NONE, &out);
-            eb += out.energy;
+            eb += out.energy - s->vol[k] * s->psi_rest[k];
             memcpy(s->elem_g + 12 * j, out.grad, sizeof out.grad);
         }
         e += eb;
