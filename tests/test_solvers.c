@@ -24,7 +24,11 @@ typedef struct tprob {
     double gamma;                      /* ill */
     double a[NMAX];                    /* barrier, dwell coefficients */
     int with_metric;
-    /* runtime */
+    /* runtime: Hessian assembled per element (quad, ill: one dense element; Rosenbrock:
+     * one 2×2 element per pair, projected as asked; barrier, wells: 1×1 elements whose
+     * projection is ignored, as for terms without per-element structure) */
+    eo_assembler *as;
+    int hgroup, ne, ke;
     eo_csc *H;
     double Hd[NMAX * NMAX], gs[NMAX];
     long n_inf;
@@ -98,16 +102,43 @@ static int op_gradient(void *d, const double *x, double *g, double *grad)
     *g = peval(d, x, grad, NULL);
     return EO_OK;
 }
+/* Ke ← Q f(Λ) Qᵀ for a symmetric 2×2 Ke, f = max(·, 0) (clamp) or |·| (abs) */
+static void proj2(double *K, eo_proj proj)
+{
+    double a = K[0], b = K[1], c = K[3];
+    double m = 0.5 * (a + c), r = sqrt(0.25 * (a - c) * (a - c) + b * b);
+    double l[2] = {m + r, m - r}, v[2][2];
+    if (r == 0) {
+        v[0][0] = 1, v[0][1] = 0, v[1][0] = 0, v[1][1] = 1;
+    } else {
+        double x = b, y = l[0] - a; /* eigenvector of l0: (b, l0 - a) or (l0 - c, b) */
+        if (fabs(x) + fabs(y) < 1e-300) x = l[0] - c, y = b;
+        double nn = sqrt(x * x + y * y);
+        v[0][0] = x / nn, v[0][1] = y / nn, v[1][0] = -y / nn, v[1][1] = x / nn;
+    }
+    for (int i = 0; i < 2; i++) l[i] = proj == EO_PROJ_CLAMP ? fmax(l[i], 0) : fabs(l[i]);
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 2; j++) K[i * 2 + j] = l[0] * v[0][i] * v[0][j] + l[1] * v[1][i] * v[1][j];
+}
+
 static int op_hessian(void *d, const double *x, eo_proj proj, eo_csc **H)
 {
     tprob *p = d;
-    (void)proj; /* no per-element structure here: projection does not apply */
+    const int n = p->n, k = p->ke;
+    double Ke[NMAX * NMAX];
     peval(p, x, p->gs, p->Hd);
-    for (int j = 0, k = 0; j < p->n; j++)
-        for (int i = 0; i <= j; i++) p->H->val[k++] = p->Hd[i * p->n + j];
+    eo_assembler_zero(p->as);
+    for (int e = 0; e < p->ne; e++) {
+        int o = e * k;
+        for (int i = 0; i < k; i++)
+            for (int j = 0; j < k; j++) Ke[i * k + j] = p->Hd[(o + i) * n + o + j];
+        if (p->kind == P_ROSEN && proj != EO_PROJ_NONE) proj2(Ke, proj);
+        eo_assembler_add(p->as, p->hgroup, e, Ke);
+    }
     *H = p->H;
     return EO_OK;
 }
+
 static int op_metric(void *d, double *m)
 {
     tprob *p = d;
@@ -202,14 +233,17 @@ static void prob_init(eo_ctx *ctx, tprob *p, int kind)
         break;
     }
     }
-    int n = p->n;
-    if (eo_csc_create(ctx, n, n * (n + 1) / 2, &p->H) < 0) abort();
-    for (int j = 0, k = 0; j < n; j++) {
-        p->H->colptr[j] = k;
-        for (int i = 0; i <= j; i++) p->H->rowind[k++] = i;
-        p->H->colptr[j + 1] = k;
-    }
+    int n = p->n, dofs[NMAX];
+    p->ke = kind == P_QUAD || kind == P_ILL ? n : kind == P_ROSEN ? 2 : 1;
+    p->ne = n / p->ke;
+    for (int i = 0; i < n; i++) dofs[i] = i;
+    if (eo_assembler_create(ctx, n, &p->as) < 0) abort();
+    p->hgroup = eo_assembler_add_elements(ctx, p->as, p->ne, p->ke, dofs);
+    if (p->hgroup < 0 || eo_assembler_finalize(ctx, p->as) < 0) abort();
+    p->H = eo_assembler_matrix(p->as);
 }
+
+static void prob_done(eo_ctx *ctx, tprob *p) { eo_assembler_destroy(ctx, &p->as); }
 
 static eo_objective prob_objective(tprob *p)
 {
@@ -261,6 +295,7 @@ typedef struct run_cfg {
     double tol;
     int max_iters;
     const char *overrides[4];
+    double time_budget;
 } run_cfg;
 
 static int run(eo_ctx *ctx, tprob *p, const run_cfg *rc, double *x, tlog *L, eo_solve_result *res)
@@ -274,6 +309,7 @@ static int run(eo_ctx *ctx, tprob *p, const run_cfg *rc, double *x, tlog *L, eo_
     snprintf(o.linear, sizeof o.linear, "%s", rc->linear ? rc->linear : "cholmod");
     if (rc->tol > 0) o.tol = rc->tol;
     if (rc->max_iters > 0) o.max_iters = rc->max_iters;
+    o.time_budget = rc->time_budget;
     eo_cfg *cfg = NULL;
     if (eo_cfg_create_empty(ctx, &cfg) < 0) abort();
     for (int i = 0; i < 4 && rc->overrides[i]; i++)
@@ -360,7 +396,7 @@ static void test_sweep(void)
                                    res.n_shifted, res.n_value, res.n_gradient);
                     }
             }
-        eo_csc_destroy(ctx, &p.H);
+        prob_done(ctx, &p);
     }
     printf("sweep: %d combinations, %d required to converge did\n", combos, converged);
     eo_test_ctx_done(&ctx);
@@ -383,7 +419,7 @@ static void test_barrier_infinite_trials(void)
         CHECK(L.nonfinite_g == 0 && res.reason != 0, "%s: accepted +inf or no reason", rc.ls);
         for (int i = 0; i < p.n; i++) CHECK(x[i] > 0, "%s: x outside the domain", rc.ls);
     }
-    eo_csc_destroy(ctx, &p.H);
+    prob_done(ctx, &p);
     eo_test_ctx_done(&ctx);
 }
 
@@ -412,7 +448,7 @@ static void test_example2(void)
         }
         CHECK(L.count >= 30, "gamma %g: only %d iterates", gm, L.count);
         CHECK(maxerr <= 1e-10, "gamma %g: max |x_k - analytic| = %.3g over %d iterates", gm, maxerr, k);
-        eo_csc_destroy(ctx, &p.H);
+        prob_done(ctx, &p);
     }
     eo_test_ctx_done(&ctx);
 }
@@ -455,7 +491,7 @@ static void test_newton_rates(void)
                   dec, gap);
         }
         CHECK(checked >= 1, "%s: no decrement in range", p.name);
-        eo_csc_destroy(ctx, &p.H);
+        prob_done(ctx, &p);
     }
     eo_test_ctx_done(&ctx);
 }
@@ -475,6 +511,11 @@ static void test_max_iters_and_stops(void)
     run_cfg rn = {.opt = "newton", .hf = "shift", .tol = 1e-16, .max_iters = 2};
     run(ctx, &p, &rn, x, &L, &res);
     CHECK(res.reason == EO_DIVERGED_MAX_ITERS && res.iterations == 2, "newton: %s",
+          eo_reason_name(res.reason));
+    /* time budget */
+    run_cfg rt = {.opt = "lbfgs", .stop = "gradient", .tol = 1e-12, .time_budget = 1e-12};
+    run(ctx, &p, &rt, x, &L, &res);
+    CHECK(res.reason == EO_DIVERGED_TIME_BUDGET && L.count == 1, "time budget: %s",
           eo_reason_name(res.reason));
     /* callback stop */
     run_cfg rl = {.opt = "lbfgs", .stop = "gradient", .tol = 1e-12};
@@ -503,7 +544,7 @@ static void test_max_iters_and_stops(void)
         run(ctx, &q, &r0, x, &L, &res);
         CHECK(res.reason == EO_CONVERGED_GRADIENT && res.iterations == 0, "zero gradient: %s",
               eo_reason_name(res.reason));
-        eo_csc_destroy(ctx, &q.H);
+        prob_done(ctx, &q);
     }
     /* non-finite start */
     {
@@ -516,7 +557,7 @@ static void test_max_iters_and_stops(void)
             CHECK(res.reason == EO_DIVERGED_NONFINITE && res.iterations == 0 && L.count == 1,
                   "%s: non-finite start gives %s", r1.opt, eo_reason_name(res.reason));
         }
-        eo_csc_destroy(ctx, &q.H);
+        prob_done(ctx, &q);
     }
     /* not PD beyond the shift cap */
     {
@@ -526,9 +567,9 @@ static void test_max_iters_and_stops(void)
                       .overrides = {"solver.shift.shift_max=1e-6", "solver.shift.shift_init=1e-9"}};
         run(ctx, &q, &r2, x, &L, &res);
         CHECK(res.reason == EO_DIVERGED_NOT_PD, "shift cap: %s", eo_reason_name(res.reason));
-        eo_csc_destroy(ctx, &q.H);
+        prob_done(ctx, &q);
     }
-    eo_csc_destroy(ctx, &p.H);
+    prob_done(ctx, &p);
     eo_test_ctx_done(&ctx);
 }
 
@@ -588,7 +629,7 @@ static void test_no_alloc(void)
                 }
                 eo_solver_destroy(&s);
             }
-        eo_csc_destroy(ctx, &p.H);
+        prob_done(ctx, &p);
     }
     CHECK(eo_ctx_live_bytes(ctx) == 0, "%zu bytes leaked", eo_ctx_live_bytes(ctx));
     eo_ctx_destroy(&ctx);
@@ -684,8 +725,18 @@ static void test_config(void)
     eo_test_ctx_done(&ctx);
 }
 
+static void test_proj2(void)
+{
+    double K[4] = {1, 2, 2, 1}, A[4] = {1, 2, 2, 1};
+    proj2(K, EO_PROJ_CLAMP);
+    proj2(A, EO_PROJ_ABS);
+    CHECK(fabs(K[0] - 1.5) + fabs(K[1] - 1.5) + fabs(K[2] - 1.5) + fabs(K[3] - 1.5) < 1e-14, "clamp");
+    CHECK(fabs(A[0] - 2) + fabs(A[1] - 1) + fabs(A[2] - 1) + fabs(A[3] - 2) < 1e-14, "abs");
+}
+
 int main(void)
 {
+    test_proj2();
     test_config();
     test_example2();
     test_newton_rates();
