@@ -238,9 +238,7 @@ eo_linsolve *eo_solver_get_linsolve(const eo_solver *s) { return s->linear; }
 
 json_t *eo_solver_to_json(const eo_solver *s)
 {
-    eo_solver_opts o = s->opts;
-    if (!s->linear) o.linear[0] = 0;
-    json_t *j = eo_params_to_json(eo_solver_opts_desc, &o);
+    json_t *j = eo_params_to_json(eo_solver_opts_desc, &s->opts);
     if (!j) return NULL;
     if (!s->linear) json_object_del(j, "linear");
     for (size_t i = 0; i < N_KINDS; i++) {

@@ -573,6 +573,32 @@ static void test_max_iters_and_stops(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* Newton with other linear solvers (NOT_PD from LDLᵀ pivots, cg curvature, dense). */
+static void test_newton_linear(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    static tlog L;
+    const char *const linear[] = {"cholmod", "cholmod_ldlt", "lapack", "pcg", "cg"};
+    const int probs[] = {P_ROSEN, P_BARRIER, P_DWELL};
+    for (int q = 0; q < 3; q++) {
+        tprob p;
+        prob_init(ctx, &p, probs[q]);
+        for (int li = 0; li < 5; li++)
+            for (int hi = 1; hi < 4; hi++) {
+                const void *t;
+                if (eo_registry_find(ctx, EO_KIND_LINSOLVE, linear[li], &t) < 0) continue;
+                run_cfg rc = {.opt = "newton", .hf = hessfixes[hi], .linear = linear[li], .tol = 1e-16};
+                double x[NMAX];
+                eo_solve_result res;
+                run(ctx, &p, &rc, x, &L, &res);
+                CHECK(res.reason > 0 && prob_error(&p, x) <= 1e-6, "%s %s/%s: %s, err %.3g", p.name,
+                      rc.hf, rc.linear, eo_reason_name(res.reason), prob_error(&p, x));
+            }
+        prob_done(ctx, &p);
+    }
+    eo_test_ctx_done(&ctx);
+}
+
 /* ---- allocation counting ------------------------------------------------------------- */
 typedef struct counter {
     long calls;
@@ -743,6 +769,7 @@ int main(void)
     test_barrier_infinite_trials();
     test_max_iters_and_stops();
     test_no_alloc();
+    test_newton_linear();
     test_sweep();
     return eo_test_finish("test_solvers");
 }
