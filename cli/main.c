@@ -6,13 +6,14 @@
 
 #include "cli.h"
 
-extern const eo_cli_command eo_cmd_list;
+extern const eo_cli_command eo_cmd_list, eo_cmd_help;
 extern const eo_cli_command eo_cmd_material;
 extern const eo_cli_command eo_cmd_mesh, eo_cmd_convert;
 extern const eo_cli_command eo_cmd_run, eo_cmd_check;
 
 const eo_cli_command *const eo_cli_commands[] = {
     &eo_cmd_list,
+    &eo_cmd_help,
     &eo_cmd_run, &eo_cmd_check,
     &eo_cmd_mesh, &eo_cmd_convert,
     &eo_cmd_material,

@@ -57,6 +57,16 @@ json_t *eo_cfg_root(eo_cfg *cfg);
 /// File name the config came from ("<builtin>" if none).
 const char *eo_cfg_file(const eo_cfg *cfg);
 
+/// A documented config section: its dotted path, descriptor table and one-line summary.
+typedef struct eo_cfg_doc {
+    const char *path;
+    const eo_param_desc *params;
+    const char *summary;
+} eo_cfg_doc;
+/// The fixed sections of the scene configuration, terminated by a {NULL} entry (defined
+/// by the module that loads them; method parameter sections come from the registries).
+const eo_cfg_doc *eo_config_docs(void);
+
 #ifdef __cplusplus
 }
 #endif
