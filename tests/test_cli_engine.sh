@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# elastopt run / check: FD check passes on every examples/*.json; the default scene runs,
+# converges every step and writes summary.json + pvd/vtu + iterations.csv; the exit
+# status is 1 when a step does not converge; bad scenes (unknown key, unknown optimizer,
+# malformed JSON, boundary selecting nothing, bad -o) exit 2 with file:line (or the -o
+# key) in the message and write nothing.
+set -u
+EXE="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"
+SRC="${EO_SOURCE_ROOT:-$(dirname "$0")/..}"
+T="${EO_BUILD_ROOT:-/tmp}/testtmp/cli_engine"
+rm -rf "$T" && mkdir -p "$T" && cd "$T" || exit 1
+fail=0
+pass=0
+ok() { pass=$((pass + 1)); }
+bad() { echo "FAIL: $*" >&2; fail=$((fail + 1)); }
+
+# --- FD check of every example scene
+for f in "$SRC"/examples/*.json; do
+    out=$("$EXE" check "$f" 2>&1)
+    rc=$?
+    [ $rc -eq 0 ] && ok || bad "check $f exit $rc: $out"
+done
+"$EXE" check --scene twist -o solver.hessian_fix=abs >/dev/null && ok || bad "check with -o"
+
+# --- default scene
+"$EXE" run --out default --quiet
+rc=$?
+[ $rc -eq 0 ] && ok || bad "run default exit $rc"
+[ -s default/summary.json ] && [ -s default/iterations.csv ] && [ -s default/cantilever.pvd ] &&
+    [ -s default/cantilever_0000.vtu ] && [ -s default/cantilever_0040.vtu ] && ok || bad "default outputs missing: $(ls default)"
+python3 - default/summary.json <<'PY' && ok || bad "summary.json contents"
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["all_converged"] is True, s["not_converged"]
+assert len(s["steps"]) == 40 and all(st["converged"] for st in s["steps"])
+for k in ("iterations", "reason", "time", "g", "grad_norm", "com", "max_disp", "min_J", "inverted", "kinetic", "elastic"):
+    assert k in s["steps"][0], k
+assert s["build"]["version"] and s["build"]["compiler"]
+assert s["resolved"]["solver"]["optimizer"] == "newton"
+assert s["resolved"]["scene"]["time"]["integrator"] == "newmark"
+assert s["config"]["time"]["steps"] == 40
+assert s["steps"][-1]["inverted"] == 0
+PY
+head -1 default/iterations.csv | grep -q '^step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason$' && ok || bad "csv header"
+[ "$(grep -c 'converged_decrement' default/iterations.csv)" -eq 40 ] && ok || bad "csv: one final row per step"
+
+# --- a step that cannot converge: exit 1, files still written
+"$EXE" run --scene cantilever --out capped --quiet -o solver.max_iters=1 -o solver.tol=1e-40 -o time.steps=2
+rc=$?
+[ $rc -eq 1 ] && ok || bad "not converged should exit 1, got $rc"
+python3 -c "import json; s = json.load(open('capped/summary.json')); assert not s['all_converged'] and s['not_converged'] == [1, 2]" && ok || bad "capped summary"
+
+# --- bad input: exit 2, message with file:line, nothing written
+printf '{\n  "time": {"dt": 0.01},\n  "solvr": {}\n}\n' > unknown_key.json
+printf '{\n  "solver": {\n    "optimizer": "newtn"\n  }\n}\n' > bad_optimizer.json
+printf '{\n  "time": {"dt": 0.01,}\n}\n' > malformed.json
+printf '{\n  "boundary": [\n    {"box": [[5,5,5],[6,6,6]], "fixed": true}\n  ]\n}\n' > empty_bc.json
+printf '{\n  "time": {\n    "dt": -1\n  }\n}\n' > bad_dt.json
+expect_bad() { # file expected-substring [extra args...]
+    local f=$1 want=$2
+    shift 2
+    local msg
+    msg=$("$EXE" run "$f" --out "out_$f" --quiet "$@" 2>&1)
+    local rc=$?
+    [ $rc -eq 2 ] && ok || bad "$f: exit $rc (want 2): $msg"
+    case "$msg" in *"$want"*) ok ;; *) bad "$f: message '$msg' lacks '$want'" ;; esac
+    [ ! -e "out_$f" ] && ok || bad "$f: wrote output"
+}
+expect_bad unknown_key.json "unknown_key.json:3"
+expect_bad bad_optimizer.json "bad_optimizer.json:3"
+expect_bad malformed.json "malformed.json:2"
+expect_bad empty_bc.json "empty_bc.json:3"
+expect_bad bad_dt.json "bad_dt.json:3"
+printf '{"time": {"steps": 1}}\n' > good.json
+expect_bad good.json "-o solver.optimizr" -o solver.optimizr=newton
+expect_bad good.json "-o solver.optimizer" -o solver.optimizer=newtn
+msg=$("$EXE" run --scene nosuch --out out_nosuch 2>&1); rc=$?
+[ $rc -eq 2 ] && [ ! -e out_nosuch ] && ok || bad "unknown scene: exit $rc"
+case "$msg" in *cantilever*) ok ;; *) bad "unknown scene message lists scenes: $msg" ;; esac
+"$EXE" run --bogus >/dev/null 2>&1; [ $? -eq 2 ] && ok || bad "unknown option exit"
+
+echo "cli_engine: $pass passed, $fail failed"
+[ $fail -eq 0 ]
