@@ -7,7 +7,7 @@ const eo_scene_type eo_scene_cantilever = {
     .json =
     "{\n"
     "  \"description\": \"Cantilever: a 1 x 0.1 x 0.1 m bar clamped at x = 0 sagging under gravity (implicit Newmark). The default scene of `elastopt run`.\",\n"
-    "  \"mesh\": {\"generate\": {\"size\": [1.0, 0.1, 0.1], \"cells\": [20, 2, 2], \"split\": 6}},\n"
+    "  \"mesh\": {\"generate\": {\"size\": [1.0, 0.1, 0.1], \"cells\": [20, 2, 2], \"split\": 5}},\n"
     "  \"material\": {\"model\": \"stable_neo_hookean\", \"E\": 1e7, \"nu\": 0.3, \"density\": 1000},\n"
     "  \"mass\": \"consistent\",\n"
     "  \"gravity\": [0, 0, -9.81],\n"

@@ -7,7 +7,7 @@ const eo_scene_type eo_scene_cantilever_static = {
     .json =
     "{\n"
     "  \"description\": \"Static cantilever: the equilibrium of the clamped bar under its own weight (one static solve).\",\n"
-    "  \"mesh\": {\"generate\": {\"size\": [1.0, 0.1, 0.1], \"cells\": [20, 2, 2], \"split\": 6}},\n"
+    "  \"mesh\": {\"generate\": {\"size\": [1.0, 0.1, 0.1], \"cells\": [20, 2, 2], \"split\": 5}},\n"
     "  \"material\": {\"model\": \"stable_neo_hookean\", \"E\": 1e7, \"nu\": 0.3, \"density\": 1000},\n"
     "  \"gravity\": [0, 0, -9.81],\n"
     "  \"boundary\": [\n"

@@ -7,7 +7,7 @@ const eo_scene_type eo_scene_inverted = {
     .json =
     "{\n"
     "  \"description\": \"Inverted start: a unit box whose vertices are reflected through its bottom plane z = 0 (every tet inverted), bottom face fixed; it must recover its rest shape with no inverted tet at the end.\",\n"
-    "  \"mesh\": {\"generate\": {\"size\": [1, 1, 1], \"cells\": [4, 4, 4], \"split\": 6}},\n"
+    "  \"mesh\": {\"generate\": {\"size\": [1, 1, 1], \"cells\": [4, 4, 4], \"split\": 5}},\n"
     "  \"material\": {\"model\": \"stable_neo_hookean\", \"E\": 1e5, \"nu\": 0.3, \"density\": 1000},\n"
     "  \"gravity\": [0, 0, 0],\n"
     "  \"initial\": {\"reflect\": {\"point\": [0, 0, 0], \"normal\": [0, 0, 1]}},\n"

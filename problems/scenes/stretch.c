@@ -7,7 +7,7 @@ const eo_scene_type eo_scene_stretch = {
     .json =
     "{\n"
     "  \"description\": \"Stretch and release: the right end of a bar clamped at x = 0 is pulled at 0.5 m/s for 0.2 s (10% strain), held, and released at 0.3 s.\",\n"
-    "  \"mesh\": {\"generate\": {\"size\": [1.0, 0.1, 0.1], \"cells\": [20, 2, 2], \"split\": 6}},\n"
+    "  \"mesh\": {\"generate\": {\"size\": [1.0, 0.1, 0.1], \"cells\": [20, 2, 2], \"split\": 5}},\n"
     "  \"material\": {\"model\": \"stable_neo_hookean\", \"E\": 1e6, \"nu\": 0.3, \"density\": 1000},\n"
     "  \"gravity\": [0, 0, 0],\n"
     "  \"boundary\": [\n"

@@ -7,7 +7,7 @@ const eo_scene_type eo_scene_twist = {
     .json =
     "{\n"
     "  \"description\": \"Twisting bar: the two ends of a 1 x 0.1 x 0.1 m bar are rotated in opposite directions about its axis, half a turn in total over 0.5 s.\",\n"
-    "  \"mesh\": {\"generate\": {\"size\": [1.0, 0.1, 0.1], \"cells\": [20, 2, 2], \"split\": 6}},\n"
+    "  \"mesh\": {\"generate\": {\"size\": [1.0, 0.1, 0.1], \"cells\": [20, 2, 2], \"split\": 5}},\n"
     "  \"material\": {\"model\": \"stable_neo_hookean\", \"E\": 1e6, \"nu\": 0.4, \"density\": 1000},\n"
     "  \"gravity\": [0, 0, 0],\n"
     "  \"boundary\": [\n"
