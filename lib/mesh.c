@@ -423,6 +423,54 @@ void eo_mesh_stats_compute(const eo_mesh *m, eo_mesh_stats *s)
 
 /* ---- validation --------------------------------------------------------------------- */
 
+/* Sort n records of `size` bytes (each starting with an int key k[0] in [0, nb)) with
+ * `cmp`: a counting sort on k[0], then each bucket on its own (insertion sort when
+ * small, qsort otherwise). Linear in n for meshes, where buckets hold a few records. */
+static int bucket_sort(eo_ctx *ctx, void *recs, size_t n, size_t size, int nb, int (*cmp)(const void *, const void *))
+{
+    if (n < 2) return EO_OK;
+    size_t *start = eo_calloc(ctx, (size_t)nb + 1, sizeof *start);
+    char *tmp = eo_malloc(ctx, n * size);
+    if (!start || !tmp) {
+        eo_free(ctx, start);
+        eo_free(ctx, tmp);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory (sorting %zu records)", n);
+    }
+    char *r = recs;
+    int key;
+    for (size_t i = 0; i < n; i++) {
+        memcpy(&key, r + i * size, sizeof key);
+        start[key + 1]++;
+    }
+    for (int b = 0; b < nb; b++) start[b + 1] += start[b];
+    for (size_t i = 0; i < n; i++) {
+        memcpy(&key, r + i * size, sizeof key);
+        memcpy(tmp + start[key]++ * size, r + i * size, size);
+    }
+    /* start[b] is now the end of bucket b */
+    size_t b0 = 0;
+    char swap[64];
+    for (int b = 0; b < nb; b++) {
+        size_t b1 = start[b], len = b1 - b0;
+        char *q = tmp + b0 * size;
+        if (len > 16) {
+            qsort(q, len, size, cmp);
+        } else {
+            for (size_t i = 1; i < len; i++)
+                for (size_t j = i; j > 0 && cmp(q + (j - 1) * size, q + j * size) > 0; j--) {
+                    memcpy(swap, q + j * size, size);
+                    memcpy(q + j * size, q + (j - 1) * size, size);
+                    memcpy(q + (j - 1) * size, swap, size);
+                }
+        }
+        b0 = b1;
+    }
+    memcpy(recs, tmp, n * size);
+    eo_free(ctx, tmp);
+    eo_free(ctx, start);
+    return EO_OK;
+}
+
 typedef struct {
     int k[4];
     int t;
@@ -568,7 +616,7 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
         sort_small(keys[t].k, 4);
         keys[t].t = t;
     }
-    qsort(keys, (size_t)m->nt, sizeof *keys, cmp_tetkey);
+    if ((rc = bucket_sort(ctx, keys, (size_t)m->nt, sizeof *keys, m->nv, cmp_tetkey)) < 0) goto fail;
     memset(flag, 1, (size_t)m->nt);
     int ndup = 0;
     for (int i = 1; i < m->nt; i++) {
@@ -678,7 +726,11 @@ int eo_mesh_boundary_faces(eo_ctx *ctx, const eo_mesh *m, int **faces, int *nf)
             q->t = t;
             q->f = f;
         }
-    qsort(k, n, sizeof *k, cmp_facekey);
+    int rc = bucket_sort(ctx, k, n, sizeof *k, m->nv, cmp_facekey);
+    if (rc < 0) {
+        eo_free(ctx, k);
+        return rc;
+    }
     size_t count = 0;
     for (size_t i = 0, j; i < n; i = j) {
         for (j = i + 1; j < n && cmp_facekey(&k[i], &k[j]) == 0; j++) {}
