@@ -75,6 +75,13 @@ void eo_mesh_destroy(eo_ctx *ctx, eo_mesh **m);
 /// Generate a box of hexahedral cells split into tets (conforming, positive).
 int eo_mesh_generate_box(eo_ctx *ctx, const eo_mesh_gen_opts *o, eo_mesh **out);
 /// Read a mesh file; validates (see eo_mesh_validate). opts may be NULL.
+/// Returns EO_OK, EO_WARN_DROPPED (items dropped as the options allow; counts in the
+/// mesh), or an error: EO_ERR_IO (missing/unreadable file), EO_ERR_PARSE (truncated,
+/// wrong counts, non-numeric token: "file:line: expected X, got 'tok'"),
+/// EO_ERR_NONFINITE, EO_ERR_MESH (index out of range, zero-volume/duplicate tet,
+/// unreferenced vertex; names file, line and tet/vertex as the file numbers it),
+/// EO_ERR_UNSUPPORTED (binary or other versions, write-only formats), EO_ERR_NOMEM.
+/// On error *out is NULL.
 int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out);
 /// Read a mesh from text in memory (copied; need not be NUL-terminated). `fmt` must be
 /// TETGEN, MEDIT or GMSH; `name` is used in messages. For TETGEN the text is the .node
@@ -108,7 +115,7 @@ typedef struct eo_mesh_stats {
 } eo_mesh_stats;
 void eo_mesh_stats_compute(const eo_mesh *m, eo_mesh_stats *s);
 
-/// Boundary faces (triangles with one adjacent tet), outward oriented; *faces has
+/// Boundary faces (triangles with one adjacent tet) of a valid mesh, outward oriented; *faces has
 /// 3*(*nf) vertex indices, allocated through ctx (caller frees with eo_free).
 int eo_mesh_boundary_faces(eo_ctx *ctx, const eo_mesh *m, int **faces, int *nf);
 
