@@ -1,0 +1,37 @@
+/* Helpers shared by the wrappers of external optimizers (nlopt.c, ipopt.c), which see
+ * the objective only through callbacks and expose no search direction.
+ *
+ * Stopping rule: the elastopt rule (sc->stop) is applied at every iterate the external
+ * code accepts. Rules that need a direction (newton_decrement: λ²/2 = −∇gᵀp/2) cannot be
+ * evaluated because neither library exposes its direction, so they fall back to the
+ * `gradient` rule (‖∇g‖₂ ≤ tol·‖∇g(x₀)‖₂, default floor) with the same solver.tol.
+ * Internal to solvers/optim. */
+#ifndef EO_OPTIM_EXTERNAL_H
+#define EO_OPTIM_EXTERNAL_H
+
+#include "descent.h"
+
+/* Positive eo_reason if the rule says converged at the iterate described by si. */
+static inline int eo_external_stop(const eo_solver_ctx *sc, const eo_stop_info *si)
+{
+    if (sc->stop->needs_direction) return eo_stop_gradient.check(NULL, si);
+    return sc->stop->check(sc->stop_params, si);
+}
+
+/* Inverted elements at x (-1 if the objective does not count them). */
+static inline int eo_external_inverted(const eo_solver_ctx *sc, const double *x)
+{
+    const eo_objective *o = sc->obj;
+    return o->ops->inverted_count ? o->ops->inverted_count(o->data, x) : -1;
+}
+
+/* Log once per minimization which rule is really applied. */
+static inline void eo_external_note_rule(const eo_solver_ctx *sc, const char *who)
+{
+    if (sc->stop->needs_direction)
+        eo_log(sc->ctx, EO_LOG_DEBUG,
+               "%s: stopping rule '%s' needs a direction; using 'gradient' with tol %g", who,
+               sc->stop->info.name, sc->tol);
+}
+
+#endif
