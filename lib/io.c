@@ -22,7 +22,7 @@ int eo_afile_open(eo_ctx *ctx, const char *path, eo_afile **out)
     if (!f) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
     size_t n = strlen(path);
     f->path = eo_strdup(ctx, path);
-    f->tmp = eo_malloc(ctx, n + 32);
+    f->tmp = eo_calloc(ctx, 1, n + 32);
     if (!f->path || !f->tmp) {
         eo_afile_abort(ctx, &f);
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
@@ -73,7 +73,7 @@ void eo_afile_abort(eo_ctx *ctx, eo_afile **pf)
     if (!pf || !*pf) return;
     eo_afile *f = *pf;
     if (f->fp) fclose(f->fp);
-    if (f->tmp) remove(f->tmp);
+    if (f->tmp && f->tmp[0]) remove(f->tmp);
     eo_free(ctx, f->tmp);
     eo_free(ctx, f->path);
     eo_free(ctx, f);
