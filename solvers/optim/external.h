@@ -2,9 +2,10 @@
  * the objective only through callbacks and expose no search direction.
  *
  * Stopping rule: the elastopt rule (sc->stop) is applied at every iterate the external
- * code accepts. Rules that need a direction (newton_decrement: λ²/2 = −∇gᵀp/2) cannot be
- * evaluated because neither library exposes its direction, so they fall back to the
- * `gradient` rule (‖∇g‖₂ ≤ tol·‖∇g(x₀)‖₂, default floor) with the same solver.tol.
+ * code accepts. eo_external_stop is for a code that exposes no direction (NLopt): rules
+ * that need one (newton_decrement: λ²/2 = −∇gᵀp/2) fall back to the `gradient` rule
+ * (‖∇g‖₂ ≤ tol·‖∇g(x₀)‖₂, default floor) with the same solver.tol. (Ipopt reports its
+ * step length, so ipopt.c recovers its direction and evaluates the rule itself.)
  * Internal to solvers/optim. */
 #ifndef EO_OPTIM_EXTERNAL_H
 #define EO_OPTIM_EXTERNAL_H

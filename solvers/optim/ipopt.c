@@ -24,11 +24,16 @@
  *    (GetIpoptCurrentIterate is 3.14+), so x_k is taken as the point of the last gradient
  *    evaluation (Ipopt evaluates ∇g at accepted iterates only); its g must equal the
  *    callback's obj_value (checked). At callback k ≥ 1 record k−1 is reported complete:
- *    α = alpha_pr, ls_evals = ls_trials and shift = δ_w of the step x_{k−1} → x_k;
- *    decrement NAN. Then the stop rule (see external.h: newton_decrement falls back to
- *    `gradient`) and solver.time_budget are checked at x_k; returning FALSE stops Ipopt
- *    and the run ends with that rule's reason. The last record (x out = x_k of the last
- *    callback) carries the reason.
+ *    α = alpha_pr, ls_evals = ls_trials and shift = δ_w of the step x_{k−1} → x_k, and
+ *    decrement = λ²/2 = −∇g(x_{k−1})ᵀΔx/2 of Ipopt's direction Δx = (x_k − x_{k−1})/α
+ *    (exact Hessian: the Newton decrement of W + δ_w I, as newton reports it with a shift;
+ *    limited-memory: a quasi-Newton estimate, as lbfgs reports it). Then the stop rule and
+ *    solver.time_budget are checked at x_k, the rule seeing that decrement: so
+ *    newton_decrement stops at the iterate AFTER the step whose λ²/2 ≤ tol (one step
+ *    later than newton, never less accurate). Returning FALSE stops Ipopt and the run
+ *    ends with the rule's reason. The last record (x out = x_k of the last callback)
+ *    carries the reason (decrement NAN: no direction from x_k; res.decrement is that of
+ *    the step into x_k).
  *  - Ipopt's own termination, by `tol` (its scaled NLP error, here ≈ ‖∇g‖_∞ times Ipopt's
  *    gradient-based objective scaling; default 1e-12 so that normally the elastopt rule
  *    decides), is EO_CONVERGED_EXTERNAL. Ipopt's "acceptable" early exit is disabled
@@ -52,7 +57,7 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "external.h"
+#include "external.h" /* eo_external_inverted, eo_norm2 */
 
 typedef struct eo_ipopt_params {
     char hessian[16];        /* "exact" (default) or "limited-memory" */
@@ -95,8 +100,8 @@ static const eo_param_desc ip_desc[] = {
 typedef struct ip_state {
     int n;
     double *xl, *xu;         /* n: -1e19, +1e19 */
-    double *xg;              /* n: point of the last gradient evaluation */
-    double *xcur;            /* n: iterate of the last intermediate callback */
+    double *xg, *gradg;      /* n each: point of the last gradient evaluation, ∇g there */
+    double *xcur, *gradcur;  /* n each: iterate of the last intermediate callback, ∇g there */
     eo_ctx *ctx;
     /* per minimization */
     const eo_solver_ctx *sc;
@@ -107,6 +112,7 @@ typedef struct ip_state {
     double t0, gn0;
     double glast, gnlast;    /* g, ‖∇g‖ at xg */
     double gcur, gncur;      /* at xcur */
+    double dec;              /* λ²/2 of the last step's direction (NAN if none) */
     int kcur, ncb, reason, status, user_stop, mismatch;
 } ip_state;
 
@@ -133,11 +139,13 @@ static int ip_setup(void *vst, const void *params, int n, eo_ctx *ctx)
     if (n < 0) return eo_error(ctx, EO_ERR_INVALID, "ipopt: n = %d < 0", n);
     st->n = n;
     size_t m = (size_t)(n > 0 ? n : 1);
-    st->xl = eo_calloc(ctx, 4 * m, sizeof(double));
+    st->xl = eo_calloc(ctx, 6 * m, sizeof(double));
     if (!st->xl) return eo_error(ctx, EO_ERR_NOMEM, "ipopt: out of memory (n = %d)", n);
     st->xu = st->xl + m;
     st->xg = st->xl + 2 * m;
-    st->xcur = st->xl + 3 * m;
+    st->gradg = st->xl + 3 * m;
+    st->xcur = st->xl + 4 * m;
+    st->gradcur = st->xl + 5 * m;
     for (int i = 0; i < n; i++) st->xl[i] = -1e19, st->xu[i] = 1e19;
     return EO_OK;
 }
@@ -172,6 +180,7 @@ static Bool ip_eval_grad_f(Index n, Number *x, Bool new_x, Number *grad_f, UserD
     double gn = isfinite(g) ? eo_norm2(n, grad_f) : NAN;
     if (!(isfinite(g) && isfinite(gn))) return FALSE;
     memcpy(st->xg, x, sizeof(double) * (size_t)n);
+    memcpy(st->gradg, grad_f, sizeof(double) * (size_t)n);
     st->glast = g;
     st->gnlast = gn;
     return TRUE;
@@ -236,9 +245,16 @@ static Bool ip_intermediate(Index alg_mod, Index iter_count, Number obj_value, N
     double g = obj_value, gn = NAN;
     if (fabs(st->glast - obj_value) <= 1e-12 * fmax(1, fabs(obj_value))) gn = st->gnlast;
     else st->mismatch++;
+    /* decrement of the direction Δx = (x_k − x_{k−1})/α taken from x_{k−1} */
+    double dec = NAN;
+    if (st->ncb > 0 && !isnan(gn) && !isnan(st->gncur) && alpha_pr > 0) {
+        double d = 0;
+        for (int i = 0; i < n; i++) d -= st->gradcur[i] * (st->xg[i] - st->xcur[i]);
+        dec = d / (2 * alpha_pr);
+    }
     if (st->ncb > 0) { /* record k−1 is complete */
         eo_iter_info info = {.iteration = st->kcur, .g = st->gcur, .grad_norm = st->gncur,
-                             .decrement = NAN, .alpha = alpha_pr, .ls_evals = ls_trials,
+                             .decrement = dec, .alpha = alpha_pr, .ls_evals = ls_trials,
                              .shift = regularization_size,
                              .inverted = eo_external_inverted(sc, st->xcur), .reason = 0,
                              .x = st->xcur};
@@ -257,15 +273,17 @@ static Bool ip_intermediate(Index alg_mod, Index iter_count, Number obj_value, N
     }
     double g_prev = st->gcur;
     memcpy(st->xcur, st->xg, sizeof(double) * (size_t)n);
+    memcpy(st->gradcur, st->gradg, sizeof(double) * (size_t)n);
     st->gcur = g;
     st->gncur = gn;
+    st->dec = dec;
     int reason = 0;
     if (!isnan(gn)) {
         eo_stop_info si = {.iteration = st->kcur, .g = g, .g_prev = st->kcur ? g_prev : NAN,
-                           .grad_norm = gn, .grad_norm0 = st->gn0, .decrement = NAN,
+                           .grad_norm = gn, .grad_norm0 = st->gn0, .decrement = dec,
                            .step_norm = st->kcur ? sqrt(s2) : NAN, .x_norm = eo_norm2(n, st->xcur),
                            .tol = sc->tol};
-        reason = eo_external_stop(sc, &si);
+        reason = sc->stop->check(sc->stop_params, &si);
     }
     if (!reason && sc->time_budget > 0 && eo_wtime() - st->t0 > sc->time_budget)
         reason = EO_DIVERGED_TIME_BUDGET;
@@ -346,18 +364,17 @@ static int ip_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
     st->colptr = st->rowind = NULL;
     st->nnz = 0;
     st->kcur = st->ncb = st->reason = st->status = st->user_stop = st->mismatch = 0;
-    st->gcur = st->gncur = NAN;
+    st->gcur = st->gncur = st->dec = NAN;
     if (n != st->n) {
         rc = eo_error(sc->ctx, EO_ERR_INVALID, "ipopt: set up for n = %d, objective has n = %d",
                       st->n, n);
         goto done;
     }
-    eo_external_note_rule(sc, "ipopt");
     /* record 0: the start point, evaluated here so a bad or optimal start needs no Ipopt */
     memcpy(st->xcur, x, sizeof(double) * (size_t)n);
-    rc = eo_objective_gradient(obj, x, &st->gcur, st->xg); /* xg as gradient scratch */
+    rc = eo_objective_gradient(obj, x, &st->gcur, st->gradcur);
     if (rc < 0) goto done;
-    st->gncur = st->gn0 = isfinite(st->gcur) ? eo_norm2(n, st->xg) : NAN;
+    st->gncur = st->gn0 = isfinite(st->gcur) ? eo_norm2(n, st->gradcur) : NAN;
     st->glast = NAN;
     if (!isfinite(st->gcur) || !isfinite(st->gncur)) {
         reason = EO_DIVERGED_NONFINITE;
@@ -365,7 +382,7 @@ static int ip_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
         eo_stop_info si = {.iteration = 0, .g = st->gcur, .g_prev = NAN, .grad_norm = st->gncur,
                            .grad_norm0 = st->gn0, .decrement = NAN, .step_norm = NAN,
                            .x_norm = eo_norm2(n, x), .tol = sc->tol};
-        reason = eo_external_stop(sc, &si);
+        reason = sc->stop->check(sc->stop_params, &si);
         if (!reason && sc->max_iters <= 0) reason = EO_DIVERGED_MAX_ITERS;
     }
     if (!reason) {
@@ -421,6 +438,7 @@ done:
     res->iterations = st->kcur;
     res->g = st->gcur;
     res->grad_norm = st->gncur;
+    res->decrement = st->dec;
     res->time = eo_wtime() - st->t0;
     res->n_value = obj->n_value - nv0;
     res->n_gradient = obj->n_gradient - ng0;
