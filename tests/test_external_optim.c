@@ -4,8 +4,8 @@
  * positive reason on the convex quadratic, Rosenbrock and the −log barrier (never
  * accepting +∞), with both stopping rules; the minimizer agrees with Newton's; the
  * iteration records are consecutive, end with the reason and have non-increasing g;
- * iteration cap, callback stop, non-finite start, start at the minimizer, config keys;
- * no leaks. */
+ * iteration cap, callback stop, non-finite start, start at the minimizer, a start where
+ * every descent step is +∞ (ends with a negative reason at x₀), config keys; no leaks. */
 #include <jansson.h>
 #include <stdlib.h>
 #include <string.h>
@@ -103,7 +103,7 @@ static void test_minimizers(void)
     eo_ctx *ctx = eo_test_ctx();
     const int probs[] = {P_QUAD, P_ROSEN, P_BARRIER, P_ILL};
     const char *const stops[] = {"gradient", "newton_decrement"};
-    tlog L;
+    tlog L = {0};
     for (size_t q = 0; q < sizeof probs / sizeof probs[0]; q++) {
         tprob p;
         prob_init(ctx, &p, probs[q]);
@@ -157,7 +157,7 @@ static void test_minimizers(void)
 static void test_edges(void)
 {
     eo_ctx *ctx = eo_test_ctx();
-    tlog L;
+    tlog L = {0};
     for (size_t c = 0; c < N_CONFIGS; c++) {
         if (!built(configs[c].opt)) continue;
         const char *tag = configs[c].tag;
@@ -202,7 +202,7 @@ static void test_edges(void)
 static void test_barrier_far(void)
 {
     eo_ctx *ctx = eo_test_ctx();
-    tlog L;
+    tlog L = {0};
     for (size_t c = 0; c < N_CONFIGS; c++) {
         if (!built(configs[c].opt)) continue;
         tprob p;
@@ -220,6 +220,90 @@ static void test_barrier_far(void)
                    res.iterations, p.n_inf);
         prob_done(ctx, &p);
     }
+    eo_test_ctx_done(&ctx);
+}
+
+/* A start on the edge of the domain: g = Σ x_i for x ≥ 1 componentwise, +∞ elsewhere;
+ * every descent step leaves the domain, so no step can be accepted. The run must end
+ * with a negative reason (no error status), x = x₀ and only finite records. (Observed:
+ * NLopt's lbfgs/tnewton/var2 return NLOPT_FAILURE after HUGE_VAL → diverged_nonfinite;
+ * Ipopt cuts every step back to nothing and ends at the iteration cap.) */
+typedef struct edge_prob {
+    eo_assembler *as;
+    int h;
+} edge_prob;
+static int edge_gradient(void *d, const double *x, double *g, double *grad)
+{
+    (void)d;
+    *g = 0;
+    for (int i = 0; i < 3; i++) {
+        if (!(x[i] >= 1)) {
+            *g = INFINITY;
+            return EO_OK;
+        }
+        *g += x[i];
+        grad[i] = 1;
+    }
+    return EO_OK;
+}
+static int edge_value(void *d, const double *x, double *g)
+{
+    double gr[3];
+    return edge_gradient(d, x, g, gr);
+}
+static int edge_hessian(void *d, const double *x, eo_proj proj, eo_csc **H)
+{
+    edge_prob *e = d;
+    (void)x, (void)proj;
+    eo_assembler_zero(e->as); /* linear: zero Hessian (Ipopt regularizes it) */
+    *H = eo_assembler_matrix(e->as);
+    return EO_OK;
+}
+static const eo_objective_ops edge_ops = {.value = edge_value, .gradient = edge_gradient,
+                                          .hessian = edge_hessian};
+
+static void test_no_feasible_descent(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    edge_prob e = {0};
+    const int dofs[3] = {0, 1, 2};
+    if (eo_assembler_create(ctx, 3, &e.as) < 0) abort();
+    e.h = eo_assembler_add_elements(ctx, e.as, 3, 1, dofs);
+    if (e.h < 0 || eo_assembler_finalize(ctx, e.as) < 0) abort();
+    for (size_t c = 0; c < N_CONFIGS; c++) {
+        if (!built(configs[c].opt)) continue;
+        eo_solver_opts o;
+        eo_solver_opts_default(&o);
+        snprintf(o.optimizer, sizeof o.optimizer, "%s", configs[c].opt);
+        o.stop[0] = 0;
+        snprintf(o.stop, sizeof o.stop, "gradient");
+        eo_cfg *cfg = NULL;
+        if (eo_cfg_create_empty(ctx, &cfg) < 0) abort();
+        for (int i = 0; configs[c].overrides[i]; i++)
+            if (eo_cfg_override(ctx, cfg, configs[c].overrides[i]) < 0) abort();
+        eo_solver *s = NULL;
+        int st = eo_solver_create(ctx, &o, cfg, 3, &s);
+        eo_cfg_destroy(ctx, &cfg);
+        CHECK(st == EO_OK, "%s: create", configs[c].tag);
+        if (st < 0) continue;
+        eo_objective obj = {.n = 3, .ops = &edge_ops, .data = &e};
+        double x[3] = {1, 1, 1};
+        tlog L = {0};
+        L.n = 3;
+        eo_solve_result res;
+        st = eo_solver_minimize(s, &obj, x, on_iter, &L, &res);
+        /* mma runs with xtol_rel: its vanishing steps end with NLopt's converged_step */
+        int want_neg = strcmp(configs[c].tag, "nlopt/mma") != 0;
+        CHECK(st == EO_OK && (want_neg ? res.reason < 0 : res.reason != 0) && x[0] == 1 && x[1] == 1 && x[2] == 1 && L.nonfinite_g == 0 &&
+                  L.last_reason == res.reason,
+              "%s edge: status %d, %s after %d it, x = (%g %g %g)", configs[c].tag, st,
+              eo_reason_name(res.reason), res.iterations, x[0], x[1], x[2]);
+        if (getenv("EO_TEST_VERBOSE"))
+            printf("%-24s edge: %s it %d, nv %ld ng %ld\n", configs[c].tag, eo_reason_name(res.reason),
+                   res.iterations, res.n_value, res.n_gradient);
+        eo_solver_destroy(&s);
+    }
+    eo_assembler_destroy(ctx, &e.as);
     eo_test_ctx_done(&ctx);
 }
 
@@ -271,5 +355,6 @@ int main(void)
     test_minimizers();
     test_edges();
     test_barrier_far();
+    test_no_feasible_descent();
     return eo_test_finish("test_external_optim");
 }
