@@ -73,11 +73,15 @@ static int run(eo_ctx *ctx, tprob *p, const char *opt, const char *stop, double 
 typedef struct ext_cfg {
     const char *opt, *tag;
     const char *overrides[3];
+    double decrement_tol;  /* λ²/2 tolerance under newton_decrement (0 = 1e-16) */
 } ext_cfg;
 
 static const ext_cfg configs[] = {
     {"ipopt", "ipopt/exact", {"solver.ipopt.hessian=exact", NULL}},
-    {"ipopt", "ipopt/limited-memory", {"solver.ipopt.hessian=limited-memory", NULL}},
+    /* the decrement of a limited-memory direction is only an estimate of g - g*: the
+     * quasi-Newton matrix underestimates the flat valley's curvature, so it is asked
+     * for more to guarantee 1e-6 in x on Rosenbrock in every build type */
+    {"ipopt", "ipopt/limited-memory", {"solver.ipopt.hessian=limited-memory", NULL}, 1e-20},
     {"nlopt", "nlopt/lbfgs", {"solver.nlopt.algorithm=lbfgs", NULL}},
     {"nlopt", "nlopt/tnewton", {"solver.nlopt.algorithm=tnewton", NULL}},
     {"nlopt", "nlopt/var2", {"solver.nlopt.algorithm=var2", NULL}},
@@ -121,7 +125,8 @@ static void test_minimizers(void)
                 snprintf(tag, sizeof tag, "%s %s %s", p.name, configs[c].tag, stops[si]);
                 p.n_inf = 0;
                 /* tolerances of the contract suite: λ²/2 ≤ 1e-16, ‖∇g‖ ≤ 1e-10‖∇g₀‖ */
-                int st = run(ctx, &p, configs[c].opt, stops[si], si ? 1e-16 : 1e-10, 1000,
+                double dtol = configs[c].decrement_tol > 0 ? configs[c].decrement_tol : 1e-16;
+                int st = run(ctx, &p, configs[c].opt, stops[si], si ? dtol : 1e-10, 1000,
                              configs[c].overrides, x, &L, &res);
                 double err = prob_error(&p, x), agree = 0;
                 for (int i = 0; i < p.n; i++) agree = fmax(agree, fabs(x[i] - xn[i]));
