@@ -10,6 +10,7 @@ extern const eo_cli_command eo_cmd_list, eo_cmd_help;
 extern const eo_cli_command eo_cmd_material;
 extern const eo_cli_command eo_cmd_mesh, eo_cmd_convert;
 extern const eo_cli_command eo_cmd_run, eo_cmd_check;
+extern const eo_cli_command eo_cmd_bench;
 
 const eo_cli_command *const eo_cli_commands[] = {
     &eo_cmd_list,
@@ -17,6 +18,7 @@ const eo_cli_command *const eo_cli_commands[] = {
     &eo_cmd_run, &eo_cmd_check,
     &eo_cmd_mesh, &eo_cmd_convert,
     &eo_cmd_material,
+    &eo_cmd_bench,
     NULL,
 };
 

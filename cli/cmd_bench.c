@@ -1,0 +1,118 @@
+/* elastopt bench: the optimizer benchmark (bench.h) from the command line.
+ *
+ * Loads and checks the whole suite first (a bad suite exits 2 and writes nothing), then
+ * runs it, printing progress to stderr (scene, configuration, phase, elapsed time and
+ * an estimate of the time left), and writes curves.csv, summary.csv, reference.csv,
+ * trajectory.csv, report.md and plots/ into DIR. Exit 0 if every reference converged,
+ * no value was non-finite and every configuration named in `require_converged`
+ * converged everywhere; 1 otherwise; 2 on bad input or an I/O error. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "elastopt/bench.h"
+
+extern const eo_cli_command eo_cmd_bench;
+
+typedef struct progress_state {
+    int tty;
+    int last_scene, last_config;
+    const char *last_phase;
+} progress_state;
+
+static void fmt_dur(double s, char *buf, size_t n)
+{
+    if (s < 0) snprintf(buf, n, "?");
+    else if (s < 60) snprintf(buf, n, "%.0fs", s);
+    else if (s < 3600) snprintf(buf, n, "%dm%02ds", (int)(s / 60), (int)s % 60);
+    else snprintf(buf, n, "%dh%02dm", (int)(s / 3600), (int)(s / 60) % 60);
+}
+
+static void on_progress(const eo_bench_progress *p, void *user)
+{
+    progress_state *ps = user;
+    /* one line per change of scene/configuration/phase (a terminal gets \r updates) */
+    int changed = p->scene != ps->last_scene || p->config != ps->last_config || p->phase != ps->last_phase;
+    if (!changed && !ps->tty) return;
+    ps->last_scene = p->scene;
+    ps->last_config = p->config;
+    ps->last_phase = p->phase;
+    char el[32], eta[32];
+    fmt_dur(p->elapsed, el, sizeof el);
+    fmt_dur(p->eta, eta, sizeof eta);
+    fprintf(stderr, "%s[%3.0f%%] scene %d/%d %s", ps->tty ? "\r\033[K" : "", 100 * p->fraction, p->scene + 1,
+            p->nscenes, p->scene_name);
+    if (p->config >= 0) fprintf(stderr, "  config %d/%d %s", p->config + 1, p->nconfigs, p->config_name);
+    fprintf(stderr, "  (%s)  elapsed %s, left ~%s%s", p->phase, el, eta, ps->tty ? "" : "\n");
+    fflush(stderr);
+}
+
+static int run(eo_ctx *ctx, int argc, char **argv)
+{
+    const char *suite_path = NULL, *out = NULL;
+    int repeats = 0, plots = -1, quiet = 0;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) out = argv[++i];
+        else if (strcmp(argv[i], "--repeats") == 0 && i + 1 < argc) {
+            char *end;
+            long v = strtol(argv[++i], &end, 10);
+            if (*end || v < 1 || v > 16) return eo_cli_usage_error(&eo_cmd_bench, "--repeats needs 1..16");
+            repeats = (int)v;
+        } else if (strcmp(argv[i], "--no-plots") == 0) plots = 0;
+        else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) quiet = 1;
+        else if (argv[i][0] == '-') return eo_cli_usage_error(&eo_cmd_bench, "unknown option '%s'", argv[i]);
+        else if (suite_path) return eo_cli_usage_error(&eo_cmd_bench, "give one SUITE.json");
+        else suite_path = argv[i];
+    }
+    if (!suite_path) return eo_cli_usage_error(&eo_cmd_bench, "missing SUITE.json");
+    char dir[1200];
+    if (out) {
+        snprintf(dir, sizeof dir, "%s", out);
+    } else { /* out/bench-<suite base name> */
+        const char *b = strrchr(suite_path, '/');
+        b = b ? b + 1 : suite_path;
+        snprintf(dir, sizeof dir, "out/bench-%s", b);
+        char *dot = strrchr(dir, '.');
+        if (dot && dot > dir + 10) *dot = 0;
+    }
+    eo_bench_suite *s = NULL;
+    int rc = eo_bench_suite_load(ctx, suite_path, &s);
+    if (rc < 0) return eo_cli_fail(ctx, rc);
+    progress_state ps = {.tty = isatty(2), .last_scene = -1, .last_config = -2, .last_phase = NULL};
+    eo_bench_run_opts o = eo_bench_run_opts_default();
+    o.out_dir = dir;
+    o.repeats = repeats;
+    o.plots = plots;
+    o.progress = quiet ? NULL : on_progress;
+    o.user = &ps;
+    if (!quiet)
+        fprintf(stderr, "bench %s: %d scene(s) x %d configuration(s) -> %s\n", suite_path, eo_bench_suite_nscenes(s),
+                eo_bench_suite_nconfigs(s), dir);
+    eo_bench_summary sum;
+    rc = eo_bench_run(ctx, s, &o, &sum);
+    if (!quiet && ps.tty) fprintf(stderr, "\n");
+    eo_bench_suite_destroy(ctx, &s);
+    if (rc < 0) return eo_cli_fail(ctx, rc);
+    int bad = sum.ref_failures || sum.nonfinite || sum.required_failures;
+    if (!quiet)
+        printf("bench: %d runs in %.1f s; reference failures %d, non-finite %d, required failures %d, plots %d "
+               "-> %s/report.md\n",
+               sum.runs, sum.seconds, sum.ref_failures, sum.nonfinite, sum.required_failures, sum.plots_made, dir);
+    return bad ? EO_EXIT_NOT_CONVERGED : EO_EXIT_OK;
+}
+
+const eo_cli_command eo_cmd_bench = {
+    .name = "bench",
+    .summary = "benchmark solver configurations: speed against error (suite in bench/)",
+    .usage = "elastopt bench SUITE.json [--out DIR] [--repeats N] [--no-plots] [--quiet]\n\n"
+             "Runs a benchmark suite (bench/standard.json, bench/hard.json, bench/smoke.json; keys in\n"
+             "include/elastopt/bench.h): a tight Newton reference per step, then every configuration\n"
+             "from the same state, timed (median of N repeats after a warm-up). Writes into DIR\n"
+             "(default out/bench-<suite>): curves.csv (every iteration), summary.csv, reference.csv,\n"
+             "trajectory.csv, report.md and plots/*.png (gnuplot). Progress goes to stderr.\n"
+             "Exit status: 0 all references converged, nothing non-finite and every required\n"
+             "configuration converged; 1 otherwise; 2 bad input or I/O error.\n",
+    .run = run,
+};

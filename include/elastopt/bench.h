@@ -1,0 +1,169 @@
+/// @file bench.h
+/// The optimizer benchmark: speed against error of solver configurations on the step
+/// problems of scenes (`elastopt bench SUITE.json`).
+///
+/// A suite (JSON, loaded through config.h with descriptor tables; unknown keys are
+/// errors listing the valid keys) names scenes and solver configurations. For every
+/// scene the harness
+///  1. advances a REFERENCE trajectory: each step solved by Newton + clamp +
+///     backtracking + newton_decrement with λ²/2 ≤ ref_tol·|g(x₀)| (far tighter than any
+///     configuration), giving x*ₖ and g(x*ₖ) of the step objective at each state;
+///  2. for each configuration and each measured step k, from the same state (xₖ, vₖ) of
+///     the reference and the same starting guess x₀, runs the configuration once as
+///     warm-up (not timed; it also records the M-norm position error of every iterate)
+///     and `repeats` timed times, recording every iteration through the solver's
+///     on_iter callback into preallocated arrays: time, relative energy error
+///     eₖ = (g(xₖ) − g(x*)) / |g(x₀) − g(x*)|, position error ‖xₖ − x*‖_M / ‖x₀ − x*‖_M
+///     (M = lumped vertex mass over the free coordinates) and ‖∇g(xₖ)‖. In these curve
+///     runs the configuration's stopping rule is disabled (tol = 1e-300) and the harness
+///     stops the run when e ≤ `target`; the time budget and iteration cap still apply.
+///     The time of iterate k is when g(xₖ) is known: 0 for k = 0, else the time of
+///     record k−1 (after the line search that produced xₖ);
+///  3. runs each configuration over the scene's measured steps with its OWN stopping
+///     rule (trajectory run), from the reference state at the first measured step, and
+///     measures the mass-weighted RMS distance of its positions to the reference
+///     trajectory per frame, √(Σᵥ mᵥ‖xᵥ − x*ᵥ‖² / Σᵥ mᵥ) (m).
+/// Times: median of the timed repeats with min–max spread; ratios against the suite's
+/// named baseline configuration, measured in the same run.
+///
+/// ```c
+/// eo_bench_suite *s;
+/// rc = eo_bench_suite_load(ctx, "bench/smoke.json", &s);     // all checks happen here
+/// eo_bench_run_opts o = eo_bench_run_opts_default();
+/// o.out_dir = "out/smoke"; o.progress = my_progress;
+/// eo_bench_summary sum;
+/// rc = eo_bench_run(ctx, s, &o, &sum);   // writes curves.csv, summary.csv, report.md, PNGs
+/// eo_bench_suite_destroy(ctx, &s);
+/// ```
+/// Ownership: the suite owns copies of everything it read; eo_bench_run borrows it.
+///
+/// Suite keys (top level; `eo_bench_opts_desc`):
+///   description, repeats, baseline, target, ref_tol, ref_max_iters, max_iters,
+///   time_budget, steps, skip, trajectory, curve_rows, plots
+///   thresholds  list of relative energy errors for the time table (default
+///               [1e-2, 1e-4, 1e-6, 1e-8])
+///   budgets     list of time budgets (s) for the "error reached at" table
+///               (default [0.01, 0.1, 1])
+///   require_converged  list of configuration names that must converge on every step
+///               of every scene (exit status 1 otherwise)
+///   scenes      list; each entry `eo_bench_scene_desc` (name, scene | file, steps, skip,
+///               time_budget, max_iters) + "set": {"key": value, ...} overrides of the
+///               scene config + optional "vary": [{"label": {set}, ...}, ...] whose
+///               product expands the entry into scenes named name-label-label...
+///   configs     list; each entry {"name": ..., "set": {"solver.key": value, ...}}
+///               (only solver.* keys: a configuration changes the solver, not the scene)
+///   matrix      list; each entry {"optimizer": [...], "hessian_fix": [...],
+///               "linesearch": [...], "set": {...}} expands to the product
+///               optimizer × hessian_fix × linesearch named "opt-fix-ls". The Hessian
+///               fix is meaningless for optimizers that use no Hessian (gradient_descent,
+///               lbfgs: needs_hessian = 0 in the registry): for them one configuration
+///               per line search is made, named "opt-ls".
+/// Every configuration is resolved (solver created, keys checked) at load, so a bad
+/// suite fails before anything runs.
+#ifndef ELASTOPT_BENCH_H
+#define ELASTOPT_BENCH_H
+
+#include "config.h"
+#include "solver.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// Scalar suite options (top level of the suite document).
+typedef struct eo_bench_opts {
+    char description[256];  ///< free text. Default "".
+    int repeats;            ///< timed repeats per run (median), >= 1. Default 3.
+    char baseline[64];      ///< configuration the ratios refer to. Default "" (the first).
+    double target;          ///< curve runs stop at relative energy error <= target. Default 1e-10.
+    double ref_tol;         ///< reference: lambda^2/2 <= ref_tol*|g(x0)|. Default 1e-14.
+    int ref_max_iters;      ///< reference iteration cap. Default 500.
+    int max_iters;          ///< iteration cap of the curve runs. Default 10000.
+    double time_budget;     ///< seconds per minimization (curve and trajectory runs). Default 10.
+    int steps;              ///< measured steps per scene. Default 2.
+    int skip;               ///< reference-only steps before the measured ones. Default 0.
+    int trajectory;         ///< run the trajectory comparison. Default true.
+    int curve_rows;         ///< curves.csv: every iteration up to this one, then 50 per
+                            ///< decade of iteration count (0 = every iteration). Default 200.
+    int plots;              ///< make PNG plots with gnuplot (if installed). Default true.
+} eo_bench_opts;
+extern const eo_param_desc eo_bench_opts_desc[];
+
+/// One `scenes` entry (scalar keys; -1 = the suite's value).
+typedef struct eo_bench_scene_opts {
+    char name[96];          ///< scene name in the outputs (required).
+    char scene[64];         ///< built-in scene name. Default "" (then `file`).
+    char file[512];         ///< scene config file, relative to the suite's folder. Default "".
+    int steps, skip;        ///< Default -1.
+    double time_budget;     ///< Default -1.
+    int max_iters;          ///< Default -1.
+} eo_bench_scene_opts;
+extern const eo_param_desc eo_bench_scene_desc[];
+
+typedef struct eo_bench_suite eo_bench_suite;
+
+/// Load and check a suite: every scene config (with its overrides) is loaded and every
+/// configuration resolved. Errors: EO_ERR_IO, EO_ERR_PARSE, EO_ERR_UNKNOWN_KEY (valid
+/// keys listed), EO_ERR_TYPE, EO_ERR_RANGE, EO_ERR_UNKNOWN_NAME, EO_ERR_INVALID
+/// (duplicate or missing names, baseline not a configuration, empty suite), each
+/// naming the suite file and the scene/configuration.
+int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out);
+void eo_bench_suite_destroy(eo_ctx *ctx, eo_bench_suite **s);
+/// Scalar options (borrowed) and the expanded names.
+const eo_bench_opts *eo_bench_suite_opts(const eo_bench_suite *s);
+int eo_bench_suite_nscenes(const eo_bench_suite *s);
+int eo_bench_suite_nconfigs(const eo_bench_suite *s);
+const char *eo_bench_suite_scene_name(const eo_bench_suite *s, int i);
+const char *eo_bench_suite_config_name(const eo_bench_suite *s, int i);
+
+/// Progress report: scene i of n, configuration j of m (-1 while the reference runs),
+/// fraction done in [0, 1] and estimated seconds left (< 0 unknown).
+typedef struct eo_bench_progress {
+    int scene, nscenes, config, nconfigs;
+    const char *scene_name, *config_name, *phase;  ///< phase: "reference", "curves", "trajectory"
+    double elapsed, fraction, eta;
+} eo_bench_progress;
+typedef void (*eo_bench_progress_fn)(const eo_bench_progress *p, void *user);
+
+typedef struct eo_bench_run_opts {
+    const char *out_dir;          ///< output folder (created). Required.
+    int repeats;                  ///< > 0 overrides the suite's repeats. Default 0.
+    int plots;                    ///< 0 disables the plots, -1 = the suite's choice. Default -1.
+    eo_bench_progress_fn progress;
+    void *user;
+} eo_bench_run_opts;
+eo_bench_run_opts eo_bench_run_opts_default(void);
+
+/// What eo_bench_run found (counts over every scene × configuration).
+typedef struct eo_bench_summary {
+    int runs;                 ///< scene × configuration pairs
+    int ref_failures;         ///< reference steps that did not converge
+    int nonfinite;            ///< pairs with a non-finite value anywhere
+    int required_failures;    ///< required configurations that failed some step
+    int plots_made;           ///< PNG files written
+    double seconds;           ///< wall time of the whole run
+} eo_bench_summary;
+
+/// Run the suite and write into opts->out_dir: curves.csv, summary.csv, trajectory.csv,
+/// report.md and plots/ (PNG + gnuplot scripts and data). Returns EO_OK (the summary
+/// says what failed), or a negative status (I/O, out of memory, an objective error).
+int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *opts,
+                 eo_bench_summary *sum);
+
+/* ---- pieces, exposed for tests */
+
+/// Time at which a curve first reaches err <= thr: log-linear interpolation between
+/// the last iterate above thr and the first at or below it (time of the first iterate
+/// if it is already below; INFINITY if never). t[] nondecreasing, err[] may be <= 0.
+double eo_bench_time_to(int n, const double *t, const double *err, double thr);
+/// Error of the last iterate whose time is <= budget (err[0] if none; NAN if n = 0).
+double eo_bench_error_at(int n, const double *t, const double *err, double budget);
+/// Median, minimum and maximum of n values (INFINITY counts as a value; NAN ignored).
+/// Works on a copy of at most 64 values (more are ignored). Returns the median (NAN
+/// if no value).
+double eo_bench_median(int n, const double *v, double *vmin, double *vmax);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,1320 @@
+/* The optimizer benchmark harness (bench.h): suite loading and the per-step protocol.
+ *
+ * For a scene with measured steps k = 0..S−1 (after `skip` reference-only steps):
+ *
+ *   reference   xₖ₊₁ = argmin gₖ by Newton + clamp + backtracking, stopped when the
+ *               Newton decrement λ²/2 ≤ ref_tol·|gₖ(x₀)| (checked in the iteration
+ *               callback, the solver's own tol set to 1e-300); the states (xₖ, vₖ, tₖ),
+ *               x*ₖ, gₖ(x₀) and gₖ(x*ₖ) are stored.
+ *   curves      for each configuration and step: the step object is set back to state
+ *               k (eo_step_set_state), its objective and starting guess rebuilt, one
+ *               warm-up run records the position error eₚ = ‖x − x*‖_M/‖x₀ − x*‖_M of
+ *               every iterate (its own time excluded), then `repeats` timed runs record
+ *               time and g. Each run stops when eₑ = (g − g*)/|g₀ − g*| ≤ target.
+ *   trajectory  each configuration with its own stopping rule from state 0 over the S
+ *               steps; distance per frame to the reference positions.
+ *
+ * All recording buffers are sized before the runs; the callbacks do not allocate. One
+ * solver per configuration exists at a time (created per scene, rebuilt only when a
+ * release changes the number of free coordinates). */
+#include <jansson.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "bench_impl.h"
+#include "elastopt/io.h"
+#include "elastopt/scene.h"
+#include "elastopt/step.h"
+
+#define SZ(T, f) sizeof(((T *)0)->f)
+
+const eo_param_desc eo_bench_opts_desc[] = {
+    {.key = "description", .kind = EO_PARAM_STRING, .offset = offsetof(eo_bench_opts, description),
+     .size = SZ(eo_bench_opts, description), .def.s = "", .help = "free text describing the suite"},
+    {.key = "repeats", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, repeats), .def.i = 3, .min = 1,
+     .max = BENCH_MAX_REPEATS, .range = EO_RANGE_CLOSED,
+     .help = "timed repeats of every run (median reported; a warm-up run is excluded)"},
+    {.key = "baseline", .kind = EO_PARAM_STRING, .offset = offsetof(eo_bench_opts, baseline),
+     .size = SZ(eo_bench_opts, baseline), .def.s = "",
+     .help = "configuration the ratios refer to (default: the first configuration)"},
+    {.key = "target", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_bench_opts, target), .def.d = 1e-10,
+     .min = 0, .range = EO_RANGE_POSITIVE, .help = "curve runs stop at relative energy error <= target"},
+    {.key = "ref_tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_bench_opts, ref_tol), .def.d = 1e-14,
+     .min = 0, .range = EO_RANGE_POSITIVE, .help = "reference Newton stops at lambda^2/2 <= ref_tol*|g(x0)|"},
+    {.key = "ref_max_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, ref_max_iters), .def.i = 500,
+     .min = 1, .range = EO_RANGE_MIN, .help = "iteration cap of the reference solves"},
+    {.key = "max_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, max_iters), .def.i = 10000,
+     .min = 1, .max = 10000000, .range = EO_RANGE_CLOSED, .help = "iteration cap of the curve runs"},
+    {.key = "time_budget", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_bench_opts, time_budget), .def.d = 10,
+     .min = 0, .range = EO_RANGE_POSITIVE, .help = "seconds per minimization (curve and trajectory runs)"},
+    {.key = "steps", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, steps), .def.i = 2, .min = 1,
+     .range = EO_RANGE_MIN, .help = "measured time steps per scene"},
+    {.key = "skip", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, skip), .def.i = 0, .min = 0,
+     .range = EO_RANGE_MIN, .help = "reference-only time steps before the measured ones"},
+    {.key = "trajectory", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_bench_opts, trajectory), .def.i = 1,
+     .help = "run every configuration over the measured steps with its own stopping rule"},
+    {.key = "curve_rows", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, curve_rows), .def.i = 200,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "curves.csv keeps every iteration up to this one, then 50 per decade (0 = all)"},
+    {.key = "plots", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_bench_opts, plots), .def.i = 1,
+     .help = "make PNG plots with gnuplot (skipped with a note if gnuplot is missing)"},
+    {0},
+};
+
+const eo_param_desc eo_bench_scene_desc[] = {
+    {.key = "name", .kind = EO_PARAM_STRING, .offset = offsetof(eo_bench_scene_opts, name),
+     .size = SZ(eo_bench_scene_opts, name), .def.s = "", .help = "scene name in the outputs (required)"},
+    {.key = "scene", .kind = EO_PARAM_STRING, .offset = offsetof(eo_bench_scene_opts, scene),
+     .size = SZ(eo_bench_scene_opts, scene), .def.s = "", .help = "built-in scene (elastopt list)"},
+    {.key = "file", .kind = EO_PARAM_STRING, .offset = offsetof(eo_bench_scene_opts, file),
+     .size = SZ(eo_bench_scene_opts, file), .def.s = "", .help = "scene config file, relative to the suite"},
+    {.key = "steps", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_scene_opts, steps), .def.i = -1,
+     .help = "measured steps (-1 = the suite's)"},
+    {.key = "skip", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_scene_opts, skip), .def.i = -1,
+     .help = "reference-only steps first (-1 = the suite's)"},
+    {.key = "time_budget", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_bench_scene_opts, time_budget),
+     .def.d = -1, .help = "seconds per minimization (-1 = the suite's)"},
+    {.key = "max_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_scene_opts, max_iters), .def.i = -1,
+     .help = "iteration cap of the curve runs (-1 = the suite's)"},
+    {0},
+};
+
+/* ================================================================ pieces */
+
+double eo_bench_time_to(int n, const double *t, const double *err, double thr)
+{
+    for (int k = 0; k < n; k++) {
+        if (!(err[k] <= thr)) continue;
+        if (k == 0) return t[0];
+        double e0 = err[k - 1], e1 = err[k];
+        if (!(e1 > 0) || !(e0 > 0) || !isfinite(e0)) return t[k];
+        double f = (log(e0) - log(thr)) / (log(e0) - log(e1));
+        if (!(f >= 0)) f = 0;
+        if (f > 1) f = 1;
+        return t[k - 1] + f * (t[k] - t[k - 1]);
+    }
+    return INFINITY;
+}
+
+double eo_bench_error_at(int n, const double *t, const double *err, double budget)
+{
+    if (n <= 0) return NAN;
+    double e = err[0];
+    for (int k = 0; k < n && t[k] <= budget; k++) e = err[k];
+    return e;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+double eo_bench_median(int n, const double *v, double *vmin, double *vmax)
+{
+    double w[64];
+    int m = 0;
+    for (int i = 0; i < n && m < 64; i++)
+        if (!isnan(v[i])) w[m++] = v[i];
+    if (vmin) *vmin = NAN;
+    if (vmax) *vmax = NAN;
+    if (!m) return NAN;
+    qsort(w, (size_t)m, sizeof w[0], cmp_double);
+    if (vmin) *vmin = w[0];
+    if (vmax) *vmax = w[m - 1];
+    if (m % 2) return w[m / 2];
+    double a = w[m / 2 - 1], b = w[m / 2];
+    if (isinf(a) || isinf(b)) return b;
+    return 0.5 * (a + b);
+}
+
+/* ================================================================ suite loading */
+
+static int suite_err(eo_ctx *ctx, eo_cfg *cfg, const char *path, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
+static int suite_err(eo_ctx *ctx, eo_cfg *cfg, const char *path, int status, const char *fmt, ...)
+{
+    char text[900];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    eo_param_src src = eo_cfg_src(cfg, path);
+    eo_errloc loc = EO_ERRLOC_NONE;
+    loc.file = src.file;
+    if (src.text) eo_json_locate(src.text, path, &loc.line, &loc.column);
+    return eo_error_at(ctx, status, loc, "key '%s': %s", path, text);
+}
+
+/* Re-issue the context's error with a prefix naming the suite item. */
+static int wrap_err(eo_ctx *ctx, int rc, const char *file, const char *what, const char *name)
+{
+    char msg[1200];
+    snprintf(msg, sizeof msg, "%s", eo_ctx_message(ctx));
+    return eo_error(ctx, rc, "%s: %s '%s': %s", file, what, name, msg);
+}
+
+static void free_set(eo_ctx *ctx, char **set, int n)
+{
+    for (int i = 0; i < n; i++) eo_free(ctx, set[i]);
+    eo_free(ctx, set);
+}
+
+/* Append the members of a "set" object as "key=<json>" strings. */
+static int set_append(eo_ctx *ctx, eo_cfg *cfg, const char *path, const json_t *obj, char ***set, int *n)
+{
+    if (!obj) return EO_OK;
+    if (!json_is_object(obj))
+        return suite_err(ctx, cfg, path, EO_ERR_TYPE, "expected an object {\"key\": value, ...}, got %s",
+                         eo_json_type_name(obj));
+    size_t add = json_object_size(obj);
+    char **s = eo_realloc(ctx, *set, (size_t)(*n + (int)add + 1) * sizeof(char *));
+    if (!s) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    *set = s;
+    const char *key;
+    json_t *v;
+    json_object_foreach((json_t *)obj, key, v) {
+        char *text = json_dumps(v, JSON_ENCODE_ANY | JSON_COMPACT | JSON_REAL_PRECISION(17));
+        if (!text) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+        size_t len = strlen(key) + strlen(text) + 2;
+        char *a = eo_malloc(ctx, len);
+        if (!a) {
+            free(text);
+            return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+        }
+        snprintf(a, len, "%s=%s", key, text);
+        free(text);
+        s[(*n)++] = a;
+    }
+    return EO_OK;
+}
+
+static int copy_set(eo_ctx *ctx, char **src, int n, char ***dst, int *nd)
+{
+    *dst = NULL;
+    *nd = 0;
+    if (!n) return EO_OK;
+    *dst = eo_calloc(ctx, (size_t)n + 1, sizeof(char *));
+    if (!*dst) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    for (int i = 0; i < n; i++) {
+        (*dst)[i] = eo_strdup(ctx, src[i]);
+        if (!(*dst)[i]) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+        (*nd)++;
+    }
+    return EO_OK;
+}
+
+static int apply_set(eo_ctx *ctx, eo_cfg *cfg, char **set, int n)
+{
+    for (int i = 0; i < n; i++) {
+        int rc = eo_cfg_override(ctx, cfg, set[i]);
+        if (rc < 0) return rc;
+    }
+    return EO_OK;
+}
+
+/* Scene config of a suite scene: file or built-in, plus its overrides. */
+static int scene_cfg(eo_ctx *ctx, const bench_scene *b, eo_cfg **cfg)
+{
+    int rc = eo_scene_cfg_load(ctx, b->file[0] ? b->file : NULL, b->o.scene[0] ? b->o.scene : NULL, cfg);
+    if (rc < 0) return rc;
+    return apply_set(ctx, *cfg, b->set, b->nset);
+}
+
+/* Load a suite scene (configuration solver section ignored: the suite's configurations
+ * define the solver). */
+static int scene_open(eo_ctx *ctx, const bench_scene *b, eo_cfg **cfg, eo_scene **sc)
+{
+    *sc = NULL;
+    int rc = scene_cfg(ctx, b, cfg);
+    if (rc >= 0) rc = eo_scene_load(ctx, *cfg, sc);
+    if (rc >= 0) {
+        eo_cfg_consume(*cfg, "solver");
+        rc = eo_cfg_finish(ctx, *cfg);
+    }
+    return rc;
+}
+
+/* Solver options and config document of a configuration, with the harness' settings. */
+static int config_cfg(eo_ctx *ctx, const bench_config *c, eo_cfg **cfg, eo_solver_opts *so)
+{
+    int rc = eo_cfg_create_empty(ctx, cfg);
+    if (rc < 0) return rc;
+    rc = apply_set(ctx, *cfg, c->set, c->nset);
+    if (rc < 0) return rc;
+    eo_solver_opts_default(so);
+    return eo_solver_opts_load(ctx, *cfg, so);
+}
+
+static int add_scene(eo_ctx *ctx, eo_bench_suite *s, const bench_scene *b)
+{
+    if (s->nsc == s->capsc) {
+        int cap = s->capsc ? 2 * s->capsc : 16;
+        bench_scene *p = eo_realloc(ctx, s->sc, (size_t)cap * sizeof *p);
+        if (!p) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+        s->sc = p;
+        s->capsc = cap;
+    }
+    s->sc[s->nsc++] = *b;
+    return EO_OK;
+}
+
+static int add_config(eo_ctx *ctx, eo_bench_suite *s, const char *name, char **set, int nset)
+{
+    if (s->ncf == s->capcf) {
+        int cap = s->capcf ? 2 * s->capcf : 32;
+        bench_config *p = eo_realloc(ctx, s->cf, (size_t)cap * sizeof *p);
+        if (!p) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+        s->cf = p;
+        s->capcf = cap;
+    }
+    bench_config *c = s->cf + s->ncf;
+    memset(c, 0, sizeof *c);
+    snprintf(c->name, sizeof c->name, "%s", name);
+    s->ncf++;
+    return copy_set(ctx, set, nset, &c->set, &c->nset);
+}
+
+/* A list of positive numbers at `key`. */
+static int number_list(eo_ctx *ctx, eo_cfg *cfg, const char *key, double *out, int *n)
+{
+    json_t *v = eo_cfg_get(cfg, key);
+    if (!v) return EO_OK;
+    if (!json_is_array(v) || json_array_size(v) < 1 || json_array_size(v) > BENCH_MAX_LIST)
+        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of 1 to %d positive numbers", BENCH_MAX_LIST);
+    *n = 0;
+    size_t i;
+    json_t *e;
+    json_array_foreach(v, i, e) {
+        double d = json_number_value(e);
+        if (!json_is_number(e) || !(d > 0) || !isfinite(d))
+            return suite_err(ctx, cfg, key, EO_ERR_RANGE, "item %zu is not a positive number", i);
+        out[(*n)++] = d;
+    }
+    return EO_OK;
+}
+
+/* Expand one `scenes` entry (with its `vary` product). */
+static int load_scene_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int idx)
+{
+    static const char *const extra[] = {"set", "vary", NULL};
+    char path[64], sub[96];
+    snprintf(path, sizeof path, "scenes.%d", idx);
+    bench_scene b;
+    memset(&b, 0, sizeof b);
+    eo_params_default(eo_bench_scene_desc, &b.o);
+    int rc = eo_cfg_section(ctx, cfg, path, eo_bench_scene_desc, &b.o, extra);
+    if (rc < 0) return rc;
+    if (!json_is_object(eo_cfg_get(cfg, path)))
+        return suite_err(ctx, cfg, path, EO_ERR_TYPE, "expected an object");
+    if (!b.o.name[0]) return suite_err(ctx, cfg, path, EO_ERR_INVALID, "a scene needs a \"name\"");
+    if (!b.o.scene[0] == !b.o.file[0])
+        return suite_err(ctx, cfg, path, EO_ERR_INVALID, "give exactly one of \"scene\" (built-in) or \"file\"");
+    if (b.o.file[0]) {
+        if (b.o.file[0] != '/' && s->dir[0]) snprintf(b.file, sizeof b.file, "%s/%s", s->dir, b.o.file);
+        else snprintf(b.file, sizeof b.file, "%s", b.o.file);
+    }
+    b.steps = b.o.steps >= 1 ? b.o.steps : s->o.steps;
+    b.skip = b.o.skip >= 0 ? b.o.skip : s->o.skip;
+    b.max_iters = b.o.max_iters >= 1 ? b.o.max_iters : s->o.max_iters;
+    b.time_budget = b.o.time_budget > 0 ? b.o.time_budget : s->o.time_budget;
+    snprintf(sub, sizeof sub, "%s.set", path);
+    char **base = NULL;
+    int nbase = 0;
+    rc = set_append(ctx, cfg, sub, eo_cfg_get(cfg, sub), &base, &nbase);
+    if (rc < 0) goto done;
+    snprintf(sub, sizeof sub, "%s.vary", path);
+    json_t *vary = eo_cfg_get(cfg, sub);
+    int nvary = 0, count[8], pick[8];
+    json_t *axes[8];
+    if (vary) {
+        if (!json_is_array(vary) || json_array_size(vary) > 8) {
+            rc = suite_err(ctx, cfg, sub, EO_ERR_TYPE, "expected a list of at most 8 objects {\"label\": {set}, ...}");
+            goto done;
+        }
+        nvary = (int)json_array_size(vary);
+        for (int a = 0; a < nvary; a++) {
+            axes[a] = json_array_get(vary, (size_t)a);
+            if (!json_is_object(axes[a]) || !json_object_size(axes[a])) {
+                rc = suite_err(ctx, cfg, sub, EO_ERR_TYPE, "item %d: expected a non-empty object {\"label\": {set}}", a);
+                goto done;
+            }
+            count[a] = (int)json_object_size(axes[a]);
+            pick[a] = 0;
+        }
+    }
+    for (;;) {
+        bench_scene e = b;
+        e.set = NULL;
+        e.nset = 0;
+        rc = copy_set(ctx, base, nbase, &e.set, &e.nset);
+        snprintf(e.name, sizeof e.name, "%s", b.o.name);
+        size_t ln = strlen(e.name);
+        for (int a = 0; a < nvary && rc >= 0; a++) {
+            /* the pick[a]-th member of axis a (insertion order) */
+            const char *key;
+            json_t *v;
+            int j = 0;
+            json_object_foreach(axes[a], key, v) {
+                if (j++ != pick[a]) continue;
+                snprintf(e.name + ln, sizeof e.name - ln, "-%s", key);
+                ln = strlen(e.name);
+                char vp[200];
+                snprintf(vp, sizeof vp, "%s.%d.%s", sub, a, key);
+                rc = set_append(ctx, cfg, vp, v, &e.set, &e.nset);
+                break;
+            }
+        }
+        if (rc >= 0) rc = add_scene(ctx, s, &e);
+        if (rc < 0) {
+            free_set(ctx, e.set, e.nset);
+            goto done;
+        }
+        /* next combination */
+        int a = nvary - 1;
+        while (a >= 0 && ++pick[a] == count[a]) pick[a--] = 0;
+        if (a < 0) break;
+    }
+done:
+    free_set(ctx, base, nbase);
+    return rc;
+}
+
+static int load_config_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int idx)
+{
+    char path[64], sub[96];
+    snprintf(path, sizeof path, "configs.%d", idx);
+    json_t *item = eo_cfg_get(cfg, path);
+    if (!json_is_object(item)) return suite_err(ctx, cfg, path, EO_ERR_TYPE, "expected an object {\"name\", \"set\"}");
+    const char *key;
+    json_t *v;
+    json_object_foreach(item, key, v) {
+        if (strcmp(key, "name") && strcmp(key, "set")) {
+            snprintf(sub, sizeof sub, "%s.%s", path, key);
+            return suite_err(ctx, cfg, sub, EO_ERR_UNKNOWN_KEY, "unknown key; valid keys here: name, set");
+        }
+    }
+    json_t *name = json_object_get(item, "name");
+    if (!json_is_string(name) || !json_string_length(name))
+        return suite_err(ctx, cfg, path, EO_ERR_INVALID, "a configuration needs a \"name\" string");
+    char **set = NULL;
+    int nset = 0;
+    snprintf(sub, sizeof sub, "%s.set", path);
+    int rc = set_append(ctx, cfg, sub, json_object_get(item, "set"), &set, &nset);
+    if (rc >= 0) rc = add_config(ctx, s, json_string_value(name), set, nset);
+    free_set(ctx, set, nset);
+    return rc;
+}
+
+/* Names of a `matrix` axis: a list of strings (or absent: one empty entry). */
+static int axis_names(eo_ctx *ctx, eo_cfg *cfg, const char *path, const json_t *v, const char **out, int *n)
+{
+    *n = 0;
+    if (!v) {
+        out[(*n)++] = "";
+        return EO_OK;
+    }
+    if (!json_is_array(v) || !json_array_size(v) || json_array_size(v) > 16)
+        return suite_err(ctx, cfg, path, EO_ERR_TYPE, "expected a list of 1 to 16 names");
+    size_t i;
+    json_t *e;
+    json_array_foreach(v, i, e) {
+        if (!json_is_string(e)) return suite_err(ctx, cfg, path, EO_ERR_TYPE, "item %zu is not a name", i);
+        out[(*n)++] = json_string_value(e);
+    }
+    return EO_OK;
+}
+
+static int load_matrix_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int idx)
+{
+    static const char *const keys[] = {"optimizer", "hessian_fix", "linesearch", "set", NULL};
+    char path[64], sub[96];
+    snprintf(path, sizeof path, "matrix.%d", idx);
+    json_t *item = eo_cfg_get(cfg, path);
+    if (!json_is_object(item))
+        return suite_err(ctx, cfg, path, EO_ERR_TYPE, "expected an object {optimizer, hessian_fix, linesearch, set}");
+    const char *key;
+    json_t *v;
+    json_object_foreach(item, key, v) {
+        int ok = 0;
+        for (const char *const *k = keys; *k; k++) ok |= strcmp(*k, key) == 0;
+        if (!ok) {
+            snprintf(sub, sizeof sub, "%s.%s", path, key);
+            return suite_err(ctx, cfg, sub, EO_ERR_UNKNOWN_KEY,
+                             "unknown key; valid keys here: optimizer, hessian_fix, linesearch, set");
+        }
+    }
+    const char *opt[16], *fix[16], *ls[16];
+    int nopt, nfix, nls, rc;
+    snprintf(sub, sizeof sub, "%s.optimizer", path);
+    if ((rc = axis_names(ctx, cfg, sub, json_object_get(item, "optimizer"), opt, &nopt)) < 0) return rc;
+    snprintf(sub, sizeof sub, "%s.hessian_fix", path);
+    if ((rc = axis_names(ctx, cfg, sub, json_object_get(item, "hessian_fix"), fix, &nfix)) < 0) return rc;
+    snprintf(sub, sizeof sub, "%s.linesearch", path);
+    if ((rc = axis_names(ctx, cfg, sub, json_object_get(item, "linesearch"), ls, &nls)) < 0) return rc;
+    char **common = NULL;
+    int ncommon = 0;
+    snprintf(sub, sizeof sub, "%s.set", path);
+    rc = set_append(ctx, cfg, sub, json_object_get(item, "set"), &common, &ncommon);
+    for (int a = 0; a < nopt && rc >= 0; a++) {
+        const eo_optimizer_type *ot = NULL;
+        if (opt[a][0]) {
+            rc = eo_registry_find(ctx, EO_KIND_OPTIMIZER, opt[a], (const void **)&ot);
+            if (rc < 0) {
+                snprintf(sub, sizeof sub, "%s.optimizer", path);
+                char msg[600];
+                snprintf(msg, sizeof msg, "%s", eo_ctx_message(ctx));
+                rc = suite_err(ctx, cfg, sub, rc, "%s", msg);
+                break;
+            }
+        }
+        /* the Hessian fix only matters for optimizers that use the Hessian */
+        int use_fix = ot ? ot->needs_hessian : 1;
+        for (int b = 0; b < (use_fix ? nfix : 1) && rc >= 0; b++)
+            for (int c = 0; c < nls && rc >= 0; c++) {
+                char name[128] = "";
+                size_t k = 0;
+                const char *parts[3] = {opt[a], use_fix ? fix[b] : "", ls[c]};
+                for (int q = 0; q < 3; q++)
+                    if (parts[q][0]) k += (size_t)snprintf(name + k, sizeof name - k, "%s%s", k ? "-" : "", parts[q]);
+                char **set = NULL;
+                int nset = 0;
+                rc = copy_set(ctx, common, ncommon, &set, &nset);
+                char *extra[3] = {NULL, NULL, NULL};
+                const char *keys3[3] = {"solver.optimizer", "solver.hessian_fix", "solver.linesearch"};
+                int nextra = 0;
+                for (int q = 0; q < 3 && rc >= 0; q++) {
+                    if (!parts[q][0]) continue;
+                    size_t len = strlen(keys3[q]) + strlen(parts[q]) + 4;
+                    extra[nextra] = eo_malloc(ctx, len);
+                    if (!extra[nextra]) {
+                        rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+                        break;
+                    }
+                    snprintf(extra[nextra], len, "%s=\"%s\"", keys3[q], parts[q]);
+                    nextra++;
+                }
+                if (rc >= 0) {
+                    char **all = eo_realloc(ctx, set, (size_t)(nset + nextra + 1) * sizeof(char *));
+                    if (!all) rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+                    else {
+                        set = all;
+                        for (int q = 0; q < nextra; q++) {
+                            set[nset++] = extra[q];
+                            extra[q] = NULL;
+                        }
+                    }
+                }
+                for (int q = 0; q < 3; q++) eo_free(ctx, extra[q]);
+                if (rc >= 0) rc = add_config(ctx, s, name, set, nset);
+                free_set(ctx, set, nset);
+            }
+    }
+    free_set(ctx, common, ncommon);
+    return rc;
+}
+
+static int find_config(const eo_bench_suite *s, const char *name)
+{
+    for (int i = 0; i < s->ncf; i++)
+        if (strcmp(s->cf[i].name, name) == 0) return i;
+    return -1;
+}
+
+/* Resolve a configuration: solver created (every key and name checked). */
+static int check_config(eo_ctx *ctx, eo_bench_suite *s, bench_config *c)
+{
+    eo_cfg *cfg = NULL;
+    eo_solver *sv = NULL;
+    eo_solver_opts so;
+    int rc = EO_OK;
+    for (int i = 0; i < c->nset; i++)
+        if (strncmp(c->set[i], "solver.", 7) != 0) {
+            const char *eq = strchr(c->set[i], '=');
+            rc = eo_error(ctx, EO_ERR_INVALID,
+                          "key '%.*s': a configuration sets only solver.* keys (scene keys go in the scene's \"set\")",
+                          (int)(eq ? eq - c->set[i] : 0), c->set[i]);
+            goto fail;
+        }
+    EO_TRY(rc = config_cfg(ctx, c, &cfg, &so));
+    EO_TRY(rc = eo_solver_create(ctx, &so, cfg, 0, &sv));
+    EO_TRY(rc = eo_cfg_finish(ctx, cfg));
+    const eo_optimizer_type *ot = NULL;
+    EO_TRY(rc = eo_registry_find(ctx, EO_KIND_OPTIMIZER, so.optimizer, (const void **)&ot));
+    c->needs_hessian = ot->needs_hessian;
+    json_t *j = eo_solver_to_json(sv);
+    char *text = j ? json_dumps(j, JSON_COMPACT | JSON_REAL_PRECISION(10)) : NULL;
+    json_decref(j);
+    if (!text) {
+        rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+        goto fail;
+    }
+    c->resolved = eo_strdup(ctx, text);
+    free(text);
+    if (!c->resolved) rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+fail:
+    if (rc < 0) rc = wrap_err(ctx, rc, s->path, "configuration", c->name);
+    eo_solver_destroy(&sv);
+    eo_cfg_destroy(ctx, &cfg);
+    return rc;
+}
+
+static int check_scene(eo_ctx *ctx, eo_bench_suite *s, bench_scene *b)
+{
+    eo_cfg *cfg = NULL;
+    eo_scene *sc = NULL;
+    int rc = scene_open(ctx, b, &cfg, &sc);
+    if (rc >= 0) {
+        b->nt = sc->mesh->nt;
+        b->nv = sc->mesh->nv;
+        snprintf(b->model, sizeof b->model, "%s", sc->mat[0].opts.model);
+        b->E = sc->mat[0].opts.E;
+        b->nu = sc->mat[0].opts.nu;
+    } else {
+        rc = wrap_err(ctx, rc, s->path, "scene", b->name);
+    }
+    eo_scene_destroy(ctx, &sc);
+    eo_cfg_destroy(ctx, &cfg);
+    return rc;
+}
+
+void eo_bench_suite_destroy(eo_ctx *ctx, eo_bench_suite **ps)
+{
+    if (!ps || !*ps) return;
+    eo_bench_suite *s = *ps;
+    for (int i = 0; i < s->nsc; i++) free_set(ctx, s->sc[i].set, s->sc[i].nset);
+    for (int i = 0; i < s->ncf; i++) {
+        free_set(ctx, s->cf[i].set, s->cf[i].nset);
+        eo_free(ctx, s->cf[i].resolved);
+    }
+    eo_free(ctx, s->sc);
+    eo_free(ctx, s->cf);
+    eo_free(ctx, s->req);
+    eo_free(ctx, s);
+    *ps = NULL;
+}
+
+int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out)
+{
+    static const char *const top[] = {"thresholds", "budgets", "require_converged", "scenes", "configs", "matrix",
+                                      NULL};
+    *out = NULL;
+    eo_cfg *cfg = NULL;
+    int rc;
+    eo_bench_suite *s = eo_calloc(ctx, 1, sizeof *s);
+    if (!s) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    snprintf(s->path, sizeof s->path, "%s", path);
+    const char *slash = strrchr(path, '/');
+    if (slash) snprintf(s->dir, sizeof s->dir, "%.*s", (int)(slash - path), path);
+    eo_params_default(eo_bench_opts_desc, &s->o);
+    double thr[] = {1e-2, 1e-4, 1e-6, 1e-8}, bud[] = {0.01, 0.1, 1};
+    s->nthr = 4;
+    memcpy(s->thr, thr, sizeof thr);
+    s->nbud = 3;
+    memcpy(s->bud, bud, sizeof bud);
+    EO_TRY(rc = eo_cfg_load(ctx, path, NULL, &cfg));
+    EO_TRY(rc = eo_cfg_section(ctx, cfg, "", eo_bench_opts_desc, &s->o, top));
+    EO_TRY(rc = number_list(ctx, cfg, "thresholds", s->thr, &s->nthr));
+    EO_TRY(rc = number_list(ctx, cfg, "budgets", s->bud, &s->nbud));
+    for (int i = 0; i < s->nthr; i++)
+        if (s->thr[i] <= s->o.target) {
+            rc = suite_err(ctx, cfg, "thresholds", EO_ERR_RANGE,
+                           "threshold %g is not above target %g: runs stop before reaching it", s->thr[i],
+                           s->o.target);
+            goto fail;
+        }
+    json_t *list = eo_cfg_get(cfg, "scenes");
+    if (!json_is_array(list) || !json_array_size(list)) {
+        rc = suite_err(ctx, cfg, "scenes", EO_ERR_INVALID, "a suite needs a non-empty list \"scenes\"");
+        goto fail;
+    }
+    for (size_t i = 0; i < json_array_size(list); i++) EO_TRY(rc = load_scene_entry(ctx, s, cfg, (int)i));
+    list = eo_cfg_get(cfg, "configs");
+    if (list && !json_is_array(list)) {
+        rc = suite_err(ctx, cfg, "configs", EO_ERR_TYPE, "expected a list of configurations");
+        goto fail;
+    }
+    for (size_t i = 0; list && i < json_array_size(list); i++) EO_TRY(rc = load_config_entry(ctx, s, cfg, (int)i));
+    list = eo_cfg_get(cfg, "matrix");
+    if (list && !json_is_array(list)) {
+        rc = suite_err(ctx, cfg, "matrix", EO_ERR_TYPE, "expected a list of matrix objects");
+        goto fail;
+    }
+    for (size_t i = 0; list && i < json_array_size(list); i++) EO_TRY(rc = load_matrix_entry(ctx, s, cfg, (int)i));
+    if (!s->ncf) {
+        rc = suite_err(ctx, cfg, "configs", EO_ERR_INVALID, "a suite needs at least one configuration (configs or matrix)");
+        goto fail;
+    }
+    for (int i = 0; i < s->nsc; i++)
+        for (int j = 0; j < i; j++)
+            if (strcmp(s->sc[i].name, s->sc[j].name) == 0) {
+                rc = suite_err(ctx, cfg, "scenes", EO_ERR_INVALID, "two scenes are named '%s'", s->sc[i].name);
+                goto fail;
+            }
+    for (int i = 0; i < s->ncf; i++)
+        if (find_config(s, s->cf[i].name) != i) {
+            rc = suite_err(ctx, cfg, "configs", EO_ERR_INVALID, "two configurations are named '%s'", s->cf[i].name);
+            goto fail;
+        }
+    s->baseline = 0;
+    if (s->o.baseline[0] && (s->baseline = find_config(s, s->o.baseline)) < 0) {
+        char names[2048];
+        size_t k = 0;
+        names[0] = 0;
+        for (int i = 0; i < s->ncf && k < sizeof names; i++)
+            k += (size_t)snprintf(names + k, sizeof names - k, "%s%s", i ? ", " : "", s->cf[i].name);
+        rc = suite_err(ctx, cfg, "baseline", EO_ERR_INVALID, "'%s' is not a configuration; configurations: %s",
+                       s->o.baseline, names);
+        goto fail;
+    }
+    snprintf(s->o.baseline, sizeof s->o.baseline, "%.63s", s->cf[s->baseline].name);
+    list = eo_cfg_get(cfg, "require_converged");
+    if (list) {
+        if (!json_is_array(list)) {
+            rc = suite_err(ctx, cfg, "require_converged", EO_ERR_TYPE, "expected a list of configuration names");
+            goto fail;
+        }
+        s->req = eo_calloc(ctx, json_array_size(list) + 1, sizeof(int));
+        if (!s->req) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+            goto fail;
+        }
+        size_t i;
+        json_t *e;
+        json_array_foreach(list, i, e) {
+            int k = json_is_string(e) ? find_config(s, json_string_value(e)) : -1;
+            if (k < 0) {
+                rc = suite_err(ctx, cfg, "require_converged", EO_ERR_INVALID, "item %zu is not a configuration name", i);
+                goto fail;
+            }
+            s->req[s->nreq++] = k;
+        }
+    }
+    EO_TRY(rc = eo_cfg_finish(ctx, cfg));
+    for (int i = 0; i < s->ncf; i++) EO_TRY(rc = check_config(ctx, s, s->cf + i));
+    for (int i = 0; i < s->nsc; i++) EO_TRY(rc = check_scene(ctx, s, s->sc + i));
+    eo_cfg_destroy(ctx, &cfg);
+    *out = s;
+    return EO_OK;
+fail:
+    eo_cfg_destroy(ctx, &cfg);
+    eo_bench_suite_destroy(ctx, &s);
+    return rc;
+}
+
+const eo_bench_opts *eo_bench_suite_opts(const eo_bench_suite *s) { return &s->o; }
+int eo_bench_suite_nscenes(const eo_bench_suite *s) { return s->nsc; }
+int eo_bench_suite_nconfigs(const eo_bench_suite *s) { return s->ncf; }
+const char *eo_bench_suite_scene_name(const eo_bench_suite *s, int i)
+{
+    return i >= 0 && i < s->nsc ? s->sc[i].name : NULL;
+}
+const char *eo_bench_suite_config_name(const eo_bench_suite *s, int i)
+{
+    return i >= 0 && i < s->ncf ? s->cf[i].name : NULL;
+}
+
+eo_bench_run_opts eo_bench_run_opts_default(void)
+{
+    eo_bench_run_opts o = {.out_dir = NULL, .repeats = 0, .plots = -1, .progress = NULL, .user = NULL};
+    return o;
+}
+
+/* ================================================================ running */
+
+/* Recording buffer of one minimization (sized before the run). */
+typedef struct rec_buf {
+    int cap, n;
+    double *t, *g, *gn, *pe;  /* per record; pe NULL: no position error */
+    double *e;                /* relative energy error, filled after the run */
+    const double *xstar, *wM;
+    double pe0;               /* ‖x₀ − x*‖_M */
+    int nfree;
+    double gstar, de, target, budget, cb_time;
+    double gbest;             /* lowest g so far */
+    int since_best;           /* records since gbest last decreased */
+    int reached, out_of_time, stagnated;
+} rec_buf;
+
+/* A curve run that has not lowered its best g for this many iterations is stopped as
+ * stagnated (the step length has reached the rounding level of g: e.g. Armijo accepts
+ * α‖p‖ too small to change g, and the run would otherwise go on to its cap). */
+enum { STAGNATION_ITERS = 20 };
+
+static double mnorm_diff(int n, const double *w, const double *a, const double *b)
+{
+    double s = 0;
+    for (int i = 0; i < n; i++) {
+        double d = a[i] - b[i];
+        s += w[i] * d * d;
+    }
+    return sqrt(s);
+}
+
+static int curve_iter(const eo_iter_info *it, void *user)
+{
+    rec_buf *b = user;
+    double t_in = b->pe ? eo_wtime() : 0;
+    double t = it->time - b->cb_time;
+    if (b->n < b->cap) {
+        int k = b->n++;
+        b->t[k] = t;
+        b->g[k] = it->g;
+        b->gn[k] = it->grad_norm;
+        if (b->pe) {
+            double d = mnorm_diff(b->nfree, b->wM, it->x, b->xstar);
+            b->pe[k] = b->pe0 > 0 ? d / b->pe0 : (d == 0 ? 0 : INFINITY);
+        }
+    }
+    int stop = 0;
+    if (it->g < b->gbest) {
+        b->gbest = it->g;
+        b->since_best = 0;
+    } else {
+        b->since_best++;
+    }
+    if ((it->g - b->gstar) / b->de <= b->target) stop = b->reached = 1;
+    else if (b->budget > 0 && t > b->budget) stop = b->out_of_time = 1;
+    else if (b->since_best >= STAGNATION_ITERS) stop = b->stagnated = 1;
+    if (b->pe) b->cb_time += eo_wtime() - t_in;
+    return stop;
+}
+
+/* Reference stop: the Newton decrement below tol = ref_tol·|g(x₀)|, or the rounding
+ * floor: the last step did not lower g although its decrement was already below
+ * 1e-9·|g(x₀)| (then no tighter solution exists in floating point: the line search
+ * only accepts steps that leave g unchanged). */
+typedef struct ref_state {
+    double tol, gscale, dec, prev_g, prev_dec;
+    int stopped, rounding;
+} ref_state;
+
+static int ref_iter(const eo_iter_info *it, void *user)
+{
+    ref_state *r = user;
+    if (!isnan(it->decrement)) r->dec = it->decrement;
+    if (it->iteration > 0 && !(it->g < r->prev_g) && r->prev_dec <= 1e-9 * r->gscale) {
+        r->dec = r->prev_dec;
+        return r->stopped = r->rounding = 1;
+    }
+    r->prev_g = it->g;
+    r->prev_dec = isnan(it->decrement) ? INFINITY : it->decrement;
+    if (!isnan(it->decrement) && it->decrement <= r->tol && !it->reason) return r->stopped = 1;
+    return 0;
+}
+
+static int all_finite(int n, const double *x)
+{
+    for (int i = 0; i < n; i++)
+        if (!isfinite(x[i])) return 0;
+    return 1;
+}
+
+/* Mass-weighted RMS distance of two full position vectors. */
+static double rms_dist(int nv, const double *m, const double *a, const double *b)
+{
+    double s = 0, mt = 0;
+    for (int v = 0; v < nv; v++) {
+        double d2 = 0;
+        for (int k = 0; k < 3; k++) {
+            double d = a[3 * v + k] - b[3 * v + k];
+            d2 += d * d;
+        }
+        s += m[v] * d2;
+        mt += m[v];
+    }
+    return mt > 0 ? sqrt(s / mt) : NAN;
+}
+
+typedef struct run_ctx {
+    eo_ctx *ctx;
+    const eo_bench_suite *s;
+    const eo_bench_run_opts *ro;
+    bench_out *out;
+    int repeats, si;
+    double t0, units_total, units_done;
+    FILE *curves, *traj;
+} run_ctx;
+
+static void progress(run_ctx *r, int si, int ci, const char *phase)
+{
+    if (!r->ro->progress) return;
+    eo_bench_progress p = {.scene = si, .nscenes = r->s->nsc, .config = ci, .nconfigs = r->s->ncf,
+                           .scene_name = r->s->sc[si].name,
+                           .config_name = ci >= 0 ? r->s->cf[ci].name : "",
+                           .phase = phase};
+    p.elapsed = eo_wtime() - r->t0;
+    p.fraction = r->units_total > 0 ? r->units_done / r->units_total : 0;
+    p.eta = p.fraction > 0.002 ? p.elapsed * (1 - p.fraction) / p.fraction : -1;
+    r->ro->progress(&p, r->ro->user);
+}
+
+static double scene_units(const eo_bench_suite *s, const bench_scene *b, int repeats)
+{
+    return (double)b->nt * (b->steps + b->skip) + (double)b->nt * b->steps * s->ncf * (repeats + 2);
+}
+
+/* (Re)create a solver for n free coordinates when needed. */
+static int solver_for(eo_ctx *ctx, const eo_solver_opts *so, eo_cfg *cfg, int n, eo_solver **sv, int *sv_n)
+{
+    if (*sv && *sv_n == n) return EO_OK;
+    eo_solver_destroy(sv);
+    *sv_n = n;
+    return eo_solver_create(ctx, so, cfg, n, sv);
+}
+
+static void csv_num(FILE *f, double v)
+{
+    if (isnan(v)) fputs(",", f);
+    else if (isinf(v)) fputs(v > 0 ? ",inf" : ",-inf", f);
+    else fprintf(f, ",%.6e", v);
+}
+
+static const char *curve_reason_name(const bench_step_res *r)
+{
+    return r->reached ? "reached_target" : r->stagnated ? "stagnated" : eo_reason_name(r->reason);
+}
+
+/* Write the curve rows of one (scene, config, step) and the plot data block. */
+static void write_curve(run_ctx *r, FILE *dat, const bench_scene *b, const bench_config *c, int step,
+                        rec_buf *w, rec_buf *rep, int nrep, const bench_step_res *res, double *tmp)
+{
+    int nmax = 0;
+    for (int q = 0; q < nrep; q++)
+        if (rep[q].n > nmax) nmax = rep[q].n;
+    fprintf(dat, "# %s step %d\n", c->name, step + 1);
+    for (int k = 0; k < nmax; k++) {
+        int m = 0, src = -1;
+        for (int q = 0; q < nrep; q++)
+            if (rep[q].n > k) {
+                tmp[m++] = rep[q].t[k];
+                if (src < 0) src = q;
+            }
+        double tmin, tmax, tmed = eo_bench_median(m, tmp, &tmin, &tmax);
+        double e = rep[src].e[k];
+        double pe = w->pe && k < w->n ? w->pe[k] : NAN;
+        if (!eo_bench_keep_row(k, nmax, r->s->o.curve_rows)) continue;
+        fprintf(r->curves, "%s,%d,%s,%d", b->name, step + 1, c->name, k);
+        csv_num(r->curves, tmed);
+        csv_num(r->curves, tmin);
+        csv_num(r->curves, tmax);
+        csv_num(r->curves, rep[src].g[k]);
+        csv_num(r->curves, e);
+        csv_num(r->curves, pe);
+        csv_num(r->curves, rep[src].gn[k]);
+        fprintf(r->curves, ",%s\n", k == nmax - 1 ? curve_reason_name(res) : "");
+        if (k > 0 && tmed > 0 && tmed < r->out->res[r->si].tmin) r->out->res[r->si].tmin = tmed;
+        fprintf(dat, "%.6e %.6e\n", k > 0 ? tmed : 0.0, e > 1e-17 ? e : 1e-17);
+    }
+    fprintf(dat, "\n\n");
+}
+
+/* Run the curves of one configuration on one step from the current guess. */
+static int run_curves(run_ctx *r, eo_solver *sv, eo_objective *obj, const double *x0, double *x, const bench_ref *ref,
+                      const double *xstar, const double *wM, rec_buf *w, rec_buf *rep, bench_step_res *res,
+                      double budget)
+{
+    eo_ctx *ctx = r->ctx;
+    int n = obj->n;
+    double de = fabs(ref->g0 - ref->gstar);
+    if (!(de > 0)) de = fmax(fabs(ref->gstar), 1e-300);
+    double pe0 = mnorm_diff(n, wM, x0, xstar);
+    eo_solve_result sr;
+    int rc;
+    for (int q = -1; q < r->repeats; q++) {
+        rec_buf *b = q < 0 ? w : rep + q;
+        b->n = 0;
+        b->nfree = n;
+        b->xstar = xstar;
+        b->wM = wM;
+        b->pe0 = pe0;
+        b->gstar = ref->gstar;
+        b->de = de;
+        b->target = r->s->o.target;
+        b->budget = budget;
+        b->cb_time = 0;
+        b->gbest = INFINITY;
+        b->since_best = 0;
+        b->reached = b->out_of_time = b->stagnated = 0;
+        memcpy(x, x0, (size_t)n * sizeof(double));
+        rc = eo_solver_minimize(sv, obj, x, curve_iter, b, &sr);
+        if (rc < 0) return rc;
+        if (q == 0) {
+            res->reason = b->out_of_time ? EO_DIVERGED_TIME_BUDGET : sr.reason;
+            res->reached = b->reached;
+            res->stagnated = b->stagnated;
+        }
+        if (!all_finite(n, x)) res->nonfinite = 1;
+        if (sr.reason == EO_DIVERGED_NONFINITE) res->nonfinite = 1;
+    }
+    /* iterate times: τ₀ = 0, τₖ = time of record k−1; relative errors */
+    res->nrep = r->repeats;
+    double tots[BENCH_MAX_REPEATS];
+    for (int q = -1; q < r->repeats; q++) {
+        rec_buf *b = q < 0 ? w : rep + q;
+        for (int k = b->n - 1; k >= 1; k--) b->t[k] = b->t[k - 1];
+        if (b->n) b->t[0] = 0;
+        for (int k = 0; k < b->n; k++) {
+            if (isnan(b->g[k]) || isnan(b->gn[k])) res->nonfinite = 1;
+            b->e[k] = (b->g[k] - ref->gstar) / de;
+        }
+        if (q < 0) continue;
+        tots[q] = b->n ? b->t[b->n - 1] : 0;
+        for (int j = 0; j < r->s->nthr; j++) res->ttt[j][q] = eo_bench_time_to(b->n, b->t, b->e, r->s->thr[j]);
+        for (int j = 0; j < r->s->nbud; j++) res->eab[j][q] = eo_bench_error_at(b->n, b->t, b->e, r->s->bud[j]);
+    }
+    /* iterations and final error of the median-time repeat */
+    double med = eo_bench_median(r->repeats, tots, NULL, NULL);
+    int pick = 0;
+    for (int q = 0; q < r->repeats; q++)
+        if (fabs(tots[q] - med) < fabs(tots[pick] - med)) pick = q;
+    res->iters = rep[pick].n ? rep[pick].n - 1 : 0;
+    res->final_err = rep[pick].n ? rep[pick].e[rep[pick].n - 1] : NAN;
+    (void)ctx;
+    return EO_OK;
+}
+
+static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int is_traj)
+{
+    for (int j = 0; j < s->nthr; j++) {
+        double tot[BENCH_MAX_REPEATS];
+        for (int q = 0; q < repeats; q++) {
+            tot[q] = 0;
+            for (int k = 0; k < p->nsteps; k++) tot[q] += p->st[k].ttt[j][q];
+        }
+        p->ttt_med[j] = eo_bench_median(repeats, tot, &p->ttt_min[j], &p->ttt_max[j]);
+    }
+    for (int j = 0; j < s->nbud; j++) {
+        double worst[BENCH_MAX_REPEATS];
+        for (int q = 0; q < repeats; q++) {
+            worst[q] = -INFINITY;
+            for (int k = 0; k < p->nsteps; k++) worst[q] = fmax(worst[q], p->st[k].eab[j][q]);
+        }
+        p->eab_med[j] = eo_bench_median(repeats, worst, NULL, NULL);
+    }
+    p->steps_reached = 0;
+    for (int k = 0; k < p->nsteps; k++) {
+        p->steps_reached += p->st[k].reached;
+        p->nonfinite |= p->st[k].nonfinite;
+    }
+    p->first_bad_step = -1;
+    p->traj_converged = 0;
+    p->traj_time = 0;
+    p->traj_max_dist = 0;
+    p->traj_final_dist = NAN;
+    if (is_traj) {
+        for (int k = 0; k < p->traj_done; k++) {
+            const bench_traj_res *t = p->tr + k;
+            p->nonfinite |= t->nonfinite;
+            if (t->reason > 0) p->traj_converged++;
+            else if (p->first_bad_step < 0) {
+                p->first_bad_step = k;
+                p->first_bad_reason = t->reason;
+            }
+            p->traj_time += t->time;
+            p->traj_max_dist = fmax(p->traj_max_dist, t->dist);
+            p->traj_final_dist = t->dist;
+        }
+        if (p->traj_done < p->nsteps && p->first_bad_step < 0) {
+            p->first_bad_step = p->traj_done;
+            p->first_bad_reason = EO_DIVERGED_NONFINITE;
+        }
+    } else {
+        for (int k = 0; k < p->nsteps; k++)
+            if (!p->st[k].reached && p->first_bad_step < 0) {
+                p->first_bad_step = k;
+                p->first_bad_reason = p->st[k].reason;
+            }
+    }
+    if (p->nonfinite) {
+        snprintf(p->status, sizeof p->status, "non-finite");
+        snprintf(p->reason, sizeof p->reason, "non-finite value (step %d: %s)",
+                 (p->first_bad_step >= 0 ? p->first_bad_step : 0) + 1,
+                 p->first_bad_step >= 0 ? eo_reason_name(p->first_bad_reason) : "curve run");
+    } else if (p->first_bad_step < 0) {
+        snprintf(p->status, sizeof p->status, "converged");
+        snprintf(p->reason, sizeof p->reason, "%s", is_traj ? "converged on every step" : "reached target on every step");
+    } else {
+        snprintf(p->status, sizeof p->status, "stopped");
+        snprintf(p->reason, sizeof p->reason, "step %d: %s", p->first_bad_step + 1, eo_reason_name(p->first_bad_reason));
+    }
+}
+
+/* One scene: reference, curves of every configuration, trajectories. */
+static int run_scene(run_ctx *r, int si)
+{
+    eo_ctx *ctx = r->ctx;
+    const eo_bench_suite *s = r->s;
+    const bench_scene *b = s->sc + si;
+    bench_scene_res *sr = r->out->res + si;
+    eo_cfg *scfg = NULL, *ccfg = NULL;
+    eo_scene *sc = NULL;
+    eo_step *st = NULL;
+    eo_solver *ref = NULL, *sv = NULL;
+    eo_afile *datf = NULL;
+    double *mem = NULL;
+    int rc, ref_n = -1, sv_n = -1;
+    const int S = b->steps;
+    r->si = si;
+    sr->tmin = INFINITY;
+    progress(r, si, -1, "reference");
+    EO_TRY(rc = scene_open(ctx, b, &scfg, &sc));
+    EO_TRY(rc = eo_step_create(ctx, sc, &st));
+    const int nv = sc->mesh->nv, nf = 3 * nv, cap = b->max_iters + 2, R = r->repeats;
+    /* frames (x, v) 0..S, x* per step, guess, x, wM, recording buffers */
+    size_t need = (size_t)(S + 1) * 2 * nf + (size_t)S * nf + 3 * (size_t)nf + 64 +
+                  (size_t)(R + 1) * 5 * (size_t)cap + (size_t)S + 1;
+    mem = eo_malloc(ctx, need * sizeof(double));
+    sr->ref = eo_calloc(ctx, (size_t)S, sizeof *sr->ref);
+    sr->pair = eo_calloc(ctx, (size_t)s->ncf, sizeof *sr->pair);
+    if (!mem || !sr->ref || !sr->pair) {
+        rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (bench scene %s)", b->name);
+        goto fail;
+    }
+    double *fx = mem, *fv = fx + (size_t)(S + 1) * nf, *xs = fv + (size_t)(S + 1) * nf;
+    double *x0 = xs + (size_t)S * nf, *x = x0 + nf, *wM = x + nf, *tmp = wM + nf;
+    double *ft = tmp + 64, *recmem = ft + S + 1;
+    rec_buf w, rep[BENCH_MAX_REPEATS];
+    for (int q = -1; q < R; q++) {
+        rec_buf *b2 = q < 0 ? &w : rep + q;
+        double *p = recmem + (size_t)(q + 1) * 5 * (size_t)cap;
+        memset(b2, 0, sizeof *b2);
+        b2->cap = cap;
+        b2->t = p, b2->g = p + cap, b2->gn = p + 2 * (size_t)cap, b2->e = p + 3 * (size_t)cap;
+        b2->pe = q < 0 ? p + 4 * (size_t)cap : NULL;
+    }
+    const double *vmass = eo_step_vertex_mass(st);
+
+    /* ---- reference */
+    eo_solver_opts rso;
+    eo_solver_opts_default(&rso);
+    snprintf(rso.optimizer, sizeof rso.optimizer, "newton");
+    snprintf(rso.hessian_fix, sizeof rso.hessian_fix, "clamp");
+    snprintf(rso.linesearch, sizeof rso.linesearch, "backtracking");
+    snprintf(rso.stop, sizeof rso.stop, "newton_decrement");
+    rso.tol = 1e-300;
+    rso.max_iters = s->o.ref_max_iters;
+    rso.time_budget = 0;
+    eo_objective *obj;
+    for (int k = 0; k < b->skip + S; k++) {
+        int m = k - b->skip; /* measured index, < 0 while skipping */
+        if (m >= 0) {
+            memcpy(fx + (size_t)m * nf, eo_step_x(st), (size_t)nf * sizeof(double));
+            memcpy(fv + (size_t)m * nf, eo_step_v(st), (size_t)nf * sizeof(double));
+            ft[m] = eo_step_time(st);
+        }
+        EO_TRY(rc = eo_step_begin(st, &obj));
+        EO_TRY(rc = solver_for(ctx, &rso, NULL, obj->n, &ref, &ref_n));
+        double *guess = eo_step_guess(st), g0;
+        EO_TRY(rc = eo_objective_value(obj, guess, &g0));
+        ref_state rs = {.tol = s->o.ref_tol * fmax(fabs(g0), 1e-300), .gscale = fmax(fabs(g0), 1e-300),
+                        .dec = NAN, .prev_g = INFINITY, .prev_dec = INFINITY};
+        eo_solve_result res;
+        EO_TRY(rc = eo_solver_minimize(ref, obj, guess, ref_iter, &rs, &res));
+        if (m >= 0) {
+            bench_ref *q = sr->ref + m;
+            q->t = ft[m] + sc->time.dt;
+            q->g0 = g0;
+            q->gstar = res.g;
+            q->dec = rs.dec;
+            q->time = res.time;
+            q->iters = res.iterations;
+            q->reason = rs.stopped ? EO_CONVERGED_DECREMENT : res.reason;
+            q->converged = rs.stopped || res.reason > 0;
+            q->rounding = rs.rounding;
+            q->n = obj->n;
+            q->floor = 2.2e-16 * fmax(fabs(g0), fabs(res.g)) / fmax(fabs(g0 - res.g), 1e-300);
+            memcpy(xs + (size_t)m * nf, guess, (size_t)obj->n * sizeof(double));
+            if (!q->converged) r->out->sum->ref_failures++;
+        } else if (!(rs.stopped || res.reason > 0)) {
+            r->out->sum->ref_failures++;
+        }
+        EO_TRY(rc = eo_step_end(st, guess));
+    }
+    memcpy(fx + (size_t)S * nf, eo_step_x(st), (size_t)nf * sizeof(double));
+    memcpy(fv + (size_t)S * nf, eo_step_v(st), (size_t)nf * sizeof(double));
+    ft[S] = eo_step_time(st);
+    sr->ref_disp = rms_dist(nv, vmass, fx + (size_t)S * nf, fx);
+    eo_solver_destroy(&ref);
+    r->units_done += (double)b->nt * (b->steps + b->skip);
+
+    /* ---- plot data */
+    char name[200], path[1400];
+    eo_bench_file_name(b->name, name, sizeof name);
+    snprintf(path, sizeof path, "%s/plots/%s.dat", r->out->dir, name);
+    EO_TRY(rc = eo_afile_open(ctx, path, &datf));
+    fprintf(eo_afile_fp(datf), "# %s: blocks (configuration c, step k) at index c*%d + k: time (s), relative energy error\n",
+            b->name, S);
+
+    /* ---- configurations */
+    for (int ci = 0; ci < s->ncf; ci++) {
+        const bench_config *c = s->cf + ci;
+        bench_pair *p = sr->pair + ci;
+        p->nsteps = S;
+        p->st = eo_calloc(ctx, (size_t)S, sizeof *p->st);
+        p->tr = eo_calloc(ctx, (size_t)S, sizeof *p->tr);
+        if (!p->st || !p->tr) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+            goto fail;
+        }
+        eo_solver_opts so, cso;
+        EO_TRY(rc = config_cfg(ctx, c, &ccfg, &so));
+        cso = so;
+        cso.tol = 1e-300;
+        cso.max_iters = b->max_iters;
+        cso.time_budget = 0; /* the harness enforces the budget, excluding its own time */
+        progress(r, si, ci, "curves");
+        for (int k = 0; k < S; k++) {
+            EO_TRY(rc = eo_step_set_state(st, fx + (size_t)k * nf, fv + (size_t)k * nf, ft[k]));
+            EO_TRY(rc = eo_step_begin(st, &obj));
+            EO_TRY(rc = solver_for(ctx, &cso, ccfg, obj->n, &sv, &sv_n));
+            int n = obj->n;
+            memcpy(x0, eo_step_guess(st), (size_t)n * sizeof(double));
+            for (int i = 0; i < n; i++) wM[i] = vmass[eo_step_free_to_full(st, i) / 3];
+            EO_TRY(rc = run_curves(r, sv, obj, x0, x, sr->ref + k, xs + (size_t)k * nf, wM, &w, rep, p->st + k,
+                                   b->time_budget));
+            write_curve(r, eo_afile_fp(datf), b, c, k, &w, rep, R, p->st + k, tmp);
+            r->units_done += (double)b->nt * (R + 1);
+            progress(r, si, ci, "curves");
+        }
+        eo_solver_destroy(&sv);
+        sv_n = -1;
+        /* trajectory with the configuration's own stopping rule */
+        if (s->o.trajectory) {
+            progress(r, si, ci, "trajectory");
+            eo_solver_opts tso = so;
+            tso.time_budget = b->time_budget;
+            EO_TRY(rc = eo_step_set_state(st, fx, fv, ft[0]));
+            for (int k = 0; k < S; k++) {
+                EO_TRY(rc = eo_step_begin(st, &obj));
+                EO_TRY(rc = solver_for(ctx, &tso, ccfg, obj->n, &sv, &sv_n));
+                double *gx = eo_step_guess(st);
+                eo_solve_result res;
+                EO_TRY(rc = eo_solver_minimize(sv, obj, gx, NULL, NULL, &res));
+                bench_traj_res *t = p->tr + k;
+                t->iters = res.iterations;
+                t->reason = res.reason;
+                t->time = res.time;
+                t->g = res.g;
+                t->nonfinite = !all_finite(obj->n, gx) || res.reason == EO_DIVERGED_NONFINITE;
+                if (!all_finite(obj->n, gx)) {
+                    t->dist = NAN;
+                    p->traj_done = k + 1;
+                    break;
+                }
+                EO_TRY(rc = eo_step_end(st, gx));
+                t->dist = rms_dist(nv, vmass, eo_step_x(st), fx + (size_t)(k + 1) * nf);
+                p->traj_done = k + 1;
+                fprintf(r->traj, "%s,%s,%d,%.6g,%d,%s", b->name, c->name, k + 1, ft[k + 1], t->iters,
+                        eo_reason_name(t->reason));
+                csv_num(r->traj, t->time);
+                csv_num(r->traj, t->g);
+                csv_num(r->traj, t->dist);
+                csv_num(r->traj, rms_dist(nv, vmass, fx + (size_t)(k + 1) * nf, fx));
+                fputc('\n', r->traj);
+            }
+            eo_solver_destroy(&sv);
+            sv_n = -1;
+            r->units_done += (double)b->nt * S;
+        }
+        eo_cfg_destroy(ctx, &ccfg);
+        aggregate(s, R, p, s->o.trajectory);
+        r->out->sum->runs++;
+        if (p->nonfinite) r->out->sum->nonfinite++;
+        for (int q = 0; q < s->nreq; q++)
+            if (s->req[q] == ci && strcmp(p->status, "converged") != 0) r->out->sum->required_failures++;
+        fflush(r->curves);
+        fflush(r->traj);
+    }
+    EO_TRY(rc = eo_afile_commit(ctx, &datf));
+    rc = EO_OK;
+fail:
+    eo_afile_abort(ctx, &datf);
+    if (rc < 0 && !strstr(eo_ctx_message(ctx), b->name)) rc = wrap_err(ctx, rc, s->path, "scene", b->name);
+    eo_solver_destroy(&ref);
+    eo_solver_destroy(&sv);
+    eo_cfg_destroy(ctx, &ccfg);
+    eo_step_destroy(&st);
+    eo_scene_destroy(ctx, &sc);
+    eo_cfg_destroy(ctx, &scfg);
+    eo_free(ctx, mem);
+    return rc;
+}
+
+static void read_loadavg(char *buf, size_t n)
+{
+    snprintf(buf, n, "unknown");
+    FILE *f = fopen("/proc/loadavg", "r");
+    if (!f) return;
+    double a, b2, c;
+    if (fscanf(f, "%lf %lf %lf", &a, &b2, &c) == 3) snprintf(buf, n, "%.2f %.2f %.2f", a, b2, c);
+    fclose(f);
+}
+
+int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *opts, eo_bench_summary *sum)
+{
+    memset(sum, 0, sizeof *sum);
+    if (!opts || !opts->out_dir) return eo_error(ctx, EO_ERR_INVALID, "bench: no output folder");
+    run_ctx r = {.ctx = ctx, .s = s, .ro = opts};
+    bench_out out = {.s = s, .dir = opts->out_dir, .sum = sum};
+    r.out = &out;
+    r.repeats = opts->repeats > 0 ? opts->repeats : s->o.repeats;
+    if (r.repeats > BENCH_MAX_REPEATS) r.repeats = BENCH_MAX_REPEATS;
+    out.repeats = r.repeats;
+    out.plots = opts->plots >= 0 ? opts->plots : s->o.plots;
+    eo_afile *cf = NULL, *tf = NULL;
+    int rc;
+    char path[1200];
+    out.res = eo_calloc(ctx, (size_t)s->nsc, sizeof *out.res);
+    if (!out.res) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    snprintf(path, sizeof path, "%s/plots", opts->out_dir);
+    EO_TRY(rc = eo_mkdir_p(ctx, path));
+    snprintf(path, sizeof path, "%s/curves.csv", opts->out_dir);
+    EO_TRY(rc = eo_afile_open(ctx, path, &cf));
+    snprintf(path, sizeof path, "%s/trajectory.csv", opts->out_dir);
+    EO_TRY(rc = eo_afile_open(ctx, path, &tf));
+    r.curves = eo_afile_fp(cf);
+    r.traj = eo_afile_fp(tf);
+    fprintf(r.curves, "scene,step,config,iteration,time,time_min,time_max,g,rel_energy_err,rel_pos_err,grad_norm,reason\n");
+    fprintf(r.traj, "scene,config,step,t,iterations,reason,solve_time,g,dist_rms,ref_disp_rms\n");
+    for (int i = 0; i < s->nsc; i++) r.units_total += scene_units(s, s->sc + i, r.repeats);
+    read_loadavg(out.load_start, sizeof out.load_start);
+    r.t0 = out.t_start = eo_wtime();
+    for (int i = 0; i < s->nsc; i++) EO_TRY(rc = run_scene(&r, i));
+    out.t_end = eo_wtime();
+    read_loadavg(out.load_end, sizeof out.load_end);
+    sum->seconds = out.t_end - out.t_start;
+    EO_TRY(rc = eo_afile_commit(ctx, &cf));
+    EO_TRY(rc = eo_afile_commit(ctx, &tf));
+    if (out.plots) {
+        out.gnuplot = system("command -v gnuplot >/dev/null 2>&1") == 0;
+        if (out.gnuplot) {
+            for (int i = 0; i < s->nsc; i++)
+                if (eo_bench_plot_scene(ctx, &out, i) >= 0) sum->plots_made++;
+            if (eo_bench_plot_pareto(ctx, &out) >= 0) sum->plots_made++;
+        }
+    }
+    EO_TRY(rc = eo_bench_write_summary(ctx, &out));
+    EO_TRY(rc = eo_bench_write_report(ctx, &out));
+    rc = EO_OK;
+fail:
+    eo_afile_abort(ctx, &cf);
+    eo_afile_abort(ctx, &tf);
+    for (int i = 0; i < s->nsc; i++) {
+        bench_scene_res *sr = out.res + i;
+        for (int c = 0; sr->pair && c < s->ncf; c++) {
+            eo_free(ctx, sr->pair[c].st);
+            eo_free(ctx, sr->pair[c].tr);
+        }
+        eo_free(ctx, sr->pair);
+        eo_free(ctx, sr->ref);
+    }
+    eo_free(ctx, out.res);
+    return rc;
+}

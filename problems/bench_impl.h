@@ -1,0 +1,123 @@
+/* Private structures of the benchmark harness (problems/bench.c runs, problems/
+ * bench_report.c writes the report and plots). Not installed. */
+#ifndef ELASTOPT_BENCH_IMPL_H
+#define ELASTOPT_BENCH_IMPL_H
+
+#include <stdio.h>
+
+#include "elastopt/bench.h"
+
+enum { BENCH_MAX_LIST = 16, BENCH_MAX_REPEATS = 16 };
+
+typedef struct bench_scene {
+    char name[160];
+    eo_bench_scene_opts o;
+    char file[1600];      /* resolved path of the scene config, "" = built-in o.scene */
+    char **set;           /* "key=<json>" overrides, eo_malloc'd */
+    int nset;
+    int steps, skip, max_iters;
+    double time_budget;
+    int nt, nv;           /* mesh size, known after the load check */
+    char model[32];
+    double E, nu;
+} bench_scene;
+
+typedef struct bench_config {
+    char name[128];
+    char **set;
+    int nset;
+    int needs_hessian;
+    char *resolved;       /* JSON text of eo_solver_to_json (eo_malloc'd) */
+} bench_config;
+
+struct eo_bench_suite {
+    eo_bench_opts o;
+    char path[1024], dir[1024];
+    double thr[BENCH_MAX_LIST];
+    int nthr;
+    double bud[BENCH_MAX_LIST];
+    int nbud;
+    bench_scene *sc;
+    int nsc, capsc;
+    bench_config *cf;
+    int ncf, capcf;
+    int baseline;
+    int *req;             /* required configurations (indices) */
+    int nreq;
+};
+
+/* Per-step result of one configuration. */
+typedef struct bench_step_res {
+    int iters;            /* iterations of the median-time repeat */
+    int reached;          /* curve reached the target */
+    int stagnated;        /* stopped: no decrease of g for STAGNATION_ITERS iterations */
+    int reason;           /* reason of the first timed repeat (EXTERNAL = reached) */
+    double final_err;     /* last relative energy error */
+    double ttt[BENCH_MAX_LIST][BENCH_MAX_REPEATS];
+    double eab[BENCH_MAX_LIST][BENCH_MAX_REPEATS];
+    int nrep;
+    int nonfinite;
+} bench_step_res;
+
+/* One frame of a trajectory run. */
+typedef struct bench_traj_res {
+    int iters, reason;
+    double time, g, dist;
+    int nonfinite;
+} bench_traj_res;
+
+/* Aggregated result of one (scene, configuration). */
+typedef struct bench_pair {
+    int nsteps;
+    bench_step_res *st;   /* nsteps */
+    bench_traj_res *tr;   /* nsteps (trajectory) */
+    int traj_done;        /* frames run */
+    double ttt_med[BENCH_MAX_LIST], ttt_min[BENCH_MAX_LIST], ttt_max[BENCH_MAX_LIST];
+    double eab_med[BENCH_MAX_LIST];
+    int steps_reached;
+    int nonfinite;
+    int traj_converged;   /* steps converged in the trajectory run */
+    int first_bad_step, first_bad_reason;
+    double traj_time, traj_max_dist, traj_final_dist;
+    char status[16];      /* converged | stopped | non-finite */
+    char reason[160];
+} bench_pair;
+
+/* Reference of one step. */
+typedef struct bench_ref {
+    double t, g0, gstar, dec, time, floor;
+    int iters, reason, converged, n;
+    int rounding;         /* converged at the rounding floor, not at ref_tol */
+} bench_ref;
+
+typedef struct bench_scene_res {
+    bench_ref *ref;       /* steps */
+    bench_pair *pair;     /* ncf */
+    double ref_disp;      /* RMS displacement of the reference over the measured steps */
+    double tmin;          /* smallest positive iterate time (plot's left edge) */
+    int plotted;
+} bench_scene_res;
+
+typedef struct bench_out {
+    const eo_bench_suite *s;
+    const char *dir;
+    int repeats;
+    int plots;
+    bench_scene_res *res; /* nsc */
+    double t_start, t_end;
+    char load_start[64], load_end[64];
+    eo_bench_summary *sum;
+    int gnuplot;          /* 1 if gnuplot was found */
+} bench_out;
+
+/* bench_report.c */
+int eo_bench_write_summary(eo_ctx *ctx, bench_out *b);
+int eo_bench_write_report(eo_ctx *ctx, bench_out *b);
+int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si);
+int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b);
+/* Keep row k of a curve of n iterates in the CSV / plot data. */
+int eo_bench_keep_row(int k, int n, int full_rows);
+/* Base file name of a scene for the plots (letters, digits, - _ .). */
+void eo_bench_file_name(const char *name, char *buf, size_t n);
+
+#endif
