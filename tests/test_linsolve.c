@@ -383,8 +383,7 @@ static void test_assembler_timing(void)
     double ta = eo_wtime() - t0;
     printf("assembler: %d tets, %d variables, nnz(upper) %d: finalize %.3f s, one assembly %.4f s\n", nt,
            3 * nv, A->nnz, tf, ta);
-    const char *pre = getenv("LD_PRELOAD"); /* under valgrind, time is not meaningful */
-    if (!(pre && strstr(pre, "vgpreload"))) CHECK(tf < 1.0, "finalize took %.3f s", tf);
+    /* speed is measured in bench/, not asserted here (sanitizers, valgrind, loaded CI) */
     /* a bottom (eliminated) vertex's dofs have only their diagonal */
     CHECK(A->colptr[1] - A->colptr[0] == 1 && A->val[0] == 0, "eliminated variable: diagonal only, zero");
     free(dofs);
