@@ -635,18 +635,20 @@ int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out)
         goto fail;
     }
     for (size_t i = 0; i < json_array_size(list); i++) EO_TRY(rc = load_scene_entry(ctx, s, cfg, (int)i));
-    list = eo_cfg_get(cfg, "configs");
-    if (list && !json_is_array(list)) {
-        rc = suite_err(ctx, cfg, "configs", EO_ERR_TYPE, "expected a list of configurations");
-        goto fail;
+    /* configurations in document order of the "configs" and "matrix" lists */
+    const char *key;
+    json_t *val;
+    json_object_foreach(eo_cfg_root(cfg), key, val) {
+        int is_cf = strcmp(key, "configs") == 0, is_mx = strcmp(key, "matrix") == 0;
+        if (!is_cf && !is_mx) continue;
+        list = eo_cfg_get(cfg, key);
+        if (!json_is_array(list)) {
+            rc = suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of %s", is_cf ? "configurations" : "matrix objects");
+            goto fail;
+        }
+        for (size_t i = 0; i < json_array_size(list); i++)
+            EO_TRY(rc = is_cf ? load_config_entry(ctx, s, cfg, (int)i) : load_matrix_entry(ctx, s, cfg, (int)i));
     }
-    for (size_t i = 0; list && i < json_array_size(list); i++) EO_TRY(rc = load_config_entry(ctx, s, cfg, (int)i));
-    list = eo_cfg_get(cfg, "matrix");
-    if (list && !json_is_array(list)) {
-        rc = suite_err(ctx, cfg, "matrix", EO_ERR_TYPE, "expected a list of matrix objects");
-        goto fail;
-    }
-    for (size_t i = 0; list && i < json_array_size(list); i++) EO_TRY(rc = load_matrix_entry(ctx, s, cfg, (int)i));
     if (!s->ncf) {
         rc = suite_err(ctx, cfg, "configs", EO_ERR_INVALID, "a suite needs at least one configuration (configs or matrix)");
         goto fail;
@@ -1102,6 +1104,11 @@ static int run_scene(run_ctx *r, int si)
     rso.max_iters = s->o.ref_max_iters;
     rso.time_budget = 0;
     eo_objective *obj;
+    eo_step_stats stats;
+    EO_TRY(rc = eo_step_stats_compute(st, &stats));
+    sr->start_minJ = stats.min_J;
+    sr->start_inverted = stats.inverted;
+    sr->start_elastic = stats.elastic;
     for (int k = 0; k < b->skip + S; k++) {
         int m = k - b->skip; /* measured index, < 0 while skipping */
         if (m >= 0) {
@@ -1141,6 +1148,10 @@ static int run_scene(run_ctx *r, int si)
     memcpy(fv + (size_t)S * nf, eo_step_v(st), (size_t)nf * sizeof(double));
     ft[S] = eo_step_time(st);
     sr->ref_disp = rms_dist(nv, vmass, fx + (size_t)S * nf, fx);
+    EO_TRY(rc = eo_step_stats_compute(st, &stats));
+    sr->end_minJ = stats.min_J;
+    sr->end_inverted = stats.inverted;
+    sr->end_elastic = stats.elastic;
     eo_solver_destroy(&ref);
     r->units_done += (double)b->nt * (b->steps + b->skip);
 
@@ -1169,6 +1180,8 @@ static int run_scene(run_ctx *r, int si)
         cso.tol = 1e-300;
         cso.max_iters = b->max_iters;
         cso.time_budget = 0; /* the harness enforces the budget, excluding its own time */
+        /* a configuration's own solver.time_budget wins over the scene's */
+        const double budget = so.time_budget > 0 ? so.time_budget : b->time_budget;
         progress(r, si, ci, "curves");
         for (int k = 0; k < S; k++) {
             EO_TRY(rc = eo_step_set_state(st, fx + (size_t)k * nf, fv + (size_t)k * nf, ft[k]));
@@ -1178,7 +1191,7 @@ static int run_scene(run_ctx *r, int si)
             memcpy(x0, eo_step_guess(st), (size_t)n * sizeof(double));
             for (int i = 0; i < n; i++) wM[i] = vmass[eo_step_free_to_full(st, i) / 3];
             EO_TRY(rc = run_curves(r, sv, obj, x0, x, sr->ref + k, xs + (size_t)k * nf, wM, &w, rep, p->st + k,
-                                   b->time_budget));
+                                   budget));
             write_curve(r, eo_afile_fp(datf), b, c, k, &w, rep, R, p->st + k, tmp);
             r->units_done += (double)b->nt * (R + 1);
             progress(r, si, ci, "curves");
@@ -1189,7 +1202,7 @@ static int run_scene(run_ctx *r, int si)
         if (s->o.trajectory) {
             progress(r, si, ci, "trajectory");
             eo_solver_opts tso = so;
-            tso.time_budget = b->time_budget;
+            tso.time_budget = budget;
             EO_TRY(rc = eo_step_set_state(st, fx, fv, ft[0]));
             for (int k = 0; k < S; k++) {
                 EO_TRY(rc = eo_step_begin(st, &obj));

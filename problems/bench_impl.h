@@ -95,6 +95,8 @@ typedef struct bench_scene_res {
     bench_pair *pair;     /* ncf */
     double ref_disp;      /* RMS displacement of the reference over the measured steps */
     double tmin;          /* smallest positive iterate time (plot's left edge) */
+    double start_minJ, end_minJ, start_elastic, end_elastic;
+    int start_inverted, end_inverted;   /* reference state before the first and after the last step */
     int plotted;
 } bench_scene_res;
 

@@ -488,7 +488,9 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
                     q->rounding ? "converged to the rounding floor" : q->converged ? "converged" : eo_reason_name(q->reason),
                     q->dec, q->floor);
         }
-        fprintf(f, ".\n\n");
+        fprintf(f, ".\n\nReference state at t = 0 → after the last measured step: min det F %.3g → %.3g, inverted tets "
+                   "%d → %d, elastic energy %.4g → %.4g J.\n\n",
+                sr->start_minJ, sr->end_minJ, sr->start_inverted, sr->end_inverted, sr->start_elastic, sr->end_elastic);
         fprintf(f, "| configuration | status |");
         for (int j = 0; j < s->nthr; j++) {
             fmt_thr(s->thr[j], a, sizeof a);
@@ -584,8 +586,8 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     /* ---- resolved configurations */
     fprintf(f, "## Resolved configurations\n\n");
     fprintf(f, "The curve runs replace `tol` by 1e-300 (the harness stops them), `max_iters` by the scene's cap and "
-               "`time_budget` by the scene's budget; the trajectory runs use everything as shown except "
-               "`time_budget` (the scene's).\n\n");
+               "`time_budget` by the scene's budget (unless the configuration sets its own `time_budget`, which "
+               "then applies); the trajectory runs use everything as shown, with the same time budget.\n\n");
     for (int c = 0; c < s->ncf; c++) fprintf(f, "- `%s`: `%s`\n", s->cf[c].name, s->cf[c].resolved);
     fprintf(f, "\n");
     return eo_afile_commit(ctx, &af);

@@ -51,7 +51,8 @@
 ///               scene config + optional "vary": [{"label": {set}, ...}, ...] whose
 ///               product expands the entry into scenes named name-label-label...
 ///   configs     list; each entry {"name": ..., "set": {"solver.key": value, ...}}
-///               (only solver.* keys: a configuration changes the solver, not the scene)
+///               (only solver.* keys: a configuration changes the solver, not the scene;
+///               its solver.time_budget, if set, replaces the scene's budget for it)
 ///   matrix      list; each entry {"optimizer": [...], "hessian_fix": [...],
 ///               "linesearch": [...], "set": {...}} expands to the product
 ///               optimizer × hessian_fix × linesearch named "opt-fix-ls". The Hessian
@@ -72,7 +73,7 @@ extern "C" {
 
 /// Scalar suite options (top level of the suite document).
 typedef struct eo_bench_opts {
-    char description[256];  ///< free text. Default "".
+    char description[1024]; ///< free text. Default "".
     int repeats;            ///< timed repeats per run (median), >= 1. Default 3.
     char baseline[64];      ///< configuration the ratios refer to. Default "" (the first).
     double target;          ///< curve runs stop at relative energy error <= target. Default 1e-10.
