@@ -15,7 +15,8 @@
  *           with σ = 1e-3, 4e-3, ... (Manteuffel's shift) up to 8 times, else the
  *           Jacobi preconditioner is used (logged). The rows of L are the columns of
  *           our upper CSC, so L shares A's pattern.
- * Stopping, curvature check, warm start: as in cg.c. No allocation in solve.
+ * The iteration, stopping, curvature check and warm start are cg_iter.h's (shared
+ * with cg.c). No allocation in solve.
  *
  * Parameters (solver.pcg.<key>):
  *   tol             relative residual ‖b − Ax‖/‖b‖ to reach           default 1e-10
@@ -27,7 +28,7 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "elastopt/linsolve.h"
+#include "cg_iter.h"
 
 typedef struct pcg_params {
     double tol;              /* relative residual; default 1e-10 */
@@ -52,10 +53,10 @@ static const eo_param_desc pcg_desc[] = {
 };
 
 typedef struct pcg_state {
-    pcg_params p;
-    int n, ic;       /* ic: IC(0) factor in use (else Jacobi) */
-    const eo_csc *A; /* borrowed at factor */
-    double *r, *z, *d, *Ad, *dinv;
+    eo_cg cg;        /* iteration workspace and borrowed A (cg_iter.h) */
+    int ichol0;      /* preconditioner "ichol0" requested (else "jacobi") */
+    int ic;          /* IC(0) factor in use (else Jacobi) */
+    double *dinv;
     double *L;       /* ichol0: values of L on A's pattern (row j of L = column j of A) */
     double *w;       /* ichol0: dense row scratch, all zero between uses */
 } pcg_state;
@@ -63,14 +64,19 @@ typedef struct pcg_state {
 static int pcg_setup(void *st, const void *params, eo_ctx *ctx)
 {
     (void)ctx;
-    ((pcg_state *)st)->p = *(const pcg_params *)params;
+    const pcg_params *p = params;
+    pcg_state *s = st;
+    s->cg.o = (eo_cg_opts){
+        .tol = p->tol, .max_iters = p->max_iters, .warm_start = p->warm_start, .name = "pcg"};
+    s->ichol0 = strcmp(p->preconditioner, "ichol0") == 0;
     return EO_OK;
 }
 
 static void pcg_destroy(void *st, eo_ctx *ctx)
 {
     pcg_state *s = st;
-    double **arr[] = {&s->r, &s->z, &s->d, &s->Ad, &s->dinv, &s->L, &s->w};
+    eo_cg_destroy(&s->cg, ctx);
+    double **arr[] = {&s->dinv, &s->L, &s->w};
     for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) {
         eo_free(ctx, *arr[i]);
         *arr[i] = NULL;
@@ -81,15 +87,11 @@ static int pcg_analyze(void *st, const eo_csc *A, eo_ctx *ctx)
 {
     pcg_state *s = st;
     pcg_destroy(s, ctx);
-    size_t m = (size_t)(A->n ? A->n : 1) * sizeof(double);
-    s->n = A->n;
-    s->r = eo_malloc(ctx, m);
-    s->z = eo_malloc(ctx, m);
-    s->d = eo_malloc(ctx, m);
-    s->Ad = eo_malloc(ctx, m);
-    s->dinv = eo_malloc(ctx, m);
-    int ok = s->r && s->z && s->d && s->Ad && s->dinv;
-    if (ok && strcmp(s->p.preconditioner, "ichol0") == 0) {
+    int rc = eo_cg_analyze(&s->cg, A, 1, ctx);
+    if (rc < 0) return rc;
+    s->dinv = eo_malloc(ctx, (size_t)(A->n ? A->n : 1) * sizeof(double));
+    int ok = s->dinv != NULL;
+    if (ok && s->ichol0) {
         s->L = eo_malloc(ctx, (size_t)(A->nnz ? A->nnz : 1) * sizeof(double));
         s->w = eo_calloc(ctx, (size_t)(A->n ? A->n : 1), sizeof(double));
         ok = s->L && s->w;
@@ -131,7 +133,7 @@ static int ichol0(pcg_state *s, const eo_csc *A, double sigma)
 static int pcg_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ctx *ctx)
 {
     pcg_state *s = st;
-    s->A = A;
+    s->cg.A = A;
     for (int j = 0; j < A->n; j++) {
         double a = A->val[A->colptr[j + 1] - 1];
         if (!(a > 0)) {
@@ -159,15 +161,16 @@ static int pcg_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ct
     return EO_OK;
 }
 
-/* z = M⁻¹ r */
-static void precond(const pcg_state *s, const double *r, double *z)
+/* z = M⁻¹ r (an eo_cg_precond_fn) */
+static void precond(const void *pc, const double *r, double *z)
 {
-    const int n = s->n;
+    const pcg_state *s = pc;
+    const int n = s->cg.n;
     if (!s->ic) {
         for (int i = 0; i < n; i++) z[i] = r[i] * s->dinv[i];
         return;
     }
-    const int *cp = s->A->colptr, *ri = s->A->rowind;
+    const int *cp = s->cg.A->colptr, *ri = s->cg.A->rowind;
     const double *L = s->L;
     for (int j = 0; j < n; j++) { /* L y = r, rows of L */
         double v = r[j];
@@ -181,71 +184,10 @@ static void precond(const pcg_state *s, const double *r, double *z)
     }
 }
 
-static double dot(int n, const double *a, const double *b)
-{
-    double s = 0;
-    for (int i = 0; i < n; i++) s += a[i] * b[i];
-    return s;
-}
-
 static int pcg_solve(void *st, const double *b, double *x, eo_linsolve_stats *stats, eo_ctx *ctx)
 {
     pcg_state *s = st;
-    const int n = s->n;
-    double *r = s->r, *z = s->z, *d = s->d, *Ad = s->Ad;
-    double bnorm = sqrt(dot(n, b, b));
-    if (!s->p.warm_start) memset(x, 0, (size_t)n * sizeof(double));
-    stats->iterations = 0;
-    stats->residual = 0;
-    if (bnorm == 0) {
-        memset(x, 0, (size_t)n * sizeof(double));
-        return EO_OK;
-    }
-    if (s->p.warm_start) {
-        eo_csc_symv(s->A, x, r);
-        for (int i = 0; i < n; i++) r[i] = b[i] - r[i];
-    } else {
-        memcpy(r, b, (size_t)n * sizeof(double));
-    }
-    precond(s, r, z);
-    memcpy(d, z, (size_t)n * sizeof(double));
-    double rz = dot(n, r, z), rnorm = sqrt(dot(n, r, r)), stop = s->p.tol * bnorm;
-    int k = 0;
-    while (rnorm > stop) {
-        if (k >= s->p.max_iters || !isfinite(rnorm) || !isfinite(rz)) {
-            stats->iterations = k;
-            stats->residual = rnorm / bnorm;
-            return eo_error(ctx, EO_WARN_NOT_CONVERGED,
-                            "pcg: %s after %d iterations, relative residual %.3g (tol %.3g)",
-                            isfinite(rnorm) ? "not converged" : "non-finite residual", k,
-                            stats->residual, s->p.tol);
-        }
-        eo_csc_symv(s->A, d, Ad);
-        double dAd = dot(n, d, Ad);
-        if (!(dAd > 0)) {
-            if (k == 0 && !s->p.warm_start) memcpy(x, z, (size_t)n * sizeof(double));
-            stats->iterations = k;
-            stats->residual = rnorm / bnorm;
-            return eo_error(ctx, EO_WARN_NOT_PD,
-                            "pcg: non-positive curvature p'Ap = %.3g at iteration %d: matrix not "
-                            "positive definite", dAd, k);
-        }
-        double alpha = rz / dAd;
-        for (int i = 0; i < n; i++) {
-            x[i] += alpha * d[i];
-            r[i] -= alpha * Ad[i];
-        }
-        precond(s, r, z);
-        double rz_new = dot(n, r, z);
-        double beta = rz_new / rz;
-        for (int i = 0; i < n; i++) d[i] = z[i] + beta * d[i];
-        rz = rz_new;
-        rnorm = sqrt(dot(n, r, r));
-        k++;
-    }
-    stats->iterations = k;
-    stats->residual = rnorm / bnorm;
-    return EO_OK;
+    return eo_cg_solve(&s->cg, precond, s, b, x, stats, ctx);
 }
 
 const eo_linsolve_type eo_linsolve_pcg = {
