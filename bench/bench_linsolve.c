@@ -18,8 +18,8 @@
 #include <string.h>
 
 #include "elastopt/linsolve.h"
+#include "elastopt/machine.h"
 #include "elastopt/sparse.h"
-#include "eo_build_config.h"
 
 typedef struct bench_case {
     const char *name;
@@ -40,26 +40,6 @@ static double urand(void)
     rng ^= rng >> 7;
     rng ^= rng << 17;
     return (double)(rng >> 11) * (1.0 / 9007199254740992.0) * 2 - 1;
-}
-
-static void cpu_model(char *buf, size_t n)
-{
-    snprintf(buf, n, "unknown");
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    if (!f) return;
-    char line[512];
-    while (fgets(line, sizeof line, f))
-        if (strncmp(line, "model name", 10) == 0) {
-            char *c = strchr(line, ':');
-            if (c) {
-                c++;
-                while (*c == ' ') c++;
-                c[strcspn(c, "\n")] = 0;
-                snprintf(buf, n, "%s", c);
-            }
-            break;
-        }
-    fclose(f);
 }
 
 static int build_matrix(eo_ctx *ctx, const bench_case *bc, eo_assembler **out, double *t_build)
@@ -224,10 +204,9 @@ static void run_case(const bench_case *bc)
 
 int main(int argc, char **argv)
 {
-    char cpu[256];
-    cpu_model(cpu, sizeof cpu);
-    printf("bench_linsolve: machine: %s; build: %s, %s, revision %s\n", cpu, EO_BUILDTYPE, EO_COMPILER,
-           EO_GIT_REVISION);
+    char machine[512];
+    eo_machine_describe(machine, sizeof machine);
+    printf("bench_linsolve: %s\n", machine);
     const char *thr = getenv("OPENBLAS_NUM_THREADS");
     printf("OPENBLAS_NUM_THREADS=%s; times are medians of the factor+solve repetitions; stationary\n"
            "methods are capped at 2000 iterations (default tol 1e-10)\n", thr ? thr : "(unset)");

@@ -6,15 +6,15 @@
  *   svd               eo_svd3 vs eo_svd3_lapack, SVDs/s and their ratio (same run)
  * Inputs: 4096 random rest tets, each deformed by a random F with σ in [0.7, 1.4] plus
  * noise (fixed seed). Each measurement is the best of 5 rounds of --min-time/5 seconds
- * (default --min-time 0.5). Prints machine, build type, compiler, revision. */
+ * (default --min-time 0.5). Prints machine and build (eo_machine_describe). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "elastopt/machine.h"
 #include "elastopt/material.h"
 #include "elastopt/registry.h"
-#include "eo_build_config.h"
 
 #define NT 4096
 static double Dminv[NT][9], vol[NT], xs[NT][12], Fs[NT][9];
@@ -157,26 +157,6 @@ static const bench_case cases[] = {
     {NULL, NULL, NULL},
 };
 
-static void machine(char *buf, size_t n)
-{
-    snprintf(buf, n, "unknown");
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    if (!f) return;
-    char line[512];
-    while (fgets(line, sizeof line, f))
-        if (strncmp(line, "model name", 10) == 0) {
-            char *p = strchr(line, ':');
-            if (p) {
-                p++;
-                while (*p == ' ') p++;
-                p[strcspn(p, "\n")] = 0;
-                snprintf(buf, n, "%s", p);
-            }
-            break;
-        }
-    fclose(f);
-}
-
 int main(int argc, char **argv)
 {
     const char *pick[8];
@@ -185,11 +165,9 @@ int main(int argc, char **argv)
         if (strcmp(argv[i], "--min-time") == 0 && i + 1 < argc) min_time = atof(argv[++i]);
         else if (npick < 8) pick[npick++] = argv[i];
     }
-    char cpu[256];
-    machine(cpu, sizeof cpu);
-    printf("bench_materials: machine %s; build %s; compiler %s; revision %s; single thread; %d tets; "
-           "E = 1e5, nu = 0.45\n",
-           cpu, EO_BUILDTYPE, EO_COMPILER, EO_GIT_REVISION, NT);
+    char machine[512];
+    eo_machine_describe(machine, sizeof machine);
+    printf("bench_materials: %s; single thread; %d tets; E = 1e5, nu = 0.45\n", machine, NT);
     setup();
     int ran = 0;
     for (const bench_case *b = cases; b->name; b++) {
