@@ -311,6 +311,28 @@ static const eo_asm_group *group_of(const eo_assembler *as, long ge, int *e)
     return &as->groups[lo];
 }
 
+/* Rows i < j of column j: the variables sharing an element with j, each once (mark[i]
+ * == j after the first). Writes them to rows (unsorted) unless rows is NULL; returns how
+ * many. mark[] must not hold j on entry. */
+static int column_rows(const eo_assembler *as, const int *incp, const int *ince, const long *inc,
+                       int *mark, int j, int *rows)
+{
+    int cnt = 0;
+    mark[j] = j;
+    for (int q = incp[j]; q < ince[j]; q++) {
+        int e;
+        const eo_asm_group *G = group_of(as, inc[q], &e);
+        const int *d = G->dofs + (size_t)e * G->k;
+        for (int b = 0; b < G->k; b++)
+            if (d[b] >= 0 && d[b] < j && mark[d[b]] != j) {
+                mark[d[b]] = j;
+                if (rows) rows[cnt] = d[b];
+                cnt++;
+            }
+    }
+    return cnt;
+}
+
 static void free_work(eo_ctx *ctx, int *a, int *b, int *c, int *d, long *e)
 {
     eo_free(ctx, a);
@@ -361,21 +383,7 @@ int eo_assembler_finalize(eo_ctx *ctx, eo_assembler *as)
     /* 2a. count rows per column */
     for (int i = 0; i < n; i++) mark[i] = -1;
     long nnz = 0;
-    for (int j = 0; j < n; j++) {
-        long cnt = 1; /* diagonal */
-        mark[j] = j;
-        for (int q = incp[j]; q < ince[j]; q++) {
-            int e;
-            const eo_asm_group *G = group_of(as, inc[q], &e);
-            const int *d = G->dofs + (size_t)e * G->k;
-            for (int b = 0; b < G->k; b++)
-                if (d[b] >= 0 && d[b] < j && mark[d[b]] != j) {
-                    mark[d[b]] = j;
-                    cnt++;
-                }
-        }
-        nnz += cnt;
-    }
+    for (int j = 0; j < n; j++) nnz += 1 + column_rows(as, incp, ince, inc, mark, j, NULL); /* + diagonal */
     if (nnz > 2147483647L) {
         free_work(ctx, incp, ince, mark, pos, inc);
         return eo_error(ctx, EO_ERR_INVALID, "assembler: %ld nonzeros exceed the int index range", nnz);
@@ -386,17 +394,7 @@ int eo_assembler_finalize(eo_ctx *ctx, eo_assembler *as)
     int p = 0;
     for (int j = 0; j < n; j++) {
         A->colptr[j] = p;
-        mark[j] = j;
-        for (int q = incp[j]; q < ince[j]; q++) {
-            int e;
-            const eo_asm_group *G = group_of(as, inc[q], &e);
-            const int *d = G->dofs + (size_t)e * G->k;
-            for (int b = 0; b < G->k; b++)
-                if (d[b] >= 0 && d[b] < j && mark[d[b]] != j) {
-                    mark[d[b]] = j;
-                    A->rowind[p++] = d[b];
-                }
-        }
+        p += column_rows(as, incp, ince, inc, mark, j, A->rowind + p);
         sort_ints(A->rowind + A->colptr[j], p - A->colptr[j]);
         A->rowind[p++] = j;
     }
