@@ -26,6 +26,7 @@
 #endif
 
 #include "elastopt/step.h"
+#include "pd_matrix.h"
 #include "term.h"
 
 enum { MAX_TERMS = 8, BLOCK = 1024, PARALLEL_MIN_TETS = 2048 };
@@ -58,6 +59,8 @@ struct eo_step {
     int *tet_dofs;
     eo_assembler *as;
     eo_objective obj;
+    unsigned long pattern_id;   /* bumped by build_pattern */
+    eo_pd_matrix pd;            /* constant_hessian cache (pd_matrix.c) */
 };
 
 /* ---------------------------------------------------------------- small math */
@@ -181,6 +184,7 @@ static int build_pattern(eo_step *st)
         }
     st->obj.n = nfree;
     st->have_pattern = 1;
+    st->pattern_id++;
     return EO_OK;
 }
 
@@ -250,12 +254,20 @@ static int op_inverted_count(void *data, const double *x)
     return n;
 }
 
+static int op_constant_hessian(void *data, eo_csc **L, unsigned long *version)
+{
+    eo_step *st = data;
+    return eo_pd_matrix_get(&st->pd, &st->sys, st->terms, st->nterms, st->pattern_id,
+                            st->integ->weight(st->h), L, version);
+}
+
 static const eo_objective_ops step_ops = {
     .value = op_value,
     .gradient = op_gradient,
     .hessian = op_hessian,
     .metric_diag = op_metric_diag,
     .inverted_count = op_inverted_count,
+    .constant_hessian = op_constant_hessian,
 };
 
 /* ---------------------------------------------------------------- create / destroy */
@@ -276,6 +288,7 @@ void eo_step_destroy(eo_step **pst)
     eo_ctx *ctx = st->ctx;
     for (int i = 0; i < st->nterms; i++) eo_term_destroy(ctx, &st->terms[i]);
     eo_assembler_destroy(ctx, &st->as);
+    eo_pd_matrix_deinit(ctx, &st->pd);
     void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
                       st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->vbc,
                       st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->sys.elem_g,

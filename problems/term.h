@@ -58,6 +58,10 @@ typedef struct eo_term_ops {
     /* Optional: precompute after finalize. */
     int (*prepare)(eo_term *t, eo_sys *s);
     void (*destroy)(eo_term *t, eo_ctx *ctx);
+    /* Optional: add this term's constant projective-dynamics matrix (weight included)
+     * into s->as. NULL: its Hessian at the rest positions, clamped, is used instead
+     * (see pd_matrix.c). */
+    int (*pd_hessian)(eo_term *t, const eo_sys *s);
 } eo_term_ops;
 
 struct eo_term {

@@ -14,6 +14,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "pd_matrix.h"
 #include "term.h"
 
 static int skip(const eo_sys *s, int k) { return (s->tet_type[k]->flags & EO_MATERIAL_EDGE) != 0; }
@@ -101,6 +102,44 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
     return EO_OK;
 }
 
+/* Projective-dynamics matrix of the tets (pd_matrix.c): w · Σₜ Vₜ kₜ GₜᵀGₜ with
+ * Gₜ = ∂vec(F)/∂x = Bₜ ⊗ I₃, so GₜᵀGₜ = (BₜᵀBₜ) ⊗ I₃, where the columns of the 3×4 Bₜ are
+ * bₐ = row a of Dm⁻¹ (a = 0, 1, 2) and b₃ = −(b₀ + b₁ + b₂) (F = Ds Dm⁻¹, Ds columns
+ * xₐ − x₃), and kₜ = eo_pd_tet_weight of the tet's material. */
+static int pd_hessian(eo_term *t, const eo_sys *s)
+{
+    double Ke[144];
+    const eo_material_type *last_type = NULL;
+    const eo_material_coef *last_coef = NULL;
+    double k = 0;
+    for (int e = 0; e < s->nt; e++) {
+        if (skip(s, e)) continue;
+        if (s->tet_type[e] != last_type || s->tet_coef[e] != last_coef) {
+            last_type = s->tet_type[e];
+            last_coef = s->tet_coef[e];
+            k = eo_pd_tet_weight(last_type, last_coef);
+        }
+        const double *Dm = s->Dminv + 9 * e;
+        double b[4][3];
+        for (int c = 0; c < 3; c++) {
+            b[3][c] = 0;
+            for (int a = 0; a < 3; a++) {
+                b[a][c] = Dm[3 * a + c];
+                b[3][c] -= Dm[3 * a + c];
+            }
+        }
+        const double scale = t->weight * s->vol[e] * k;
+        memset(Ke, 0, sizeof Ke);
+        for (int a = 0; a < 4; a++)
+            for (int bb = 0; bb < 4; bb++) {
+                double d = scale * (b[a][0] * b[bb][0] + b[a][1] * b[bb][1] + b[a][2] * b[bb][2]);
+                for (int r = 0; r < 3; r++) Ke[(3 * a + r) * 12 + 3 * bb + r] = d;
+            }
+        eo_assembler_add(s->as, s->tet_group, e, Ke);
+    }
+    return EO_OK;
+}
+
 static void destroy(eo_term *t, eo_ctx *ctx)
 {
     (void)t;
@@ -113,6 +152,7 @@ static const eo_term_ops elastic_ops = {
     .gradient = gradient,
     .hessian = hessian,
     .destroy = destroy,
+    .pd_hessian = pd_hessian,
 };
 
 int eo_term_elastic_create(eo_sys *s, eo_term **out)

@@ -9,6 +9,8 @@
 /// ```c
 /// double g; eo_objective_gradient(obj, x, &g, grad);   // g may be +INFINITY (inverted)
 /// eo_objective_hessian(obj, x, EO_PROJ_CLAMP, &H);     // H borrowed, fixed pattern
+/// eo_csc *L; unsigned long ver;                         // optional constant SPD matrix
+/// if (eo_objective_constant_hessian(obj, &L, &ver) == EO_OK) { /* factor once per ver */ }
 /// ```
 /// Ownership: the objective owns its Hessian matrix; callers borrow it until the next
 /// hessian call.
@@ -33,6 +35,18 @@ typedef struct eo_objective_ops {
     int (*metric_diag)(void *data, double *d);
     /// Optional: number of inverted elements at x (for logs); NULL if not applicable.
     int (*inverted_count)(void *data, const double *x);
+    /// Optional: a CONSTANT symmetric positive definite approximation L of ∇²g over the
+    /// free variables (the projective-dynamics "global" matrix, Bouaziz et al. 2014; Liu,
+    /// Bouaziz & Kavan 2017), for optimizers that factor it once and reuse the factors.
+    /// *L is borrowed and stays valid, with unchanged values, as long as *version does
+    /// not change (and at most until the objective is destroyed); a new version means a
+    /// new matrix (pattern, size or values: the step objective bumps it when a release
+    /// rebuilds its pattern or the integrator weight changes). Does not touch the matrix
+    /// returned by `hessian`. Same upper-triangle CSC invariants as `hessian` (sparse.h).
+    /// NULL if the objective cannot give one: projective_dynamics then factors ∇²g at
+    /// the first iterate of each minimization instead. The step objective's L is defined
+    /// in problems/pd_matrix.c.
+    int (*constant_hessian)(void *data, eo_csc **L, unsigned long *version);
 } eo_objective_ops;
 
 typedef struct eo_objective {
@@ -56,6 +70,13 @@ static inline int eo_objective_hessian(eo_objective *o, const double *x, eo_proj
 {
     o->n_hessian++;
     return o->ops->hessian(o->data, x, proj, H);
+}
+/// The constant matrix of ops->constant_hessian; EO_ERR_UNSUPPORTED if the objective
+/// has none (not counted as a Hessian evaluation).
+static inline int eo_objective_constant_hessian(eo_objective *o, eo_csc **L, unsigned long *version)
+{
+    if (!o->ops->constant_hessian) return EO_ERR_UNSUPPORTED;
+    return o->ops->constant_hessian(o->data, L, version);
 }
 
 #ifdef __cplusplus

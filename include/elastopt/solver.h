@@ -2,7 +2,8 @@
 /// Optimizers, Hessian fixes, line searches and stopping rules, each chosen by name.
 ///
 /// The solver of one step problem is assembled from four pluggable pieces:
-///   solver.optimizer   newton, gradient_descent, lbfgs          (eo_optimizer_type)
+///   solver.optimizer   newton, gradient_descent, lbfgs,
+///                      projective_dynamics                      (eo_optimizer_type)
 ///   solver.hessian_fix none, shift, clamp, abs                  (eo_hessfix_type)
 ///   solver.linesearch  backtracking, exact, none                (eo_linesearch_type)
 ///   solver.stop        newton_decrement, gradient               (eo_stop_type)
@@ -143,6 +144,13 @@ typedef struct eo_lbfgs_params {
     int scaled;          ///< initial inverse Hessian γ·D⁻¹ with D = metric (true)
 } eo_lbfgs_params;
 
+/// Projective dynamics / its quasi-Newton form (config `solver.projective_dynamics.*`).
+typedef struct eo_projective_dynamics_params {
+    int lbfgs_history;   ///< 0: p = −L⁻¹∇g (PD local/global iteration as a descent method);
+                         ///< m > 0: L-BFGS with m pairs and L as initial Hessian (Liu et al.
+                         ///< 2017) (default 0)
+} eo_projective_dynamics_params;
+
 /// Backtracking (config `solver.backtracking.*`).
 typedef struct eo_backtracking_params {
     double c1;           ///< Armijo constant (1e-4)
@@ -212,7 +220,7 @@ typedef struct eo_optimizer_type {
 } eo_optimizer_type;
 
 extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_gradient_descent,
-    eo_optimizer_lbfgs;
+    eo_optimizer_lbfgs, eo_optimizer_projective_dynamics;
 extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfix_clamp,
     eo_hessfix_abs;
 extern const eo_linesearch_type eo_linesearch_backtracking, eo_linesearch_exact,
@@ -230,7 +238,7 @@ typedef struct eo_solver_opts {
     char linesearch[32];   ///< registered line search (default "backtracking")
     char stop[32];         ///< registered stopping rule (default "newton_decrement")
     char linear[32];       ///< registered linear solver (default "cholmod"), used only by
-                           ///< optimizers that solve systems (newton)
+                           ///< optimizers that solve systems (newton, projective_dynamics)
     double tol;            ///< stopping tolerance, see the file comment (default 1e-10)
     int max_iters;         ///< iteration cap → EO_DIVERGED_MAX_ITERS (default 100)
     double time_budget;    ///< seconds per minimization, 0 = none (default 0)

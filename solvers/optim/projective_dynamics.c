@@ -1,0 +1,346 @@
+/* Projective dynamics as a quasi-Newton method (registry key "projective_dynamics").
+ *
+ * Problem     min g(x) = ½‖x − x̃‖²_M + w·E(x)   (any objective; the step objective).
+ * Matrix      L = a constant SPD approximation of ∇²g, from the objective's optional
+ *             op constant_hessian (objective.h). For the step objective
+ *                 L = M + w·Σₜ Vₜ kₜ GₜᵀGₜ,   kₜ = λ + 2μ   (problems/pd_matrix.c),
+ *             the global matrix of projective dynamics (Bouaziz, Martin, Liu, Kavan &
+ *             Pauly, "Projective Dynamics", SIGGRAPH 2014). An objective without the op
+ *             gets L = ∇²g(x₀) at the first iterate of each minimization, assembled
+ *             with the Hessian fix's per-element projection (clamp by default).
+ * Factor      L is factored ONCE with solver.linear and the factors are reused by
+ *             every iteration and every later minimization while the objective, the
+ *             matrix pointer and its version are unchanged: one factorization per
+ *             constrained set of a scene, solves only afterwards. If L is found not
+ *             positive definite it is shifted, L + cI with c grown as Newton's shift
+ *             (solver.shift.* parameters: c_min = shift_init·s, ×shift_grow, give up
+ *             above shift_max·s, s = mean |L_ii|; EO_DIVERGED_NOT_PD).
+ * Direction   lbfgs_history = 0:  p = −L⁻¹∇g.
+ *             For a PD-expressible energy E = Σ k/2‖Gx − proj(Gx)‖², ∇g = L x − b(x)
+ *             and x + p = L⁻¹ b(x) is exactly the local/global iteration; for any
+ *             other material it is the same preconditioned descent step (Liu, Bouaziz
+ *             & Kavan, "Quasi-Newton Methods for Real-Time Simulation of Hyperelastic
+ *             Materials", ACM TOG 36(3), 2017, §4).
+ *             lbfgs_history = m > 0: L-BFGS with the last m pairs s = Δx, y = Δ∇g and
+ *             L as the initial Hessian (Liu et al. 2017, §5; Nocedal & Wright Alg. 7.4):
+ *                 q = ∇g;  for i newest … oldest:  aᵢ = ρᵢ sᵢᵀq,  q −= aᵢ yᵢ
+ *                 r = L⁻¹ q                      (the one solve of the iteration)
+ *                 for i oldest … newest:  b = ρᵢ yᵢᵀr,  r += sᵢ (aᵢ − b);   p = −r.
+ *             A pair with sᵀy ≤ 1e-10‖s‖‖y‖ is skipped (keeps the update SPD); if p is
+ *             not a descent direction the memory is cleared and p = −L⁻¹∇g (counted in
+ *             res.n_fallback). The memory is cleared at the start of each minimization.
+ * Step        the configured line search from α = 1 (the line search is what makes the
+ *             iteration robust for every hyperelastic model, Liu et al. 2017 §4.2).
+ * Decrement   λ²/2 = −∇gᵀp/2 = ∇gᵀL⁻¹∇g/2 (m = 0): L is SPD, so this is a proper
+ *             metric of ∇g; the newton_decrement rule stops on it. It estimates
+ *             g − g* only as well as L approximates ∇²g.
+ * Memory      workspace (2m + 4 vectors of n) in setup; the copy of L (and the linear
+ *             solver's analysis) once per new pattern; nothing inside iterations. */
+#include <stddef.h>
+#include <string.h>
+
+#include "descent.h"
+
+typedef struct pd_state {
+    eo_descent_ws w;
+    int n, m;
+    double *S, *Y;            /* m×n each, circular */
+    double *rho, *a;          /* m each */
+    double *q, *diag;         /* n each */
+    int count, head;          /* pairs stored; slot of the next pair */
+    /* the factored matrix: own copy A, and what it was made from */
+    eo_csc *A;
+    const eo_objective *obj;  /* objective whose constant_hessian A is (NULL: none reusable) */
+    const eo_csc *src;
+    unsigned long version;
+    const eo_linsolve *ls;    /* linear solver holding the analysis of A */
+    int analyzed, factored;
+    int fail_reason;          /* negative reason when no usable factorization */
+    double shift;             /* shift c in the factors */
+    eo_ctx *ctx;
+} pd_state;
+
+static const eo_param_desc pd_desc[] = {
+    {.key = "lbfgs_history", .kind = EO_PARAM_INT,
+     .offset = offsetof(eo_projective_dynamics_params, lbfgs_history), .def.i = 0, .min = 0,
+     .max = 1000, .range = EO_RANGE_CLOSED,
+     .help = "0: p = -L^-1 grad (PD iteration); m > 0: L-BFGS with m pairs, L as initial Hessian"},
+    {0},
+};
+
+static void pd_free(pd_state *st, eo_ctx *ctx)
+{
+    eo_descent_ws_deinit(ctx, &st->w);
+    eo_free(ctx, st->S);
+    st->S = NULL;
+    eo_csc_destroy(ctx, &st->A);
+}
+
+static int pd_setup(void *vst, const void *params, int n, eo_ctx *ctx)
+{
+    pd_state *st = vst;
+    eo_projective_dynamics_params def;
+    const eo_projective_dynamics_params *pp = params;
+    if (!pp) {
+        eo_params_default(pd_desc, &def);
+        pp = &def;
+    }
+    pd_free(st, ctx);
+    memset(st, 0, sizeof *st);
+    st->ctx = ctx;
+    int rc = eo_descent_ws_init(ctx, n, &st->w);
+    if (rc < 0) return rc;
+    size_t m = (size_t)pp->lbfgs_history, nn = (size_t)(n > 0 ? n : 1);
+    st->S = eo_calloc(ctx, 2 * m * nn + 2 * m + 2 * nn, sizeof(double));
+    if (!st->S)
+        return eo_error(ctx, EO_ERR_NOMEM, "projective_dynamics: out of memory (n = %d, m = %zu)", n, m);
+    st->Y = st->S + m * nn;
+    st->rho = st->Y + m * nn;
+    st->a = st->rho + m;
+    st->q = st->a + m;
+    st->diag = st->q + nn;
+    st->m = (int)m;
+    st->n = n;
+    return EO_OK;
+}
+
+static void pd_destroy(void *vst, eo_ctx *ctx) { pd_free(vst, ctx); }
+
+static int same_pattern(const eo_csc *A, const eo_csc *B)
+{
+    return A && B && A->n == B->n && A->nnz == B->nnz &&
+           memcmp(A->colptr, B->colptr, ((size_t)A->n + 1) * sizeof(int)) == 0 &&
+           memcmp(A->rowind, B->rowind, (size_t)A->nnz * sizeof(int)) == 0;
+}
+
+/* Copy src into the own matrix A (new pattern: clone + analyze) and factor it, shifting
+ * if it is not positive definite. Sets st->factored or st->fail_reason. */
+static int load_and_factor(pd_state *st, const eo_solver_ctx *sc, const eo_csc *src,
+                           eo_solve_result *res)
+{
+    const int n = st->n;
+    int rc;
+    st->factored = 0;
+    st->fail_reason = 0;
+    st->shift = 0;
+    if (!src || src->n != n)
+        return eo_error(sc->ctx, EO_ERR_INVALID,
+                        "projective_dynamics: matrix has n = %d, objective has n = %d",
+                        src ? src->n : -1, n);
+    if (same_pattern(st->A, src) && st->analyzed && st->ls == sc->linear) {
+        memcpy(st->A->val, src->val, (size_t)src->nnz * sizeof(double));
+    } else {
+        for (int j = 0; j < n; j++) {
+            int e = src->colptr[j + 1] - 1;
+            if (e < src->colptr[j] || src->rowind[e] != j)
+                return eo_error(sc->ctx, EO_ERR_INVALID,
+                                "projective_dynamics: matrix column %d has no stored diagonal", j);
+        }
+        st->analyzed = 0;
+        eo_csc_destroy(sc->ctx, &st->A);
+        rc = eo_csc_clone(sc->ctx, src, &st->A);
+        if (rc < 0) return rc;
+        rc = eo_linsolve_analyze(sc->linear, st->A);
+        if (rc < 0) {
+            res->status = rc;
+            st->fail_reason = EO_DIVERGED_LINSOLVE;
+            return EO_OK;
+        }
+        st->analyzed = 1;
+        st->ls = sc->linear;
+    }
+    eo_csc *A = st->A;
+    double s = 0;
+    for (int j = 0; j < n; j++) {
+        st->diag[j] = A->val[A->colptr[j + 1] - 1];
+        s += fabs(st->diag[j]);
+    }
+    if (!isfinite(s)) {
+        st->fail_reason = EO_DIVERGED_NONFINITE;
+        return EO_OK;
+    }
+    s = n > 0 && s > 0 ? s / n : 1;
+    eo_hessfix_shift_params hp;
+    if (sc->hessfix_params) hp = *(const eo_hessfix_shift_params *)sc->hessfix_params;
+    else eo_params_default(eo_hessfix_shift_params_desc, &hp);
+    const double c_min = hp.shift_init * s, c_max = hp.shift_max * s;
+    double c = 0;
+    for (;;) {
+        for (int j = 0; j < n; j++) A->val[A->colptr[j + 1] - 1] = st->diag[j] + c;
+        rc = eo_linsolve_factor(sc->linear, A);
+        res->n_factor++;
+        if (rc < 0) {
+            res->status = rc;
+            st->fail_reason = EO_DIVERGED_LINSOLVE;
+            return EO_OK;
+        }
+        if (rc != EO_WARN_NOT_PD) break;
+        c = c * hp.shift_grow > c_min ? c * hp.shift_grow : c_min;
+        if (!(c <= c_max)) {
+            st->fail_reason = EO_DIVERGED_NOT_PD;
+            return EO_OK;
+        }
+    }
+    if (c > 0) {
+        res->n_shifted++;
+        eo_log(sc->ctx, EO_LOG_DEBUG, "projective_dynamics: matrix shifted by %g to factor it", c);
+    }
+    st->shift = c;
+    st->factored = 1;
+    return EO_OK;
+}
+
+static int pd_begin(void *vst, const void *params, const eo_solver_ctx *sc, const double *x,
+                    double g, const double *grad, eo_solve_result *res)
+{
+    pd_state *st = vst;
+    const eo_projective_dynamics_params *pp = params;
+    (void)g, (void)grad;
+    st->count = st->head = 0;
+    if (pp->lbfgs_history != st->m)
+        return eo_error(sc->ctx, EO_ERR_INVALID,
+                        "projective_dynamics: set up for lbfgs_history %d, called with %d", st->m,
+                        pp->lbfgs_history);
+    if (!sc->linear) return eo_error(sc->ctx, EO_ERR_INVALID, "projective_dynamics needs a linear solver");
+    eo_csc *L = NULL;
+    unsigned long ver = 0;
+    int rc = eo_objective_constant_hessian(sc->obj, &L, &ver);
+    if (rc == EO_OK) {
+        if (st->factored && st->obj == sc->obj && st->src == L && st->version == ver &&
+            st->ls == sc->linear && st->A && st->A->n == st->n)
+            return EO_OK; /* the factors of the previous minimization are still L's */
+        st->obj = NULL;
+        rc = load_and_factor(st, sc, L, res);
+        if (rc < 0) return rc;
+        if (st->factored) {
+            st->obj = sc->obj;
+            st->src = L;
+            st->version = ver;
+        }
+        return EO_OK;
+    }
+    if (rc != EO_ERR_UNSUPPORTED) return rc;
+    /* no constant matrix: the (projected) Hessian at the first iterate */
+    eo_csc *H = NULL;
+    st->obj = NULL;
+    rc = eo_objective_hessian(sc->obj, x, sc->hessfix->elem_proj, &H);
+    if (rc < 0) return rc;
+    return load_and_factor(st, sc, H, res);
+}
+
+/* r = A⁻¹ b (b and r distinct). Returns a negative reason on failure, else 0. */
+static int solve(const eo_solver_ctx *sc, const double *b, double *r, eo_solve_result *res)
+{
+    int rc = eo_linsolve_solve(sc->linear, b, r);
+    if (rc < 0) {
+        res->status = rc;
+        return EO_DIVERGED_LINSOLVE;
+    }
+    if (rc == EO_WARN_NOT_PD) return EO_DIVERGED_NOT_PD;
+    return 0;
+}
+
+static int pd_direction(void *vst, const void *params, const eo_solver_ctx *sc, const double *x,
+                        double g, const double *grad, double *p, eo_direction_out *out,
+                        eo_solve_result *res)
+{
+    pd_state *st = vst;
+    const int n = st->n, m = st->m;
+    (void)params, (void)x, (void)g;
+    out->alpha0 = 1;
+    out->shift = st->shift;
+    if (!st->factored) {
+        out->reason = st->fail_reason ? st->fail_reason : EO_DIVERGED_LINSOLVE;
+        return EO_OK;
+    }
+    double *q = st->q;
+    if (st->count > 0) {
+        for (int i = 0; i < n; i++) q[i] = grad[i];
+        for (int j = 0; j < st->count; j++) {
+            int slot = ((st->head - 1 - j) % m + m) % m;
+            const double *s = st->S + (size_t)slot * n, *y = st->Y + (size_t)slot * n;
+            st->a[slot] = st->rho[slot] * eo_dot(n, s, q);
+            for (int i = 0; i < n; i++) q[i] -= st->a[slot] * y[i];
+        }
+        int reason = solve(sc, q, p, res);
+        if (reason) {
+            out->reason = reason;
+            return EO_OK;
+        }
+        for (int j = st->count - 1; j >= 0; j--) {
+            int slot = ((st->head - 1 - j) % m + m) % m;
+            const double *s = st->S + (size_t)slot * n, *y = st->Y + (size_t)slot * n;
+            double b = st->rho[slot] * eo_dot(n, y, p);
+            for (int i = 0; i < n; i++) p[i] += s[i] * (st->a[slot] - b);
+        }
+        for (int i = 0; i < n; i++) p[i] = -p[i];
+        double dg = eo_dot(n, grad, p), pn = eo_norm2(n, p), gn = eo_norm2(n, grad);
+        if (isfinite(dg) && isfinite(pn) && dg < -1e-14 * gn * pn) return EO_OK;
+        st->count = st->head = 0; /* not a descent direction: plain PD step */
+        res->n_fallback++;
+    }
+    int reason = solve(sc, grad, p, res);
+    if (reason) {
+        out->reason = reason;
+        return EO_OK;
+    }
+    for (int i = 0; i < n; i++) p[i] = -p[i];
+    return EO_OK;
+}
+
+static void pd_accepted(void *vst, const void *params, const double *x, const double *x_new,
+                        const double *grad, const double *grad_new, const double *p, double alpha)
+{
+    pd_state *st = vst;
+    const int n = st->n;
+    (void)params, (void)p, (void)alpha;
+    if (st->m == 0) return;
+    double sy = 0, ss = 0, yy = 0;
+    for (int i = 0; i < n; i++) {
+        double si = x_new[i] - x[i], yi = grad_new[i] - grad[i];
+        sy += si * yi;
+        ss += si * si;
+        yy += yi * yi;
+    }
+    if (!(sy > 1e-10 * sqrt(ss) * sqrt(yy)) || !isfinite(sy)) return; /* skip the pair */
+    double *s = st->S + (size_t)st->head * n, *y = st->Y + (size_t)st->head * n;
+    for (int i = 0; i < n; i++) {
+        s[i] = x_new[i] - x[i];
+        y[i] = grad_new[i] - grad[i];
+    }
+    st->rho[st->head] = 1 / sy;
+    st->head = (st->head + 1) % st->m;
+    if (st->count < st->m) st->count++;
+}
+
+static const eo_descent_ops pd_ops = {
+    .begin = pd_begin,
+    .direction = pd_direction,
+    .accepted = pd_accepted,
+};
+
+static int pd_minimize(void *vst, const void *params, const eo_solver_ctx *sc, double *x,
+                       eo_solve_result *res)
+{
+    pd_state *st = vst;
+    eo_projective_dynamics_params def;
+    if (!params) {
+        eo_params_default(pd_desc, &def);
+        params = &def;
+    }
+    return eo_descent_minimize(&pd_ops, st, params, sc, &st->w, x, res);
+}
+
+const eo_optimizer_type eo_optimizer_projective_dynamics = {
+    .info = {.name = "projective_dynamics",
+             .summary = "projective dynamics: p = -L^-1 grad with a constant matrix L factored once "
+                        "(Liu 2017 L-BFGS on top with lbfgs_history > 0), line search",
+             .params = pd_desc,
+             .params_size = sizeof(eo_projective_dynamics_params)},
+    .state_size = sizeof(pd_state),
+    .needs_linear = 1,
+    .needs_hessian = 1,
+    .setup = pd_setup,
+    .minimize = pd_minimize,
+    .destroy = pd_destroy,
+};
