@@ -14,7 +14,7 @@
 #include <math.h>
 #include <stddef.h>
 
-#include "elastopt/solver.h"
+#include "trial.h"
 
 static const eo_param_desc bt_desc[] = {
     {.key = "c1", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_backtracking_params, c1),
@@ -33,20 +33,17 @@ static int bt_search(const void *params, eo_objective *obj, const double *x, con
 {
     eo_backtracking_params def;
     const eo_backtracking_params *bp = params;
-    const int n = obj->n;
     (void)work, (void)ctx;
     if (!bp) {
         eo_params_default(bt_desc, &def);
         bp = &def;
     }
-    double a = alpha0 > 0 && isfinite(alpha0) ? alpha0 : 1;
+    double a = eo_ls_first_step(alpha0);
     const double noise = 4 * DBL_EPSILON * fabs(g0);
     *nevals = 0;
     for (int k = 0; k < bp->max_evals; k++) {
         double f;
-        for (int i = 0; i < n; i++) xnew[i] = x[i] + a * p[i];
-        int rc = eo_objective_value(obj, xnew, &f);
-        ++*nevals;
+        int rc = eo_ls_value(obj, x, p, a, xnew, &f, nevals);
         if (rc < 0) return rc;
         if (isfinite(f) && (f <= g0 + bp->c1 * a * dg0 ||
                             (-a * dg0 <= 100 * noise && f <= g0 + noise))) {
@@ -56,10 +53,7 @@ static int bt_search(const void *params, eo_objective *obj, const double *x, con
         }
         a *= bp->shrink;
     }
-    for (int i = 0; i < n; i++) xnew[i] = x[i];
-    *gnew = g0;
-    *alpha = 0;
-    return EO_WARN_NOT_CONVERGED;
+    return eo_ls_give_up(obj->n, x, g0, xnew, gnew, alpha);
 }
 
 const eo_linesearch_type eo_linesearch_backtracking = {

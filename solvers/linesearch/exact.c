@@ -27,7 +27,7 @@
 #include <math.h>
 #include <stddef.h>
 
-#include "elastopt/solver.h"
+#include "trial.h"
 
 static const eo_param_desc exact_desc[] = {
     {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_exact_params, tol), .def.d = 1e-8,
@@ -48,7 +48,7 @@ static int eval(eo_objective *obj, const double *x, const double *p, double a, d
 {
     const int n = obj->n;
     double f;
-    for (int i = 0; i < n; i++) xt[i] = x[i] + a * p[i];
+    eo_ls_point(n, x, p, a, xt);
     int rc = eo_objective_gradient(obj, xt, &f, grad);
     ++*nevals;
     if (rc < 0) return rc;
@@ -102,7 +102,7 @@ static int exact_search(const void *params, eo_objective *obj, const double *x, 
     const double noise = 4 * DBL_EPSILON * fabs(g0); /* values closer than this tie */
     pt lo = {0, g0, dg0}, hi = {NAN, NAN, NAN}, t;
     int have_hi = 0, converged = 0, rc;
-    double a = alpha0 > 0 && isfinite(alpha0) ? alpha0 : 1;
+    double a = eo_ls_first_step(alpha0);
     *nevals = 0;
 
     /* 1. bracket */
@@ -169,13 +169,8 @@ static int exact_search(const void *params, eo_objective *obj, const double *x, 
         }
     }
 
-    if (!(lo.a > 0)) {
-        for (int i = 0; i < n; i++) xnew[i] = x[i];
-        *gnew = g0;
-        *alpha = 0;
-        return EO_WARN_NOT_CONVERGED;
-    }
-    for (int i = 0; i < n; i++) xnew[i] = x[i] + lo.a * p[i];
+    if (!(lo.a > 0)) return eo_ls_give_up(n, x, g0, xnew, gnew, alpha);
+    eo_ls_point(n, x, p, lo.a, xnew);
     *gnew = lo.f;
     *alpha = lo.a;
     return converged ? EO_OK : EO_WARN_NOT_CONVERGED;

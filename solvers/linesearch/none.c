@@ -7,21 +7,18 @@
  * No parameters. */
 #include <math.h>
 
-#include "elastopt/solver.h"
+#include "trial.h"
 
 static int none_search(const void *params, eo_objective *obj, const double *x, const double *p,
                        double g0, double dg0, double alpha0, double *xnew, double *gnew,
                        double *alpha, int *nevals, double *work, eo_ctx *ctx)
 {
-    const int n = obj->n;
     (void)params, (void)dg0, (void)work, (void)ctx;
-    double a = alpha0 > 0 && isfinite(alpha0) ? alpha0 : 1;
+    double a = eo_ls_first_step(alpha0);
     *nevals = 0;
     for (int k = 0; k <= 60; k++) {
         double f;
-        for (int i = 0; i < n; i++) xnew[i] = x[i] + a * p[i];
-        int rc = eo_objective_value(obj, xnew, &f);
-        ++*nevals;
+        int rc = eo_ls_value(obj, x, p, a, xnew, &f, nevals);
         if (rc < 0) return rc;
         if (isfinite(f)) {
             *gnew = f;
@@ -30,10 +27,7 @@ static int none_search(const void *params, eo_objective *obj, const double *x, c
         }
         a *= 0.5;
     }
-    for (int i = 0; i < n; i++) xnew[i] = x[i];
-    *gnew = g0;
-    *alpha = 0;
-    return EO_WARN_NOT_CONVERGED;
+    return eo_ls_give_up(obj->n, x, g0, xnew, gnew, alpha);
 }
 
 const eo_linesearch_type eo_linesearch_none = {
