@@ -78,36 +78,29 @@ static void test_params(void)
     CHECK(p.max_iters == 7 && p.c1 == 0.5 && p.verbose && strcmp(p.mode, "fast") == 0 && p.g[1] == 2, "loaded");
     json_decref(sec);
 
-    /* out of range, with the file line of the key */
-    sec = json_loads("{\"c1\": 2}", 0, NULL);
-    int rc = eo_params_load(ctx, demo_desc, &p, sec, NULL, &src);
-    CHECK(rc == EO_ERR_RANGE, "range rc %d", rc);
-    CHECK(strstr(eo_ctx_message(ctx), "x.json:3:5") && strstr(eo_ctx_message(ctx), "s.c1"), "msg '%s'",
-          eo_ctx_message(ctx));
-    json_decref(sec);
-    /* wrong type */
-    sec = json_loads("{\"max_iters\": \"ten\"}", 0, NULL);
-    CHECK(eo_params_load(ctx, demo_desc, &p, sec, NULL, &src) == EO_ERR_TYPE, "type");
-    CHECK(strstr(eo_ctx_message(ctx), "expected an integer, got string") != NULL, "msg '%s'", eo_ctx_message(ctx));
-    json_decref(sec);
-    /* non-integer for int */
-    sec = json_loads("{\"max_iters\": 2.5}", 0, NULL);
-    CHECK(eo_params_load(ctx, demo_desc, &p, sec, NULL, &src) == EO_ERR_TYPE, "2.5 is not an integer");
-    json_decref(sec);
-    /* unknown key lists the valid keys */
-    sec = json_loads("{\"c2\": 1}", 0, NULL);
-    CHECK(eo_params_load(ctx, demo_desc, &p, sec, NULL, &src) == EO_ERR_UNKNOWN_KEY, "unknown");
-    CHECK(strstr(eo_ctx_message(ctx), "max_iters, c1, verbose, mode, g") != NULL, "msg '%s'", eo_ctx_message(ctx));
-    json_decref(sec);
-    /* unknown choice lists the choices */
-    sec = json_loads("{\"mode\": \"slow\"}", 0, NULL);
-    CHECK(eo_params_load(ctx, demo_desc, &p, sec, NULL, &src) == EO_ERR_UNKNOWN_NAME, "choice");
-    CHECK(strstr(eo_ctx_message(ctx), "valid: fast, safe") != NULL, "msg '%s'", eo_ctx_message(ctx));
-    json_decref(sec);
-    /* vec3 wrong length */
-    sec = json_loads("{\"g\": [1,2]}", 0, NULL);
-    CHECK(eo_params_load(ctx, demo_desc, &p, sec, NULL, &src) == EO_ERR_TYPE, "vec3");
-    json_decref(sec);
+    /* rejected sections: status, and what the message must name */
+    static const struct {
+        const char *what, *json;
+        int status;
+        const char *msg[2]; /* substrings of the message (NULL: not checked) */
+    } bad[] = {
+        {"out of range, with the file line of the key", "{\"c1\": 2}", EO_ERR_RANGE, {"x.json:3:5", "s.c1"}},
+        {"wrong type", "{\"max_iters\": \"ten\"}", EO_ERR_TYPE, {"expected an integer, got string", NULL}},
+        {"non-integer for int", "{\"max_iters\": 2.5}", EO_ERR_TYPE, {NULL, NULL}},
+        {"unknown key lists the valid keys", "{\"c2\": 1}", EO_ERR_UNKNOWN_KEY, {"max_iters, c1, verbose, mode, g", NULL}},
+        {"unknown choice lists the choices", "{\"mode\": \"slow\"}", EO_ERR_UNKNOWN_NAME, {"valid: fast, safe", NULL}},
+        {"vec3 wrong length", "{\"g\": [1,2]}", EO_ERR_TYPE, {NULL, NULL}},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        sec = json_loads(bad[i].json, 0, NULL);
+        int rc = eo_params_load(ctx, demo_desc, &p, sec, NULL, &src);
+        CHECK(rc == bad[i].status, "%s: rc %d, expected %d", bad[i].what, rc, bad[i].status);
+        for (int m = 0; m < 2; m++)
+            if (bad[i].msg[m])
+                CHECK(strstr(eo_ctx_message(ctx), bad[i].msg[m]) != NULL, "%s: msg '%s'", bad[i].what,
+                      eo_ctx_message(ctx));
+        json_decref(sec);
+    }
     /* echo round trip */
     json_t *echo = eo_params_to_json(demo_desc, &p);
     demo_params q;
