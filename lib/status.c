@@ -36,34 +36,36 @@ const char *eo_reason_string(int reason)
 /* "EO_CONVERGED_DECREMENT" -> "converged_decrement", from a static table built once
  * from the same list (lower-cased copies of the names without the prefix). */
 #define EO_REASON_NAME_MAX 48
-static char reason_names[32][EO_REASON_NAME_MAX];
-static int reason_values[32];
+#define X(name, value, str) +1
+enum { N_REASONS = 0 EO_REASON_LIST(X) }; /* entries of the list: sizes the tables */
+#undef X
+static char reason_names[N_REASONS][EO_REASON_NAME_MAX];
+static int reason_values[N_REASONS];
 static int reason_count = -1;
 
 static void reason_names_init(void)
 {
-    static const char *const names[] = {
+    static const char *const names[N_REASONS] = {
 #define X(name, value, str) #name,
         EO_REASON_LIST(X)
 #undef X
     };
-    static const int values[] = {
+    static const int values[N_REASONS] = {
 #define X(name, value, str) value,
         EO_REASON_LIST(X)
 #undef X
     };
-    int n = (int)(sizeof values / sizeof values[0]);
-    for (int k = 0; k < n && k < 32; k++) {
+    for (int k = 0; k < N_REASONS; k++) {
         const char *s = names[k] + 3; /* skip "EO_" */
         if (s[0] == 'R' && s[1] == 'E' && s[2] == 'A' && s[3] == 'S' && s[6] == '_')
             s += 7; /* "REASON_ITERATING" -> "ITERATING" */
         int j = 0;
-        for (; s[j] && j < EO_REASON_NAME_MAX - 1; j++)
+        for (; j < EO_REASON_NAME_MAX - 1 && s[j]; j++)
             reason_names[k][j] = (char)((s[j] >= 'A' && s[j] <= 'Z') ? s[j] - 'A' + 'a' : s[j]);
         reason_names[k][j] = 0;
         reason_values[k] = values[k];
     }
-    reason_count = n;
+    reason_count = N_REASONS;
 }
 
 const char *eo_reason_name(int reason)
