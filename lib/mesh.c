@@ -184,8 +184,9 @@ static int base_has_node(const char *path)
     char buf[4096];
     if (snprintf(buf, sizeof buf, "%s.node", path) >= (int)sizeof buf) return 0;
     FILE *f = fopen(buf, "rb");
-    if (f) fclose(f);
-    return f != NULL;
+    if (!f) return 0;
+    fclose(f);
+    return 1;
 }
 
 int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out)
@@ -621,7 +622,7 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
     int ndup = 0;
     for (int i = 1; i < m->nt; i++) {
         if (memcmp(keys[i].k, keys[i - 1].k, sizeof keys[i].k) != 0) continue;
-        int t = keys[i].t, first = keys[i].t;
+        int t = keys[i].t, first = t; /* becomes the first tet of the run of equal keys */
         for (int j = i - 1; j >= 0 && memcmp(keys[j].k, keys[i].k, sizeof keys[i].k) == 0; j--) first = keys[j].t;
         if (!opts->drop_degenerate) {
             rc = eo_error_at(ctx, EO_ERR_MESH, tet_loc(src, t),
