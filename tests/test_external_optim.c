@@ -72,20 +72,21 @@ static int run(eo_ctx *ctx, tprob *p, const char *opt, const char *stop, double 
 /* ---- configurations ------------------------------------------------------------------ */
 typedef struct ext_cfg {
     const char *opt, *tag;
-    const char *overrides[3];
+    const char *overrides[3]; /* NULL-terminated (unset entries are NULL) */
     double decrement_tol;  /* λ²/2 tolerance under newton_decrement (0 = 1e-16) */
 } ext_cfg;
 
 static const ext_cfg configs[] = {
-    {"ipopt", "ipopt/exact", {"solver.ipopt.hessian=exact", NULL}},
+    {.opt = "ipopt", .tag = "ipopt/exact", .overrides = {"solver.ipopt.hessian=exact"}},
     /* the decrement of a limited-memory direction is only an estimate of g - g*: the
      * quasi-Newton matrix underestimates the flat valley's curvature, so it is asked
      * for more to guarantee 1e-6 in x on Rosenbrock in every build type */
-    {"ipopt", "ipopt/limited-memory", {"solver.ipopt.hessian=limited-memory", NULL}, 1e-20},
-    {"nlopt", "nlopt/lbfgs", {"solver.nlopt.algorithm=lbfgs", NULL}},
-    {"nlopt", "nlopt/tnewton", {"solver.nlopt.algorithm=tnewton", NULL}},
-    {"nlopt", "nlopt/var2", {"solver.nlopt.algorithm=var2", NULL}},
-    {"nlopt", "nlopt/mma", {"solver.nlopt.algorithm=mma", "solver.nlopt.xtol_rel=1e-10", NULL}},
+    {.opt = "ipopt", .tag = "ipopt/limited-memory", .overrides = {"solver.ipopt.hessian=limited-memory"},
+     .decrement_tol = 1e-20},
+    {.opt = "nlopt", .tag = "nlopt/lbfgs", .overrides = {"solver.nlopt.algorithm=lbfgs"}},
+    {.opt = "nlopt", .tag = "nlopt/tnewton", .overrides = {"solver.nlopt.algorithm=tnewton"}},
+    {.opt = "nlopt", .tag = "nlopt/var2", .overrides = {"solver.nlopt.algorithm=var2"}},
+    {.opt = "nlopt", .tag = "nlopt/mma", .overrides = {"solver.nlopt.algorithm=mma", "solver.nlopt.xtol_rel=1e-10"}},
 };
 #define N_CONFIGS (sizeof configs / sizeof configs[0])
 
