@@ -27,6 +27,9 @@
  * tensor's shear eigenvalue 2μ and its bulk eigenvalue 2μ + 3λ, matches the ARAP
  * weight 2μ of the corotated term plus λ for its volume term, and is taken from the
  * material kernel (no per-model table), so any model gets a consistent weight.
+ * Measured on examples/twist.json (50 steps, tol 1e-10, iterations per step, plain PD /
+ * L-BFGS-PD m = 5): k = λ + 2μ 114 / 24; k = 2μ 101 / 28; k = tr C/9 101 / 24;
+ * the material's clamped rest Hessian instead of k·I₉: 412 / 39.
  * Springs have no rotation-invariant form here yet: their rest Hessian k·ddᵀ (clamped)
  * is used, which is constant too.
  *

@@ -86,7 +86,7 @@ case "$msg" in *cantilever*) ok ;; *) bad "unknown scene message lists scenes: $
 # (exit 1) -- never a crash, a bad-input exit or a non-finite value.
 for f in "$SRC"/examples/*.json; do
     b=$(basename "$f" .json)
-    for cfg in "newton none" "newton shift" "newton clamp" "newton abs" "gradient_descent clamp" "lbfgs clamp"; do
+    for cfg in "newton none" "newton shift" "newton clamp" "newton abs" "gradient_descent clamp" "lbfgs clamp" "projective_dynamics clamp"; do
         set -- $cfg
         d="matrix_${b}_$1_$2"
         "$EXE" run "$f" --out "$d" --quiet -o time.steps=2 -o output.vtu=false \
@@ -105,6 +105,17 @@ for st in s["steps"]:
         assert st[k] is not None and math.isfinite(st[k]), (k, st[k])
 PY
     done
+done
+
+# --- projective dynamics on the twisting bar: every step converges (exit 0), plain PD
+# (more iterations: raised cap) and L-BFGS-PD with the default cap
+for h in 0 5; do
+    cap=100; [ $h = 0 ] && cap=1000
+    "$EXE" run "$SRC/examples/twist.json" --out "pd_twist_$h" --quiet -o output.vtu=false \
+        -o solver.optimizer=projective_dynamics -o solver.projective_dynamics.lbfgs_history=$h \
+        -o solver.max_iters=$cap >/dev/null 2>"pd_twist_$h.err"
+    rc=$?
+    [ $rc -eq 0 ] && ok || bad "twist with projective_dynamics lbfgs_history=$h: exit $rc $(cat "pd_twist_$h.err")"
 done
 
 echo "cli_engine: $pass passed, $fail failed"
