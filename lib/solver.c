@@ -9,10 +9,12 @@
 #include <stdio.h>
 #include <string.h>
 
-/* The kinds whose methods live in config section solver.<name>. */
-static const eo_kind solver_kinds[] = {EO_KIND_OPTIMIZER, EO_KIND_HESSFIX, EO_KIND_LINESEARCH,
-                                       EO_KIND_STOP, EO_KIND_LINSOLVE};
-#define N_KINDS (sizeof solver_kinds / sizeof solver_kinds[0])
+/* The kinds whose methods live in config section solver.<name>, by slot of type[] and
+ * params[] (the optimizer first: it decides whether a linear solver is needed). */
+enum { SLOT_OPT, SLOT_HESSFIX, SLOT_LINESEARCH, SLOT_STOP, SLOT_LINEAR, N_KINDS };
+static const eo_kind solver_kinds[N_KINDS] = {
+    [SLOT_OPT] = EO_KIND_OPTIMIZER, [SLOT_HESSFIX] = EO_KIND_HESSFIX,
+    [SLOT_LINESEARCH] = EO_KIND_LINESEARCH, [SLOT_STOP] = EO_KIND_STOP, [SLOT_LINEAR] = EO_KIND_LINSOLVE};
 
 struct eo_solver {
     eo_ctx *ctx;
@@ -151,8 +153,7 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n
 
     /* resolve the selected methods; the linear solver only if the optimizer needs one */
     for (size_t i = 0; i < N_KINDS; i++) {
-        if (solver_kinds[i] == EO_KIND_LINSOLVE &&
-            !((const eo_optimizer_type *)s->type[0])->needs_linear)
+        if (i == SLOT_LINEAR && !((const eo_optimizer_type *)s->type[SLOT_OPT])->needs_linear)
             continue;
         EO_TRY(rc = eo_registry_find(ctx, solver_kinds[i], opts_name(&s->opts, solver_kinds[i]),
                                      &s->type[i]));
@@ -169,10 +170,9 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n
             }
     }
 
-    const eo_optimizer_type *opt = s->type[0];
+    const eo_optimizer_type *opt = s->type[SLOT_OPT];
     if (opt->needs_linear) {
-        EO_TRY(rc = eo_linsolve_create(ctx, s->type[N_KINDS - 1], s->params[N_KINDS - 1],
-                                       &s->linear));
+        EO_TRY(rc = eo_linsolve_create(ctx, s->type[SLOT_LINEAR], s->params[SLOT_LINEAR], &s->linear));
     }
     s->opt_state = eo_calloc(ctx, 1, opt->state_size ? opt->state_size : 1);
     if (!s->opt_state) {
@@ -180,7 +180,7 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n
         goto fail;
     }
     s->opt_set_up = 1;
-    EO_TRY(rc = opt->setup(s->opt_state, s->params[0], n, ctx));
+    EO_TRY(rc = opt->setup(s->opt_state, s->params[SLOT_OPT], n, ctx));
     *out = s;
     return EO_OK;
 fail:
@@ -193,7 +193,7 @@ void eo_solver_destroy(eo_solver **sp)
     if (!sp || !*sp) return;
     eo_solver *s = *sp;
     eo_ctx *ctx = s->ctx;
-    const eo_optimizer_type *opt = s->type[0];
+    const eo_optimizer_type *opt = s->type[SLOT_OPT];
     if (s->opt_state && s->opt_set_up && opt->destroy) opt->destroy(s->opt_state, ctx);
     eo_free(ctx, s->opt_state);
     eo_linsolve_destroy(&s->linear);
@@ -213,24 +213,24 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         return res->status = eo_error(s->ctx, EO_ERR_INVALID,
                                       "solver created for n = %d, objective has n = %d", s->n,
                                       obj->n);
-    const eo_optimizer_type *opt = s->type[0];
+    const eo_optimizer_type *opt = s->type[SLOT_OPT];
     eo_solver_ctx sc = {
         .obj = obj,
         .ctx = s->ctx,
         .linear = s->linear,
-        .hessfix = s->type[1],
-        .hessfix_params = s->params[1],
-        .linesearch = s->type[2],
-        .linesearch_params = s->params[2],
-        .stop = s->type[3],
-        .stop_params = s->params[3],
+        .hessfix = s->type[SLOT_HESSFIX],
+        .hessfix_params = s->params[SLOT_HESSFIX],
+        .linesearch = s->type[SLOT_LINESEARCH],
+        .linesearch_params = s->params[SLOT_LINESEARCH],
+        .stop = s->type[SLOT_STOP],
+        .stop_params = s->params[SLOT_STOP],
         .tol = s->opts.tol,
         .max_iters = s->opts.max_iters,
         .time_budget = s->opts.time_budget,
         .on_iter = on_iter,
         .user = user,
     };
-    return opt->minimize(s->opt_state, s->params[0], &sc, x, res);
+    return opt->minimize(s->opt_state, s->params[SLOT_OPT], &sc, x, res);
 }
 
 const eo_solver_opts *eo_solver_get_opts(const eo_solver *s) { return &s->opts; }
