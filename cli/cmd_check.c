@@ -218,7 +218,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_mesh_stats_compute(sc->mesh, &ms);
     const double *bb = ms.bbox;
     w.L = sqrt((bb[3] - bb[0]) * (bb[3] - bb[0]) + (bb[4] - bb[1]) * (bb[4] - bb[1]) + (bb[5] - bb[2]) * (bb[5] - bb[2]));
-    double h = cbrt(ms.volume / sc->mesh->nt);
+    double h = sc->mesh->nt ? cbrt(ms.volume / sc->mesh->nt) : w.L / 10; /* mesh.points: no tets */
     memcpy(x, eo_step_guess(st), (size_t)n * sizeof(double));
     printf("check %s: %d free coordinates, %d tets, integrator %s, dt %g, tol %g\n", name, n, sc->mesh->nt,
            sc->time.integrator, sc->time.dt, tol);

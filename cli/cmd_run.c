@@ -10,7 +10,17 @@
  *                                  ‖∇g‖, centre of mass, max displacement, min J,
  *                                  inverted tets, kinetic and elastic energy
  * all written atomically. Exit 0 if every step converged, 1 if some did not, 2 on bad
- * input. */
+ * input.
+ *
+ * Explicit integrators (forward_euler, ..., leapfrog) advance with eo_step_advance: no
+ * objective is minimized, so each step records iterations 0, reason
+ * "converged_explicit", g and grad_norm null (NaN in the CSV) and one CSV row
+ * (iteration 0). The solver section is still validated (and unused).
+ * After every step the state is checked: a non-finite position or velocity (an
+ * explicit integrator beyond its stability limit, or a blown-up implicit solve) stops
+ * the run with reason "diverged_nonfinite" on that step and as "stop_reason" in
+ * summary.json (null when the run was not stopped), an error message naming the
+ * step, and exit 1; the frames and summary hold the last finite state. */
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
@@ -146,6 +156,8 @@ static int write_summary(eo_ctx *ctx, const char *dir, const char *name, eo_cfg 
     json_object_set_new(root, "frames", json_integer(nframes));
     json_object_set_new(root, "pvd", pvd_file ? json_string(pvd_file) : json_null());
     json_object_set_new(root, "error", error ? json_string(error) : json_null());
+    int stopped = nrec > 0 && rec[nrec - 1].reason == EO_DIVERGED_NONFINITE;
+    json_object_set_new(root, "stop_reason", stopped ? json_string(eo_reason_name(EO_DIVERGED_NONFINITE)) : json_null());
     char path[1100];
     snprintf(path, sizeof path, "%s/summary.json", dir);
     eo_afile *f = NULL;
@@ -243,14 +255,37 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         rs.step = k + 1;
         eo_solve_result r;
         memset(&r, 0, sizeof r);
-        double *x = eo_step_guess(st);
-        rc = eo_solver_minimize(solver, obj, x, on_iter, &rs, &r);
-        if (rc < 0) {
-            snprintf(errtext, sizeof errtext, "step %d: %s", k + 1, eo_ctx_message(ctx));
+        if (eo_step_is_explicit(st)) {
+            double t0 = eo_wtime();
+            EO_TRY(rc = eo_step_advance(st, &r.reason));
+            r.time = eo_wtime() - t0;
+            r.g = r.grad_norm = NAN;
+            fprintf(rs.csv, "%d,0,%.6e,nan,nan,nan,nan,0,-1,%s\n", k + 1, r.time, eo_reason_name(r.reason));
+        } else {
+            double *x = eo_step_guess(st);
+            rc = eo_solver_minimize(solver, obj, x, on_iter, &rs, &r);
+            if (rc < 0) {
+                snprintf(errtext, sizeof errtext, "step %d: %s", k + 1, eo_ctx_message(ctx));
+                all_converged = 0;
+                break;
+            }
+            EO_TRY(rc = eo_step_end(st, x));
+            if (!eo_step_state_finite(st)) r.reason = EO_DIVERGED_NONFINITE;
+        }
+        if (r.reason == EO_DIVERGED_NONFINITE) {
+            snprintf(errtext, sizeof errtext,
+                     "step %d (t = %g s): the state became non-finite (diverged_nonfinite)%s", k + 1,
+                     eo_step_time(st) + (eo_step_is_explicit(st) ? sc->time.dt : 0),
+                     eo_step_is_explicit(st) ? "; the explicit integrator is beyond its stability limit: reduce time.dt"
+                                             : "");
+            rec[nrec].reason = r.reason;
+            rec[nrec].t = eo_step_time(st);
+            eo_step_stats_compute(st, &rec[nrec].stats);
+            rec[nrec].g = rec[nrec].grad_norm = NAN;
+            nrec++;
             all_converged = 0;
             break;
         }
-        EO_TRY(rc = eo_step_end(st, x));
         step_record *e = rec + nrec++;
         e->iterations = r.iterations;
         e->reason = r.reason;

@@ -12,6 +12,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "elastopt/scene.h"
@@ -31,6 +32,30 @@ const eo_param_desc eo_scene_opts_desc[] = {
      .help = "mass matrix: consistent (rhoV/10, rhoV/20 per tet) or lumped (rhoV/4 per vertex)"},
     {.key = "gravity", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_opts, gravity),
      .def.v = {0, 0, -9.81}, .help = "gravitational acceleration (m/s^2)"},
+    {.key = "point_mass", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_opts, point_mass), .def.d = 0,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "point mass added to every vertex (kg); point_masses [[vertex, kg], ...] adds to single vertices"},
+    {0},
+};
+
+static const char *const spring_edge_choices[] = {"none", "mesh", "list", NULL};
+
+const eo_param_desc eo_scene_springs_opts_desc[] = {
+    {.key = "edges", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_scene_springs_opts, edges),
+     .size = SZ(eo_scene_springs_opts, edges), .def.s = "none", .choices = spring_edge_choices,
+     .help = "none, mesh (a spring on every unique tet edge) or list (springs.list: [[i, j], ...] vertex pairs)"},
+    {.key = "k", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_springs_opts, k), .def.d = 1000, .min = 0,
+     .range = EO_RANGE_POSITIVE, .help = "stiffness of every scene spring (N/m); rest lengths from the rest positions"},
+    {.key = "damping", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_springs_opts, damping), .def.d = 0,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "damping along each spring (N s/m), f = -c((va - vb).n)n; explicit integrators only"},
+    {0},
+};
+
+const eo_param_desc eo_scene_collision_opts_desc[] = {
+    {.key = "stiffness", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_collision_opts, stiffness),
+     .def.d = 1e5, .min = 0, .range = EO_RANGE_POSITIVE,
+     .help = "penalty stiffness per vertex (N/m): E = k/2 max(0, -(x - point).normal)^2, not mass-weighted"},
     {0},
 };
 
@@ -126,8 +151,8 @@ const eo_param_desc eo_scene_rotate_opts_desc[] = {
 };
 
 const eo_cfg_doc eo_scene_docs[] = {
-    {"", eo_scene_opts_desc, "top-level scene keys (also: mesh, material, materials, boundary, initial, time, solver, output)"},
-    {"mesh", eo_scene_mesh_opts_desc, "the mesh: a file or mesh.generate"},
+    {"", eo_scene_opts_desc, "top-level scene keys (also: mesh, material, materials, boundary, initial, springs, collisions, point_masses, time, solver, output)"},
+    {"mesh", eo_scene_mesh_opts_desc, "the mesh: a file, mesh.generate, or mesh.points [[x,y,z], ...] (points without tets: a mass-spring system)"},
     {"mesh.generate", eo_scene_generate_opts_desc, "generated box of hexahedral cells split into tets"},
     {"time", eo_scene_time_opts_desc, "time stepping"},
     {"output", eo_scene_output_opts_desc, "what `elastopt run` writes"},
@@ -137,6 +162,9 @@ const eo_cfg_doc eo_scene_docs[] = {
     {"boundary.N", eo_scene_bc_opts_desc, "boundary list entry: selector (box | plane | marker) and motion (fixed | translate | rotate)"},
     {"boundary.N.plane", eo_scene_plane_opts_desc, "select rest vertices with (X - point).normal >= 0"},
     {"boundary.N.rotate", eo_scene_rotate_opts_desc, "rotate the set about an axis"},
+    {"springs", eo_scene_springs_opts_desc, "scene springs (mass-spring system) on top of the materials' tet elasticity; material.model = spring means springs only"},
+    {"collisions.N", eo_scene_collision_opts_desc, "half-space obstacle: penalty contact with collisions.N.plane"},
+    {"collisions.N.plane", eo_scene_plane_opts_desc, "the obstacle's boundary plane; the normal points to the free side"},
     {NULL, NULL, NULL},
 };
 
@@ -204,11 +232,39 @@ static const json_t *member(const json_t *obj, const char *key)
 
 /* ---------------------------------------------------------------- sections */
 
+/* mesh.points: [[x,y,z], ...] → a mesh with vertices and no tets */
+static int load_points(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc, const json_t *pts)
+{
+    if (!json_is_array(pts) || json_array_size(pts) < 1)
+        return cfg_err(ctx, cfg, "mesh.points", EO_ERR_TYPE, "expected a non-empty list of [x,y,z] points, got %s",
+                       eo_json_type_name(pts));
+    int n = (int)json_array_size(pts);
+    int rc = eo_mesh_create(ctx, n, 0, &sc->mesh);
+    if (rc < 0) return rc;
+    for (int v = 0; v < n; v++) {
+        const json_t *p = json_array_get(pts, (size_t)v);
+        for (int k = 0; k < 3; k++) {
+            const json_t *e = json_is_array(p) && json_array_size(p) == 3 ? json_array_get(p, (size_t)k) : NULL;
+            if (!json_is_number(e) || !isfinite(json_number_value(e)))
+                return cfg_err(ctx, cfg, "mesh.points", EO_ERR_TYPE, "point %d is not 3 finite numbers", v);
+            sc->mesh->X[3 * v + k] = json_number_value(e);
+        }
+    }
+    sc->points = 1;
+    return EO_OK;
+}
+
 static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
 {
-    static const char *const extra[] = {"generate", NULL};
+    static const char *const extra[] = {"generate", "points", NULL};
     int rc = eo_cfg_section(ctx, cfg, "mesh", eo_scene_mesh_opts_desc, &sc->mesh_opts, extra);
     if (rc < 0) return rc;
+    json_t *pts = eo_cfg_get(cfg, "mesh.points");
+    if (pts) {
+        if (sc->mesh_opts.file[0] || eo_cfg_get(cfg, "mesh.generate"))
+            return cfg_err(ctx, cfg, "mesh.points", EO_ERR_INVALID, "give one of mesh.file, mesh.generate, mesh.points");
+        return load_points(ctx, cfg, sc, pts);
+    }
     rc = eo_cfg_section(ctx, cfg, "mesh.generate", eo_scene_generate_opts_desc, &sc->gen, NULL);
     if (rc < 0) return rc;
     int has_gen = eo_cfg_get(cfg, "mesh.generate") != NULL;
@@ -436,6 +492,148 @@ static int load_initial(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     return EO_OK;
 }
 
+/* [i, j] or [i, x] pairs of a list: an integer vertex index first */
+static int read_vertex(eo_ctx *ctx, eo_cfg *cfg, const char *path, const json_t *e, int nv, int *v)
+{
+    if (!json_is_integer(e) || json_integer_value(e) < 0 || json_integer_value(e) >= nv)
+        return cfg_err(ctx, cfg, path, EO_ERR_RANGE, "expected a vertex index in [0, %d)", nv);
+    *v = (int)json_integer_value(e);
+    return EO_OK;
+}
+
+static int load_point_masses(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    const int nv = sc->mesh->nv;
+    json_t *list = eo_cfg_get(cfg, "point_masses");
+    if (list && !json_is_array(list))
+        return cfg_err(ctx, cfg, "point_masses", EO_ERR_TYPE, "expected a list of [vertex, kg] pairs, got %s",
+                       eo_json_type_name(list));
+    if (!(sc->opts.point_mass > 0) && !(list && json_array_size(list))) return EO_OK;
+    sc->pmass = eo_calloc(ctx, (size_t)nv, sizeof(double));
+    if (!sc->pmass) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    for (int v = 0; v < nv; v++) sc->pmass[v] = sc->opts.point_mass;
+    for (size_t i = 0; list && i < json_array_size(list); i++) {
+        char path[64];
+        snprintf(path, sizeof path, "point_masses.%zu", i);
+        const json_t *e = json_array_get(list, i);
+        int v;
+        if (!json_is_array(e) || json_array_size(e) != 2)
+            return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected [vertex, kg]");
+        int rc = read_vertex(ctx, cfg, path, json_array_get(e, 0), nv, &v);
+        if (rc < 0) return rc;
+        const json_t *m = json_array_get(e, 1);
+        if (!json_is_number(m) || !(json_number_value(m) >= 0) || !isfinite(json_number_value(m)))
+            return cfg_err(ctx, cfg, path, EO_ERR_RANGE, "the mass must be a finite number >= 0 (kg)");
+        sc->pmass[v] += json_number_value(m);
+    }
+    return EO_OK;
+}
+
+static int cmp_pair(const void *a, const void *b)
+{
+    const int *x = a, *y = b;
+    return x[0] != y[0] ? (x[0] < y[0] ? -1 : 1) : (x[1] != y[1] ? (x[1] < y[1] ? -1 : 1) : 0);
+}
+
+/* springs: every unique tet edge ("mesh") or the listed pairs ("list"), stored a < b */
+static int load_springs(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    static const char *const extra[] = {"list", NULL};
+    static const int pairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+    const eo_mesh *m = sc->mesh;
+    eo_params_default(eo_scene_springs_opts_desc, &sc->springs);
+    int rc = eo_cfg_section(ctx, cfg, "springs", eo_scene_springs_opts_desc, &sc->springs, extra);
+    if (rc < 0) return rc;
+    json_t *list = eo_cfg_get(cfg, "springs.list");
+    int is_list = strcmp(sc->springs.edges, "list") == 0, is_mesh = strcmp(sc->springs.edges, "mesh") == 0;
+    if (list && !is_list)
+        return cfg_err(ctx, cfg, "springs.list", EO_ERR_INVALID, "springs.list needs springs.edges = \"list\"");
+    if (is_list && (!json_is_array(list) || !json_array_size(list)))
+        return cfg_err(ctx, cfg, list ? "springs.list" : "springs", EO_ERR_INVALID,
+                       "springs.edges = \"list\" needs springs.list: a non-empty list of [i, j] vertex pairs");
+    if (is_mesh && !m->nt)
+        return cfg_err(ctx, cfg, "springs.edges", EO_ERR_INVALID, "the mesh has no tets: no edges to put springs on");
+    int ncand = is_list ? (int)json_array_size(list) : is_mesh ? 6 * m->nt : 0;
+    if (!ncand) return EO_OK;
+    sc->spring_ab = eo_malloc(ctx, 2 * (size_t)ncand * sizeof(int));
+    if (!sc->spring_ab) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (springs)");
+    int *ab = sc->spring_ab;
+    for (int i = 0; i < ncand; i++) {
+        int a, b;
+        if (is_list) {
+            char path[64];
+            snprintf(path, sizeof path, "springs.list.%d", i);
+            const json_t *e = json_array_get(list, (size_t)i);
+            if (!json_is_array(e) || json_array_size(e) != 2)
+                return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected a vertex pair [i, j]");
+            if ((rc = read_vertex(ctx, cfg, path, json_array_get(e, 0), m->nv, &a)) < 0) return rc;
+            if ((rc = read_vertex(ctx, cfg, path, json_array_get(e, 1), m->nv, &b)) < 0) return rc;
+            double L2 = 0;
+            for (int k = 0; k < 3; k++) L2 += (m->X[3 * a + k] - m->X[3 * b + k]) * (m->X[3 * a + k] - m->X[3 * b + k]);
+            if (!(L2 > 0))
+                return cfg_err(ctx, cfg, path, EO_ERR_INVALID, "spring %d-%d has zero rest length", a, b);
+        } else {
+            a = m->tets[4 * (i / 6) + pairs[i % 6][0]];
+            b = m->tets[4 * (i / 6) + pairs[i % 6][1]];
+        }
+        ab[2 * i] = a < b ? a : b;
+        ab[2 * i + 1] = a < b ? b : a;
+    }
+    qsort(ab, (size_t)ncand, 2 * sizeof(int), cmp_pair);
+    int n = 0;
+    for (int i = 0; i < ncand; i++) {
+        if (n > 0 && cmp_pair(ab + 2 * i, ab + 2 * (n - 1)) == 0) {
+            if (is_list)
+                return cfg_err(ctx, cfg, "springs.list", EO_ERR_INVALID, "spring %d-%d is listed twice", ab[2 * i],
+                               ab[2 * i + 1]);
+            continue;
+        }
+        ab[2 * n] = ab[2 * i];
+        ab[2 * n + 1] = ab[2 * i + 1];
+        n++;
+    }
+    sc->nspring = n;
+    return EO_OK;
+}
+
+static int load_collisions(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    static const char *const extra[] = {"plane", NULL};
+    json_t *list = eo_cfg_get(cfg, "collisions");
+    if (!list) return EO_OK;
+    if (!json_is_array(list))
+        return cfg_err(ctx, cfg, "collisions", EO_ERR_TYPE, "expected a list of obstacles, got %s",
+                       eo_json_type_name(list));
+    int n = (int)json_array_size(list);
+    if (!n) return EO_OK;
+    sc->collision_plane = eo_malloc(ctx, 6 * (size_t)n * sizeof(double));
+    sc->collision_k = eo_malloc(ctx, (size_t)n * sizeof(double));
+    if (!sc->collision_plane || !sc->collision_k) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    for (int i = 0; i < n; i++) {
+        char path[64], sub[96];
+        snprintf(path, sizeof path, "collisions.%d", i);
+        eo_scene_collision_opts co;
+        eo_scene_plane_opts pl;
+        eo_params_default(eo_scene_collision_opts_desc, &co);
+        eo_params_default(eo_scene_plane_opts_desc, &pl);
+        int rc = eo_cfg_section(ctx, cfg, path, eo_scene_collision_opts_desc, &co, extra);
+        if (rc < 0) return rc;
+        snprintf(sub, sizeof sub, "%s.plane", path);
+        if (!eo_cfg_get(cfg, sub))
+            return cfg_err(ctx, cfg, path, EO_ERR_INVALID, "an obstacle needs \"plane\": {\"point\", \"normal\"}");
+        if ((rc = eo_cfg_section(ctx, cfg, sub, eo_scene_plane_opts_desc, &pl, NULL)) < 0) return rc;
+        snprintf(sub, sizeof sub, "%s.plane.normal", path);
+        if (normalize(pl.normal) < 0) return cfg_err(ctx, cfg, sub, EO_ERR_RANGE, "zero normal");
+        for (int k = 0; k < 3; k++) {
+            sc->collision_plane[6 * i + k] = pl.point[k];
+            sc->collision_plane[6 * i + 3 + k] = pl.normal[k];
+        }
+        sc->collision_k[i] = co.stiffness;
+    }
+    sc->ncollision = n;
+    return EO_OK;
+}
+
 /* ---------------------------------------------------------------- public */
 
 int eo_scene_cfg_load(eo_ctx *ctx, const char *path, const char *name, eo_cfg **out)
@@ -457,6 +655,10 @@ void eo_scene_destroy(eo_ctx *ctx, eo_scene **psc)
     eo_free(ctx, sc->tet_mat);
     for (int b = 0; b < sc->nbc; b++) eo_free(ctx, sc->bc[b].verts);
     eo_free(ctx, sc->bc);
+    eo_free(ctx, sc->pmass);
+    eo_free(ctx, sc->spring_ab);
+    eo_free(ctx, sc->collision_plane);
+    eo_free(ctx, sc->collision_k);
     eo_free(ctx, sc);
     *psc = NULL;
 }
@@ -464,7 +666,8 @@ void eo_scene_destroy(eo_ctx *ctx, eo_scene **psc)
 int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
 {
     static const char *const top[] = {"mesh", "material", "materials", "boundary", "initial",
-                                      "time", "solver", "output", NULL};
+                                      "time", "solver", "output", "springs", "collisions",
+                                      "point_masses", NULL};
     *out = NULL;
     eo_scene *sc = eo_calloc(ctx, 1, sizeof *sc);
     if (!sc) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (scene)");
@@ -482,13 +685,16 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     EO_TRY(rc = eo_registry_find(ctx, EO_KIND_INTEGRATOR, sc->time.integrator, (const void **)&sc->integrator));
     EO_TRY(rc = eo_cfg_section(ctx, cfg, "output", eo_scene_output_opts_desc, &sc->output, NULL));
     EO_TRY(rc = load_mesh(ctx, cfg, sc));
-    if (sc->mesh->nt < 1) {
+    if (sc->mesh->nt < 1 && !sc->points) {
         rc = cfg_err(ctx, cfg, "mesh", EO_ERR_MESH, "the mesh has no tet");
         goto fail;
     }
     EO_TRY(rc = load_materials(ctx, cfg, sc));
     EO_TRY(rc = load_boundary(ctx, cfg, sc));
     EO_TRY(rc = load_initial(ctx, cfg, sc));
+    EO_TRY(rc = load_point_masses(ctx, cfg, sc));
+    EO_TRY(rc = load_springs(ctx, cfg, sc));
+    EO_TRY(rc = load_collisions(ctx, cfg, sc));
     *out = sc;
     return EO_OK;
 fail:
@@ -536,6 +742,16 @@ json_t *eo_scene_to_json(const eo_scene *sc)
     if (sc->has_reflect) json_object_set_new(ini, "reflect", eo_params_to_json(eo_scene_plane_opts_desc, &sc->reflect));
     if (sc->has_ball) json_object_set_new(ini, "random_ball", eo_params_to_json(eo_scene_ball_opts_desc, &sc->ball));
     json_object_set_new(o, "initial", ini);
+    json_t *spr = eo_params_to_json(eo_scene_springs_opts_desc, &sc->springs);
+    json_object_set_new(spr, "count", json_integer(sc->nspring));
+    json_object_set_new(o, "springs", spr);
+    json_t *cols = json_array();
+    for (int i = 0; i < sc->ncollision; i++) {
+        const double *p = sc->collision_plane + 6 * i;
+        json_array_append_new(cols, json_pack("{s:{s:[fff], s:[fff]}, s:f}", "plane", "point", p[0], p[1], p[2],
+                                              "normal", p[3], p[4], p[5], "stiffness", sc->collision_k[i]));
+    }
+    json_object_set_new(o, "collisions", cols);
     json_object_set_new(o, "time", eo_params_to_json(eo_scene_time_opts_desc, &sc->time));
     json_object_set_new(o, "output", eo_params_to_json(eo_scene_output_opts_desc, &sc->output));
     return o;

@@ -25,6 +25,7 @@
 #include <omp.h>
 #endif
 
+#include "elastopt/linsolve.h"
 #include "elastopt/step.h"
 #include "pd_matrix.h"
 #include "term.h"
@@ -51,7 +52,7 @@ struct eo_step {
     /* terms */
     eo_term *terms[MAX_TERMS];
     int nterms;
-    eo_term *inertia, *elastic, *gravity, *linear, *spring;
+    eo_term *inertia, *elastic, *gravity, *linear, *spring, *collision;
     /* constraints and pattern */
     int *vbc, *vbc_new;   /* nv: active boundary entry per vertex, -1 free */
     int have_pattern;
@@ -60,6 +61,11 @@ struct eo_step {
     eo_assembler *as;
     eo_objective obj;
     unsigned long pattern_id;   /* bumped by build_pattern */
+    /* explicit integrators (eo_step_advance) */
+    double *ework, *xe, *ve;    /* work_vectors·n_full; trial state */
+    int erestart;               /* next explicit step restarts (leapfrog) */
+    eo_linsolve *mls;           /* consistent mass: M_ff factored with CHOLMOD */
+    eo_csc *Mc;                 /* its values (a copy of the pattern) */
     eo_pd_matrix pd;            /* constant_hessian cache (pd_matrix.c) */
 };
 
@@ -258,7 +264,7 @@ static int op_constant_hessian(void *data, eo_csc **L, unsigned long *version)
 {
     eo_step *st = data;
     return eo_pd_matrix_get(&st->pd, &st->sys, st->terms, st->nterms, st->pattern_id,
-                            st->integ->weight(st->h), L, version);
+                            st->integ->weight ? st->integ->weight(st->h) : 1.0, L, version);
 }
 
 static const eo_objective_ops step_ops = {
@@ -289,6 +295,11 @@ void eo_step_destroy(eo_step **pst)
     for (int i = 0; i < st->nterms; i++) eo_term_destroy(ctx, &st->terms[i]);
     eo_assembler_destroy(ctx, &st->as);
     eo_pd_matrix_deinit(ctx, &st->pd);
+    eo_linsolve_destroy(&st->mls);
+    eo_csc_destroy(ctx, &st->Mc);
+    eo_free(ctx, st->ework);
+    eo_free(ctx, st->xe);
+    eo_free(ctx, st->ve);
     void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
                       st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->vbc,
                       st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->sys.elem_g,
@@ -312,7 +323,8 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->nt = m->nt;
     st->n_full = 3 * m->nv;
     st->h = sc->time.dt;
-    size_t nv = (size_t)m->nv, nt = (size_t)m->nt, nf = (size_t)st->n_full;
+    /* (at least 1: a mesh.points scene has no tets) */
+    size_t nv = (size_t)(m->nv > 0 ? m->nv : 1), nt = (size_t)(m->nt > 0 ? m->nt : 1), nf = 3 * nv;
     st->Dminv = eo_malloc(ctx, 9 * nt * sizeof(double));
     st->vol = eo_malloc(ctx, nt * sizeof(double));
     st->psi_rest = eo_calloc(ctx, nt, sizeof(double));
@@ -363,6 +375,8 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
         }
         for (int a = 0; a < 4; a++) st->vmass[m->tets[4 * k + a]] += st->rho[k] * st->vol[k] / 4.0;
     }
+    if (sc->pmass)
+        for (int v = 0; v < m->nv; v++) st->vmass[v] += sc->pmass[v];
     /* shared data for the terms */
     eo_sys *s = &st->sys;
     s->ctx = ctx;
@@ -377,12 +391,13 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     s->tet_type = st->tet_type;
     s->tet_coef = st->tet_coef;
     s->vmass = st->vmass;
+    s->pmass = sc->pmass;
     s->full2free = st->full2free;
     s->tet_dofs = st->tet_dofs;
     s->parallel = 0; /* serial by default: see eo_step_set_parallel */
     /* the term list: a scene pays only for the terms it uses */
     eo_term *t = NULL;
-    if (st->integ->inertia) {
+    if (st->integ->inertia && !st->integ->explicit_step) {
         EO_TRY(rc = eo_term_inertia_create(s, sc->lumped, &t));
         add_term(st, t, &st->inertia);
     }
@@ -393,8 +408,17 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
         add_term(st, t, &st->elastic);
     }
     t = NULL;
-    EO_TRY(rc = eo_term_spring_create(s, &t));
+    EO_TRY(rc = eo_term_spring_create(s, sc->nspring, sc->spring_ab, sc->springs.k, sc->springs.damping, &t));
     add_term(st, t, &st->spring);
+    t = NULL;
+    EO_TRY(rc = eo_term_collision_create(s, sc->ncollision, sc->collision_plane, sc->collision_k, &t));
+    add_term(st, t, &st->collision);
+    if (sc->springs.damping > 0 && !st->integ->explicit_step) {
+        rc = eo_error(ctx, EO_ERR_INVALID,
+                      "springs.damping acts in explicit integrators only; %s is implicit (backward_euler "
+                      "dissipates by itself)", st->integ->info.name);
+        goto fail;
+    }
     if (sc->opts.gravity[0] != 0 || sc->opts.gravity[1] != 0 || sc->opts.gravity[2] != 0) {
         EO_TRY(rc = eo_term_gravity_create(s, sc->opts.gravity, &t));
         add_term(st, t, &st->gravity);
@@ -402,6 +426,16 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     if (st->integ->force_n) {
         EO_TRY(rc = eo_term_linear_create(s, &t));
         add_term(st, t, &st->linear);
+    }
+    if (st->integ->explicit_step) {
+        st->ework = eo_calloc(ctx, (size_t)(st->integ->work_vectors > 0 ? st->integ->work_vectors : 1) * nf,
+                              sizeof(double));
+        st->xe = eo_malloc(ctx, nf * sizeof(double));
+        st->ve = eo_malloc(ctx, nf * sizeof(double));
+        if (!st->ework || !st->xe || !st->ve) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (explicit integrator work)");
+            goto fail;
+        }
     }
     st->obj.ops = &step_ops;
     st->obj.data = st;
@@ -469,6 +503,7 @@ int eo_step_reset(eo_step *st)
         }
     }
     if (!st->integ->inertia) memset(st->v, 0, (size_t)st->n_full * sizeof(double));
+    st->erestart = 1;
     return EO_OK;
 }
 
@@ -477,6 +512,7 @@ int eo_step_set_state(eo_step *st, const double *x, const double *v, double t)
     memcpy(st->x, x, (size_t)st->n_full * sizeof(double));
     memcpy(st->v, v, (size_t)st->n_full * sizeof(double));
     st->t = t;
+    st->erestart = 1;
     return EO_OK;
 }
 
@@ -495,7 +531,7 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
         rc = build_pattern(st);
         if (rc < 0) return rc;
     }
-    const double w = st->integ->weight(h);
+    const double w = st->integ->weight ? st->integ->weight(h) : 1.0; /* explicit: E(x) */
     for (int i = 0; i < st->nterms; i++) st->terms[i]->weight = w;
     if (st->inertia) {
         st->inertia->weight = 1;
@@ -504,8 +540,8 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
     if (st->linear) {
         /* c = fₙ = −∇(E_el + gravity potential)(xₙ) */
         memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
-        eo_term *forces[3] = {st->elastic, st->spring, st->gravity};
-        for (int i = 0; i < 3; i++) {
+        eo_term *forces[4] = {st->elastic, st->spring, st->gravity, st->collision};
+        for (int i = 0; i < 4; i++) {
             if (!forces[i]) continue;
             double wsave = forces[i]->weight;
             forces[i]->weight = 1;
@@ -552,6 +588,9 @@ int eo_step_set_parallel(eo_step *st, int on)
 
 int eo_step_end(eo_step *st, const double *x)
 {
+    if (st->integ->explicit_step)
+        return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "integrator %s is explicit: advance with eo_step_advance",
+                        st->integ->info.name);
     const double h = st->h, t1 = st->t + h;
     scatter_free(st, x);
     st->integ->velocity(st->n_full, h, st->x, st->v, st->xw, st->vnew);
@@ -565,6 +604,152 @@ int eo_step_end(eo_step *st, const double *x)
     memcpy(st->v, st->vnew, (size_t)st->n_full * sizeof(double));
     st->t = t1;
     st->index++;
+    return EO_OK;
+}
+
+/* ---------------------------------------------------------------- explicit integrators
+ *
+ * The ODE the explicit integrators see (step.h, eo_ode): x' = v, v' = a(t, x, v) over
+ * the full 3·nv coordinates with
+ *     a = M⁻¹ f,   f = −∇E(x) − damping,
+ * E the sum of the step's terms at weight 1 (elastic, springs, gravity, collisions; no
+ * inertia or linear term exists for an explicit integrator). Prescribed vertices are
+ * set to their position at the stage time t before the forces are evaluated and get
+ * a = 0; after the step they are overwritten with their motion at tₙ₊₁. Lumped mass:
+ * a = f/m per vertex. Consistent mass: M_ff (free rows and columns) assembled once per
+ * pattern and factored with CHOLMOD; a_f = M_ff⁻¹ f_f. */
+
+static void tet_mass_block(double m, double Ke[144])
+{
+    memset(Ke, 0, 144 * sizeof(double));
+    for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++)
+            for (int c = 0; c < 3; c++) Ke[(3 * a + c) * 12 + 3 * b + c] = m * (a == b ? 2.0 : 1.0);
+}
+
+static int factor_mass(eo_step *st)
+{
+    eo_ctx *ctx = st->ctx;
+    eo_assembler_zero(st->as);
+    double Ke[144];
+    for (int k = 0; k < st->nt; k++) {
+        tet_mass_block(st->rho[k] * st->vol[k] / 20.0, Ke);
+        eo_assembler_add(st->as, st->sys.tet_group, k, Ke);
+    }
+    for (int j = 0; j < st->n_full; j++) {
+        int i = st->full2free[j];
+        if (i >= 0 && st->sys.pmass) eo_assembler_add_diag(st->as, i, st->sys.pmass[j / 3]);
+    }
+    eo_csc_destroy(ctx, &st->Mc);
+    int rc = eo_csc_clone(ctx, eo_assembler_matrix(st->as), &st->Mc);
+    if (rc < 0) return rc;
+    eo_assembler_zero(st->as);
+    if (!st->mls) {
+        const eo_linsolve_type *lt;
+        if ((rc = eo_linsolve_find(ctx, "cholmod", &lt)) < 0) return rc;
+        if ((rc = eo_linsolve_create(ctx, lt, NULL, &st->mls)) < 0) return rc;
+    }
+    if ((rc = eo_linsolve_analyze(st->mls, st->Mc)) < 0) return rc;
+    rc = eo_linsolve_factor(st->mls, st->Mc);
+    if (rc == EO_WARN_NOT_PD)
+        return eo_error(ctx, EO_ERR_INVALID,
+                        "consistent mass matrix not positive definite (a free vertex without mass?)");
+    if (rc < 0) return rc;
+    return EO_OK;
+}
+
+static int explicit_accel(void *data, double t, const double *x, const double *v, double *a)
+{
+    eo_step *st = data;
+    memcpy(st->xw, x, (size_t)st->n_full * sizeof(double));
+    for (int q = 0; q < st->nv; q++) {
+        if (st->vbc[q] < 0) continue;
+        double p[3], vel[3];
+        bc_motion(st, st->sc->bc + st->vbc[q], q, t, p, vel);
+        for (int k = 0; k < 3; k++) st->xw[3 * q + k] = p[k];
+    }
+    memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
+    for (int i = 0; i < st->nterms; i++) {
+        st->terms[i]->weight = 1;
+        st->terms[i]->ops->gradient(st->terms[i], &st->sys, st->xw, st->gfull);
+    }
+    if (st->spring) eo_term_spring_damping(st->spring, &st->sys, st->xw, v, st->gfull);
+    if (st->sc->lumped || !st->nt) {
+        for (int j = 0; j < st->n_full; j++) a[j] = -st->gfull[j] / st->vmass[j / 3];
+    } else {
+        for (int i = 0; i < st->nfree; i++) st->vnew[i] = -st->gfull[st->free2full[i]];
+        int rc = eo_linsolve_solve(st->mls, st->vnew, st->guess);
+        if (rc < 0) return rc;
+        for (int j = 0; j < st->n_full; j++) a[j] = 0;
+        for (int i = 0; i < st->nfree; i++) a[st->free2full[i]] = st->guess[i];
+    }
+    for (int q = 0; q < st->nv; q++)
+        if (st->vbc[q] >= 0) a[3 * q] = a[3 * q + 1] = a[3 * q + 2] = 0;
+    return EO_OK;
+}
+
+int eo_step_is_explicit(const eo_step *st) { return st->integ->explicit_step != NULL; }
+
+/* Finite: every coordinate, ‖x‖² and the lumped kinetic energy Σ m v² (an overflowing
+ * square is as diverged as an infinite coordinate). */
+static int state_finite(const eo_step *st, const double *x, const double *v)
+{
+    double sx = 0, sv = 0;
+    for (int j = 0; j < st->n_full; j++) {
+        sx += x[j] * x[j];
+        sv += st->vmass[j / 3] * v[j] * v[j];
+    }
+    return isfinite(sx) && isfinite(sv);
+}
+
+int eo_step_state_finite(const eo_step *st) { return state_finite(st, st->x, st->v); }
+
+int eo_step_advance(eo_step *st, int *reason)
+{
+    eo_ctx *ctx = st->ctx;
+    *reason = 0;
+    if (!st->integ->explicit_step)
+        return eo_error(ctx, EO_ERR_UNSUPPORTED, "integrator %s is implicit: use eo_step_begin/eo_step_end",
+                        st->integ->info.name);
+    const double h = st->h, t0 = st->t, t1 = st->t + h;
+    int rc;
+    active_set(st, t1, st->vbc_new);
+    int changed = !st->have_pattern;
+    for (int q = 0; q < st->nv && !changed; q++) changed = (st->vbc[q] >= 0) != (st->vbc_new[q] >= 0);
+    memcpy(st->vbc, st->vbc_new, (size_t)st->nv * sizeof(int));
+    if (changed && (rc = build_pattern(st)) < 0) return rc;
+    for (int q = 0; q < st->nv; q++)
+        if (st->vbc[q] < 0 && !(st->vmass[q] > 0))
+            return eo_error_at(ctx, EO_ERR_INVALID, EO_ERRLOC_ITEM(NULL, -1, "vertex", q),
+                               "free vertex %d has no mass (in no tet and no point mass): cannot compute its "
+                               "acceleration", q);
+    if (!st->sc->lumped && st->nt && (changed || !st->Mc || st->Mc->n != st->nfree) && (rc = factor_mass(st)) < 0)
+        return rc;
+    memcpy(st->xe, st->x, (size_t)st->n_full * sizeof(double));
+    memcpy(st->ve, st->v, (size_t)st->n_full * sizeof(double));
+    eo_ode ode = {.n = st->n_full, .data = st, .accel = explicit_accel};
+    rc = st->integ->explicit_step(&ode, t0, h, st->xe, st->ve, st->ework, st->erestart);
+    if (rc < 0) return rc;
+    for (int q = 0; q < st->nv; q++) {
+        if (st->vbc[q] < 0) continue;
+        double p[3], vel[3];
+        bc_motion(st, st->sc->bc + st->vbc[q], q, t1, p, vel);
+        for (int k = 0; k < 3; k++) {
+            st->xe[3 * q + k] = p[k];
+            st->ve[3 * q + k] = vel[k];
+        }
+    }
+    if (!state_finite(st, st->xe, st->ve)) {
+        *reason = EO_DIVERGED_NONFINITE;
+        st->erestart = 1;
+        return EO_OK;
+    }
+    memcpy(st->x, st->xe, (size_t)st->n_full * sizeof(double));
+    memcpy(st->v, st->ve, (size_t)st->n_full * sizeof(double));
+    st->t = t1;
+    st->index++;
+    st->erestart = 0;
+    *reason = EO_CONVERGED_EXPLICIT;
     return EO_OK;
 }
 
@@ -603,8 +788,8 @@ int eo_step_stats_compute(eo_step *st, eo_step_stats *s)
         if (sqrt(d2) > s->max_disp) s->max_disp = sqrt(d2);
     }
     for (int k = 0; k < 3; k++) s->com[k] /= mt > 0 ? mt : 1;
-    s->min_J = INFINITY;
-    s->max_J = -INFINITY;
+    s->min_J = st->nt ? INFINITY : 1; /* no tets (mesh.points): nothing deformed, J = 1 */
+    s->max_J = st->nt ? -INFINITY : 1;
     for (int k = 0; k < st->nt; k++) {
         double J = tet_J(st, x, k);
         if (J < s->min_J) s->min_J = J;
@@ -627,6 +812,8 @@ int eo_step_stats_compute(eo_step *st, eo_step_stats *s)
                 }
             ke += st->rho[k] * st->vol[k] / 20.0 * (q + sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
         }
+        for (int i = 0; st->sc->pmass && i < st->nv; i++)
+            ke += st->sc->pmass[i] * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
     }
     s->kinetic = 0.5 * ke;
     eo_term *el[2] = {st->elastic, st->spring};

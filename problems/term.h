@@ -30,7 +30,10 @@ typedef struct eo_sys {
                                    (it would eat the digits the Armijo test compares) */
     const eo_material_type *const *tet_type;   /* nt */
     const eo_material_coef *const *tet_coef;   /* nt */
-    const double *vmass;        /* nv lumped vertex masses (ρV/4 summed) */
+    const double *vmass;        /* nv lumped vertex masses (ρV/4 summed, + point masses) */
+    const double *pmass;        /* nv point masses (scene point_mass, point_masses), part of
+                                   vmass; NULL if none. The consistent mass adds them on its
+                                   diagonal */
     /* current pattern */
     const int *full2free;       /* n_full: free id or -1 */
     const int *tet_dofs;        /* 12·nt free ids (-1 constrained) */
@@ -78,7 +81,17 @@ int eo_term_inertia_create(eo_sys *s, int lumped, eo_term **out);
 int eo_term_elastic_create(eo_sys *s, eo_term **out);
 int eo_term_gravity_create(eo_sys *s, const double g[3], eo_term **out);
 int eo_term_linear_create(eo_sys *s, eo_term **out);
-int eo_term_spring_create(eo_sys *s, eo_term **out);   /* EO_OK with *out NULL: no springs */
+/* Springs: the edges of the tets of an edge-model region (`material.model = "spring"`,
+ * stiffness material.k) plus `nlist` scene springs (`springs` section: vertex pairs ab,
+ * stiffness k, damping c along the spring). EO_OK with *out NULL: no springs. */
+int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, double damping, eo_term **out);
+/* Spring damping force f_d = −c ((v_a − v_b)·n̂) n̂ on a (and −f_d on b), n̂ the unit
+ * spring direction at x; SUBTRACTED from g (g holds ∇E, the force is −g). Scene
+ * springs only; used by the explicit integrators. */
+void eo_term_spring_damping(eo_term *t, const eo_sys *s, const double *x, const double *v, double *g);
+/* Penalty half-space obstacles (term_collision.c): nplanes planes, 6 numbers each
+ * (point, unit normal), stiffness k[i]. */
+int eo_term_collision_create(eo_sys *s, int nplanes, const double *planes, const double *k, eo_term **out);
 void eo_term_destroy(eo_ctx *ctx, eo_term **t);
 
 /* Shared helper: allocate a term with a full-length vector if `with_vec`. */

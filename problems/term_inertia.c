@@ -4,6 +4,8 @@
  *     M_t = ρV/20 · (I₄ + 𝟙𝟙ᵀ) ⊗ I₃      (ρV/10 on the diagonal, ρV/20 off it),
  * so dᵀM_t d = ρV/20 (Σᵢ‖dᵢ‖² + ‖Σᵢ dᵢ‖²) and (M_t d)ᵢ = ρV/20 (dᵢ + Σⱼ dⱼ).
  * Lumped mass: ρV/4 on each tet vertex (s->vmass), M = diag(m_v) ⊗ I₃.
+ * Point masses (s->pmass, scene point_mass / point_masses) are part of s->vmass and are
+ * added on the diagonal of the consistent mass too.
  * The consistent Hessian is constant: its values in the fixed pattern are computed once
  * per pattern (prepare) and added with one vector loop per assembly. */
 #include <string.h>
@@ -43,6 +45,8 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
             }
         e += s->rho[k] * s->vol[k] / 20.0 * (q + sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
     }
+    for (int v = 0; s->pmass && v < s->nv; v++)
+        for (int c = 0; c < 3; c++) e += s->pmass[v] * (x[3 * v + c] - xt[3 * v + c]) * (x[3 * v + c] - xt[3 * v + c]);
     return 0.5 * e;
 }
 
@@ -74,6 +78,12 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
         for (int a = 0; a < 4; a++)
             for (int c = 0; c < 3; c++) g[3 * tet[a] + c] += m * (dd[3 * a + c] + sum[c]);
     }
+    for (int v = 0; s->pmass && v < s->nv; v++)
+        for (int c = 0; c < 3; c++) {
+            double dd = x[3 * v + c] - xt[3 * v + c];
+            e += s->pmass[v] * dd * dd;
+            g[3 * v + c] += s->pmass[v] * dd;
+        }
     return 0.5 * e;
 }
 
@@ -99,6 +109,10 @@ static int prepare(eo_term *t, eo_sys *s)
     for (int k = 0; k < s->nt; k++) {
         tet_mass_matrix(s->rho[k] * s->vol[k] / 20.0, Ke);
         eo_assembler_add(s->as, s->tet_group, k, Ke);
+    }
+    for (int j = 0; s->pmass && j < s->n_full; j++) {
+        int i = s->full2free[j];
+        if (i >= 0) eo_assembler_add_diag(s->as, i, s->pmass[j / 3]);
     }
     memcpy(d->mass_val, H->val, (size_t)H->nnz * sizeof(double));
     eo_assembler_zero(s->as);

@@ -1,8 +1,15 @@
-/* Spring term: w · Σₑ E_spring(‖x_b − x_a‖; Lₑ, k) over the edges of the tets whose
- * region material is an edge model (EO_MATERIAL_EDGE, e.g. `spring`); the mass still
- * comes from the tets (ρV). Rest length Lₑ = ‖X_b − X_a‖ at the rest positions. The
- * material's edge_eval gives energy, 6-gradient and (projected) 6×6 Hessian.
- * Absent (no term) when no region uses an edge model. */
+/* Spring term (mass-spring systems, 001 §2.2): w · Σₑ kₑ/2 (‖x_b − x_a‖ − Lₑ)² over
+ *   - the unique edges of the tets whose region material is an edge model
+ *     (EO_MATERIAL_EDGE, `material.model = "spring"`, stiffness material.k): those tets
+ *     have no tet elasticity, their mass still comes from ρV;
+ *   - the scene's `springs` (structural springs on every mesh edge, or an explicit list
+ *     of vertex pairs), stiffness springs.k, on top of whatever the materials give.
+ * Rest length Lₑ = ‖X_b − X_a‖ at the rest positions. The spring material's edge_eval
+ * gives energy, 6-gradient (Hooke, 001 eq. 2: f_a = −k(l − L) n̂, n̂ = (x_a − x_b)/l)
+ * and the (projected) 6×6 Hessian. Absent (no term) when there is no spring.
+ *
+ * Damping (scene springs, explicit integrators): f_a = −c ((v_a − v_b)·n̂) n̂ = −f_b,
+ * which dissipates power c((v_a − v_b)·n̂)² and leaves rigid motions alone. */
 #include <math.h>
 #include <stdlib.h>
 
@@ -16,7 +23,12 @@ typedef struct spring_data {
     const eo_material_coef **coef;        /* ne */
     int group;                            /* assembler group (6 ids per edge) */
     int *dofs;                            /* 6·ne free ids */
+    int first_scene;                      /* edges [first_scene, ne) are scene springs */
+    double damping;                       /* c of the scene springs, N·s/m */
+    eo_material_coef scene_coef;          /* k of the scene springs */
 } spring_data;
+
+extern const eo_material_type eo_material_spring;
 
 static int cmp_edge(const void *a, const void *b)
 {
@@ -103,26 +115,48 @@ static const eo_term_ops spring_ops = {
     .destroy = destroy,
 };
 
-int eo_term_spring_create(eo_sys *s, eo_term **out)
+void eo_term_spring_damping(eo_term *t, const eo_sys *s, const double *x, const double *v, double *g)
+{
+    (void)s;
+    const spring_data *d = t->data;
+    if (!(d->damping > 0)) return;
+    for (int e = d->first_scene; e < d->ne; e++) {
+        const int a = d->ab[2 * e], b = d->ab[2 * e + 1];
+        double n[3], l = 0, dv = 0;
+        for (int c = 0; c < 3; c++) {
+            n[c] = x[3 * a + c] - x[3 * b + c];
+            l += n[c] * n[c];
+        }
+        l = sqrt(l);
+        if (!(l > 0)) continue;
+        for (int c = 0; c < 3; c++) dv += (v[3 * a + c] - v[3 * b + c]) * n[c] / l;
+        for (int c = 0; c < 3; c++) { /* g = −f: f_a = −c dv n̂ */
+            g[3 * a + c] += d->damping * dv * n[c] / l;
+            g[3 * b + c] -= d->damping * dv * n[c] / l;
+        }
+    }
+}
+
+int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, double damping, eo_term **out)
 {
     static const int pairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
     *out = NULL;
     int nspring_tets = 0;
-    for (int k = 0; k < s->nt; k++)
-        if (s->tet_type[k]->flags & EO_MATERIAL_EDGE) nspring_tets++;
-    if (!nspring_tets) return EO_OK;
+    for (int k2 = 0; k2 < s->nt; k2++)
+        if (s->tet_type[k2]->flags & EO_MATERIAL_EDGE) nspring_tets++;
+    if (!nspring_tets && nlist <= 0) return EO_OK;
     /* candidate edges (a < b, region tet) sorted, then unique */
-    int *cand = eo_malloc(s->ctx, (size_t)nspring_tets * 6 * 3 * sizeof(int));
+    int *cand = eo_malloc(s->ctx, ((size_t)nspring_tets * 6 + 1) * 3 * sizeof(int));
     if (!cand) return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (springs)");
     int nc = 0;
-    for (int k = 0; k < s->nt; k++) {
-        if (!(s->tet_type[k]->flags & EO_MATERIAL_EDGE)) continue;
-        const int *tet = s->mesh->tets + 4 * k;
+    for (int t = 0; t < s->nt; t++) {
+        if (!(s->tet_type[t]->flags & EO_MATERIAL_EDGE)) continue;
+        const int *tet = s->mesh->tets + 4 * t;
         for (int p = 0; p < 6; p++) {
             int a = tet[pairs[p][0]], b = tet[pairs[p][1]];
             cand[3 * nc] = a < b ? a : b;
             cand[3 * nc + 1] = a < b ? b : a;
-            cand[3 * nc + 2] = k;
+            cand[3 * nc + 2] = t;
             nc++;
         }
     }
@@ -130,6 +164,8 @@ int eo_term_spring_create(eo_sys *s, eo_term **out)
     int ne = 0;
     for (int i = 0; i < nc; i++)
         if (i == 0 || cmp_edge(cand + 3 * i, cand + 3 * (i - 1)) != 0) ne++;
+    int nmat = ne;
+    ne += nlist > 0 ? nlist : 0;
     int rc = eo_term_alloc(s, &spring_ops, 0, out);
     if (rc < 0) {
         eo_free(s->ctx, cand);
@@ -150,22 +186,32 @@ int eo_term_spring_create(eo_sys *s, eo_term **out)
         eo_term_destroy(s->ctx, out);
         return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (springs)");
     }
+    d->first_scene = nmat;
+    d->damping = damping;
+    d->scene_coef = eo_material_coef_from(1, 0, 1, k);
     ne = 0;
     for (int i = 0; i < nc; i++) {
         if (i > 0 && cmp_edge(cand + 3 * i, cand + 3 * (i - 1)) == 0) continue;
-        int a = cand[3 * i], b = cand[3 * i + 1], k = cand[3 * i + 2];
-        d->ab[2 * ne] = a;
-        d->ab[2 * ne + 1] = b;
-        double L2 = 0;
-        for (int c = 0; c < 3; c++) {
-            double dx = s->mesh->X[3 * b + c] - s->mesh->X[3 * a + c];
-            L2 += dx * dx;
-        }
-        d->L[ne] = sqrt(L2);
-        d->type[ne] = s->tet_type[k];
-        d->coef[ne] = s->tet_coef[k];
+        d->ab[2 * ne] = cand[3 * i];
+        d->ab[2 * ne + 1] = cand[3 * i + 1];
+        d->type[ne] = s->tet_type[cand[3 * i + 2]];
+        d->coef[ne] = s->tet_coef[cand[3 * i + 2]];
         ne++;
     }
     eo_free(s->ctx, cand);
+    for (int i = 0; i < nlist; i++, ne++) {
+        d->ab[2 * ne] = ab[2 * i];
+        d->ab[2 * ne + 1] = ab[2 * i + 1];
+        d->type[ne] = &eo_material_spring;
+        d->coef[ne] = &d->scene_coef;
+    }
+    for (int e = 0; e < d->ne; e++) {
+        double L2 = 0;
+        for (int c = 0; c < 3; c++) {
+            double dx = s->mesh->X[3 * d->ab[2 * e + 1] + c] - s->mesh->X[3 * d->ab[2 * e] + c];
+            L2 += dx * dx;
+        }
+        d->L[e] = sqrt(L2);
+    }
     return EO_OK;
 }

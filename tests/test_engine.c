@@ -296,7 +296,7 @@ static void test_scene_errors(void)
     expect_error("{\"time\": {\n \"dt\": 0}}", NULL, EO_ERR_RANGE, "<builtin>:2");
     expect_error("{\"time\": {\"dt\": 0.1}}", "time.dt=-1", EO_ERR_RANGE, "-o time.dt");
     expect_error("{\n\"mesh\": {},\n\"gravty\": [0, 0, 1]}", NULL, EO_ERR_UNKNOWN_KEY, "<builtin>:3");
-    expect_error("{\"time\": {\"integrator\": \"leapfrog\"}}", NULL, EO_ERR_UNKNOWN_NAME, "newmark");
+    expect_error("{\"time\": {\"integrator\": \"adams_bashforth\"}}", NULL, EO_ERR_UNKNOWN_NAME, "newmark");
     expect_error("{\"boundary\": [{\"box\": [[0,0,0],[1,1,1]]}]}", NULL, EO_ERR_INVALID, "exactly one of");
     expect_error("{\"boundary\": [{\"plane\": {\"point\": [0,0,0], \"normal\": [0,0,0]}, \"fixed\": true}]}", NULL,
                  EO_ERR_RANGE, "zero normal");

@@ -17,14 +17,30 @@
 ///
 /// Config keys (top level; `elastopt help` prints the tables with defaults):
 ///   description        free text, ignored
-///   mesh.file | mesh.generate.{size, cells, split, origin}, mesh.drop_degenerate
-///                      a relative mesh.file is resolved against the config's folder
+///   mesh.file | mesh.generate.{size, cells, split, origin} | mesh.points,
+///   mesh.drop_degenerate
+///                      a relative mesh.file is resolved against the config's folder;
+///                      mesh.points [[x,y,z], ...] is a point cloud without tets (a pure
+///                      mass-spring system: mass from point_mass/point_masses, forces
+///                      from springs, gravity, collisions)
 ///   material.*         eo_material_opts_desc (model, E, nu, density, k)
 ///   materials          list of per-region materials: each entry selects tets by
 ///                      "attribute": k (mesh tet attribute) or "box": [[x0,y0,z0],[x1,y1,z1]]
 ///                      (tet centroid inside) and has the keys of `material`, whose values
 ///                      it inherits; the last matching entry wins
 ///   mass               "consistent" (ρV/10, ρV/20 per tet) | "lumped" (ρV/4 per vertex)
+///   point_mass         kg added to EVERY vertex (lumped; on the diagonal of a consistent
+///                      mass too); point_masses [[vertex, kg], ...] adds to single vertices
+///   springs            {"edges": "none" | "mesh" | "list", "k", "damping", "list": [[i,j],
+///                      ...]}: scene springs (001 §2) on every unique tet edge ("mesh") or
+///                      between listed vertex pairs, rest length from the rest positions,
+///                      on top of the tet elasticity of the materials. A region with
+///                      material.model = "spring" instead has NO tet elasticity and
+///                      springs (material.k) on its tet edges: "springs only". damping c
+///                      (N·s/m along each scene spring) acts in explicit integrators only
+///   collisions         list of half-space obstacles {"plane": {"point", "normal"},
+///                      "stiffness": k}: penalty k/2·max(0, −(x−p)·n)² per vertex (N/m
+///                      per vertex, not mass-weighted)
 ///   gravity            3-vector, m/s², default [0, 0, -9.81]
 ///   boundary           list; each entry selects rest vertices by exactly one of
 ///                      "box": [[lo],[hi]] (inside, inclusive, with a tolerance of 1e-9
@@ -60,7 +76,20 @@ typedef struct eo_scene_opts {
     char description[256];  ///< free text. Default "".
     char mass[16];          ///< "consistent" | "lumped". Default "consistent".
     double gravity[3];      ///< m/s². Default [0, 0, -9.81].
+    double point_mass;      ///< kg added to every vertex, >= 0. Default 0.
 } eo_scene_opts;
+
+/// `springs` section (scalar part; the pairs are `springs.list`).
+typedef struct eo_scene_springs_opts {
+    char edges[16];         ///< "none" | "mesh" (every unique tet edge) | "list". Default "none".
+    double k;               ///< stiffness, N/m, > 0. Default 1000.
+    double damping;         ///< c along each spring, N·s/m, >= 0 (explicit integrators). Default 0.
+} eo_scene_springs_opts;
+
+/// Scalar keys of one `collisions` entry (its plane is `collisions.N.plane`).
+typedef struct eo_scene_collision_opts {
+    double stiffness;       ///< penalty stiffness k per vertex, N/m, > 0. Default 1e5.
+} eo_scene_collision_opts;
 
 /// `mesh` section.
 typedef struct eo_scene_mesh_opts {
@@ -137,6 +166,8 @@ extern const eo_param_desc eo_scene_plane_opts_desc[];
 extern const eo_param_desc eo_scene_ball_opts_desc[];
 extern const eo_param_desc eo_scene_bc_opts_desc[];
 extern const eo_param_desc eo_scene_rotate_opts_desc[];
+extern const eo_param_desc eo_scene_springs_opts_desc[];
+extern const eo_param_desc eo_scene_collision_opts_desc[];
 /// The scene's documented sections ({NULL} terminated), for `elastopt help`.
 extern const eo_cfg_doc eo_scene_docs[];
 
@@ -167,6 +198,7 @@ typedef struct eo_scene {
     eo_scene_mesh_opts mesh_opts;
     eo_scene_generate_opts gen;
     int generated;                     ///< 1 if the mesh was generated
+    int points;                        ///< 1 if the mesh is mesh.points (vertices, no tets)
     eo_mesh *mesh;                     ///< owned
     int lumped;                        ///< 1: lumped mass
     int nmat;                          ///< regions (>= 1); region 0 is `material`
@@ -181,6 +213,13 @@ typedef struct eo_scene {
     eo_scene_time_opts time;
     const struct eo_integrator_type *integrator;
     eo_scene_output_opts output;
+    double *pmass;                     ///< owned, nv point masses (NULL if none)
+    eo_scene_springs_opts springs;
+    int nspring;                       ///< scene springs (0 if edges = "none")
+    int *spring_ab;                    ///< owned, 2·nspring vertex pairs (a < b, unique)
+    int ncollision;
+    double *collision_plane;           ///< owned, 6·ncollision: point, unit normal
+    double *collision_k;               ///< owned, ncollision stiffnesses
     char file[512];                    ///< config file ("<builtin>" if none)
 } eo_scene;
 

@@ -51,6 +51,7 @@ extern "C" {
     X(EO_CONVERGED_STEP, 3, "step below tolerance")                              \
     X(EO_CONVERGED_ENERGY, 4, "energy change below tolerance")                   \
     X(EO_CONVERGED_EXTERNAL, 5, "external solver reports convergence")           \
+    X(EO_CONVERGED_EXPLICIT, 6, "explicit time step (nothing to solve)")        \
     X(EO_DIVERGED_MAX_ITERS, -1, "maximum iterations reached")                   \
     X(EO_DIVERGED_LINESEARCH, -2, "line search failed")                          \
     X(EO_DIVERGED_NONFINITE, -3, "non-finite objective or gradient")             \

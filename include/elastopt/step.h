@@ -13,6 +13,9 @@
 ///                           vₙ₊₁ = 2(xₙ₊₁ − xₙ)/h − vₙ       (energy conserving)
 ///   backward_euler          w = h², x̃ = xₙ + h vₙ, c = 0, vₙ₊₁ = (xₙ₊₁ − xₙ)/h
 ///   static                  no inertia term, w = 1, c = 0, v = 0   (equilibrium)
+///   forward_euler, symplectic_euler, heun, midpoint, rk4, verlet, leapfrog
+///                           explicit (001 §2.5): no optimization problem, see
+///                           eo_integrator_type.explicit_step and eo_step_advance
 ///
 /// (Newmark in this form equals ½‖x − y‖²_M + (h²/4)E(x) with y = xₙ + h vₙ + (h²/4)M⁻¹fₙ
 /// up to a constant, without solving with M; see ERRATA for 002 §3.1.)
@@ -41,10 +44,27 @@
 extern "C" {
 #endif
 
+/// The second-order ODE an explicit integrator advances, n coordinates:
+///     x' = v,   v' = a(t, x, v).
+/// For a scene, a = M⁻¹ f(x, v) with f = −∇E(x) (elastic, springs, gravity, collisions)
+/// minus spring damping; prescribed vertices take their positions at t and get a = 0
+/// (the step overwrites them with their motion after each step).
+typedef struct eo_ode {
+    int n;
+    void *data;
+    /// a (n) at time t, state x, v. Returns EO_OK or a negative status.
+    int (*accel)(void *data, double t, const double *x, const double *v, double *a);
+} eo_ode;
+
 /// A time integrator (registry kind EO_KIND_INTEGRATOR).
+///
+/// Implicit integrators (explicit_step NULL) turn a step into min g(x) through weight,
+/// predict, force_n and velocity. Explicit integrators set the optional op
+/// explicit_step instead (weight, predict, velocity NULL): the step engine then calls
+/// it (eo_step_advance) and builds no optimization problem.
 typedef struct eo_integrator_type {
     eo_method_info info;
-    int inertia;        ///< 1: the ½‖x − x̃‖²_M term is present
+    int inertia;        ///< 1: the state has a velocity (and, implicit: the ½‖x − x̃‖²_M term)
     int force_n;        ///< 1: linear term c = fₙ = −∇E(xₙ) (trapezoidal forces)
     /// Weight w of E for step h.
     double (*weight)(double h);
@@ -53,6 +73,14 @@ typedef struct eo_integrator_type {
     /// Velocity vₙ₊₁ from xₙ, vₙ and the solution x.
     void (*velocity)(int n, double h, const double *xn, const double *vn, const double *x,
                      double *v);
+    /// Optional (explicit integrators): advance x, v (ode->n each, in place) from t to
+    /// t + h. `work` holds work_vectors·n doubles owned by the caller that persist
+    /// between steps (leapfrog keeps its staggered velocity there); `restart` is 1 on the
+    /// first step after a reset, a set_state or a failed step. Returns EO_OK or the
+    /// status of ode->accel. Never allocates.
+    int (*explicit_step)(const eo_ode *ode, double t, double h, double *x, double *v,
+                         double *work, int restart);
+    int work_vectors;   ///< scratch n-vectors explicit_step needs
 } eo_integrator_type;
 
 typedef struct eo_step eo_step;
@@ -80,7 +108,26 @@ double *eo_step_guess(eo_step *st);
 /// Returns 1 if the parallel path is active.
 int eo_step_set_parallel(eo_step *st, int on);
 /// Accept the free coordinates x as xₙ₊₁: update positions, velocities, time, index.
+/// EO_ERR_UNSUPPORTED for an explicit integrator (use eo_step_advance).
 int eo_step_end(eo_step *st, const double *x);
+
+/// 1 if the scene's integrator is explicit (eo_integrator_type.explicit_step set). For
+/// those, eo_step_begin builds the potential-energy objective E(x) (weight 1, no
+/// inertia: its −∇ is the force the integrator uses), which `elastopt check` verifies;
+/// the run advances with eo_step_advance and needs no solver.
+int eo_step_is_explicit(const eo_step *st);
+/// Explicit integrators: advance one step t → t + h. Accelerations a = M⁻¹f: with lumped
+/// mass a division per vertex; with consistent mass M (over the free coordinates,
+/// prescribed accelerations taken as 0 in its coupling) is factored once per set of
+/// constrained vertices with CHOLMOD. Prescribed vertices follow their motion exactly.
+/// *reason: EO_CONVERGED_EXPLICIT, or EO_DIVERGED_NONFINITE when the new state is not
+/// finite (the state then stays at tₙ and the step counter does not advance).
+/// Returns EO_OK (also when diverged), EO_ERR_UNSUPPORTED for an implicit integrator,
+/// EO_ERR_INVALID for a free vertex without mass, or a linear solver error.
+int eo_step_advance(eo_step *st, int *reason);
+/// 1 if the current state is finite: every position and velocity, ‖x‖² and Σ m‖v‖²
+/// (an overflowing square counts as diverged).
+int eo_step_state_finite(const eo_step *st);
 
 /// Borrowed state: positions and velocities (3·nv), rest positions, mesh.
 const double *eo_step_x(const eo_step *st);
