@@ -20,7 +20,8 @@
  * explicit integrator beyond its stability limit, or a blown-up implicit solve) stops
  * the run with reason "diverged_nonfinite" on that step and as "stop_reason" in
  * summary.json (null when the run was not stopped), an error message naming the
- * step, and exit 1; the frames and summary hold the last finite state. */
+ * step, and exit 1 (explicit integrators keep the last finite state for the frames and
+ * the summary). */
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
