@@ -5,6 +5,9 @@
 set -u
 EXE="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"
 SHARED="${EO_SHARED:-$(dirname "$0")/../../shared}"
+if [ ! -f "$SHARED/meshes/ipc_bar-2523.msh" ]; then
+    echo "cli_mesh: shared meshes not found at $SHARED/meshes (set EO_SHARED): skipped"; exit 77
+fi
 T="${EO_BUILD_ROOT:-/tmp}/testtmp/cli_mesh"
 rm -rf "$T" && mkdir -p "$T" && cd "$T" || exit 1
 fail=0
