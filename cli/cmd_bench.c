@@ -4,7 +4,7 @@
  * runs it, printing progress to stderr (scene, configuration, phase, elapsed time and
  * an estimate of the time left), and writes curves.csv, summary.csv, reference.csv,
  * trajectory.csv, report.md and plots/ into DIR. Exit 0 if every reference converged,
- * no value was non-finite and every configuration named in `require_converged`
+ * no NaN was produced and every configuration named in `require_converged`
  * converged everywhere; 1 otherwise; 2 on bad input or an I/O error. */
 #include <stdio.h>
 #include <stdlib.h>
@@ -95,11 +95,12 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     if (!quiet && ps.tty) fprintf(stderr, "\n");
     eo_bench_suite_destroy(ctx, &s);
     if (rc < 0) return eo_cli_fail(ctx, rc);
-    int bad = sum.ref_failures || sum.nonfinite || sum.required_failures;
+    int bad = sum.ref_failures || sum.nan || sum.required_failures;
     if (!quiet)
-        printf("bench: %d runs in %.1f s; reference failures %d, non-finite %d, required failures %d, plots %d "
-               "-> %s/report.md\n",
-               sum.runs, sum.seconds, sum.ref_failures, sum.nonfinite, sum.required_failures, sum.plots_made, dir);
+        printf("bench: %d runs in %.1f s; reference failures %d, NaN %d, non-finite stops %d, required failures %d, "
+               "plots %d -> %s/report.md\n",
+               sum.runs, sum.seconds, sum.ref_failures, sum.nan, sum.nonfinite, sum.required_failures, sum.plots_made,
+               dir);
     return bad ? EO_EXIT_NOT_CONVERGED : EO_EXIT_OK;
 }
 
@@ -112,7 +113,7 @@ const eo_cli_command eo_cmd_bench = {
              "from the same state, timed (median of N repeats after a warm-up). Writes into DIR\n"
              "(default out/bench-<suite>): curves.csv (every iteration), summary.csv, reference.csv,\n"
              "trajectory.csv, report.md and plots/*.png (gnuplot). Progress goes to stderr.\n"
-             "Exit status: 0 all references converged, nothing non-finite and every required\n"
+             "Exit status: 0 all references converged, no NaN produced and every required\n"
              "configuration converged; 1 otherwise; 2 bad input or I/O error.\n",
     .run = run,
 };

@@ -952,7 +952,7 @@ static int run_curves(run_ctx *r, eo_solver *sv, eo_objective *obj, const double
             res->reached = b->reached;
             res->stagnated = b->stagnated;
         }
-        if (!all_finite(n, x)) res->nonfinite = 1;
+        if (!all_finite(n, x)) res->nonfinite = res->nan = 1;
         if (sr.reason == EO_DIVERGED_NONFINITE) res->nonfinite = 1;
     }
     /* iterate times: τ₀ = 0, τₖ = time of record k−1; relative errors */
@@ -963,7 +963,7 @@ static int run_curves(run_ctx *r, eo_solver *sv, eo_objective *obj, const double
         for (int k = b->n - 1; k >= 1; k--) b->t[k] = b->t[k - 1];
         if (b->n) b->t[0] = 0;
         for (int k = 0; k < b->n; k++) {
-            if (isnan(b->g[k]) || isnan(b->gn[k])) res->nonfinite = 1;
+            if (isnan(b->g[k]) || isnan(b->gn[k])) res->nonfinite = res->nan = 1;
             b->e[k] = (b->g[k] - ref->gstar) / de;
         }
         if (q < 0) continue;
@@ -1004,6 +1004,7 @@ static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int i
     for (int k = 0; k < p->nsteps; k++) {
         p->steps_reached += p->st[k].reached;
         p->nonfinite |= p->st[k].nonfinite;
+        p->nan |= p->st[k].nan;
     }
     p->first_bad_step = -1;
     p->traj_converged = 0;
@@ -1014,6 +1015,7 @@ static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int i
         for (int k = 0; k < p->traj_done; k++) {
             const bench_traj_res *t = p->tr + k;
             p->nonfinite |= t->nonfinite;
+            p->nan |= t->nan;
             if (t->reason > 0) p->traj_converged++;
             else if (p->first_bad_step < 0) {
                 p->first_bad_step = k;
@@ -1036,7 +1038,9 @@ static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int i
     }
     if (p->nonfinite) {
         snprintf(p->status, sizeof p->status, "non-finite");
-        snprintf(p->reason, sizeof p->reason, "non-finite value (step %d: %s)",
+        snprintf(p->reason, sizeof p->reason, "%s (step %d: %s)",
+                 p->nan ? "NaN or non-finite positions returned"
+                        : "non-finite g or gradient met, run stopped; returned positions finite",
                  (p->first_bad_step >= 0 ? p->first_bad_step : 0) + 1,
                  p->first_bad_step >= 0 ? eo_reason_name(p->first_bad_reason) : "curve run");
     } else if (p->first_bad_step < 0) {
@@ -1215,7 +1219,8 @@ static int run_scene(run_ctx *r, int si)
                 t->reason = res.reason;
                 t->time = res.time;
                 t->g = res.g;
-                t->nonfinite = !all_finite(obj->n, gx) || res.reason == EO_DIVERGED_NONFINITE;
+                t->nan = !all_finite(obj->n, gx) || isnan(res.g);
+                t->nonfinite = t->nan || res.reason == EO_DIVERGED_NONFINITE;
                 if (!all_finite(obj->n, gx)) {
                     t->dist = NAN;
                     p->traj_done = k + 1;
@@ -1240,6 +1245,7 @@ static int run_scene(run_ctx *r, int si)
         aggregate(s, R, p, s->o.trajectory);
         r->out->sum->runs++;
         if (p->nonfinite) r->out->sum->nonfinite++;
+        if (p->nan) r->out->sum->nan++;
         for (int q = 0; q < s->nreq; q++)
             if (s->req[q] == ci && strcmp(p->status, "converged") != 0) r->out->sum->required_failures++;
         fflush(r->curves);

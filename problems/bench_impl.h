@@ -56,14 +56,15 @@ typedef struct bench_step_res {
     double ttt[BENCH_MAX_LIST][BENCH_MAX_REPEATS];
     double eab[BENCH_MAX_LIST][BENCH_MAX_REPEATS];
     int nrep;
-    int nonfinite;
+    int nonfinite;        /* the solver met a non-finite g or gradient (and stopped) */
+    int nan;              /* a NaN was recorded or the returned x is not finite */
 } bench_step_res;
 
 /* One frame of a trajectory run. */
 typedef struct bench_traj_res {
     int iters, reason;
     double time, g, dist;
-    int nonfinite;
+    int nonfinite, nan;
 } bench_traj_res;
 
 /* Aggregated result of one (scene, configuration). */
@@ -75,7 +76,7 @@ typedef struct bench_pair {
     double ttt_med[BENCH_MAX_LIST], ttt_min[BENCH_MAX_LIST], ttt_max[BENCH_MAX_LIST];
     double eab_med[BENCH_MAX_LIST];
     int steps_reached;
-    int nonfinite;
+    int nonfinite, nan;
     int traj_converged;   /* steps converged in the trajectory run */
     int first_bad_step, first_bad_reason;
     double traj_time, traj_max_dist, traj_final_dist;

@@ -79,6 +79,27 @@ static void csv_d(FILE *f, double v)
     else fprintf(f, ",%.6e", v);
 }
 
+static int pair_iters(const bench_pair *p)
+{
+    int n = 0;
+    for (int k = 0; k < p->nsteps; k++) n += p->st[k].iters;
+    return n;
+}
+
+/* "median (min–max)" of the time to threshold j, in ms. */
+static void fmt_spread(const bench_pair *p, int j, int repeats, char *buf, size_t n)
+{
+    char a[32], lo[32], hi[32];
+    fmt_ms(p->ttt_med[j], a, sizeof a);
+    if (!isfinite(p->ttt_med[j]) || repeats < 2) {
+        snprintf(buf, n, "%s", a);
+        return;
+    }
+    fmt_ms(p->ttt_min[j], lo, sizeof lo);
+    fmt_ms(p->ttt_max[j], hi, sizeof hi);
+    snprintf(buf, n, "%s (%s–%s)", a, lo, hi);
+}
+
 /* Fastest and second fastest configuration of a scene at threshold j (-1 if none). */
 static void fastest(const bench_out *b, int si, int j, int *first, int *second)
 {
@@ -422,8 +443,11 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
 
     /* ---- headline */
     fprintf(f, "## Headline: fastest to relative energy error %s\n\n", lab);
-    fprintf(f, "| scene | fastest | time (ms) | next best | its time (ms) | ratio | baseline time (ms) |\n"
-               "|---|---|---|---|---|---|---|\n");
+    fprintf(f, "Times are medians (min–max over the repeats). *Separated* says whether the two spreads do not "
+               "overlap; when they do, the order of the two is within the machine's noise. Iterations are those of "
+               "the median repeat, summed over the measured steps.\n\n");
+    fprintf(f, "| scene | fastest | time (ms) | it. | next best | its time (ms) | it. | ratio | separated | "
+               "baseline time (ms) |\n|---|---|---|---|---|---|---|---|---|---|\n");
     for (int si = 0; si < s->nsc; si++) {
         int first, second;
         fastest(b, si, h, &first, &second);
@@ -433,13 +457,17 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             fprintf(f, "| %s | none reached %s | — | — | — | — | %s |\n", s->sc[si].name, lab, a);
             continue;
         }
-        fmt_ms(P[first].ttt_med[h], c1, sizeof c1);
+        char s1[160], s2[160];
+        fmt_spread(&P[first], h, b->repeats, s1, sizeof s1);
         if (second >= 0) {
-            fmt_ms(P[second].ttt_med[h], c2, sizeof c2);
-            fprintf(f, "| %s | **%s** | %s | %s | %s | %.2f× | %s |\n", s->sc[si].name, s->cf[first].name, c1,
-                    s->cf[second].name, c2, P[second].ttt_med[h] / P[first].ttt_med[h], a);
+            fmt_spread(&P[second], h, b->repeats, s2, sizeof s2);
+            int sep = P[first].ttt_max[h] < P[second].ttt_min[h];
+            fprintf(f, "| %s | **%s** | %s | %d | %s | %s | %d | %.2f× | %s | %s |\n", s->sc[si].name,
+                    s->cf[first].name, s1, pair_iters(&P[first]), s->cf[second].name, s2, pair_iters(&P[second]),
+                    P[second].ttt_med[h] / P[first].ttt_med[h], sep ? "yes" : "no", a);
         } else {
-            fprintf(f, "| %s | **%s** | %s | — | — | only one | %s |\n", s->sc[si].name, s->cf[first].name, c1, a);
+            fprintf(f, "| %s | **%s** | %s | %d | — | — | — | only one | — | %s |\n", s->sc[si].name,
+                    s->cf[first].name, s1, pair_iters(&P[first]), a);
         }
     }
     fprintf(f, "\n");
@@ -449,7 +477,8 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     /* ---- stability matrix */
     fprintf(f, "## Status per scene and configuration\n\n"
                "`ok` = converged on every step%s; otherwise the first failing step and its reason; "
-               "`NaN` = a non-finite value appeared.\n\n",
+               "`non-finite, stopped` = the solver met a non-finite g or ∇g (a divergent run) and stopped cleanly "
+               "with finite positions; `NaN` = a NaN was recorded or returned.\n\n",
             s->o.trajectory ? " of the trajectory run (own stopping rule)" : " (curve runs reached the target)");
     fprintf(f, "| configuration |");
     for (int si = 0; si < s->nsc; si++) fprintf(f, " %s |", s->sc[si].name);
@@ -461,7 +490,8 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
         for (int si = 0; si < s->nsc; si++) {
             const bench_pair *p = b->res[si].pair + c;
             if (!strcmp(p->status, "converged")) fprintf(f, " ok |");
-            else if (!strcmp(p->status, "non-finite")) fprintf(f, " NaN |");
+            else if (p->nan) fprintf(f, " **NaN** |");
+            else if (p->nonfinite) fprintf(f, " non-finite, stopped |");
             else fprintf(f, " %s |", p->reason);
         }
         fprintf(f, "\n");
@@ -491,7 +521,7 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
         fprintf(f, ".\n\nReference state at t = 0 → after the last measured step: min det F %.3g → %.3g, inverted tets "
                    "%d → %d, elastic energy %.4g → %.4g J.\n\n",
                 sr->start_minJ, sr->end_minJ, sr->start_inverted, sr->end_inverted, sr->start_elastic, sr->end_elastic);
-        fprintf(f, "| configuration | status |");
+        fprintf(f, "| configuration | status | it. |");
         for (int j = 0; j < s->nthr; j++) {
             fmt_thr(s->thr[j], a, sizeof a);
             fprintf(f, " t→%s (ms) |", a);
@@ -499,7 +529,7 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
         fprintf(f, " ratio at %s |", lab);
         for (int j = 0; j < s->nbud; j++) fprintf(f, " err@%gs |", s->bud[j]);
         if (s->o.trajectory) fprintf(f, " traj. time (ms) | traj. dist (m) |");
-        fprintf(f, "\n|---|---|");
+        fprintf(f, "\n|---|---|---|");
         for (int j = 0; j < s->nthr + 1 + s->nbud + (s->o.trajectory ? 2 : 0); j++) fprintf(f, "---|");
         fprintf(f, "\n");
         /* rows sorted by the headline time */
@@ -520,7 +550,7 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             int c = order[i];
             const bench_pair *p = sr->pair + c;
             const char *bold = c == s->baseline ? "**" : "";
-            fprintf(f, "| %s%s%s | %s |", bold, s->cf[c].name, bold, p->status);
+            fprintf(f, "| %s%s%s | %s | %d |", bold, s->cf[c].name, bold, p->status, pair_iters(p));
             for (int j = 0; j < s->nthr; j++) {
                 fmt_ms(p->ttt_med[j], a, sizeof a);
                 if (isfinite(p->ttt_med[j]) && b->repeats > 1) {

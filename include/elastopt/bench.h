@@ -139,7 +139,8 @@ eo_bench_run_opts eo_bench_run_opts_default(void);
 typedef struct eo_bench_summary {
     int runs;                 ///< scene × configuration pairs
     int ref_failures;         ///< reference steps that did not converge
-    int nonfinite;            ///< pairs with a non-finite value anywhere
+    int nonfinite;            ///< pairs whose solver met a non-finite g or ∇g (stopped cleanly)
+    int nan;                  ///< pairs that recorded a NaN or returned non-finite positions
     int required_failures;    ///< required configurations that failed some step
     int plots_made;           ///< PNG files written
     double seconds;           ///< wall time of the whole run
