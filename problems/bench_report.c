@@ -291,7 +291,7 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
     int rc = eo_afile_open(ctx, path, &af);
     if (rc < 0) return rc;
     FILE *f = eo_afile_fp(af);
-    fprintf(f, "# config  time_ratio_geomean  rel_traj_err_geomean  all_converged  scenes\n");
+    fprintf(f, "# number  time_ratio_geomean  rel_traj_err_geomean (clipped to 100)  all_converged  scenes  config\n");
     double *xs = eo_malloc(ctx, 2 * (size_t)s->ncf * sizeof(double));
     int *ok = eo_calloc(ctx, (size_t)s->ncf, sizeof(int));
     if (!xs || !ok) {
@@ -316,7 +316,7 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
         xs[c] = n ? exp(lx / n) : NAN;
         ys[c] = n ? exp(ly / n) : NAN;
         ok[c] = conv;
-        if (n) fprintf(f, "\"%s\" %.6e %.6e %d %d\n", s->cf[c].name, xs[c], ys[c], conv, n);
+        if (n) fprintf(f, "%d %.6e %.6e %d %d \"%s\"\n", c + 1, xs[c], fmin(ys[c], 100), conv, n, s->cf[c].name);
     }
     fprintf(f, "\n\n# Pareto front (no other configuration is both faster and more accurate)\n");
     for (;;) { /* print the front sorted by time */
@@ -331,7 +331,7 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
             if (best < 0 || xs[c] < xs[best]) best = c;
         }
         if (best < 0) break;
-        fprintf(f, "%.6e %.6e\n", xs[best], ys[best]);
+        fprintf(f, "%.6e %.6e\n", xs[best], fmin(ys[best], 100));
         ok[best] = -1 - ok[best]; /* printed */
     }
     for (int c = 0; c < s->ncf; c++)
@@ -344,20 +344,28 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
     rc = eo_afile_open(ctx, path, &af);
     if (rc < 0) return rc;
     f = eo_afile_fp(af);
-    fprintf(f, "set terminal pngcairo size 1400,900 font 'DejaVu Sans,11' noenhanced\n");
+    fprintf(f, "set terminal pngcairo size 1500,950 font 'DejaVu Sans,11' noenhanced\n");
     fprintf(f, "set output 'pareto.png'\n");
+    fprintf(f, "set rmargin at screen 0.70\n");
+    fprintf(f, "# configurations by number (points are labelled with the number)\n");
+    for (int c = 0; c < s->ncf; c++)
+        fprintf(f, "set label %d \"%2d  %s\" at screen 0.72, screen %.4f left font ',10'\n", c + 1, c + 1,
+                s->cf[c].name, 0.92 - 0.8 * c / (s->ncf > 20 ? s->ncf : 20));
     fprintf(f, "set title \"Speed against accuracy over %d scene(s), each configuration with its own stopping rule\\n"
                "lower left is better; the line joins the Pareto-optimal configurations\"\n", s->nsc);
     fprintf(f, "set logscale xy\nset grid lc rgb '#dddddd'\nset format y '1e%%L'\n");
     fprintf(f, "set xlabel 'trajectory solve time / baseline (%s), geometric mean over scenes'\n", s->cf[s->baseline].name);
-    fprintf(f, "set ylabel 'max distance to reference trajectory / reference displacement (geometric mean)'\n");
-    fprintf(f, "set key bottom right box opaque\nset offsets graph 0.08, graph 0.25, graph 0.08, graph 0.08\n");
+    fprintf(f, "set ylabel 'max distance to reference trajectory / reference displacement (geometric mean; "
+               "clipped at 100)'\n");
+    fprintf(f, "set key top left box opaque\nset offsets graph 0.05, graph 0.1, graph 0.1, graph 0.05\n");
+
     fprintf(f, "plot 'pareto.dat' index 1 using 1:2 with lines lc rgb '#999999' lw 2 title 'Pareto front', \\\n"
                "  'pareto.dat' index 0 using ($4==1?$2:1/0):3 with points pt 7 ps 1.6 lc rgb '#1f77b4' "
                "title 'converged on every step of every scene', \\\n"
                "  'pareto.dat' index 0 using ($4==0?$2:1/0):3 with points pt 9 ps 1.6 lc rgb '#d62728' "
                "title 'failed or stopped somewhere', \\\n"
-               "  'pareto.dat' index 0 using 2:3:1 with labels offset char 1,0.6 left font ',9' notitle\n");
+               "  'pareto.dat' index 0 using 2:3:(sprintf('%%d', $1)) with labels offset char 0.9,0.5 left font ',9' "
+               "notitle\n");
     rc = eo_afile_commit(ctx, &af);
     if (rc < 0) return rc;
     return run_gnuplot(ctx, b->dir, "pareto");
