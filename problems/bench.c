@@ -788,6 +788,11 @@ static int curve_iter(const eo_iter_info *it, void *user)
     return stop;
 }
 
+/* A trajectory that satisfies its own stopping rule on every step but ends farther than
+ * this fraction of the reference motion (RMS displacement over the measured steps) from
+ * the reference has found another stationary point: status "elsewhere". */
+#define ELSEWHERE 1e-2
+
 /* Reference stop: the Newton decrement below tol = ref_tol·|g(x₀)|, or the rounding
  * floor: the last step did not lower g although its decrement was already below
  * 1e-9·|g(x₀)| (then no tighter solution exists in floating point: the line search
@@ -982,7 +987,7 @@ static int run_curves(run_ctx *r, eo_solver *sv, eo_objective *obj, const double
     return EO_OK;
 }
 
-static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int is_traj)
+static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int is_traj, double ref_disp)
 {
     for (int j = 0; j < s->nthr; j++) {
         double tot[BENCH_MAX_REPEATS];
@@ -1043,6 +1048,12 @@ static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int i
                         : "non-finite g or gradient met, run stopped; returned positions finite",
                  (p->first_bad_step >= 0 ? p->first_bad_step : 0) + 1,
                  p->first_bad_step >= 0 ? eo_reason_name(p->first_bad_reason) : "curve run");
+    } else if (p->first_bad_step < 0 && is_traj && p->traj_max_dist > ELSEWHERE * fmax(ref_disp, 1e-12)) {
+        snprintf(p->status, sizeof p->status, "elsewhere");
+        snprintf(p->reason, sizeof p->reason,
+                 "own rule satisfied on every step, but up to %.2g m (%.0f%% of the reference motion) away from the "
+                 "reference trajectory: another stationary point",
+                 p->traj_max_dist, 100 * p->traj_max_dist / fmax(ref_disp, 1e-12));
     } else if (p->first_bad_step < 0) {
         snprintf(p->status, sizeof p->status, "converged");
         snprintf(p->reason, sizeof p->reason, "%s", is_traj ? "converged on every step" : "reached target on every step");
@@ -1242,7 +1253,7 @@ static int run_scene(run_ctx *r, int si)
             r->units_done += (double)b->nt * S;
         }
         eo_cfg_destroy(ctx, &ccfg);
-        aggregate(s, R, p, s->o.trajectory);
+        aggregate(s, R, p, s->o.trajectory, sr->ref_disp);
         r->out->sum->runs++;
         if (p->nonfinite) r->out->sum->nonfinite++;
         if (p->nan) r->out->sum->nan++;

@@ -485,6 +485,8 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     /* ---- stability matrix */
     fprintf(f, "## Status per scene and configuration\n\n"
                "`ok` = converged on every step%s; otherwise the first failing step and its reason; "
+               "`elsewhere (x%% off)` = the own stopping rule was satisfied on every step but the trajectory "
+               "ended x%% of the reference motion away from the reference (another stationary point); "
                "`non-finite, stopped` = the solver met a non-finite g or ∇g (a divergent run) and stopped cleanly "
                "with finite positions; `NaN` = a NaN was recorded or returned.\n\n",
             s->o.trajectory ? " of the trajectory run (own stopping rule)" : " (curve runs reached the target)");
@@ -500,6 +502,8 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             if (!strcmp(p->status, "converged")) fprintf(f, " ok |");
             else if (p->nan) fprintf(f, " **NaN** |");
             else if (p->nonfinite) fprintf(f, " non-finite, stopped |");
+            else if (!strcmp(p->status, "elsewhere"))
+                fprintf(f, " elsewhere (%.0f%% off) |", 100 * p->traj_max_dist / fmax(b->res[si].ref_disp, 1e-12));
             else fprintf(f, " %s |", p->reason);
         }
         fprintf(f, "\n");

@@ -23,6 +23,11 @@
 ///     rule (trajectory run), from the reference state at the first measured step, and
 ///     measures the mass-weighted RMS distance of its positions to the reference
 ///     trajectory per frame, √(Σᵥ mᵥ‖xᵥ − x*ᵥ‖² / Σᵥ mᵥ) (m).
+/// Status of a configuration on a scene: converged (own rule satisfied on every step of
+/// the trajectory run, within 1% of the reference motion), elsewhere (own rule
+/// satisfied, but farther: another stationary point), stopped (with the first failing
+/// step's reason), non-finite (the solver met a non-finite g or ∇g; `nan` counts runs
+/// whose returned positions or recorded values were NaN).
 /// Times: median of the timed repeats with min–max spread; ratios against the suite's
 /// named baseline configuration, measured in the same run.
 ///
