@@ -318,24 +318,23 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
         ok[c] = conv;
         if (n) fprintf(f, "%d %.6e %.6e %d %d \"%s\"\n", c + 1, xs[c], fmin(ys[c], 100), conv, n, s->cf[c].name);
     }
-    fprintf(f, "\n\n# Pareto front (no other configuration is both faster and more accurate)\n");
-    for (;;) { /* print the front sorted by time */
+    fprintf(f, "\n\n# Pareto front among the configurations that converged everywhere (none of them is both "
+               "faster and more accurate)\n");
+    for (int c = 0; c < s->ncf; c++) { /* sorted by time: the candidates in order of x */
         int best = -1;
-        for (int c = 0; c < s->ncf; c++) {
-            if (isnan(xs[c]) || ok[c] < 0) continue;
-            int dominated = 0;
-            for (int d = 0; d < s->ncf; d++)
-                if (d != c && !isnan(xs[d]) && xs[d] <= xs[c] && ys[d] <= ys[c] && (xs[d] < xs[c] || ys[d] < ys[c]))
-                    dominated = 1;
-            if (dominated) continue;
-            if (best < 0 || xs[c] < xs[best]) best = c;
+        for (int d = 0; d < s->ncf; d++) {
+            if (ok[d] != 1 || isnan(xs[d])) continue;
+            if (best < 0 || xs[d] < xs[best]) best = d;
         }
         if (best < 0) break;
-        fprintf(f, "%.6e %.6e\n", xs[best], fmin(ys[best], 100));
-        ok[best] = -1 - ok[best]; /* printed */
+        ok[best] = 2; /* visited */
+        int dominated = 0;
+        for (int d = 0; d < s->ncf; d++)
+            if (d != best && ok[d] >= 1 && !isnan(xs[d]) && xs[d] <= xs[best] && ys[d] <= ys[best] &&
+                (xs[d] < xs[best] || ys[d] < ys[best]))
+                dominated = 1;
+        if (!dominated) fprintf(f, "%.6e %.6e\n", xs[best], fmin(ys[best], 100));
     }
-    for (int c = 0; c < s->ncf; c++)
-        if (ok[c] < 0) ok[c] = -1 - ok[c];
     eo_free(ctx, xs);
     eo_free(ctx, ok);
     rc = eo_afile_commit(ctx, &af);
@@ -359,7 +358,7 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
                "clipped at 100)'\n");
     fprintf(f, "set key top left box opaque\nset offsets graph 0.05, graph 0.1, graph 0.1, graph 0.05\n");
 
-    fprintf(f, "plot 'pareto.dat' index 1 using 1:2 with lines lc rgb '#999999' lw 2 title 'Pareto front', \\\n"
+    fprintf(f, "plot 'pareto.dat' index 1 using 1:2 with lines lc rgb '#999999' lw 2 title 'Pareto front of the converged configurations', \\\n"
                "  'pareto.dat' index 0 using ($4==1?$2:1/0):3 with points pt 7 ps 1.6 lc rgb '#1f77b4' "
                "title 'converged on every step of every scene', \\\n"
                "  'pareto.dat' index 0 using ($4==0?$2:1/0):3 with points pt 9 ps 1.6 lc rgb '#d62728' "
