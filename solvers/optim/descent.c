@@ -13,12 +13,21 @@
  *     accepted when the search returns EO_OK, or a warning but g(x_{k+1}) < g_k;
  *     else                                → EO_DIVERGED_LINESEARCH (x stays x_k)
  *   record k is reported (callback non-zero → EO_DIVERGED_EXTERNAL, x stays x_k)
+ *   EO_DESCENT_STALL_LIMIT accepted steps in a row with g(x_{k+1}) ≥ g_k (accepted by
+ *   the line searches' rounding-level tie only) and no new smallest ‖∇g‖ (so neither g
+ *   nor the gradient makes progress) → EO_DIVERGED_STAGNATED: the stopping
+ *   tolerance is below what the floating-point g can resolve; without this the loop
+ *   would spend its whole iteration budget (and ~35 evaluations per iteration) at the
+ *   rounding floor
  * The last record carries the reason. Converged reasons are checked before the
  * iteration cap, so a run that converges exactly at k = max_iters says so.
  * Nothing here allocates. */
 #include "descent.h"
 
 #include <string.h>
+
+/* accepted steps without a strict decrease of g before EO_DIVERGED_STAGNATED */
+#define EO_DESCENT_STALL_LIMIT 5
 
 int eo_descent_ws_init(eo_ctx *ctx, int n, eo_descent_ws *w)
 {
@@ -73,7 +82,8 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
     const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
     double *grad = w->grad, *grad_new = w->grad_new, *p = w->p;
     double g = NAN, gn = NAN, gn0, g_prev = NAN, step_norm = NAN, last_dec = NAN;
-    int rc = EO_OK, reason = 0, k = 0;
+    int rc = EO_OK, reason = 0, k = 0, stalled = 0;
+    double gn_best = INFINITY;
 
     memset(res, 0, sizeof *res);
     res->decrement = NAN;
@@ -122,6 +132,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                 }
             }
         }
+        if (!reason && stalled >= EO_DESCENT_STALL_LIMIT) reason = EO_DIVERGED_STAGNATED;
         if (!reason && k >= sc->max_iters) reason = EO_DIVERGED_MAX_ITERS;
         if (reason) {
             info.reason = reason;
@@ -142,6 +153,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
             break;
         }
         rc = EO_OK;
+        if (gn < gn_best) gn_best = gn;
         info.alpha = alpha;
         if (eo_solver_report(sc, t0, &info)) {
             reason = EO_DIVERGED_EXTERNAL;
@@ -166,6 +178,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         g = gchk;
         gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
         last_dec = NAN;
+        stalled = (g < g_prev || gn < gn_best) ? 0 : stalled + 1;
     }
 done:
     res->reason = reason;
