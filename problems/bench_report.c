@@ -21,13 +21,10 @@
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
-#if defined(_OPENMP)
-#include <omp.h>
-#endif
 
 #include "bench_impl.h"
-#include "eo_build_config.h"
 #include "elastopt/io.h"
+#include "elastopt/machine.h"
 
 int eo_bench_keep_row(int k, int n, int full_rows)
 {
@@ -373,25 +370,6 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
 
 /* ---------------------------------------------------------------- report.md */
 
-static void cpu_model(char *buf, size_t n)
-{
-    snprintf(buf, n, "unknown");
-    FILE *f = fopen("/proc/cpuinfo", "r");
-    if (!f) return;
-    char line[512];
-    while (fgets(line, sizeof line, f)) {
-        if (strncmp(line, "model name", 10) != 0) continue;
-        char *c = strchr(line, ':');
-        if (!c) continue;
-        c++;
-        while (*c == ' ' || *c == '\t') c++;
-        c[strcspn(c, "\n")] = 0;
-        snprintf(buf, n, "%s", c);
-        break;
-    }
-    fclose(f);
-}
-
 static const char *env_or(const char *name, const char *def)
 {
     const char *v = getenv(name);
@@ -409,14 +387,11 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     FILE *f = eo_afile_fp(af);
     const int h = headline_thr(s);
     fmt_thr(s->thr[h], lab, sizeof lab);
-    char cpu[256], date[64];
-    cpu_model(cpu, sizeof cpu);
+    char date[64];
+    eo_machine mach;
+    eo_machine_get(&mach);
     time_t now = time(NULL);
     strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", gmtime(&now));
-    int threads = 1;
-#if defined(_OPENMP)
-    threads = omp_get_max_threads();
-#endif
     fprintf(f, "# Optimizer benchmark: %s\n\n", s->path);
     if (s->o.description[0]) fprintf(f, "%s\n\n", s->o.description);
     fprintf(f, "Run %s, %.1f s wall time, %d scene(s) × %d configuration(s), %d timed repeat(s) per run "
@@ -427,12 +402,12 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     fprintf(f, "| | |\n|---|---|\n");
     fprintf(f, "| CPU | %s |\n| cores online | %ld |\n| OpenMP max threads | %d (element loops serial: "
                "eo_step default) |\n",
-            cpu, sysconf(_SC_NPROCESSORS_ONLN), threads);
+            mach.cpu, mach.cores, mach.omp_threads);
     fprintf(f, "| OMP_NUM_THREADS / OPENBLAS_NUM_THREADS | %s / %s |\n", env_or("OMP_NUM_THREADS", "unset"),
             env_or("OPENBLAS_NUM_THREADS", "unset"));
     fprintf(f, "| load average at start / end | %s / %s |\n", b->load_start, b->load_end);
-    fprintf(f, "| elastopt | %s, build type %s, %s, git %s |\n\n", EO_VERSION, EO_BUILDTYPE, EO_COMPILER,
-            EO_GIT_REVISION);
+    fprintf(f, "| elastopt | %s, build type %s, %s, git %s |\n\n", mach.version, mach.build_type, mach.compiler,
+            mach.revision);
     fprintf(f, "## Protocol\n\n"
                "For every scene a reference trajectory is advanced step by step; each step's reference minimizer "
                "x* is Newton + clamp + backtracking stopped at λ²/2 ≤ %g·|g(x₀)| (or at the rounding floor: a step that "
