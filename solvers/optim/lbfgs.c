@@ -19,14 +19,14 @@
 #include <string.h>
 
 #include "descent.h"
+#include "lbfgs_memory.h"
 
 typedef struct lbfgs_state {
     eo_descent_ws w;
     int m, n;
-    double *S, *Y;      /* m×n each, circular */
-    double *rho, *a;    /* m each */
+    eo_lbfgs_memory mem;
+    double *store;      /* the memory's storage, then dinv */
     double *dinv;       /* n */
-    int count, head;    /* pairs stored; slot of the next pair */
     eo_ctx *ctx;
 } lbfgs_state;
 
@@ -41,8 +41,8 @@ static const eo_param_desc lbfgs_desc[] = {
 static void lbfgs_free(lbfgs_state *st, eo_ctx *ctx)
 {
     eo_descent_ws_deinit(ctx, &st->w);
-    eo_free(ctx, st->S);
-    st->S = NULL;
+    eo_free(ctx, st->store);
+    st->store = NULL;
 }
 
 static int lbfgs_setup(void *vst, const void *params, int n, eo_ctx *ctx)
@@ -60,12 +60,11 @@ static int lbfgs_setup(void *vst, const void *params, int n, eo_ctx *ctx)
     int rc = eo_descent_ws_init(ctx, n, &st->w);
     if (rc < 0) return rc;
     size_t m = (size_t)pp->history, nn = (size_t)(n > 0 ? n : 1);
-    st->S = eo_calloc(ctx, 2 * m * nn + 2 * m + nn, sizeof(double));
-    if (!st->S) return eo_error(ctx, EO_ERR_NOMEM, "lbfgs: out of memory (n = %d, m = %zu)", n, m);
-    st->Y = st->S + m * nn;
-    st->rho = st->Y + m * nn;
-    st->a = st->rho + m;
-    st->dinv = st->a + m;
+    size_t mem = eo_lbfgs_memory_size(n, (int)m);
+    st->store = eo_calloc(ctx, mem + nn, sizeof(double));
+    if (!st->store) return eo_error(ctx, EO_ERR_NOMEM, "lbfgs: out of memory (n = %d, m = %zu)", n, m);
+    eo_lbfgs_memory_bind(&st->mem, n, (int)m, st->store);
+    st->dinv = st->store + mem;
     st->m = (int)m;
     st->n = n;
     return EO_OK;
@@ -86,7 +85,7 @@ static int lbfgs_begin(void *vst, const void *params, const eo_solver_ctx *sc, c
     else
         for (int i = 0; i < st->n; i++) st->dinv[i] = 1;
     for (int i = 0; i < st->n; i++) st->dinv[i] = 1 / st->dinv[i];
-    st->count = st->head = 0;
+    eo_lbfgs_memory_clear(&st->mem);
     return EO_OK;
 }
 
@@ -103,39 +102,27 @@ static int lbfgs_direction(void *vst, const void *params, const eo_solver_ctx *s
                            eo_solve_result *res)
 {
     lbfgs_state *st = vst;
-    const int n = st->n, m = st->m;
+    eo_lbfgs_memory *h = &st->mem;
+    const int n = st->n;
     (void)params, (void)sc, (void)x, (void)g;
     out->alpha0 = 1;
-    if (st->count == 0) {
+    if (h->count == 0) {
         scaled_gradient(st, grad, p);
         return EO_OK;
     }
     double *q = p;
     for (int i = 0; i < n; i++) q[i] = grad[i];
-    for (int j = 0; j < st->count; j++) {
-        int slot = ((st->head - 1 - j) % m + m) % m;
-        const double *s = st->S + (size_t)slot * n, *y = st->Y + (size_t)slot * n;
-        st->a[slot] = st->rho[slot] * eo_dot(n, s, q);
-        for (int i = 0; i < n; i++) q[i] -= st->a[slot] * y[i];
-    }
-    {
-        int slot = ((st->head - 1) % m + m) % m;
-        const double *y = st->Y + (size_t)slot * n;
-        double ydy = 0;
-        for (int i = 0; i < n; i++) ydy += y[i] * st->dinv[i] * y[i];
-        double gamma = 1 / (st->rho[slot] * ydy);
-        for (int i = 0; i < n; i++) q[i] *= gamma * st->dinv[i];
-    }
-    for (int j = st->count - 1; j >= 0; j--) {
-        int slot = ((st->head - 1 - j) % m + m) % m;
-        const double *s = st->S + (size_t)slot * n, *y = st->Y + (size_t)slot * n;
-        double b = st->rho[slot] * eo_dot(n, y, q);
-        for (int i = 0; i < n; i++) q[i] += s[i] * (st->a[slot] - b);
-    }
+    eo_lbfgs_memory_first_loop(h, q);
+    /* H⁰ = γ D⁻¹ with γ = sᵀy / yᵀD⁻¹y of the newest pair */
+    const double *y = h->Y + (size_t)eo_lbfgs_memory_slot(h, 0) * n;
+    double ydy = 0;
+    for (int i = 0; i < n; i++) ydy += y[i] * st->dinv[i] * y[i];
+    double gamma = 1 / (h->rho[eo_lbfgs_memory_slot(h, 0)] * ydy);
+    for (int i = 0; i < n; i++) q[i] *= gamma * st->dinv[i];
+    eo_lbfgs_memory_second_loop(h, q);
     for (int i = 0; i < n; i++) p[i] = -q[i];
-    double dg = eo_dot(n, grad, p), pn = eo_norm2(n, p), gn = eo_norm2(n, grad);
-    if (!(isfinite(dg) && isfinite(pn) && dg < -1e-14 * gn * pn)) {
-        st->count = st->head = 0;
+    if (!eo_is_descent(n, grad, p)) {
+        eo_lbfgs_memory_clear(h);
         res->n_fallback++;
         scaled_gradient(st, grad, p);
     }
@@ -146,26 +133,9 @@ static void lbfgs_accepted(void *vst, const void *params, const double *x, const
                            const double *grad, const double *grad_new, const double *p, double alpha)
 {
     lbfgs_state *st = vst;
-    const int n = st->n;
     (void)params, (void)p, (void)alpha;
-    double sy = 0, ss = 0, yy = 0;
-    for (int i = 0; i < n; i++) {
-        double si = x_new[i] - x[i], yi = grad_new[i] - grad[i];
-        sy += si * yi;
-        ss += si * si;
-        yy += yi * yi;
-    }
-    if (!(sy > 1e-10 * sqrt(ss) * sqrt(yy)) || !isfinite(sy)) return; /* skip the pair */
-    double *s = st->S + (size_t)st->head * n, *y = st->Y + (size_t)st->head * n;
-    for (int i = 0; i < n; i++) {
-        s[i] = x_new[i] - x[i];
-        y[i] = grad_new[i] - grad[i];
-    }
-    st->rho[st->head] = 1 / sy;
-    st->head = (st->head + 1) % st->m;
-    if (st->count < st->m) st->count++;
+    eo_lbfgs_memory_push(&st->mem, x, x_new, grad, grad_new);
 }
-
 static const eo_descent_ops lbfgs_ops = {
     .begin = lbfgs_begin,
     .direction = lbfgs_direction,

@@ -40,14 +40,14 @@
 #include <string.h>
 
 #include "descent.h"
+#include "lbfgs_memory.h"
 
 typedef struct pd_state {
     eo_descent_ws w;
     int n, m;
-    double *S, *Y;            /* m×n each, circular */
-    double *rho, *a;          /* m each */
+    eo_lbfgs_memory mem;      /* Liu 2017's L-BFGS pairs (m = 0: plain PD) */
+    double *store;            /* the memory's storage, then q and diag */
     double *q, *diag;         /* n each */
-    int count, head;          /* pairs stored; slot of the next pair */
     /* the factored matrix: own copy A, and what it was made from */
     eo_csc *A;
     const eo_objective *obj;  /* objective whose constant_hessian A is (NULL: none reusable) */
@@ -71,8 +71,8 @@ static const eo_param_desc pd_desc[] = {
 static void pd_free(pd_state *st, eo_ctx *ctx)
 {
     eo_descent_ws_deinit(ctx, &st->w);
-    eo_free(ctx, st->S);
-    st->S = NULL;
+    eo_free(ctx, st->store);
+    st->store = NULL;
     eo_csc_destroy(ctx, &st->A);
 }
 
@@ -91,13 +91,12 @@ static int pd_setup(void *vst, const void *params, int n, eo_ctx *ctx)
     int rc = eo_descent_ws_init(ctx, n, &st->w);
     if (rc < 0) return rc;
     size_t m = (size_t)pp->lbfgs_history, nn = (size_t)(n > 0 ? n : 1);
-    st->S = eo_calloc(ctx, 2 * m * nn + 2 * m + 2 * nn, sizeof(double));
-    if (!st->S)
+    size_t mem = eo_lbfgs_memory_size(n, (int)m);
+    st->store = eo_calloc(ctx, mem + 2 * nn, sizeof(double));
+    if (!st->store)
         return eo_error(ctx, EO_ERR_NOMEM, "projective_dynamics: out of memory (n = %d, m = %zu)", n, m);
-    st->Y = st->S + m * nn;
-    st->rho = st->Y + m * nn;
-    st->a = st->rho + m;
-    st->q = st->a + m;
+    eo_lbfgs_memory_bind(&st->mem, n, (int)m, st->store);
+    st->q = st->store + mem;
     st->diag = st->q + nn;
     st->m = (int)m;
     st->n = n;
@@ -196,7 +195,7 @@ static int pd_begin(void *vst, const void *params, const eo_solver_ctx *sc, cons
     pd_state *st = vst;
     const eo_projective_dynamics_params *pp = params;
     (void)g, (void)grad;
-    st->count = st->head = 0;
+    eo_lbfgs_memory_clear(&st->mem);
     if (pp->lbfgs_history != st->m)
         return eo_error(sc->ctx, EO_ERR_INVALID,
                         "projective_dynamics: set up for lbfgs_history %d, called with %d", st->m,
@@ -245,7 +244,8 @@ static int pd_direction(void *vst, const void *params, const eo_solver_ctx *sc, 
                         eo_solve_result *res)
 {
     pd_state *st = vst;
-    const int n = st->n, m = st->m;
+    eo_lbfgs_memory *h = &st->mem;
+    const int n = st->n;
     (void)params, (void)x, (void)g;
     out->alpha0 = 1;
     out->shift = st->shift;
@@ -254,29 +254,18 @@ static int pd_direction(void *vst, const void *params, const eo_solver_ctx *sc, 
         return EO_OK;
     }
     double *q = st->q;
-    if (st->count > 0) {
+    if (h->count > 0) {
         for (int i = 0; i < n; i++) q[i] = grad[i];
-        for (int j = 0; j < st->count; j++) {
-            int slot = ((st->head - 1 - j) % m + m) % m;
-            const double *s = st->S + (size_t)slot * n, *y = st->Y + (size_t)slot * n;
-            st->a[slot] = st->rho[slot] * eo_dot(n, s, q);
-            for (int i = 0; i < n; i++) q[i] -= st->a[slot] * y[i];
-        }
-        int reason = solve(sc, q, p, res);
+        eo_lbfgs_memory_first_loop(h, q);
+        int reason = solve(sc, q, p, res); /* r = L⁻¹ q */
         if (reason) {
             out->reason = reason;
             return EO_OK;
         }
-        for (int j = st->count - 1; j >= 0; j--) {
-            int slot = ((st->head - 1 - j) % m + m) % m;
-            const double *s = st->S + (size_t)slot * n, *y = st->Y + (size_t)slot * n;
-            double b = st->rho[slot] * eo_dot(n, y, p);
-            for (int i = 0; i < n; i++) p[i] += s[i] * (st->a[slot] - b);
-        }
+        eo_lbfgs_memory_second_loop(h, p);
         for (int i = 0; i < n; i++) p[i] = -p[i];
-        double dg = eo_dot(n, grad, p), pn = eo_norm2(n, p), gn = eo_norm2(n, grad);
-        if (isfinite(dg) && isfinite(pn) && dg < -1e-14 * gn * pn) return EO_OK;
-        st->count = st->head = 0; /* not a descent direction: plain PD step */
+        if (eo_is_descent(n, grad, p)) return EO_OK;
+        eo_lbfgs_memory_clear(h); /* not a descent direction: plain PD step */
         res->n_fallback++;
     }
     int reason = solve(sc, grad, p, res);
@@ -292,25 +281,8 @@ static void pd_accepted(void *vst, const void *params, const double *x, const do
                         const double *grad, const double *grad_new, const double *p, double alpha)
 {
     pd_state *st = vst;
-    const int n = st->n;
     (void)params, (void)p, (void)alpha;
-    if (st->m == 0) return;
-    double sy = 0, ss = 0, yy = 0;
-    for (int i = 0; i < n; i++) {
-        double si = x_new[i] - x[i], yi = grad_new[i] - grad[i];
-        sy += si * yi;
-        ss += si * si;
-        yy += yi * yi;
-    }
-    if (!(sy > 1e-10 * sqrt(ss) * sqrt(yy)) || !isfinite(sy)) return; /* skip the pair */
-    double *s = st->S + (size_t)st->head * n, *y = st->Y + (size_t)st->head * n;
-    for (int i = 0; i < n; i++) {
-        s[i] = x_new[i] - x[i];
-        y[i] = grad_new[i] - grad[i];
-    }
-    st->rho[st->head] = 1 / sy;
-    st->head = (st->head + 1) % st->m;
-    if (st->count < st->m) st->count++;
+    eo_lbfgs_memory_push(&st->mem, x, x_new, grad, grad_new);
 }
 
 static const eo_descent_ops pd_ops = {

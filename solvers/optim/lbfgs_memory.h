@@ -1,0 +1,105 @@
+/* The L-BFGS memory shared by lbfgs and projective_dynamics (internal header).
+ *
+ * The last m pairs s_i = x_{i+1} − x_i, y_i = ∇g_{i+1} − ∇g_i with ρ_i = 1/y_iᵀs_i in
+ * circular storage, and the two loops of the recursion that applies the inverse-Hessian
+ * approximation H_k to a vector (Nocedal & Wright, Numerical Optimization, Alg. 7.4):
+ *     first loop   q = v;  for i = newest … oldest:  a_i = ρ_i s_iᵀq,  q −= a_i y_i
+ *     (caller)     r = H⁰ q          — lbfgs: γD⁻¹ q;  projective_dynamics: L⁻¹ q
+ *     second loop  for i = oldest … newest:  b = ρ_i y_iᵀr,  r += s_i (a_i − b)
+ * A pair with sᵀy ≤ 1e-10·‖s‖‖y‖ (or non-finite) is skipped, which keeps H_k positive
+ * definite on non-convex g. Storage: 2mn + 2m doubles owned by the caller. */
+#ifndef EO_LBFGS_MEMORY_H
+#define EO_LBFGS_MEMORY_H
+
+#include <math.h>
+#include <stddef.h>
+
+#include "descent.h"
+
+typedef struct eo_lbfgs_memory {
+    int n, m;           /* variables, capacity */
+    int count, head;    /* pairs stored; slot of the next pair */
+    double *S, *Y;      /* m×n each, circular */
+    double *rho, *a;    /* m each */
+} eo_lbfgs_memory;
+
+/* doubles of storage for n variables and m pairs */
+static inline size_t eo_lbfgs_memory_size(int n, int m)
+{
+    return 2 * (size_t)m * (size_t)(n > 0 ? n : 1) + 2 * (size_t)m;
+}
+
+static inline void eo_lbfgs_memory_bind(eo_lbfgs_memory *h, int n, int m, double *store)
+{
+    size_t nn = (size_t)(n > 0 ? n : 1);
+    h->n = n;
+    h->m = m;
+    h->count = h->head = 0;
+    h->S = store;
+    h->Y = store + (size_t)m * nn;
+    h->rho = h->Y + (size_t)m * nn;
+    h->a = h->rho + m;
+}
+
+static inline void eo_lbfgs_memory_clear(eo_lbfgs_memory *h) { h->count = h->head = 0; }
+
+/* slot of the j-th newest pair (j = 0: newest) */
+static inline int eo_lbfgs_memory_slot(const eo_lbfgs_memory *h, int j)
+{
+    return ((h->head - 1 - j) % h->m + h->m) % h->m;
+}
+
+/* store the pair of an accepted step x → x_new, unless it would break positive definiteness */
+static inline void eo_lbfgs_memory_push(eo_lbfgs_memory *h, const double *x, const double *x_new,
+                                        const double *grad, const double *grad_new)
+{
+    const int n = h->n;
+    if (h->m == 0) return;
+    double sy = 0, ss = 0, yy = 0;
+    for (int i = 0; i < n; i++) {
+        double si = x_new[i] - x[i], yi = grad_new[i] - grad[i];
+        sy += si * yi;
+        ss += si * si;
+        yy += yi * yi;
+    }
+    if (!(sy > 1e-10 * sqrt(ss) * sqrt(yy)) || !isfinite(sy)) return; /* skip the pair */
+    double *s = h->S + (size_t)h->head * n, *y = h->Y + (size_t)h->head * n;
+    for (int i = 0; i < n; i++) {
+        s[i] = x_new[i] - x[i];
+        y[i] = grad_new[i] - grad[i];
+    }
+    h->rho[h->head] = 1 / sy;
+    h->head = (h->head + 1) % h->m;
+    if (h->count < h->m) h->count++;
+}
+
+static inline void eo_lbfgs_memory_first_loop(eo_lbfgs_memory *h, double *q)
+{
+    const int n = h->n;
+    for (int j = 0; j < h->count; j++) {
+        int slot = eo_lbfgs_memory_slot(h, j);
+        const double *s = h->S + (size_t)slot * n, *y = h->Y + (size_t)slot * n;
+        h->a[slot] = h->rho[slot] * eo_dot(n, s, q);
+        for (int i = 0; i < n; i++) q[i] -= h->a[slot] * y[i];
+    }
+}
+
+static inline void eo_lbfgs_memory_second_loop(const eo_lbfgs_memory *h, double *r)
+{
+    const int n = h->n;
+    for (int j = h->count - 1; j >= 0; j--) {
+        int slot = eo_lbfgs_memory_slot(h, j);
+        const double *s = h->S + (size_t)slot * n, *y = h->Y + (size_t)slot * n;
+        double b = h->rho[slot] * eo_dot(n, y, r);
+        for (int i = 0; i < n; i++) r[i] += s[i] * (h->a[slot] - b);
+    }
+}
+
+/* 1 if p is a descent direction for grad beyond rounding */
+static inline int eo_is_descent(int n, const double *grad, const double *p)
+{
+    double dg = eo_dot(n, grad, p), pn = eo_norm2(n, p), gn = eo_norm2(n, grad);
+    return isfinite(dg) && isfinite(pn) && dg < -1e-14 * gn * pn;
+}
+
+#endif
