@@ -1,7 +1,7 @@
 # inverted-start: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'inverted-start.png'
-set title "inverted-start: 320 tets, stable_neo_hookean E=100000 nu=0.3, 2 step(s), median of 2\nfastest to 1e-06: newton-clamp-backtracking (1.00x faster than newton-clamp-none)"
+set title "inverted-start: 320 tets, stable_neo_hookean E=100000 nu=0.3, 2 step(s), median of 2\nfastest to 1e-06: pd-lbfgs5-backtracking (1.75x faster than newton-clamp-none)"
 left = 0.0001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -17,8 +17,8 @@ set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#99
 set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt 3
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt 3
 plot \
-  'inverted-start.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline) (fastest)', \
-  'inverted-start.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
+  'inverted-start.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline)', \
+  'inverted-start.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 notitle, \
   'inverted-start.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-exact', \
   'inverted-start.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'inverted-start.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
@@ -56,4 +56,8 @@ plot \
   'inverted-start.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 title 'nlopt-lbfgs', \
   'inverted-start.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
   'inverted-start.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp', \
-  'inverted-start.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 notitle
+  'inverted-start.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
+  'inverted-start.dat' index 40 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-backtracking', \
+  'inverted-start.dat' index 41 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
+  'inverted-start.dat' index 42 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 3.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking (fastest)', \
+  'inverted-start.dat' index 43 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 3.5 pt 7 ps 0.4 notitle

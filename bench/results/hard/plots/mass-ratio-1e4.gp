@@ -1,7 +1,7 @@
 # mass-ratio-1e4: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'mass-ratio-1e4.png'
-set title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3, 2 step(s), median of 2\nfastest to 1e-06: newton-clamp-none (1.00x faster than newton-abs-backtracking)"
+set title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3, 2 step(s), median of 2\nfastest to 1e-06: newton-shift-backtracking (1.02x faster than newton-clamp-none)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -21,16 +21,16 @@ plot \
   'mass-ratio-1e4.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 notitle, \
   'mass-ratio-1e4.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-exact', \
   'mass-ratio-1e4.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'mass-ratio-1e4.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-clamp-none (fastest)', \
-  'mass-ratio-1e4.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
+  'mass-ratio-1e4.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
+  'mass-ratio-1e4.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'mass-ratio-1e4.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
   'mass-ratio-1e4.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'mass-ratio-1e4.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-exact', \
   'mass-ratio-1e4.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'mass-ratio-1e4.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \
   'mass-ratio-1e4.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'mass-ratio-1e4.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-backtracking', \
-  'mass-ratio-1e4.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
+  'mass-ratio-1e4.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-shift-backtracking (fastest)', \
+  'mass-ratio-1e4.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
   'mass-ratio-1e4.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-exact', \
   'mass-ratio-1e4.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'mass-ratio-1e4.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-none', \
@@ -56,4 +56,8 @@ plot \
   'mass-ratio-1e4.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 title 'nlopt-lbfgs', \
   'mass-ratio-1e4.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
   'mass-ratio-1e4.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp', \
-  'mass-ratio-1e4.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 notitle
+  'mass-ratio-1e4.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
+  'mass-ratio-1e4.dat' index 40 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-backtracking', \
+  'mass-ratio-1e4.dat' index 41 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
+  'mass-ratio-1e4.dat' index 42 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking', \
+  'mass-ratio-1e4.dat' index 43 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 notitle

@@ -1,7 +1,7 @@
 # random-start: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'random-start.png'
-set title "random-start: 320 tets, stable_neo_hookean E=100000 nu=0.3, 3 step(s), median of 2\nfastest to 1e-06: newton-clamp-none (1.09x faster than newton-clamp-backtracking)"
+set title "random-start: 320 tets, stable_neo_hookean E=100000 nu=0.3, 3 step(s), median of 2\nfastest to 1e-06: newton-clamp-backtracking (1.00x faster than newton-clamp-none)"
 left = 0.0001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -17,15 +17,15 @@ set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#99
 set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt 3
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt 3
 plot \
-  'random-start.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline)', \
-  'random-start.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 notitle, \
-  'random-start.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 notitle, \
+  'random-start.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline) (fastest)', \
+  'random-start.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
+  'random-start.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
   'random-start.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-exact', \
   'random-start.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'random-start.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'random-start.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-clamp-none (fastest)', \
-  'random-start.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
-  'random-start.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
+  'random-start.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
+  'random-start.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
+  'random-start.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'random-start.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
   'random-start.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'random-start.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
@@ -76,4 +76,10 @@ plot \
   'random-start.dat' index 56 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
   'random-start.dat' index 57 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp', \
   'random-start.dat' index 58 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
-  'random-start.dat' index 59 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 notitle
+  'random-start.dat' index 59 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
+  'random-start.dat' index 60 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-backtracking', \
+  'random-start.dat' index 61 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
+  'random-start.dat' index 62 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
+  'random-start.dat' index 63 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking', \
+  'random-start.dat' index 64 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
+  'random-start.dat' index 65 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 notitle

@@ -1,7 +1,7 @@
 # twist-2-turns: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'twist-2-turns.png'
-set title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4, 2 step(s), median of 2\nfastest to 1e-06: newton-shift-backtracking (1.08x faster than newton-none-none)"
+set title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4, 2 step(s), median of 2\nfastest to 1e-06: newton-shift-backtracking (1.17x faster than newton-shift-none)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -56,4 +56,8 @@ plot \
   'twist-2-turns.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 title 'nlopt-lbfgs', \
   'twist-2-turns.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
   'twist-2-turns.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp', \
-  'twist-2-turns.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 notitle
+  'twist-2-turns.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
+  'twist-2-turns.dat' index 40 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-backtracking', \
+  'twist-2-turns.dat' index 41 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
+  'twist-2-turns.dat' index 42 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking', \
+  'twist-2-turns.dat' index 43 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 notitle
