@@ -1,7 +1,7 @@
 # cantilever-1e9-50k-snh: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'cantilever-1e9-50k-snh.png'
-set title "cantilever-1e9-50k-snh: 50000 tets, stable_neo_hookean E=1e+09 nu=0.3, 1 step(s), median of 3\nfastest to 1e-06: newton-abs-none (1.16x faster than newton-clamp-exact)"
+set title "cantilever-1e9-50k-snh: 50000 tets, stable_neo_hookean E=1e+09 nu=0.3, 1 step(s), median of 3\nfastest to 1e-06: newton-abs-none (1.07x faster than newton-abs-backtracking)"
 left = 0.01  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -36,4 +36,6 @@ plot \
   'cantilever-1e9-50k-snh.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-exact', \
   'cantilever-1e9-50k-snh.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-none', \
   'cantilever-1e9-50k-snh.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 title 'nlopt-lbfgs', \
-  'cantilever-1e9-50k-snh.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp'
+  'cantilever-1e9-50k-snh.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp', \
+  'cantilever-1e9-50k-snh.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-backtracking', \
+  'cantilever-1e9-50k-snh.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking'

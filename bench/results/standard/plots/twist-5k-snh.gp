@@ -1,7 +1,7 @@
 # twist-5k-snh: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'twist-5k-snh.png'
-set title "twist-5k-snh: 5000 tets, stable_neo_hookean E=1e+06 nu=0.4, 1 step(s), median of 3\nfastest to 1e-06: newton-none-backtracking (1.16x faster than newton-shift-backtracking)"
+set title "twist-5k-snh: 5000 tets, stable_neo_hookean E=1e+06 nu=0.4, 1 step(s), median of 3\nfastest to 1e-06: newton-none-backtracking (1.05x faster than newton-shift-backtracking)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -36,4 +36,6 @@ plot \
   'twist-5k-snh.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-exact', \
   'twist-5k-snh.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-none', \
   'twist-5k-snh.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 title 'nlopt-lbfgs', \
-  'twist-5k-snh.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp'
+  'twist-5k-snh.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp', \
+  'twist-5k-snh.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-backtracking', \
+  'twist-5k-snh.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking'
