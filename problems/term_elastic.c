@@ -19,6 +19,15 @@
 
 static int skip(const eo_sys *s, int k) { return (s->tet_type[k]->flags & EO_MATERIAL_EDGE) != 0; }
 
+/* the material kernel on tet k at positions x (one place for gather + evaluate) */
+static void eval_tet(const eo_sys *s, int k, const double *x, eo_eval_what what, eo_proj proj,
+                     eo_tet_out *out)
+{
+    double x12[12];
+    eo_gather12(x, s->mesh->tets + 4 * k, x12);
+    eo_tet_evaluate(s->tet_type[k], s->tet_coef[k], s->Dminv + 9 * k, s->vol[k], x12, what, proj, out);
+}
+
 static double energy(eo_term *t, const eo_sys *s, const double *x)
 {
     double e = 0;
@@ -28,11 +37,8 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
 #endif
     for (int k = 0; k < nt; k++) {
         if (skip(s, k)) continue;
-        double x12[12];
         eo_tet_out out;
-        eo_gather12(x, s->mesh->tets + 4 * k, x12);
-        eo_tet_evaluate(s->tet_type[k], s->tet_coef[k], s->Dminv + 9 * k, s->vol[k], x12,
-                        EO_EVAL_ENERGY, EO_PROJ_NONE, &out);
+        eval_tet(s, k, x, EO_EVAL_ENERGY, EO_PROJ_NONE, &out);
         e += out.energy - s->vol[k] * s->psi_rest[k];
     }
     if (isnan(e)) e = INFINITY;
@@ -52,11 +58,8 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
         for (int j = 0; j < nb; j++) {
             int k = b0 + j;
             if (skip(s, k)) continue;
-            double x12[12];
             eo_tet_out out;
-            eo_gather12(x, s->mesh->tets + 4 * k, x12);
-            eo_tet_evaluate(s->tet_type[k], s->tet_coef[k], s->Dminv + 9 * k, s->vol[k], x12,
-                            EO_EVAL_GRAD, EO_PROJ_NONE, &out);
+            eval_tet(s, k, x, EO_EVAL_GRAD, EO_PROJ_NONE, &out);
             eb += out.energy - s->vol[k] * s->psi_rest[k];
             memcpy(s->elem_g + 12 * j, out.grad, sizeof out.grad);
         }
@@ -85,11 +88,8 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
         for (int j = 0; j < nb; j++) {
             int k = b0 + j;
             if (skip(s, k)) continue;
-            double x12[12];
             eo_tet_out out;
-            eo_gather12(x, s->mesh->tets + 4 * k, x12);
-            eo_tet_evaluate(s->tet_type[k], s->tet_coef[k], s->Dminv + 9 * k, s->vol[k], x12,
-                            EO_EVAL_HESS, proj, &out);
+            eval_tet(s, k, x, EO_EVAL_HESS, proj, &out);
             double *He = s->elem_H + 144 * j;
             for (int q = 0; q < 144; q++) He[q] = w * out.hess[q];
         }
