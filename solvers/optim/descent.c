@@ -186,10 +186,6 @@ done:
     res->g = g;
     res->grad_norm = gn;
     res->decrement = last_dec;
-    res->time = eo_wtime() - t0;
-    res->n_value = obj->n_value - nv0;
-    res->n_gradient = obj->n_gradient - ng0;
-    res->n_hessian = obj->n_hessian - nh0;
-    res->status = rc < 0 ? rc : EO_OK;
+    eo_solve_result_finish(res, obj, nv0, ng0, nh0, t0, rc);
     return rc < 0 ? rc : EO_OK;
 }

@@ -61,4 +61,17 @@ static inline double eo_norm_inf(int n, const double *a)
  * finite and > 0); else fill d with ones. Returns 1 if the metric is used. */
 int eo_descent_metric(const eo_solver_ctx *sc, double *d);
 
+/* Fill the bookkeeping of a result at the end of a minimization: wall time since t0,
+ * objective evaluations since the counts nv0/ng0/nh0 taken at the start, status of rc.
+ * Shared by the descent loop and the external-optimizer wrappers. */
+static inline void eo_solve_result_finish(eo_solve_result *res, const eo_objective *obj, long nv0,
+                                          long ng0, long nh0, double t0, int rc)
+{
+    res->time = eo_wtime() - t0;
+    res->n_value = obj->n_value - nv0;
+    res->n_gradient = obj->n_gradient - ng0;
+    res->n_hessian = obj->n_hessian - nh0;
+    res->status = rc < 0 ? rc : EO_OK;
+}
+
 #endif

@@ -439,11 +439,7 @@ done:
     res->g = st->gcur;
     res->grad_norm = st->gncur;
     res->decrement = st->dec;
-    res->time = eo_wtime() - st->t0;
-    res->n_value = obj->n_value - nv0;
-    res->n_gradient = obj->n_gradient - ng0;
-    res->n_hessian = obj->n_hessian - nh0;
-    res->status = rc < 0 ? rc : EO_OK;
+    eo_solve_result_finish(res, obj, nv0, ng0, nh0, st->t0, rc);
     st->sc = NULL;
     st->H = NULL;
     return rc < 0 ? rc : EO_OK;

@@ -318,11 +318,7 @@ done:
     res->iterations = st->k;
     res->g = st->gbest;
     res->grad_norm = st->gnbest;
-    res->time = eo_wtime() - st->t0;
-    res->n_value = obj->n_value - nv0;
-    res->n_gradient = obj->n_gradient - ng0;
-    res->n_hessian = obj->n_hessian - nh0;
-    res->status = rc < 0 ? rc : EO_OK;
+    eo_solve_result_finish(res, obj, nv0, ng0, nh0, st->t0, rc);
     st->sc = NULL;
     return rc < 0 ? rc : EO_OK;
 }
