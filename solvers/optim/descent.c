@@ -23,6 +23,7 @@
  * iteration cap, so a run that converges exactly at k = max_iters says so.
  * Nothing here allocates. */
 #include "descent.h"
+#include "external.h" /* eo_external_inverted */
 
 #include <string.h>
 
@@ -66,12 +67,6 @@ int eo_descent_metric(const eo_solver_ctx *sc, double *d)
     return ok;
 }
 
-static int inverted_at(const eo_solver_ctx *sc, const double *x)
-{
-    const eo_objective *o = sc->obj;
-    return o->ops->inverted_count ? o->ops->inverted_count(o->data, x) : -1;
-}
-
 int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                         const eo_solver_ctx *sc, eo_descent_ws *w, double *x,
                         eo_solve_result *res)
@@ -103,7 +98,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
     for (k = 0;; k++) {
         eo_iter_info info = {.iteration = k, .g = g, .grad_norm = gn, .decrement = NAN,
                              .alpha = NAN, .ls_evals = 0, .shift = 0,
-                             .inverted = inverted_at(sc, x), .reason = 0, .x = x};
+                             .inverted = eo_external_inverted(sc, x), .reason = 0, .x = x};
         eo_stop_info si = {.iteration = k, .g = g, .g_prev = g_prev, .grad_norm = gn,
                            .grad_norm0 = gn0, .decrement = NAN, .step_norm = step_norm,
                            .x_norm = eo_norm2(n, x), .tol = sc->tol};
