@@ -12,6 +12,8 @@
  * Parameters (solver.cholmod.<key>):
  *   ordering    "auto" | "amd" | "natural"        default "amd"
  *   supernodal  true: supernodal LLᵀ (BLAS-3), false: simplicial LLᵀ   default true
+ *   openmp      let CHOLMOD's own OpenMP loops run on 4 threads         default false
+ *               (the BLAS threads are not affected; see eo_chm_factorize)
  */
 #include <stddef.h>
 
@@ -20,6 +22,7 @@
 typedef struct cholmod_params {
     char ordering[16]; /* fill-reducing ordering; default "amd" */
     int supernodal;    /* supernodal (true) or simplicial LLᵀ; default true */
+    int openmp;        /* CHOLMOD's internal OpenMP loops; default false */
 } cholmod_params;
 
 static const char *const orderings[] = {"auto", "amd", "natural", NULL};
@@ -30,6 +33,9 @@ static const eo_param_desc cholmod_desc[] = {
      .help = "fill-reducing ordering: auto (CHOLMOD's choice), amd, natural"},
     {.key = "supernodal", .kind = EO_PARAM_BOOL, .offset = offsetof(cholmod_params, supernodal),
      .def.i = 1, .help = "supernodal LL' (true) or simplicial LL' (false)"},
+    {.key = "openmp", .kind = EO_PARAM_BOOL, .offset = offsetof(cholmod_params, openmp), .def.i = 0,
+     .help = "run CHOLMOD's internal OpenMP loops (4 threads, compiled in) instead of serially; "
+             "the BLAS keeps its own threads either way"},
     {0},
 };
 
@@ -62,7 +68,7 @@ static int chol_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_c
 {
     cholmod_state *s = st;
     cholmod_sparse S = eo_chm_view(A);
-    int ok = cholmod_factorize(&S, s->chm.L, &s->chm.c);
+    int ok = eo_chm_factorize(&s->chm, &S, s->p.openmp);
     int status = s->chm.c.status;
     if (status == CHOLMOD_NOT_POSDEF || (ok && s->chm.L->minor < (size_t)A->n)) {
         int k = (int)s->chm.L->minor, col = eo_chm_orig(&s->chm, k);

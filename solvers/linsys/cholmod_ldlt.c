@@ -13,6 +13,7 @@
  * Parameters (solver.cholmod_ldlt.<key>):
  *   ordering          "auto" | "amd" | "natural"                    default "amd"
  *   allow_indefinite  accept d_k < 0 (still refuse d_k = 0)           default false
+ *   openmp            let CHOLMOD's own OpenMP loops run on 4 threads    default false
  */
 #include <math.h>
 #include <stddef.h>
@@ -22,6 +23,7 @@
 typedef struct ldlt_params {
     char ordering[16];    /* fill-reducing ordering; default "amd" */
     int allow_indefinite; /* accept negative pivots; default false */
+    int openmp;           /* CHOLMOD's internal OpenMP loops; default false */
 } ldlt_params;
 
 static const char *const orderings[] = {"auto", "amd", "natural", NULL};
@@ -33,6 +35,8 @@ static const eo_param_desc ldlt_desc[] = {
     {.key = "allow_indefinite", .kind = EO_PARAM_BOOL,
      .offset = offsetof(ldlt_params, allow_indefinite), .def.i = 0,
      .help = "accept negative pivots (indefinite but non-singular matrices)"},
+    {.key = "openmp", .kind = EO_PARAM_BOOL, .offset = offsetof(ldlt_params, openmp), .def.i = 0,
+     .help = "run CHOLMOD's internal OpenMP loops (4 threads, compiled in) instead of serially"},
     {0},
 };
 
@@ -75,7 +79,7 @@ static int ldlt_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_c
 {
     ldlt_state *s = st;
     cholmod_sparse S = eo_chm_view(A);
-    int ok = cholmod_factorize(&S, s->chm.L, &s->chm.c);
+    int ok = eo_chm_factorize(&s->chm, &S, s->p.openmp);
     int status = s->chm.c.status;
     cholmod_factor *L = s->chm.L;
     if (status == CHOLMOD_NOT_POSDEF || (ok && L->minor < (size_t)A->n)) {

@@ -9,7 +9,11 @@
 #include <string.h>
 #include <suitesparse/cholmod.h>
 
+#include "eo_build_config.h"
 #include "elastopt/linsolve.h"
+#if EO_HAVE_OPENMP
+#include <omp.h>
+#endif
 
 typedef struct eo_chm {
     cholmod_common c;
@@ -92,6 +96,29 @@ static inline int eo_chm_analyze(eo_chm *s, const eo_csc *A, const char *who, eo
                         A->n, A->nnz);
     }
     return EO_OK;
+}
+
+/* Numeric factorization, reusing the symbolic factor. Debian's CHOLMOD is built with
+ * OpenMP and asks for CHOLMOD_OMP_NUM_THREADS = 4 threads (a compile-time constant)
+ * inside every large supernode, on top of the BLAS's own threads: on a 2-core machine
+ * that oversubscribes the cores and the threads spend their time in futex waits
+ * (50k-tet twist Hessian, 36k dofs: 3 steps of Newton 2.2 s with the loops serial vs
+ * 3.1-4.1 s with them; see the README's threads note). Unless `openmp` is set, the
+ * OpenMP regions inside the call run on one thread (max-active-levels 0, restored
+ * after); the BLAS keeps its own threads (OPENBLAS_NUM_THREADS). */
+static inline int eo_chm_factorize(eo_chm *s, cholmod_sparse *S, int openmp)
+{
+#if EO_HAVE_OPENMP
+    int levels = omp_get_max_active_levels();
+    if (!openmp) omp_set_max_active_levels(0);
+#else
+    (void)openmp;
+#endif
+    int ok = cholmod_factorize(S, s->L, &s->c);
+#if EO_HAVE_OPENMP
+    if (!openmp) omp_set_max_active_levels(levels);
+#endif
+    return ok;
 }
 
 /* Original (unpermuted) index of permuted column k. */
