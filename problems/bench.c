@@ -8,11 +8,15 @@
  *               x*ₖ, gₖ(x₀) and gₖ(x*ₖ) are stored.
  *   curves      for each configuration and step: the step object is set back to state
  *               k (eo_step_set_state), its objective and starting guess rebuilt, one
- *               warm-up run records the position error eₚ = ‖x − x*‖_M/‖x₀ − x*‖_M of
- *               every iterate (its own time excluded), then `repeats` timed runs record
- *               time and g. Each run stops when eₑ = (g − g*)/|g₀ − g*| ≤ target.
- *   trajectory  each configuration with its own stopping rule from state 0 over the S
- *               steps; distance per frame to the reference positions.
+ *               warm-up run of at most `warmup_iters` iterations (it pays the first-call
+ *               costs: symbolic analysis, workspaces), then `repeats` timed runs record
+ *               time and g; the first also records the position error
+ *               eₚ = ‖x − x*‖_M/‖x₀ − x*‖_M of every iterate (its own time excluded).
+ *               Each run stops when eₑ = (g − g*)/|g₀ − g*| ≤ target.
+ *   trajectory  each configuration with its own stopping rule from the scene's initial
+ *               state over all skip + S steps (the whole benchmark scene), stopping at
+ *               the first step its rule does not meet; distance per frame to the
+ *               reference positions.
  *
  * All recording buffers are sized before the runs; the callbacks do not allocate. One
  * solver per configuration exists at a time (created per scene, rebuilt only when a
@@ -55,7 +59,11 @@ const eo_param_desc eo_bench_opts_desc[] = {
     {.key = "skip", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, skip), .def.i = 0, .min = 0,
      .range = EO_RANGE_MIN, .help = "reference-only time steps before the measured ones"},
     {.key = "trajectory", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_bench_opts, trajectory), .def.i = 1,
-     .help = "run every configuration over the measured steps with its own stopping rule"},
+     .help = "run every configuration over the whole scene (skip + steps, from its initial state) with its own "
+             "stopping rule, up to the first step the rule does not meet"},
+    {.key = "warmup_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, warmup_iters), .def.i = 3,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "iterations of the untimed warm-up run before the timed repeats (0 = no warm-up)"},
     {.key = "curve_rows", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, curve_rows), .def.i = 200,
      .min = 0, .range = EO_RANGE_MIN,
      .help = "curves.csv keeps every iteration up to this one, then 50 per decade (0 = all)"},
@@ -739,6 +747,7 @@ typedef struct rec_buf {
     double pe0;               /* ‖x₀ − x*‖_M */
     int nfree;
     double gstar, de, target, budget, cb_time;
+    int max_records;          /* > 0: stop after this many records (warm-up run) */
     double gbest;             /* lowest g so far */
     int since_best;           /* records since gbest last decreased */
     int reached, out_of_time, stagnated;
@@ -781,6 +790,7 @@ static int curve_iter(const eo_iter_info *it, void *user)
     } else {
         b->since_best++;
     }
+    if (b->max_records > 0 && b->n >= b->max_records) stop = 1;
     if ((it->g - b->gstar) / b->de <= b->target) stop = b->reached = 1;
     else if (b->budget > 0 && t > b->budget) stop = b->out_of_time = 1;
     else if (b->since_best >= STAGNATION_ITERS) stop = b->stagnated = 1;
@@ -864,7 +874,9 @@ static void progress(run_ctx *r, int si, int ci, const char *phase)
 
 static double scene_units(const eo_bench_suite *s, const bench_scene *b, int repeats)
 {
-    return (double)b->nt * (b->steps + b->skip) + (double)b->nt * b->steps * s->ncf * (repeats + 2);
+    /* reference, curves (warm-up + repeats), trajectories over the whole scene */
+    return (double)b->nt * (b->steps + b->skip) * (1 + (s->o.trajectory ? s->ncf : 0)) +
+           (double)b->nt * b->steps * s->ncf * (repeats + 1);
 }
 
 /* (Re)create a solver for n free coordinates when needed. */
@@ -890,7 +902,7 @@ static const char *curve_reason_name(const bench_step_res *r)
 
 /* Write the curve rows of one (scene, config, step) and the plot data block. */
 static void write_curve(run_ctx *r, FILE *dat, const bench_scene *b, const bench_config *c, int step,
-                        rec_buf *w, rec_buf *rep, int nrep, const bench_step_res *res, double *tmp)
+                        const rec_buf *rep, int nrep, const bench_step_res *res, double *tmp)
 {
     int nmax = 0;
     for (int q = 0; q < nrep; q++)
@@ -905,7 +917,7 @@ static void write_curve(run_ctx *r, FILE *dat, const bench_scene *b, const bench
             }
         double tmin, tmax, tmed = eo_bench_median(m, tmp, &tmin, &tmax);
         double e = rep[src].e[k];
-        double pe = w->pe && k < w->n ? w->pe[k] : NAN;
+        double pe = rep[0].pe && k < rep[0].n ? rep[0].pe[k] : NAN;
         if (!eo_bench_keep_row(k, nmax, r->s->o.curve_rows)) continue;
         fprintf(r->curves, "%s,%d,%s,%d", b->name, step + 1, c->name, k);
         csv_num(r->curves, tmed);
@@ -934,8 +946,10 @@ static int run_curves(run_ctx *r, eo_solver *sv, eo_objective *obj, const double
     double pe0 = mnorm_diff(n, wM, x0, xstar);
     eo_solve_result sr;
     int rc;
-    for (int q = -1; q < r->repeats; q++) {
+    const int q0 = r->s->o.warmup_iters > 0 ? -1 : 0;
+    for (int q = q0; q < r->repeats; q++) {
         rec_buf *b = q < 0 ? w : rep + q;
+        b->max_records = q < 0 ? r->s->o.warmup_iters + 1 : 0;
         b->n = 0;
         b->nfree = n;
         b->xstar = xstar;
@@ -963,15 +977,14 @@ static int run_curves(run_ctx *r, eo_solver *sv, eo_objective *obj, const double
     /* iterate times: τ₀ = 0, τₖ = time of record k−1; relative errors */
     res->nrep = r->repeats;
     double tots[BENCH_MAX_REPEATS];
-    for (int q = -1; q < r->repeats; q++) {
-        rec_buf *b = q < 0 ? w : rep + q;
+    for (int q = 0; q < r->repeats; q++) {
+        rec_buf *b = rep + q;
         for (int k = b->n - 1; k >= 1; k--) b->t[k] = b->t[k - 1];
         if (b->n) b->t[0] = 0;
         for (int k = 0; k < b->n; k++) {
             if (isnan(b->g[k]) || isnan(b->gn[k])) res->nonfinite = res->nan = 1;
             b->e[k] = (b->g[k] - ref->gstar) / de;
         }
-        if (q < 0) continue;
         tots[q] = b->n ? b->t[b->n - 1] : 0;
         for (int j = 0; j < r->s->nthr; j++) res->ttt[j][q] = eo_bench_time_to(b->n, b->t, b->e, r->s->thr[j]);
         for (int j = 0; j < r->s->nbud; j++) res->eab[j][q] = eo_bench_error_at(b->n, b->t, b->e, r->s->bud[j]);
@@ -1030,7 +1043,7 @@ static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int i
             p->traj_max_dist = fmax(p->traj_max_dist, t->dist);
             p->traj_final_dist = t->dist;
         }
-        if (p->traj_done < p->nsteps && p->first_bad_step < 0) {
+        if (p->traj_done < p->ntraj && p->first_bad_step < 0) {
             p->first_bad_step = p->traj_done;
             p->first_bad_reason = EO_DIVERGED_NONFINITE;
         }
@@ -1077,16 +1090,17 @@ static int run_scene(run_ctx *r, int si)
     eo_afile *datf = NULL;
     double *mem = NULL;
     int rc, ref_n = -1, sv_n = -1;
-    const int S = b->steps;
+    const int S = b->steps, NF = b->skip + b->steps; /* measured steps; steps of the whole scene */
     r->si = si;
     sr->tmin = INFINITY;
     progress(r, si, -1, "reference");
     EO_TRY(rc = scene_open(ctx, b, &scfg, &sc));
     EO_TRY(rc = eo_step_create(ctx, sc, &st));
     const int nv = sc->mesh->nv, nf = 3 * nv, cap = b->max_iters + 2, R = r->repeats;
-    /* frames (x, v) 0..S, x* per step, guess, x, wM, recording buffers */
-    size_t need = (size_t)(S + 1) * 2 * nf + (size_t)S * nf + 3 * (size_t)nf + 64 +
-                  (size_t)(R + 1) * 5 * (size_t)cap + (size_t)S + 1;
+    /* frames (x, v) 0..NF of the reference, x* per measured step, guess, x, wM,
+     * recording buffers; measured step m starts from frame skip + m */
+    size_t need = (size_t)(NF + 1) * 2 * nf + (size_t)S * nf + 3 * (size_t)nf + 64 +
+                  (size_t)(R + 1) * 5 * (size_t)cap + (size_t)NF + 1;
     mem = eo_malloc(ctx, need * sizeof(double));
     sr->ref = eo_calloc(ctx, (size_t)S, sizeof *sr->ref);
     sr->pair = eo_calloc(ctx, (size_t)s->ncf, sizeof *sr->pair);
@@ -1094,9 +1108,9 @@ static int run_scene(run_ctx *r, int si)
         rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (bench scene %s)", b->name);
         goto fail;
     }
-    double *fx = mem, *fv = fx + (size_t)(S + 1) * nf, *xs = fv + (size_t)(S + 1) * nf;
+    double *fx = mem, *fv = fx + (size_t)(NF + 1) * nf, *xs = fv + (size_t)(NF + 1) * nf;
     double *x0 = xs + (size_t)S * nf, *x = x0 + nf, *wM = x + nf, *tmp = wM + nf;
-    double *ft = tmp + 64, *recmem = ft + S + 1;
+    double *ft = tmp + 64, *recmem = ft + NF + 1;
     rec_buf w, rep[BENCH_MAX_REPEATS];
     for (int q = -1; q < R; q++) {
         rec_buf *b2 = q < 0 ? &w : rep + q;
@@ -1104,7 +1118,7 @@ static int run_scene(run_ctx *r, int si)
         memset(b2, 0, sizeof *b2);
         b2->cap = cap;
         b2->t = p, b2->g = p + cap, b2->gn = p + 2 * (size_t)cap, b2->e = p + 3 * (size_t)cap;
-        b2->pe = q < 0 ? p + 4 * (size_t)cap : NULL;
+        b2->pe = q == 0 ? p + 4 * (size_t)cap : NULL; /* position error: first timed repeat */
     }
     const double *vmass = eo_step_vertex_mass(st);
 
@@ -1124,13 +1138,11 @@ static int run_scene(run_ctx *r, int si)
     sr->start_minJ = stats.min_J;
     sr->start_inverted = stats.inverted;
     sr->start_elastic = stats.elastic;
-    for (int k = 0; k < b->skip + S; k++) {
+    for (int k = 0; k < NF; k++) {
         int m = k - b->skip; /* measured index, < 0 while skipping */
-        if (m >= 0) {
-            memcpy(fx + (size_t)m * nf, eo_step_x(st), (size_t)nf * sizeof(double));
-            memcpy(fv + (size_t)m * nf, eo_step_v(st), (size_t)nf * sizeof(double));
-            ft[m] = eo_step_time(st);
-        }
+        memcpy(fx + (size_t)k * nf, eo_step_x(st), (size_t)nf * sizeof(double));
+        memcpy(fv + (size_t)k * nf, eo_step_v(st), (size_t)nf * sizeof(double));
+        ft[k] = eo_step_time(st);
         EO_TRY(rc = eo_step_begin(st, &obj));
         EO_TRY(rc = solver_for(ctx, &rso, NULL, obj->n, &ref, &ref_n));
         double *guess = eo_step_guess(st), g0;
@@ -1141,7 +1153,7 @@ static int run_scene(run_ctx *r, int si)
         EO_TRY(rc = eo_solver_minimize(ref, obj, guess, ref_iter, &rs, &res));
         if (m >= 0) {
             bench_ref *q = sr->ref + m;
-            q->t = ft[m] + sc->time.dt;
+            q->t = ft[k] + sc->time.dt;
             q->g0 = g0;
             q->gstar = res.g;
             q->dec = rs.dec;
@@ -1159,10 +1171,10 @@ static int run_scene(run_ctx *r, int si)
         }
         EO_TRY(rc = eo_step_end(st, guess));
     }
-    memcpy(fx + (size_t)S * nf, eo_step_x(st), (size_t)nf * sizeof(double));
-    memcpy(fv + (size_t)S * nf, eo_step_v(st), (size_t)nf * sizeof(double));
-    ft[S] = eo_step_time(st);
-    sr->ref_disp = rms_dist(nv, vmass, fx + (size_t)S * nf, fx);
+    memcpy(fx + (size_t)NF * nf, eo_step_x(st), (size_t)nf * sizeof(double));
+    memcpy(fv + (size_t)NF * nf, eo_step_v(st), (size_t)nf * sizeof(double));
+    ft[NF] = eo_step_time(st);
+    sr->ref_disp = rms_dist(nv, vmass, fx + (size_t)NF * nf, fx);
     EO_TRY(rc = eo_step_stats_compute(st, &stats));
     sr->end_minJ = stats.min_J;
     sr->end_inverted = stats.inverted;
@@ -1183,8 +1195,10 @@ static int run_scene(run_ctx *r, int si)
         const bench_config *c = s->cf + ci;
         bench_pair *p = sr->pair + ci;
         p->nsteps = S;
+        p->ntraj = NF;
+        p->skip = b->skip;
         p->st = eo_calloc(ctx, (size_t)S, sizeof *p->st);
-        p->tr = eo_calloc(ctx, (size_t)S, sizeof *p->tr);
+        p->tr = eo_calloc(ctx, (size_t)NF, sizeof *p->tr);
         if (!p->st || !p->tr) {
             rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory");
             goto fail;
@@ -1199,7 +1213,8 @@ static int run_scene(run_ctx *r, int si)
         const double budget = so.time_budget > 0 ? so.time_budget : b->time_budget;
         progress(r, si, ci, "curves");
         for (int k = 0; k < S; k++) {
-            EO_TRY(rc = eo_step_set_state(st, fx + (size_t)k * nf, fv + (size_t)k * nf, ft[k]));
+            const size_t fr = (size_t)(b->skip + k) * nf;
+            EO_TRY(rc = eo_step_set_state(st, fx + fr, fv + fr, ft[b->skip + k]));
             EO_TRY(rc = eo_step_begin(st, &obj));
             EO_TRY(rc = solver_for(ctx, &cso, ccfg, obj->n, &sv, &sv_n));
             int n = obj->n;
@@ -1207,19 +1222,20 @@ static int run_scene(run_ctx *r, int si)
             for (int i = 0; i < n; i++) wM[i] = vmass[eo_step_free_to_full(st, i) / 3];
             EO_TRY(rc = run_curves(r, sv, obj, x0, x, sr->ref + k, xs + (size_t)k * nf, wM, &w, rep, p->st + k,
                                    budget));
-            write_curve(r, eo_afile_fp(datf), b, c, k, &w, rep, R, p->st + k, tmp);
+            write_curve(r, eo_afile_fp(datf), b, c, k, rep, R, p->st + k, tmp);
             r->units_done += (double)b->nt * (R + 1);
             progress(r, si, ci, "curves");
         }
         eo_solver_destroy(&sv);
         sv_n = -1;
-        /* trajectory with the configuration's own stopping rule */
+        /* trajectory with the configuration's own stopping rule, from the scene's initial
+         * state over all its steps, up to the first step the rule does not meet */
         if (s->o.trajectory) {
             progress(r, si, ci, "trajectory");
             eo_solver_opts tso = so;
             tso.time_budget = budget;
             EO_TRY(rc = eo_step_set_state(st, fx, fv, ft[0]));
-            for (int k = 0; k < S; k++) {
+            for (int k = 0; k < NF; k++) {
                 EO_TRY(rc = eo_step_begin(st, &obj));
                 EO_TRY(rc = solver_for(ctx, &tso, ccfg, obj->n, &sv, &sv_n));
                 double *gx = eo_step_guess(st);
@@ -1247,10 +1263,11 @@ static int run_scene(run_ctx *r, int si)
                 csv_num(r->traj, t->dist);
                 csv_num(r->traj, rms_dist(nv, vmass, fx + (size_t)(k + 1) * nf, fx));
                 fputc('\n', r->traj);
+                if (!(t->reason > 0)) break;
             }
             eo_solver_destroy(&sv);
             sv_n = -1;
-            r->units_done += (double)b->nt * S;
+            r->units_done += (double)b->nt * NF;
         }
         eo_cfg_destroy(ctx, &ccfg);
         aggregate(s, R, p, s->o.trajectory, sr->ref_disp);

@@ -69,16 +69,17 @@ typedef struct bench_traj_res {
 
 /* Aggregated result of one (scene, configuration). */
 typedef struct bench_pair {
-    int nsteps;
+    int nsteps;           /* measured steps */
+    int ntraj, skip;      /* steps of the whole scene (skip + nsteps), skipped steps */
     bench_step_res *st;   /* nsteps */
-    bench_traj_res *tr;   /* nsteps (trajectory) */
+    bench_traj_res *tr;   /* ntraj (trajectory from the scene's initial state) */
     int traj_done;        /* frames run */
     double ttt_med[BENCH_MAX_LIST], ttt_min[BENCH_MAX_LIST], ttt_max[BENCH_MAX_LIST];
     double eab_med[BENCH_MAX_LIST];
     int steps_reached;
     int nonfinite, nan;
     int traj_converged;   /* steps converged in the trajectory run */
-    int first_bad_step, first_bad_reason;
+    int first_bad_step, first_bad_reason; /* scene step (trajectory) or measured step */
     double traj_time, traj_max_dist, traj_final_dist;
     char status[16];      /* converged | stopped | non-finite */
     char reason[160];
@@ -94,7 +95,7 @@ typedef struct bench_ref {
 typedef struct bench_scene_res {
     bench_ref *ref;       /* steps */
     bench_pair *pair;     /* ncf */
-    double ref_disp;      /* RMS displacement of the reference over the measured steps */
+    double ref_disp;      /* RMS displacement of the reference over the whole scene */
     double tmin;          /* smallest positive iterate time (plot's left edge) */
     double start_minJ, end_minJ, start_elastic, end_elastic;
     int start_inverted, end_inverted;   /* reference state before the first and after the last step */

@@ -277,8 +277,10 @@ int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si)
     return rc;
 }
 
-/* Pareto chart over all scenes: x = geometric mean of trajectory time / baseline's,
- * y = geometric mean of max trajectory distance / reference displacement. */
+/* Pareto chart over all scenes: x = geometric mean of the trajectory solve time per step
+ * run / the baseline's (a trajectory stops at its first failing step, so the time per
+ * step compares runs of different lengths), y = geometric mean of the max trajectory
+ * distance / the reference displacement. */
 int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
 {
     const eo_bench_suite *s = b->s;
@@ -305,9 +307,11 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
         for (int si = 0; si < s->nsc; si++) {
             const bench_pair *p = b->res[si].pair + c, *base = b->res[si].pair + s->baseline;
             conv &= strcmp(p->status, "converged") == 0;
-            if (!(p->traj_time > 0) || !(base->traj_time > 0) || !isfinite(p->traj_max_dist)) continue;
+            if (!(p->traj_time > 0) || !(base->traj_time > 0) || !isfinite(p->traj_max_dist) || p->traj_done < 1 ||
+                base->traj_done < 1)
+                continue;
             double d = p->traj_max_dist / fmax(b->res[si].ref_disp, 1e-12);
-            lx += log(p->traj_time / base->traj_time);
+            lx += log((p->traj_time / p->traj_done) / (base->traj_time / base->traj_done));
             ly += log(fmax(d, 1e-16));
             n++;
         }
@@ -351,7 +355,8 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
     fprintf(f, "set title \"Speed against accuracy over %d scene(s), each configuration with its own stopping rule\\n"
                "lower left is better; the line joins the Pareto-optimal configurations\"\n", s->nsc);
     fprintf(f, "set logscale xy\nset grid lc rgb '#dddddd'\nset format y '1e%%L'\n");
-    fprintf(f, "set xlabel 'trajectory solve time / baseline (%s), geometric mean over scenes'\n", s->cf[s->baseline].name);
+    fprintf(f, "set xlabel 'trajectory solve time per step / baseline (%s), geometric mean over scenes'\n",
+            s->cf[s->baseline].name);
     fprintf(f, "set ylabel 'max distance to reference trajectory / reference displacement (geometric mean; "
                "clipped at 100)'\n");
     fprintf(f, "set key top left box opaque\nset offsets graph 0.05, graph 0.1, graph 0.1, graph 0.05\n");
@@ -395,9 +400,9 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     fprintf(f, "# Optimizer benchmark: %s\n\n", s->path);
     if (s->o.description[0]) fprintf(f, "%s\n\n", s->o.description);
     fprintf(f, "Run %s, %.1f s wall time, %d scene(s) × %d configuration(s), %d timed repeat(s) per run "
-               "(median, min–max spread; one warm-up run excluded). Outputs: `curves.csv`, `summary.csv`, "
+               "(median, min–max spread; an untimed warm-up run of at most %d iteration(s) first). Outputs: `curves.csv`, `summary.csv`, "
                "`reference.csv`, `trajectory.csv`, `plots/`.\n\n",
-            date, b->sum->seconds, s->nsc, s->ncf, b->repeats);
+            date, b->sum->seconds, s->nsc, s->ncf, b->repeats, s->o.warmup_iters);
     fprintf(f, "## Machine and build\n\n");
     fprintf(f, "| | |\n|---|---|\n");
     fprintf(f, "| CPU | %s |\n| cores online | %ld |\n| OpenMP max threads | %d (element loops serial: "
@@ -417,8 +422,11 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
                "unless the scene says otherwise, or when g has not decreased for 20 iterations: `stagnated`). Times to a threshold are log-interpolated between iterates and "
                "summed over the %s measured step(s); \"error at budget\" is the worst step's error of the last "
                "iterate within the budget. Ratios are to the baseline **%s** measured in the same run. The "
-               "trajectory runs use each configuration's own stopping rule; their distance to the reference is "
-               "the mass-weighted RMS over vertices. `rel. floor` in the reference table is "
+               "trajectory runs start from the scene's initial state and run every step of the scene (skipped and "
+               "measured) with each configuration's own stopping rule, up to the first step that rule does not "
+               "meet; their distance to the reference trajectory is the mass-weighted RMS over vertices (the "
+               "table gives the largest over the frames run, and the trajectory's total solve time). Step numbers "
+               "in the status table count from the scene's start. `rel. floor` in the reference table is "
                "2.2e-16·|g|/|g₀ − g*|: relative errors below it are rounding noise.\n\n",
             s->o.ref_tol, s->o.target, s->o.max_iters, "the suite's time_budget", "scene's", s->cf[s->baseline].name);
     if (!b->plots) fprintf(f, "Plots were disabled for this run.\n\n");
@@ -581,8 +589,10 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             const bench_pair *p = b->res[si].pair + c;
             if (!strcmp(p->status, "converged")) continue;
             fprintf(f, "- %s on %s: %s — %s", s->cf[c].name, s->sc[si].name, p->status, p->reason);
-            if (p->first_bad_step >= 0 && p->first_bad_step < p->nsteps) {
-                const bench_step_res *q = p->st + p->first_bad_step;
+            /* curve run of the failing step, if it is a measured one */
+            int m = s->o.trajectory ? p->first_bad_step - p->skip : p->first_bad_step;
+            if (p->first_bad_step >= 0 && m >= 0 && m < p->nsteps) {
+                const bench_step_res *q = p->st + m;
                 fprintf(f, " (curve run of that step: %s after %d iterations, rel. error %.1e)",
                         q->reached ? "reached target" : q->stagnated ? "stagnated" : eo_reason_name(q->reason),
                         q->iters, q->final_err);

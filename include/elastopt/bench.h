@@ -10,19 +10,21 @@
 ///     configuration), giving x*ₖ and g(x*ₖ) of the step objective at each state;
 ///  2. for each configuration and each measured step k, from the same state (xₖ, vₖ) of
 ///     the reference and the same starting guess x₀, runs the configuration once as
-///     warm-up (not timed; it also records the M-norm position error of every iterate)
-///     and `repeats` timed times, recording every iteration through the solver's
-///     on_iter callback into preallocated arrays: time, relative energy error
-///     eₖ = (g(xₖ) − g(x*)) / |g(x₀) − g(x*)|, position error ‖xₖ − x*‖_M / ‖x₀ − x*‖_M
-///     (M = lumped vertex mass over the free coordinates) and ‖∇g(xₖ)‖. In these curve
+///     warm-up (not timed, at most `warmup_iters` iterations: it pays the first-call
+///     costs such as CHOLMOD's symbolic analysis) and `repeats` timed times, recording
+///     every iteration through the solver's on_iter callback into preallocated arrays:
+///     time, relative energy error eₖ = (g(xₖ) − g(x*)) / |g(x₀) − g(x*)|, position error
+///     ‖xₖ − x*‖_M / ‖x₀ − x*‖_M (first timed repeat, the callback's own time excluded;
+///     M = lumped vertex mass over the free coordinates) and ‖∇g(xₖ)‖. In these curve
 ///     runs the configuration's stopping rule is disabled (tol = 1e-300) and the harness
 ///     stops the run when e ≤ `target`; the time budget and iteration cap still apply.
 ///     The time of iterate k is when g(xₖ) is known: 0 for k = 0, else the time of
 ///     record k−1 (after the line search that produced xₖ);
-///  3. runs each configuration over the scene's measured steps with its OWN stopping
-///     rule (trajectory run), from the reference state at the first measured step, and
-///     measures the mass-weighted RMS distance of its positions to the reference
-///     trajectory per frame, √(Σᵥ mᵥ‖xᵥ − x*ᵥ‖² / Σᵥ mᵥ) (m).
+///  3. runs each configuration over the whole benchmark scene (its skip + steps steps,
+///     from the scene's initial state) with its OWN stopping rule (trajectory run), up
+///     to the first step that rule does not meet, and measures the mass-weighted RMS
+///     distance of its positions to the reference trajectory per frame,
+///     √(Σᵥ mᵥ‖xᵥ − x*ᵥ‖² / Σᵥ mᵥ) (m).
 /// Status of a configuration on a scene: converged (own rule satisfied on every step of
 /// the trajectory run, within 1% of the reference motion), elsewhere (own rule
 /// satisfied, but farther: another stationary point), stopped (with the first failing
@@ -44,7 +46,7 @@
 ///
 /// Suite keys (top level; `eo_bench_opts_desc`):
 ///   description, repeats, baseline, target, ref_tol, ref_max_iters, max_iters,
-///   time_budget, steps, skip, trajectory, curve_rows, plots
+///   time_budget, steps, skip, trajectory, warmup_iters, curve_rows, plots
 ///   thresholds  list of relative energy errors for the time table (default
 ///               [1e-2, 1e-4, 1e-6, 1e-8])
 ///   budgets     list of time budgets (s) for the "error reached at" table
@@ -89,6 +91,7 @@ typedef struct eo_bench_opts {
     int steps;              ///< measured steps per scene. Default 2.
     int skip;               ///< reference-only steps before the measured ones. Default 0.
     int trajectory;         ///< run the trajectory comparison. Default true.
+    int warmup_iters;       ///< iterations of the untimed warm-up run. Default 3.
     int curve_rows;         ///< curves.csv: every iteration up to this one, then 50 per
                             ///< decade of iteration count (0 = every iteration). Default 200.
     int plots;              ///< make PNG plots with gnuplot (if installed). Default true.
