@@ -31,6 +31,7 @@
 
 #include "eo_build_config.h"
 #include "elastopt/io.h"
+#include "elastopt/machine.h"
 #include "elastopt/solver.h"
 #include "elastopt/step.h"
 #include "scene_args.h"
@@ -103,9 +104,11 @@ static int write_summary(eo_ctx *ctx, const char *dir, const char *name, eo_cfg 
     json_t *root = json_object();
     json_object_set_new(root, "scene", json_string(name));
     json_object_set_new(root, "config_file", json_string(eo_cfg_file(cfg)));
-    json_object_set_new(root, "build", json_pack("{s:s, s:s, s:s, s:s}", "version", EO_VERSION, "buildtype",
-                                                 EO_BUILDTYPE, "git_revision", EO_GIT_REVISION, "compiler",
-                                                 EO_COMPILER));
+    eo_machine mach;
+    eo_machine_get(&mach);
+    json_object_set_new(root, "build", json_pack("{s:s, s:s, s:s, s:s}", "version", mach.version, "buildtype",
+                                                 mach.build_type, "git_revision", mach.revision, "compiler",
+                                                 mach.compiler));
     json_object_set_new(root, "config", json_deep_copy(eo_cfg_root(cfg)));
     json_t *res = json_object();
     json_object_set_new(res, "scene", eo_scene_to_json(sc));

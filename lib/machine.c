@@ -9,6 +9,7 @@
 #endif
 
 #include "eo_build_config.h"
+#include "eo_revision.h"
 
 /* "model name : X" of /proc/cpuinfo into buf, else "unknown". */
 static void cpu_model(char *buf, size_t n)

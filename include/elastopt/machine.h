@@ -1,7 +1,8 @@
 /// @file machine.h
 /// The machine and build a benchmark ran on, for the first line of its output or the
 /// header of its report: CPU model, cores online, OpenMP threads, elastopt version,
-/// build type, compiler and git revision (from the generated eo_build_config.h).
+/// build type, compiler (eo_build_config.h) and git revision (eo_revision.h, written by
+/// meson's vcs_tag at every build; "-dirty" when the tree had uncommitted changes).
 ///
 /// ```c
 /// char line[512];
@@ -31,7 +32,7 @@ typedef struct eo_machine {
     const char *version;    ///< elastopt version (static)
     const char *build_type; ///< meson build type (static)
     const char *compiler;   ///< compiler id and version (static)
-    const char *revision;   ///< short git revision at configure time, or "unknown" (static)
+    const char *revision;   ///< `git describe --always --dirty` at build time, or "unknown" (static)
 } eo_machine;
 
 /// Fill *m. Never fails.
