@@ -87,6 +87,8 @@ const eo_param_desc eo_bench_scene_desc[] = {
      .def.d = -1, .help = "seconds per minimization (-1 = the suite's)"},
     {.key = "max_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_scene_opts, max_iters), .def.i = -1,
      .help = "iteration cap of the curve runs (-1 = the suite's)"},
+    {.key = "repeats", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_scene_opts, repeats), .def.i = -1,
+     .max = BENCH_MAX_REPEATS, .range = EO_RANGE_MAX, .help = "timed repeats of every run on this scene (-1 = the suite's)"},
     {0},
 };
 
@@ -332,6 +334,7 @@ static int load_scene_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int idx
     b.skip = b.o.skip >= 0 ? b.o.skip : s->o.skip;
     b.max_iters = b.o.max_iters >= 1 ? b.o.max_iters : s->o.max_iters;
     b.time_budget = b.o.time_budget > 0 ? b.o.time_budget : s->o.time_budget;
+    b.repeats = b.o.repeats >= 1 ? b.o.repeats : s->o.repeats;
     snprintf(sub, sizeof sub, "%s.set", path);
     char **base = NULL;
     int nbase = 0;
@@ -872,6 +875,13 @@ static void progress(run_ctx *r, int si, int ci, const char *phase)
     r->ro->progress(&p, r->ro->user);
 }
 
+/* timed repeats on scene b: the run option (--repeats) if given, else the scene's */
+static int scene_repeats(const run_ctx *r, const bench_scene *b)
+{
+    int n = r->ro->repeats > 0 ? r->ro->repeats : b->repeats;
+    return n < 1 ? 1 : n > BENCH_MAX_REPEATS ? BENCH_MAX_REPEATS : n;
+}
+
 static double scene_units(const eo_bench_suite *s, const bench_scene *b, int repeats)
 {
     /* reference, curves (warm-up + repeats), trajectories over the whole scene */
@@ -1096,6 +1106,8 @@ static int run_scene(run_ctx *r, int si)
     progress(r, si, -1, "reference");
     EO_TRY(rc = scene_open(ctx, b, &scfg, &sc));
     EO_TRY(rc = eo_step_create(ctx, sc, &st));
+    r->repeats = scene_repeats(r, b);
+    sr->repeats = r->repeats;
     const int nv = sc->mesh->nv, nf = 3 * nv, cap = b->max_iters + 2, R = r->repeats;
     /* frames (x, v) 0..NF of the reference, x* per measured step, guess, x, wM,
      * recording buffers; measured step m starts from frame skip + m */
@@ -1330,7 +1342,7 @@ int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *
     r.traj = eo_afile_fp(tf);
     fprintf(r.curves, "scene,step,config,iteration,time,time_min,time_max,g,rel_energy_err,rel_pos_err,grad_norm,reason\n");
     fprintf(r.traj, "scene,config,step,t,iterations,reason,solve_time,g,dist_rms,ref_disp_rms\n");
-    for (int i = 0; i < s->nsc; i++) r.units_total += scene_units(s, s->sc + i, r.repeats);
+    for (int i = 0; i < s->nsc; i++) r.units_total += scene_units(s, s->sc + i, scene_repeats(&r, s->sc + i));
     read_loadavg(out.load_start, sizeof out.load_start);
     r.t0 = out.t_start = eo_wtime();
     for (int i = 0; i < s->nsc; i++) EO_TRY(rc = run_scene(&r, i));

@@ -15,7 +15,7 @@ typedef struct bench_scene {
     char file[1600];      /* resolved path of the scene config, "" = built-in o.scene */
     char **set;           /* "key=<json>" overrides, eo_malloc'd */
     int nset;
-    int steps, skip, max_iters;
+    int steps, skip, max_iters, repeats;
     double time_budget;
     int nt, nv;           /* mesh size, known after the load check */
     char model[32];
@@ -97,6 +97,7 @@ typedef struct bench_scene_res {
     bench_pair *pair;     /* ncf */
     double ref_disp;      /* RMS displacement of the reference over the whole scene */
     double tmin;          /* smallest positive iterate time (plot's left edge) */
+    int repeats;          /* timed repeats of every run on this scene */
     double start_minJ, end_minJ, start_elastic, end_elastic;
     int start_inverted, end_inverted;   /* reference state before the first and after the last step */
     int plotted;

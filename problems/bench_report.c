@@ -238,7 +238,7 @@ int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si)
     fprintf(f, "set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced\n");
     fprintf(f, "set output '%s.png'\n", name);
     fprintf(f, "set title \"%s: %d tets, %s E=%g nu=%g, %d step(s), median of %d\\n%s\"\n", bs->name, bs->nt, bs->model,
-            bs->E, bs->nu, bs->steps, b->repeats, title);
+            bs->E, bs->nu, bs->steps, sr->repeats, title);
     double left = isfinite(sr->tmin) ? pow(10, floor(log10(sr->tmin))) : 1e-4;
     fprintf(f, "left = %g  # the start point x0 (time 0) is drawn at the left edge\n", left);
     fprintf(f, "set xrange [left:*]\n");
@@ -399,8 +399,9 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", gmtime(&now));
     fprintf(f, "# Optimizer benchmark: %s\n\n", s->path);
     if (s->o.description[0]) fprintf(f, "%s\n\n", s->o.description);
-    fprintf(f, "Run %s, %.1f s wall time, %d scene(s) × %d configuration(s), %d timed repeat(s) per run "
-               "(median, min–max spread; an untimed warm-up run of at most %d iteration(s) first). Outputs: `curves.csv`, `summary.csv`, "
+    fprintf(f, "Run %s, %.1f s wall time, %d scene(s) × %d configuration(s), %d timed repeat(s) per run unless "
+               "a scene says otherwise (median, min–max spread; an untimed warm-up run of at most %d iteration(s) "
+               "first). Outputs: `curves.csv`, `summary.csv`, "
                "`reference.csv`, `trajectory.csv`, `plots/`.\n\n",
             date, b->sum->seconds, s->nsc, s->ncf, b->repeats, s->o.warmup_iters);
     fprintf(f, "## Machine and build\n\n");
@@ -449,9 +450,9 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             continue;
         }
         char s1[160], s2[160];
-        fmt_spread(&P[first], h, b->repeats, s1, sizeof s1);
+        fmt_spread(&P[first], h, b->res[si].repeats, s1, sizeof s1);
         if (second >= 0) {
-            fmt_spread(&P[second], h, b->repeats, s2, sizeof s2);
+            fmt_spread(&P[second], h, b->res[si].repeats, s2, sizeof s2);
             int sep = P[first].ttt_max[h] < P[second].ttt_min[h];
             fprintf(f, "| %s | **%s** | %s | %d | %s | %s | %d | %.2f× | %s | %s |\n", s->sc[si].name,
                     s->cf[first].name, s1, pair_iters(&P[first]), s->cf[second].name, s2, pair_iters(&P[second]),
@@ -503,8 +504,9 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
         fprintf(f, "### %s\n\n", bs->name);
         fprintf(f, "%s `%s`", bs->file[0] ? "file" : "built-in scene", bs->file[0] ? bs->o.file : bs->o.scene);
         for (int k = 0; k < bs->nset; k++) fprintf(f, ", `%s`", bs->set[k]);
-        fprintf(f, ". %d tets, %d vertices; %d measured step(s) after %d skipped; time budget %g s per solve.\n\n",
-                bs->nt, bs->nv, bs->steps, bs->skip, bs->time_budget);
+        fprintf(f, ". %d tets, %d vertices; %d measured step(s) after %d skipped; time budget %g s per solve "
+                   "(unless a configuration sets its own); %d timed repeat(s).\n\n",
+                bs->nt, bs->nv, bs->steps, bs->skip, bs->time_budget, sr->repeats);
         if (sr->plotted) fprintf(f, "![%s](plots/%s.png)\n\n", bs->name, fname);
         fprintf(f, "Reference: ");
         for (int k = 0; k < bs->steps; k++) {
@@ -548,7 +550,7 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             fprintf(f, "| %s%s%s | %s | %d |", bold, s->cf[c].name, bold, p->status, pair_iters(p));
             for (int j = 0; j < s->nthr; j++) {
                 fmt_ms(p->ttt_med[j], a, sizeof a);
-                if (isfinite(p->ttt_med[j]) && b->repeats > 1) {
+                if (isfinite(p->ttt_med[j]) && sr->repeats > 1) {
                     fmt_ms(p->ttt_min[j], c1, sizeof c1);
                     fmt_ms(p->ttt_max[j], c2, sizeof c2);
                     fprintf(f, " %s (%s–%s) |", a, c1, c2);

@@ -86,6 +86,9 @@ static void test_parse_errors(const char *dir)
     refuse(dir, "{\"scenes\": [{\"name\": \"c\", \"scene\": \"cantilever\", \"stpes\": 2}], " CONF "}",
            EO_ERR_UNKNOWN_KEY, "valid keys here: name, scene, file, steps");
     refuse(dir, "{\"scenes\": [{\"scene\": \"cantilever\"}], " CONF "}", EO_ERR_INVALID, "needs a \"name\"");
+    refuse(dir, "{\"scenes\": [{\"name\": \"c\", \"scene\": \"cantilever\", \"repeats\": 99}], " CONF "}",
+           EO_ERR_RANGE, "repeats");
+    refuse(dir, "{\"warmup_iters\": -1, " SCENE ", " CONF "}", EO_ERR_RANGE, "warmup_iters");
     refuse(dir, "{\"scenes\": [{\"name\": \"c\", \"scene\": \"nosuch\"}], " CONF "}", EO_ERR_UNKNOWN_NAME,
            "scene 'c'");
     refuse(dir, "{\"scenes\": [{\"name\": \"c\", \"scene\": \"cantilever\", \"set\": {\"material.EE\": 1}}], " CONF "}",
@@ -143,7 +146,8 @@ static void test_expansion(const char *dir)
 static void test_run(const char *dir)
 {
     const char *text = "{\"repeats\": 1, \"steps\": 1, \"time_budget\": 1, \"plots\": false,"
-                       " \"scenes\": [{\"name\": \"c\", \"scene\": \"cantilever\", \"set\": {\"mesh.generate.cells\": [4, 1, 1]}}],"
+                       " \"scenes\": [{\"name\": \"c\", \"scene\": \"cantilever\", \"skip\": 2, \"repeats\": 2,"
+                       "   \"set\": {\"mesh.generate.cells\": [4, 1, 1]}}],"
                        " \"configs\": [{\"name\": \"n\", \"set\": {\"solver.optimizer\": \"newton\"}},"
                        "   {\"name\": \"gd\", \"set\": {\"solver.optimizer\": \"gradient_descent\", \"solver.max_iters\": 50}}],"
                        " \"require_converged\": [\"n\"]}";
@@ -171,6 +175,23 @@ static void test_run(const char *dir)
             CHECK(f != NULL, "%s written", p);
             if (f) fclose(f);
         }
+        /* the trajectory covers the whole scene (2 skipped + 1 measured step) for the
+         * converging Newton configuration; the scene's own repeats (2) are reported */
+        char p[4400], line[1024];
+        snprintf(p, sizeof p, "%s/trajectory.csv", out);
+        FILE *f = fopen(p, "r");
+        int newton_rows = 0;
+        while (f && fgets(line, sizeof line, f))
+            if (!strncmp(line, "c,n,", 4)) newton_rows++;
+        if (f) fclose(f);
+        CHECK(newton_rows == 3, "Newton trajectory has %d frames, expected skip + steps = 3", newton_rows);
+        snprintf(p, sizeof p, "%s/report.md", out);
+        f = fopen(p, "r");
+        int found = 0;
+        while (f && fgets(line, sizeof line, f))
+            if (strstr(line, "2 timed repeat(s)")) found = 1;
+        if (f) fclose(f);
+        CHECK(found, "report names the scene's 2 timed repeats");
     }
     eo_bench_suite_destroy(ctx, &s);
     eo_test_ctx_done(&ctx);

@@ -20,6 +20,9 @@
 #include <lapacke.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
 
 #include "elastopt/linsolve.h"
 #include "elastopt/sparse.h"
@@ -402,6 +405,7 @@ static const variant variants[] = {
     {"cholmod", "supernodal", "false"},   {"cholmod", "ordering", "\"natural\""},
     {"cholmod", "ordering", "\"auto\""},  {"cholmod_ldlt", "ordering", "\"auto\""},
     {"pcg", "preconditioner", "\"ichol0\""}, {"sor", "omega", "1.2"},
+    {"cholmod", "openmp", "true"},        {"cholmod_ldlt", "openmp", "true"},
 };
 
 typedef struct solver_cfg {
@@ -445,7 +449,14 @@ static int run(eo_ctx *ctx, eo_linsolve *ls, const eo_csc *A, const double *b, d
     if (analyze) rc = eo_linsolve_analyze(ls, A);
     if (rc < 0) return rc;
     size_t live = eo_ctx_live_bytes(ctx);
+#if defined(_OPENMP)
+    const int levels = omp_get_max_active_levels();
+#endif
     *factor_rc = rc = eo_linsolve_factor(ls, A);
+#if defined(_OPENMP)
+    CHECK(omp_get_max_active_levels() == levels, "%s: factor left OpenMP max-active-levels at %d (was %d)",
+          eo_linsolve_get_type(ls)->info.name, omp_get_max_active_levels(), levels);
+#endif
     if (rc != EO_OK) return rc;
     rc = eo_linsolve_solve(ls, b, x);
     CHECK(eo_ctx_live_bytes(ctx) == live, "%s: factor/solve allocated %zu bytes",

@@ -54,7 +54,7 @@
 ///   require_converged  list of configuration names that must converge on every step
 ///               of every scene (exit status 1 otherwise)
 ///   scenes      list; each entry `eo_bench_scene_desc` (name, scene | file, steps, skip,
-///               time_budget, max_iters) + "set": {"key": value, ...} overrides of the
+///               time_budget, max_iters, repeats) + "set": {"key": value, ...} overrides of the
 ///               scene config + optional "vary": [{"label": {set}, ...}, ...] whose
 ///               product expands the entry into scenes named name-label-label...
 ///   configs     list; each entry {"name": ..., "set": {"solver.key": value, ...}}
@@ -106,6 +106,7 @@ typedef struct eo_bench_scene_opts {
     int steps, skip;        ///< Default -1.
     double time_budget;     ///< Default -1.
     int max_iters;          ///< Default -1.
+    int repeats;            ///< timed repeats on this scene. Default -1.
 } eo_bench_scene_opts;
 extern const eo_param_desc eo_bench_scene_desc[];
 
@@ -136,7 +137,7 @@ typedef void (*eo_bench_progress_fn)(const eo_bench_progress *p, void *user);
 
 typedef struct eo_bench_run_opts {
     const char *out_dir;          ///< output folder (created). Required.
-    int repeats;                  ///< > 0 overrides the suite's repeats. Default 0.
+    int repeats;                  ///< > 0 overrides the suite's and every scene's repeats. Default 0.
     int plots;                    ///< 0 disables the plots, -1 = the suite's choice. Default -1.
     eo_bench_progress_fn progress;
     void *user;
