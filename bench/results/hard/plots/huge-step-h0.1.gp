@@ -1,7 +1,7 @@
 # huge-step-h0.1: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'huge-step-h0.1.png'
-set title "huge-step-h0.1: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3, 2 step(s), median of 2\nfastest to 1e-06: newton-clamp-none (1.07x faster than newton-shift-none)"
+set title "huge-step-h0.1: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3, 2 step(s), median of 2\nfastest to 1e-06: newton-none-none (1.09x faster than newton-shift-none)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -21,8 +21,8 @@ plot \
   'huge-step-h0.1.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 notitle, \
   'huge-step-h0.1.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-exact', \
   'huge-step-h0.1.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'huge-step-h0.1.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-clamp-none (fastest)', \
-  'huge-step-h0.1.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
+  'huge-step-h0.1.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
+  'huge-step-h0.1.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'huge-step-h0.1.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
   'huge-step-h0.1.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'huge-step-h0.1.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-exact', \
@@ -39,8 +39,8 @@ plot \
   'huge-step-h0.1.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'huge-step-h0.1.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-exact', \
   'huge-step-h0.1.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'huge-step-h0.1.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-none', \
-  'huge-step-h0.1.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
+  'huge-step-h0.1.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-none-none (fastest)', \
+  'huge-step-h0.1.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
   'huge-step-h0.1.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-backtracking', \
   'huge-step-h0.1.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
   'huge-step-h0.1.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-exact', \

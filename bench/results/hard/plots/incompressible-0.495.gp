@@ -1,7 +1,7 @@
 # incompressible-0.495: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'incompressible-0.495.png'
-set title "incompressible-0.495: 5000 tets, stable_neo_hookean E=1e+07 nu=0.495, 1 step(s), median of 2\nfastest to 1e-06: newton-shift-backtracking (1.05x faster than newton-shift-none)"
+set title "incompressible-0.495: 5000 tets, stable_neo_hookean E=1e+07 nu=0.495, 1 step(s), median of 2\nfastest to 1e-06: newton-clamp-backtracking (1.01x faster than newton-shift-backtracking)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -17,13 +17,13 @@ set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#99
 set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt 3
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt 3
 plot \
-  'incompressible-0.495.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline)', \
+  'incompressible-0.495.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline) (fastest)', \
   'incompressible-0.495.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-exact', \
   'incompressible-0.495.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
   'incompressible-0.495.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
   'incompressible-0.495.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-exact', \
   'incompressible-0.495.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \
-  'incompressible-0.495.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-shift-backtracking (fastest)', \
+  'incompressible-0.495.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-backtracking', \
   'incompressible-0.495.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-exact', \
   'incompressible-0.495.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-none', \
   'incompressible-0.495.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-backtracking', \

@@ -1,7 +1,7 @@
 # mass-ratio-1e4: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'mass-ratio-1e4.png'
-set title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3, 2 step(s), median of 2\nfastest to 1e-06: newton-shift-backtracking (1.02x faster than newton-clamp-none)"
+set title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3, 2 step(s), median of 2\nfastest to 1e-06: newton-shift-none (1.01x faster than newton-none-backtracking)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -29,12 +29,12 @@ plot \
   'mass-ratio-1e4.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'mass-ratio-1e4.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \
   'mass-ratio-1e4.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'mass-ratio-1e4.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-shift-backtracking (fastest)', \
-  'mass-ratio-1e4.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
+  'mass-ratio-1e4.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-backtracking', \
+  'mass-ratio-1e4.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'mass-ratio-1e4.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-exact', \
   'mass-ratio-1e4.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'mass-ratio-1e4.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-none', \
-  'mass-ratio-1e4.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
+  'mass-ratio-1e4.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-shift-none (fastest)', \
+  'mass-ratio-1e4.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
   'mass-ratio-1e4.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-backtracking', \
   'mass-ratio-1e4.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'mass-ratio-1e4.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-exact', \

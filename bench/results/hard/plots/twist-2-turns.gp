@@ -1,7 +1,7 @@
 # twist-2-turns: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'twist-2-turns.png'
-set title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4, 2 step(s), median of 2\nfastest to 1e-06: newton-shift-backtracking (1.17x faster than newton-shift-none)"
+set title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4, 2 step(s), median of 2\nfastest to 1e-06: newton-none-none (1.01x faster than newton-shift-none)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -29,8 +29,8 @@ plot \
   'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'twist-2-turns.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \
   'twist-2-turns.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-shift-backtracking (fastest)', \
-  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
+  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-backtracking', \
+  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'twist-2-turns.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-exact', \
   'twist-2-turns.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'twist-2-turns.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-none', \
@@ -39,8 +39,8 @@ plot \
   'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
   'twist-2-turns.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-exact', \
   'twist-2-turns.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-none', \
-  'twist-2-turns.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
+  'twist-2-turns.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-none-none (fastest)', \
+  'twist-2-turns.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
   'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-backtracking', \
   'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
   'twist-2-turns.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-exact', \

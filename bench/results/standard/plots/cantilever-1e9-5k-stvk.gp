@@ -1,7 +1,7 @@
 # cantilever-1e9-5k-stvk: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'cantilever-1e9-5k-stvk.png'
-set title "cantilever-1e9-5k-stvk: 5000 tets, stvk E=1e+09 nu=0.3, 1 step(s), median of 3\nfastest to 1e-06: newton-clamp-none (1.08x faster than newton-abs-none)"
+set title "cantilever-1e9-5k-stvk: 5000 tets, stvk E=1e+09 nu=0.3, 1 step(s), median of 3\nfastest to 1e-06: newton-clamp-backtracking (1.02x faster than newton-shift-backtracking)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -17,9 +17,9 @@ set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#99
 set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt 3
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt 3
 plot \
-  'cantilever-1e9-5k-stvk.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline)', \
+  'cantilever-1e9-5k-stvk.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline) (fastest)', \
   'cantilever-1e9-5k-stvk.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-exact', \
-  'cantilever-1e9-5k-stvk.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-clamp-none (fastest)', \
+  'cantilever-1e9-5k-stvk.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
   'cantilever-1e9-5k-stvk.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
   'cantilever-1e9-5k-stvk.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-exact', \
   'cantilever-1e9-5k-stvk.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \

@@ -28,7 +28,7 @@ set title "Speed against accuracy over 16 scene(s), each configuration with its 
 set logscale xy
 set grid lc rgb '#dddddd'
 set format y '1e%L'
-set xlabel 'trajectory solve time / baseline (newton-clamp-backtracking), geometric mean over scenes'
+set xlabel 'trajectory solve time per step / baseline (newton-clamp-backtracking), geometric mean over scenes'
 set ylabel 'max distance to reference trajectory / reference displacement (geometric mean; clipped at 100)'
 set key top left box opaque
 set offsets graph 0.05, graph 0.1, graph 0.1, graph 0.05

@@ -1,7 +1,7 @@
 # stretch-50k-snh: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'stretch-50k-snh.png'
-set title "stretch-50k-snh: 50000 tets, stable_neo_hookean E=1e+06 nu=0.3, 1 step(s), median of 3\nfastest to 1e-06: pd-lbfgs5-backtracking (1.49x faster than newton-clamp-none)"
+set title "stretch-50k-snh: 50000 tets, stable_neo_hookean E=1e+06 nu=0.3, 1 step(s), median of 3\nfastest to 1e-06: newton-abs-none (1.01x faster than pd-lbfgs5-backtracking)"
 left = 0.01  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -22,7 +22,7 @@ plot \
   'stretch-50k-snh.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
   'stretch-50k-snh.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
   'stretch-50k-snh.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-exact', \
-  'stretch-50k-snh.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \
+  'stretch-50k-snh.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-abs-none (fastest)', \
   'stretch-50k-snh.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-backtracking', \
   'stretch-50k-snh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-exact', \
   'stretch-50k-snh.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-none', \
@@ -38,4 +38,4 @@ plot \
   'stretch-50k-snh.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 title 'nlopt-lbfgs', \
   'stretch-50k-snh.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp', \
   'stretch-50k-snh.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-backtracking', \
-  'stretch-50k-snh.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 3.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking (fastest)'
+  'stretch-50k-snh.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking'

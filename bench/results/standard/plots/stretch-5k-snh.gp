@@ -1,7 +1,7 @@
 # stretch-5k-snh: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'stretch-5k-snh.png'
-set title "stretch-5k-snh: 5000 tets, stable_neo_hookean E=1e+06 nu=0.3, 1 step(s), median of 3\nfastest to 1e-06: newton-none-backtracking (1.05x faster than newton-abs-backtracking)"
+set title "stretch-5k-snh: 5000 tets, stable_neo_hookean E=1e+06 nu=0.3, 1 step(s), median of 3\nfastest to 1e-06: newton-clamp-none (1.00x faster than newton-abs-none)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -19,14 +19,14 @@ set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#9999
 plot \
   'stretch-5k-snh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline)', \
   'stretch-5k-snh.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-exact', \
-  'stretch-5k-snh.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
+  'stretch-5k-snh.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-clamp-none (fastest)', \
   'stretch-5k-snh.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
   'stretch-5k-snh.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-exact', \
   'stretch-5k-snh.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \
   'stretch-5k-snh.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-backtracking', \
   'stretch-5k-snh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-exact', \
   'stretch-5k-snh.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-none', \
-  'stretch-5k-snh.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-none-backtracking (fastest)', \
+  'stretch-5k-snh.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-backtracking', \
   'stretch-5k-snh.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-exact', \
   'stretch-5k-snh.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-none', \
   'stretch-5k-snh.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-backtracking', \

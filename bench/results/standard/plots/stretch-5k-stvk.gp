@@ -1,7 +1,7 @@
 # stretch-5k-stvk: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'stretch-5k-stvk.png'
-set title "stretch-5k-stvk: 5000 tets, stvk E=1e+06 nu=0.3, 1 step(s), median of 3\nfastest to 1e-06: pd-lbfgs5-backtracking (1.18x faster than newton-clamp-backtracking)"
+set title "stretch-5k-stvk: 5000 tets, stvk E=1e+06 nu=0.3, 1 step(s), median of 3\nfastest to 1e-06: pd-lbfgs5-backtracking (1.35x faster than newton-abs-backtracking)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy

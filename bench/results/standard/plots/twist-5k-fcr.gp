@@ -1,7 +1,7 @@
 # twist-5k-fcr: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'twist-5k-fcr.png'
-set title "twist-5k-fcr: 5000 tets, fixed_corotated E=1e+06 nu=0.4, 1 step(s), median of 3\nfastest to 1e-06: newton-none-backtracking (1.00x faster than newton-shift-backtracking)"
+set title "twist-5k-fcr: 5000 tets, fixed_corotated E=1e+06 nu=0.4, 1 step(s), median of 3\nfastest to 1e-06: newton-shift-backtracking (1.01x faster than newton-none-none)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
@@ -23,10 +23,10 @@ plot \
   'twist-5k-fcr.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
   'twist-5k-fcr.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-exact', \
   'twist-5k-fcr.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \
-  'twist-5k-fcr.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-backtracking', \
+  'twist-5k-fcr.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-shift-backtracking (fastest)', \
   'twist-5k-fcr.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-exact', \
   'twist-5k-fcr.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-none', \
-  'twist-5k-fcr.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-none-backtracking (fastest)', \
+  'twist-5k-fcr.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-backtracking', \
   'twist-5k-fcr.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-exact', \
   'twist-5k-fcr.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-none', \
   'twist-5k-fcr.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-backtracking', \

@@ -1,7 +1,7 @@
 # twist-5k-stvk: relative energy error against solve time
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'twist-5k-stvk.png'
-set title "twist-5k-stvk: 5000 tets, stvk E=1e+06 nu=0.4, 1 step(s), median of 3\nfastest to 1e-06: newton-shift-backtracking (1.18x faster than newton-shift-none)"
+set title "twist-5k-stvk: 5000 tets, stvk E=1e+06 nu=0.4, 1 step(s), median of 3\nfastest to 1e-06: newton-shift-backtracking (1.05x faster than newton-none-backtracking)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
