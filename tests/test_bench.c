@@ -197,6 +197,37 @@ static void test_run(const char *dir)
     eo_test_ctx_done(&ctx);
 }
 
+/* The shipped suites load (every scene config and configuration resolved at load) and
+ * have the shape the README describes. */
+static void test_shipped_suites(void)
+{
+    const char *src = getenv("EO_SOURCE_ROOT");
+    if (!src) {
+        printf("EO_SOURCE_ROOT unset: shipped suites not checked\n");
+        return;
+    }
+    static const struct {
+        const char *file;
+        int scenes, configs;
+    } want[] = {{"standard.json", 16, 22}, {"standard-full.json", 24, 22}, {"hard.json", 8, 22}, {"smoke.json", 5, 4}};
+    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
+        char path[4200];
+        snprintf(path, sizeof path, "%s/bench/%s", src, want[i].file);
+        eo_ctx *ctx = eo_test_ctx();
+        eo_bench_suite *s = NULL;
+        int rc = eo_bench_suite_load(ctx, path, &s);
+        CHECK(rc == 0, "%s: %s", want[i].file, eo_ctx_message(ctx));
+        if (s) {
+            CHECK(eo_bench_suite_nscenes(s) == want[i].scenes, "%s: %d scenes, expected %d", want[i].file,
+                  eo_bench_suite_nscenes(s), want[i].scenes);
+            CHECK(eo_bench_suite_nconfigs(s) == want[i].configs, "%s: %d configurations, expected %d", want[i].file,
+                  eo_bench_suite_nconfigs(s), want[i].configs);
+        }
+        eo_bench_suite_destroy(ctx, &s);
+        eo_test_ctx_done(&ctx);
+    }
+}
+
 int main(void)
 {
     const char *d = eo_test_tmpdir("test_bench");
@@ -207,5 +238,6 @@ int main(void)
     test_parse_errors(dir);
     test_expansion(dir);
     test_run(dir);
+    test_shipped_suites();
     return eo_test_finish("test_bench");
 }
