@@ -1,0 +1,41 @@
+# twist-5k-fcr: relative energy error against solve time
+set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
+set output 'twist-5k-fcr.png'
+set title "twist-5k-fcr: 5000 tets, fixed_corotated E=1e+06 nu=0.4, 1 step(s), median of 3\nfastest to 1e-06: newton-none-none (1.00x faster than newton-shift-none)"
+left = 0.001  # the start point x0 (time 0) is drawn at the left edge
+set xrange [left:*]
+set logscale xy
+set grid xtics ytics mxtics mytics lc rgb '#dddddd'
+set format y '1e%L'
+set format x '%g'
+set xlabel 'solve time (s) of each step, median of the timed repeats'
+set ylabel 'relative energy error (g - g*) / |g0 - g*|'
+set yrange [1e-11:3]
+set key outside right top spacing 1.1
+set arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead lc rgb '#999999' dt 3
+set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt 3
+set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt 3
+set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt 3
+plot \
+  'twist-5k-fcr.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline)', \
+  'twist-5k-fcr.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-exact', \
+  'twist-5k-fcr.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
+  'twist-5k-fcr.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
+  'twist-5k-fcr.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-exact', \
+  'twist-5k-fcr.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \
+  'twist-5k-fcr.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-backtracking', \
+  'twist-5k-fcr.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-exact', \
+  'twist-5k-fcr.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-none', \
+  'twist-5k-fcr.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-backtracking', \
+  'twist-5k-fcr.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-exact', \
+  'twist-5k-fcr.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-none-none (fastest)', \
+  'twist-5k-fcr.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-backtracking', \
+  'twist-5k-fcr.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-exact', \
+  'twist-5k-fcr.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-none', \
+  'twist-5k-fcr.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-backtracking', \
+  'twist-5k-fcr.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-exact', \
+  'twist-5k-fcr.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-none', \
+  'twist-5k-fcr.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 title 'nlopt-lbfgs', \
+  'twist-5k-fcr.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp', \
+  'twist-5k-fcr.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-backtracking', \
+  'twist-5k-fcr.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking'
