@@ -875,10 +875,11 @@ static void progress(run_ctx *r, int si, int ci, const char *phase)
     r->ro->progress(&p, r->ro->user);
 }
 
-/* timed repeats on scene b: the run option (--repeats) if given, else the scene's */
-static int scene_repeats(const run_ctx *r, const bench_scene *b)
+/* timed repeats: the run option (--repeats) if given, else `own` (the scene's or the
+ * suite's), capped at BENCH_MAX_REPEATS */
+static int run_repeats(const eo_bench_run_opts *ro, int own)
 {
-    int n = r->ro->repeats > 0 ? r->ro->repeats : b->repeats;
+    int n = ro->repeats > 0 ? ro->repeats : own;
     return n < 1 ? 1 : n > BENCH_MAX_REPEATS ? BENCH_MAX_REPEATS : n;
 }
 
@@ -1106,7 +1107,7 @@ static int run_scene(run_ctx *r, int si)
     progress(r, si, -1, "reference");
     EO_TRY(rc = scene_open(ctx, b, &scfg, &sc));
     EO_TRY(rc = eo_step_create(ctx, sc, &st));
-    r->repeats = scene_repeats(r, b);
+    r->repeats = run_repeats(r->ro, b->repeats);
     sr->repeats = r->repeats;
     const int nv = sc->mesh->nv, nf = 3 * nv, cap = b->max_iters + 2, R = r->repeats;
     /* frames (x, v) 0..NF of the reference, x* per measured step, guess, x, wM,
@@ -1208,7 +1209,6 @@ static int run_scene(run_ctx *r, int si)
         bench_pair *p = sr->pair + ci;
         p->nsteps = S;
         p->ntraj = NF;
-        p->skip = b->skip;
         p->st = eo_calloc(ctx, (size_t)S, sizeof *p->st);
         p->tr = eo_calloc(ctx, (size_t)NF, sizeof *p->tr);
         if (!p->st || !p->tr) {
@@ -1323,9 +1323,7 @@ int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *
     run_ctx r = {.ctx = ctx, .s = s, .ro = opts};
     bench_out out = {.s = s, .dir = opts->out_dir, .sum = sum};
     r.out = &out;
-    r.repeats = opts->repeats > 0 ? opts->repeats : s->o.repeats;
-    if (r.repeats > BENCH_MAX_REPEATS) r.repeats = BENCH_MAX_REPEATS;
-    out.repeats = r.repeats;
+    out.repeats = run_repeats(opts, s->o.repeats); /* the suite's; scenes may set their own */
     out.plots = opts->plots >= 0 ? opts->plots : s->o.plots;
     eo_afile *cf = NULL, *tf = NULL;
     int rc;
@@ -1342,7 +1340,7 @@ int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *
     r.traj = eo_afile_fp(tf);
     fprintf(r.curves, "scene,step,config,iteration,time,time_min,time_max,g,rel_energy_err,rel_pos_err,grad_norm,reason\n");
     fprintf(r.traj, "scene,config,step,t,iterations,reason,solve_time,g,dist_rms,ref_disp_rms\n");
-    for (int i = 0; i < s->nsc; i++) r.units_total += scene_units(s, s->sc + i, scene_repeats(&r, s->sc + i));
+    for (int i = 0; i < s->nsc; i++) r.units_total += scene_units(s, s->sc + i, run_repeats(opts, s->sc[i].repeats));
     read_loadavg(out.load_start, sizeof out.load_start);
     r.t0 = out.t_start = eo_wtime();
     for (int i = 0; i < s->nsc; i++) EO_TRY(rc = run_scene(&r, i));

@@ -70,7 +70,7 @@ typedef struct bench_traj_res {
 /* Aggregated result of one (scene, configuration). */
 typedef struct bench_pair {
     int nsteps;           /* measured steps */
-    int ntraj, skip;      /* steps of the whole scene (skip + nsteps), skipped steps */
+    int ntraj;            /* steps of the whole scene (skip + nsteps) */
     bench_step_res *st;   /* nsteps */
     bench_traj_res *tr;   /* ntraj (trajectory from the scene's initial state) */
     int traj_done;        /* frames run */

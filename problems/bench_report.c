@@ -592,7 +592,7 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             if (!strcmp(p->status, "converged")) continue;
             fprintf(f, "- %s on %s: %s — %s", s->cf[c].name, s->sc[si].name, p->status, p->reason);
             /* curve run of the failing step, if it is a measured one */
-            int m = s->o.trajectory ? p->first_bad_step - p->skip : p->first_bad_step;
+            int m = s->o.trajectory ? p->first_bad_step - s->sc[si].skip : p->first_bad_step;
             if (p->first_bad_step >= 0 && m >= 0 && m < p->nsteps) {
                 const bench_step_res *q = p->st + m;
                 fprintf(f, " (curve run of that step: %s after %d iterations, rel. error %.1e)",
