@@ -63,9 +63,6 @@ typedef struct eo_cfg_doc {
     const eo_param_desc *params;
     const char *summary;
 } eo_cfg_doc;
-/// The fixed sections of the scene configuration, terminated by a {NULL} entry (defined
-/// by the module that loads them; method parameter sections come from the registries).
-const eo_cfg_doc *eo_config_docs(void);
 
 #ifdef __cplusplus
 }

@@ -39,7 +39,7 @@ typedef enum eo_param_kind {
     EO_PARAM_BOOL,     ///< int 0/1
     EO_PARAM_STRING,   ///< char[.size]
     EO_PARAM_CHOICE,   ///< char[.size], one of .choices
-    EO_PARAM_METHOD,   ///< char[.size], a registered name of kind .method_kind
+    EO_PARAM_METHOD,   ///< char[.size], a name registered in .registry
     EO_PARAM_VEC3      ///< double[3]
 } eo_param_kind;
 
@@ -67,7 +67,7 @@ typedef struct eo_param_desc {
     double min, max;           ///< range, used as told by .range
     unsigned range;            ///< EO_RANGE_* bits; 0 = unbounded
     const char *const *choices;///< CHOICE: NULL-terminated list
-    int method_kind;           ///< METHOD: an eo_kind (registry.h)
+    const struct eo_registry *registry; ///< METHOD: the registry of the kind (registry.h)
     const char *help;          ///< one line: meaning and unit
 } eo_param_desc;
 

@@ -170,6 +170,9 @@ extern const eo_param_desc eo_scene_springs_opts_desc[];
 extern const eo_param_desc eo_scene_collision_opts_desc[];
 /// The scene's documented sections ({NULL} terminated), for `elastopt help`.
 extern const eo_cfg_doc eo_scene_docs[];
+/// Every fixed section of a scene configuration: the scene's, `material` and `solver`,
+/// terminated by a {NULL} entry (method parameter sections come from the registries).
+const eo_cfg_doc *eo_config_docs(void);
 
 typedef enum eo_bc_select { EO_BC_BOX, EO_BC_PLANE, EO_BC_MARKER } eo_bc_select;
 typedef enum eo_bc_motion { EO_BC_FIXED, EO_BC_TRANSLATE, EO_BC_ROTATE } eo_bc_motion;
