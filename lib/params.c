@@ -139,7 +139,7 @@ static int in_range(const eo_param_desc *p, double v)
 static void choices_list(const eo_param_desc *p, char *buf, size_t n)
 {
     if (p->kind == EO_PARAM_METHOD) {
-        eo_registry_names((eo_kind)p->method_kind, buf, n);
+        eo_registry_name_list(p->registry, buf, n);
         return;
     }
     size_t k = 0;
@@ -155,7 +155,7 @@ static int check_name(eo_ctx *ctx, const eo_param_desc *p, const char *s, const 
         for (const char *const *c = p->choices; c && *c; c++)
             if (strcmp(*c, s) == 0) return EO_OK;
     } else if (p->kind == EO_PARAM_METHOD) {
-        for (const void *const *t = eo_registry_list((eo_kind)p->method_kind); t && *t; t++)
+        for (const void *const *t = eo_registry_types(p->registry); t && *t; t++)
             if (strcmp(eo_method_info_of(*t)->name, s) == 0) return EO_OK;
     } else {
         return EO_OK;
@@ -163,7 +163,7 @@ static int check_name(eo_ctx *ctx, const eo_param_desc *p, const char *s, const 
     choices_list(p, list, sizeof list);
     if (p->kind == EO_PARAM_METHOD)
         return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown %s '%s'; valid: %s",
-                    eo_kind_label((eo_kind)p->method_kind), s, list);
+                    p->registry ? eo_kind_label(p->registry->kind) : "method", s, list);
     return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown value '%s'; valid: %s", s, list);
 }
 
@@ -367,6 +367,27 @@ void eo_params_help(FILE *f, const eo_param_desc *d, const char *prefix)
             fprintf(f, "  %-34s %-8s one of: %s\n", "", "", ch);
         }
     }
+}
+
+long eo_utf8_invalid_at(const char *s)
+{
+    const unsigned char *p = (const unsigned char *)s, *b = p;
+    while (*p) {
+        unsigned c = *p;
+        int len = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+        if (!len) return (long)(p - b);
+        unsigned cp = len == 1 ? c : len == 2 ? c & 0x1f : len == 3 ? c & 0x0f : c & 0x07;
+        for (int i = 1; i < len; i++) {
+            if ((p[i] & 0xc0) != 0x80) return (long)(p - b);
+            cp = (cp << 6) | (p[i] & 0x3f);
+        }
+        /* overlong forms, surrogates, beyond U+10FFFF */
+        if ((len == 2 && cp < 0x80) || (len == 3 && cp < 0x800) || (len == 4 && cp < 0x10000) ||
+            (cp >= 0xd800 && cp <= 0xdfff) || cp > 0x10ffff)
+            return (long)(p - b);
+        p += len;
+    }
+    return -1;
 }
 
 json_t *eo_json_from_override(const char *text)

@@ -1,5 +1,6 @@
 /* Registry of the hessfix folder: one line per method. */
 #include "elastopt/solver.h"
+#include "../solver_registry.h"
 
 const void *const eo_registry_hessfix[] = {
     &eo_hessfix_none,
@@ -8,3 +9,5 @@ const void *const eo_registry_hessfix[] = {
     &eo_hessfix_abs,
     NULL,
 };
+
+eo_registry eo_reg_hessfix = EO_REGISTRY_INIT(EO_KIND_HESSFIX, eo_registry_hessfix, NULL);
