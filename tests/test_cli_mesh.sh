@@ -90,10 +90,10 @@ printf '1 4 0\n1 1 2 3 4\n' >z.ele
 expect_fail "zero volume" "^elastopt: error: z.ele:2: tet 1: zero volume" mesh z.node
 expect_fail "missing file" "^elastopt: error: missing.msh: cannot open" mesh missing.msh
 : >empty.mesh
-expect_fail "empty file" "^elastopt: error: empty.mesh:1: expected 'MeshVersionFormatted', got end of file" mesh empty.mesh
+expect_fail "empty file" "^elastopt: error: empty.mesh: the file is empty (0 bytes)" mesh empty.mesh
 expect_fail "bad gen spec" "^elastopt: error: gen:1,1:2,2,2: expected gen:" mesh gen:1,1:2,2,2
-expect_fail "write-only input" "^elastopt: error: e.vtu: vtu files can be written, not read" convert e.vtu x.msh
-expect_fail "unknown output format" "expected an output name ending in" convert c.msh out.stl
+expect_fail "read-only output format" "^elastopt: error: out.stl: stl files can be read, not written" convert c.msh out.stl
+expect_fail "unknown output format" "expected an output name ending in" convert c.msh out.xyz
 expect_fail "usage" "expected a mesh file" mesh
 
 # --- unwritable output folder: exit 2, nothing written
