@@ -150,36 +150,41 @@ static int b64val(char c)
     return -1;
 }
 
-/* Decode base64 from *pp (whitespace skipped; '=' padding may end a quantum in the
- * middle: blocks encoded separately concatenate) until `want` bytes are in out or the
- * text ends / hits '<'. Returns the bytes decoded. */
-static size_t b64_decode(const char **pp, const char *end, unsigned char *out, size_t want)
+/* A base64 stream: whitespace skipped; '=' padding may end a quantum in the middle
+ * (blocks encoded separately concatenate); stops at '<' or the end. */
+typedef struct {
+    const char *p, *end;
+    unsigned char pend[3];
+    int npend, ipend;
+} b64_stream;
+
+/* Read up to `want` bytes into out; returns the count read. */
+static size_t b64_read(b64_stream *st, unsigned char *out, size_t want)
 {
-    const char *p = *pp;
     size_t n = 0;
     int q[4], k = 0;
-    while (p < end && n < want && *p != '<') {
-        char c = *p++;
-        if (c == '=') {
-            if (k >= 2) out[n++] = (unsigned char)(q[0] << 2 | q[1] >> 4);
-            if (k == 3 && n < want) out[n++] = (unsigned char)((q[1] & 15) << 4 | q[2] >> 2);
-            k = 0;
-            while (p < end && *p == '=') p++;
+    while (n < want) {
+        if (st->ipend < st->npend) {
+            out[n++] = st->pend[st->ipend++];
             continue;
         }
-        int v = b64val(c);
-        if (v < 0) continue;
-        q[k++] = v;
-        if (k == 4) {
-            unsigned char b[3] = {(unsigned char)(q[0] << 2 | q[1] >> 4), (unsigned char)((q[1] & 15) << 4 | q[2] >> 2),
-                                  (unsigned char)((q[2] & 3) << 6 | q[3])};
-            for (int i = 0; i < 3 && n < want; i++) out[n++] = b[i];
+        if (st->p >= st->end || *st->p == '<') break;
+        char c = *st->p++;
+        int v = c == '=' ? -2 : b64val(c);
+        if (v == -1) continue;
+        if (v >= 0) q[k++] = v;
+        if (k == 4 || (v == -2 && k >= 2)) {
+            unsigned char b[3] = {(unsigned char)(q[0] << 2 | q[1] >> 4),
+                                  (unsigned char)((q[1] & 15) << 4 | (k > 2 ? q[2] >> 2 : 0)),
+                                  (unsigned char)((k > 2 ? (q[2] & 3) << 6 : 0) | (k > 3 ? q[3] : 0))};
+            int nb = k == 4 ? 3 : k - 1;
+            memcpy(st->pend, b, 3);
+            st->npend = nb;
+            st->ipend = 0;
             k = 0;
         }
+        if (v == -2) k = 0;
     }
-    if (k >= 2 && n < want) out[n++] = (unsigned char)(q[0] << 2 | q[1] >> 4);
-    if (k >= 3 && n < want) out[n++] = (unsigned char)((q[1] & 15) << 4 | q[2] >> 2);
-    *pp = p;
     return n;
 }
 
@@ -222,8 +227,9 @@ static int decode(vtu_reader *r, const darray *a, size_t count, double *v)
     size_t need = count * es;
     unsigned char hdr[8];
     const char *end = r->end;
+    b64_stream st = {.p = p, .end = end};
     if (b64) {
-        if (b64_decode(&p, end, hdr, (size_t)r->hsize) != (size_t)r->hsize) goto short_data;
+        if (b64_read(&st, hdr, (size_t)r->hsize) != (size_t)r->hsize) goto short_data;
     } else {
         if (p + r->hsize > end) goto short_data;
         memcpy(hdr, p, (size_t)r->hsize);
@@ -242,7 +248,7 @@ static int decode(vtu_reader *r, const darray *a, size_t count, double *v)
         size_t i = 0;
         while (i < count) {
             size_t chunk = count - i < 64 ? count - i : 64;
-            if (b64_decode(&p, end, buf, chunk * es) != chunk * es) goto short_data;
+            if (b64_read(&st, buf, chunk * es) != chunk * es) goto short_data;
             for (size_t j = 0; j < chunk; j++) v[i + j] = get_le(buf + j * es, t);
             i += chunk;
         }
@@ -380,7 +386,16 @@ int eo_vtu_read_text(eo_ctx *ctx, const char *text, size_t len, const char *file
     }
     if ((rc = decode(&r, &a_conn, nconn, conn)) < 0) goto fail;
     long ntet = 0;
-    for (long c = 0; c < nc; c++) ntet += types[c] == 10;
+    for (long c = 0; c < nc; c++) {
+        ntet += types[c] == 10;
+        if (types[c] != 10 && types[c] != 5 && types[c] != 3 && types[c] != 1) {
+            rc = eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_ITEM(file, line_of(&r, a_types.tag), "cell", c),
+                             "VTK cell type %g; expected tetrahedra (10), optionally with triangles (5), lines "
+                             "(3) or vertices (1)",
+                             types[c]);
+            goto fail;
+        }
+    }
     if (!ntet) {
         rc = eo_error_at(ctx, EO_ERR_MESH, EO_ERRLOC_FILE(file, line_of(&r, a_types.tag)),
                          "no tetrahedra (VTK cell type 10) found; expected a volume mesh");
