@@ -626,6 +626,11 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
     for (int t = 0; t < m->nt; t++) {
         int *tt = m->tets + 4 * t;
         double v = eo_tet_volume(m->X, tt);
+        if (!isfinite(v)) {
+            rc = eo_error_at(ctx, EO_ERR_NONFINITE, tet_loc(src, t),
+                             "the volume overflows (%g); expected coordinates of a sensible magnitude", v);
+            goto fail;
+        }
         if (v < 0) {
             int tmp = tt[1];
             tt[1] = tt[2];
@@ -635,6 +640,11 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
         mean += fabs(v);
     }
     mean /= m->nt;
+    if (!isfinite(mean)) {
+        rc = eo_error_at(ctx, EO_ERR_NONFINITE, EO_ERRLOC_FILE(tfile, -1),
+                         "the total volume overflows; expected coordinates of a sensible magnitude");
+        goto fail;
+    }
     m->reoriented += reoriented;
     double vmin = opts->min_rel_volume * mean;
     int nzero = 0;
