@@ -369,6 +369,27 @@ void eo_params_help(FILE *f, const eo_param_desc *d, const char *prefix)
     }
 }
 
+long eo_utf8_invalid_at(const char *s)
+{
+    const unsigned char *p = (const unsigned char *)s, *b = p;
+    while (*p) {
+        unsigned c = *p;
+        int len = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+        if (!len) return (long)(p - b);
+        unsigned cp = len == 1 ? c : len == 2 ? c & 0x1f : len == 3 ? c & 0x0f : c & 0x07;
+        for (int i = 1; i < len; i++) {
+            if ((p[i] & 0xc0) != 0x80) return (long)(p - b);
+            cp = (cp << 6) | (p[i] & 0x3f);
+        }
+        /* overlong forms, surrogates, beyond U+10FFFF */
+        if ((len == 2 && cp < 0x80) || (len == 3 && cp < 0x800) || (len == 4 && cp < 0x10000) ||
+            (cp >= 0xd800 && cp <= 0xdfff) || cp > 0x10ffff)
+            return (long)(p - b);
+        p += len;
+    }
+    return -1;
+}
+
 json_t *eo_json_from_override(const char *text)
 {
     json_error_t err;
