@@ -105,11 +105,14 @@ EO_API void eo_mesh_destroy(eo_ctx *ctx, eo_mesh **m);
 EO_API int eo_mesh_generate_box(eo_ctx *ctx, const eo_mesh_gen_opts *o, eo_mesh **out);
 /// Read a mesh file; validates (see eo_mesh_validate). opts may be NULL.
 /// Returns EO_OK, EO_WARN_DROPPED (items dropped as the options allow; counts in the
-/// mesh), or an error: EO_ERR_IO (missing/unreadable file), EO_ERR_PARSE (truncated,
+/// mesh), or an error: EO_ERR_IO (missing/unreadable file; a folder, device, FIFO or
+/// socket; an empty file; a name longer than PATH_MAX — checked with stat before
+/// opening, see eo_path_check, so a FIFO never blocks), EO_ERR_PARSE (truncated,
 /// wrong counts, non-numeric token: "file:line: expected X, got 'tok'"),
 /// EO_ERR_NONFINITE, EO_ERR_MESH (index out of range, zero-volume/duplicate tet,
 /// unreferenced vertex; names file, line and tet/vertex as the file numbers it),
-/// EO_ERR_UNSUPPORTED (binary or other versions, write-only formats), EO_ERR_NOMEM.
+/// EO_ERR_UNSUPPORTED (binary or other versions, write-only formats, compressed VTU,
+/// surface meshes in a build without TetGen), EO_ERR_NOMEM.
 /// On error *out is NULL.
 EO_API int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out);
 /// Read a mesh from text in memory (copied; need not be NUL-terminated). `fmt` is any
