@@ -229,6 +229,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     double *disp = fbuf, *psi = fbuf + 3 * m->nv, *J = psi + m->nt;
     unsigned char *inv = (unsigned char *)(J + m->nt);
 
+    eo_cli_scene_report(ctx, sc, quiet);
     /* ---- outputs */
     bad_input = 0;
     EO_TRY(rc = eo_mkdir_p(ctx, dir));

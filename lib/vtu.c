@@ -320,6 +320,7 @@ const eo_mesh_io_type eo_mesh_io_vtu = {
     .format = EO_MESH_VTU,
     .name = "vtu",
     .exts = vtu_exts,
+    .read_text = eo_vtu_read_text, /* lib/mesh_vtu.c */
     .write = write_vtu_rest,
 };
 
@@ -327,6 +328,6 @@ const eo_mesh_io_type eo_mesh_io_obj = {
     .format = EO_MESH_OBJ,
     .name = "obj",
     .exts = obj_exts,
-    .read_text = NULL,
+    .read_text = eo_obj_read_text, /* lib/mesh_surface.c: tetrahedralized by TetGen */
     .write = write_obj_rest,
 };
