@@ -23,19 +23,19 @@
 static void test_freefall(void)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     const char *ov[] = {"solver.tol=1e-24", "solver.max_iters=10", NULL};
-    CHECK(eo_sim_open(&s, ctx, "freefall", NULL, ov) == 0, "open");
+    CHECK(eo_test_sim_open(&s, ctx, "freefall", NULL, ov) == 0, "open");
     eo_step_stats s0, sk;
-    eo_step_stats_compute(s.st, &s0);
+    eo_step_stats_compute(eo_sim_step_problem(s), &s0);
     double worst = 0, worstJ = 0;
     const double g = 9.81;
-    for (int k = 0; k < s.sc->time.steps; k++) {
-        eo_solve_result r;
-        CHECK(eo_sim_step(&s, NULL, NULL, &r) == 0, "step %d", k);
+    for (int k = 0; k < eo_sim_scene(s)->time.steps; k++) {
+        eo_sim_step_result r;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0, "step %d", k);
         CHECK(eo_reason_is_converged(r.reason), "step %d reason %s", k, eo_reason_name(r.reason));
-        eo_step_stats_compute(s.st, &sk);
-        double t = eo_step_time(s.st), expect = -0.5 * g * t * t;
+        eo_step_stats_compute(eo_sim_step_problem(s), &sk);
+        double t = eo_step_time(eo_sim_step_problem(s)), expect = -0.5 * g * t * t;
         double err = fabs((sk.com[2] - s0.com[2]) - expect) / fabs(expect);
         if (err > worst) worst = err;
         double dj = fmax(fabs(sk.min_J - 1), fabs(sk.max_J - 1));
@@ -45,7 +45,7 @@ static void test_freefall(void)
     printf("freefall: worst relative COM error %.3g, max |J-1| %.3g\n", worst, worstJ);
     CHECK(worst < 1e-9, "COM displacement relative error %g", worst);
     CHECK(worstJ < 1e-9, "max |J-1| %g", worstJ);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -55,7 +55,7 @@ static void test_freefall(void)
 static double static_cantilever(int n, const char *model, double E, double nu, const char *fix, int *iters)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     char cells[64], mod[64], e[64], v[64], hf[64];
     snprintf(hf, sizeof hf, "solver.hessian_fix=%s", fix);
     snprintf(cells, sizeof cells, "mesh.generate.cells=[%d,%d,%d]", 10 * n, n, n);
@@ -64,16 +64,16 @@ static double static_cantilever(int n, const char *model, double E, double nu, c
     snprintf(v, sizeof v, "material.nu=%g", nu);
     const char *ov[] = {cells, mod, e, v, hf, "solver.tol=1e-16", "solver.max_iters=100", NULL};
     double dz = NAN;
-    if (eo_sim_open(&s, ctx, "cantilever_static", NULL, ov) == 0) {
-        eo_solve_result r;
-        CHECK(eo_sim_step(&s, NULL, NULL, &r) == 0, "step");
+    if (eo_test_sim_open(&s, ctx, "cantilever_static", NULL, ov) == 0) {
+        eo_sim_step_result r;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0, "step");
         CHECK(eo_reason_is_converged(r.reason), "%s n=%d: %s", model, n, eo_reason_name(r.reason));
         if (iters) *iters = r.iterations;
-        dz = eo_sim_tip_dz(&s, 1.0 - 1e-9);
+        dz = eo_test_tip_dz(s, 1.0 - 1e-9);
     } else {
         CHECK(0, "open cantilever_static");
     }
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
     return dz;
 }
@@ -128,12 +128,12 @@ static int log_grad(const eo_iter_info *it, void *user)
 static void test_newton_quadratic(void)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     const char *ov[] = {"solver.hessian_fix=none", "solver.tol=1e-30", "solver.max_iters=12", NULL};
-    CHECK(eo_sim_open(&s, ctx, "cantilever_static", NULL, ov) == 0, "open");
+    CHECK(eo_test_sim_open(&s, ctx, "cantilever_static", NULL, ov) == 0, "open");
     gn_log l = {.n = 0};
-    eo_solve_result r;
-    CHECK(eo_sim_step(&s, log_grad, &l, &r) == 0, "step");
+    eo_sim_step_result r;
+    CHECK(eo_test_sim_step(s, log_grad, &l, &r) == 0, "step");
     /* the floor: smallest gradient norm reached (rounding level) */
     double floor_ = INFINITY;
     for (int k = 0; k < l.n; k++) floor_ = fmin(floor_, l.r[k]);
@@ -148,7 +148,7 @@ static void test_newton_quadratic(void)
     }
     printf("newton: observed order near the solution %.2f\n", last);
     CHECK(last > 1.8, "convergence order %g", last);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -165,26 +165,26 @@ static const char *energy_scene =
 static void run_energy(const char *integrator, const char *mass, int steps, double *drift, int *monotone)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     char io[64], mo[64], so[64];
     snprintf(io, sizeof io, "time.integrator=%s", integrator);
     snprintf(mo, sizeof mo, "mass=%s", mass);
     snprintf(so, sizeof so, "time.steps=%d", steps);
     /* backward Euler: no rigid motion, so that the decay is not hidden under its constant energy */
     const char *ov[] = {io, mo, so, strcmp(integrator, "newmark") ? "initial.velocity=[0,0,0]" : NULL, NULL};
-    CHECK(eo_sim_open(&s, ctx, NULL, energy_scene, ov) == 0, "open");
+    CHECK(eo_test_sim_open(&s, ctx, NULL, energy_scene, ov) == 0, "open");
     eo_step_stats st;
-    eo_step_stats_compute(s.st, &st);
+    eo_step_stats_compute(eo_sim_step_problem(s), &st);
     double e0 = st.kinetic + st.elastic, prev = e0;
     *drift = 0;
     *monotone = 1;
-    for (int k = 0; k < s.sc->time.steps; k++) {
-        eo_solve_result r;
-        if (eo_sim_step(&s, NULL, NULL, &r) != 0 || !eo_reason_is_converged(r.reason)) {
+    for (int k = 0; k < eo_sim_scene(s)->time.steps; k++) {
+        eo_sim_step_result r;
+        if (eo_test_sim_step(s, NULL, NULL, &r) != 0 || !eo_reason_is_converged(r.reason)) {
             CHECK(0, "%s step %d: %s", integrator, k, eo_reason_name(r.reason));
             break;
         }
-        eo_step_stats_compute(s.st, &st);
+        eo_step_stats_compute(eo_sim_step_problem(s), &st);
         double e = st.kinetic + st.elastic;
         *drift = fmax(*drift, fabs(e - e0) / e0);
         if (!(e < prev)) *monotone = 0;
@@ -192,7 +192,7 @@ static void run_energy(const char *integrator, const char *mass, int steps, doub
     }
     printf("energy %s (%s mass): initial %.6g, final %.6g, max relative drift %.3g\n", integrator, mass, e0, prev,
            *drift);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -214,23 +214,23 @@ static void test_energy(void)
 static void test_inverted(void)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
-    CHECK(eo_sim_open(&s, ctx, "inverted", NULL, NULL) == 0, "open");
+    eo_sim *s = NULL;
+    CHECK(eo_test_sim_open(&s, ctx, "inverted", NULL, NULL) == 0, "open");
     eo_step_stats st;
-    eo_step_stats_compute(s.st, &st);
-    CHECK(st.inverted == s.sc->mesh->nt, "every tet starts inverted (%d of %d)", st.inverted, s.sc->mesh->nt);
+    eo_step_stats_compute(eo_sim_step_problem(s), &st);
+    CHECK(st.inverted == eo_sim_scene(s)->mesh->nt, "every tet starts inverted (%d of %d)", st.inverted, eo_sim_scene(s)->mesh->nt);
     int nconv = 0;
-    for (int k = 0; k < s.sc->time.steps; k++) {
-        eo_solve_result r;
-        CHECK(eo_sim_step(&s, NULL, NULL, &r) == 0, "step %d", k);
+    for (int k = 0; k < eo_sim_scene(s)->time.steps; k++) {
+        eo_sim_step_result r;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0, "step %d", k);
         nconv += eo_reason_is_converged(r.reason);
     }
-    eo_step_stats_compute(s.st, &st);
+    eo_step_stats_compute(eo_sim_step_problem(s), &st);
     printf("inverted: %d/%d steps converged, final inverted %d, min J %.4g, max displacement %.4g\n", nconv,
-           s.sc->time.steps, st.inverted, st.min_J, st.max_disp);
+           eo_sim_scene(s)->time.steps, st.inverted, st.min_J, st.max_disp);
     CHECK(st.inverted == 0, "%d tets still inverted", st.inverted);
     CHECK(st.max_disp < 0.05, "rest shape not recovered (max displacement %g)", st.max_disp);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -250,7 +250,7 @@ static void test_examples(void)
         CHECK(a && b && json_equal(a, b), "%s: example file and built-in scene differ", sty->info.name);
         json_decref(a);
         json_decref(b);
-        eo_sim s;
+        eo_sim *s = NULL;
         eo_ctx_clear_error(ctx);
         eo_cfg *cfg = NULL;
         eo_scene *sc = NULL;
@@ -261,11 +261,11 @@ static void test_examples(void)
         eo_cfg_destroy(ctx, &cfg);
         /* and the built-in runs one step */
         const char *ov[] = {"time.steps=1", NULL};
-        CHECK(eo_sim_open(&s, ctx, sty->info.name, NULL, ov) == 0, "open %s", sty->info.name);
-        eo_solve_result r;
-        CHECK(eo_sim_step(&s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason), "%s first step: %s",
+        CHECK(eo_test_sim_open(&s, ctx, sty->info.name, NULL, ov) == 0, "open %s", sty->info.name);
+        eo_sim_step_result r;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason), "%s first step: %s",
               sty->info.name, eo_reason_name(r.reason));
-        eo_sim_close(&s);
+        eo_sim_destroy(&s);
     }
     CHECK(n >= 6, "built-in scenes: %d", n);
     eo_test_ctx_done(&ctx);
@@ -309,21 +309,22 @@ static void test_scene_errors(void)
 static void test_regions_and_release(void)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     const char *ov[] = {"materials=[{\"box\": [[0.5,-1,-1],[2,1,1]], \"E\": 1e5}]", "time.steps=40", NULL};
-    CHECK(eo_sim_open(&s, ctx, "stretch", NULL, ov) == 0, "open");
+    CHECK(eo_test_sim_open(&s, ctx, "stretch", NULL, ov) == 0, "open");
     int soft = 0;
-    for (int k = 0; k < s.sc->mesh->nt; k++) soft += s.sc->tet_mat[k] == 1;
-    CHECK(soft > 0 && soft < s.sc->mesh->nt, "region tets %d", soft);
-    int n_before = s.obj->n, n_after = -1;
-    for (int k = 0; k < s.sc->time.steps; k++) {
-        eo_solve_result r;
-        CHECK(eo_sim_step(&s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason), "step %d: %s", k,
+    for (int k = 0; k < eo_sim_scene(s)->mesh->nt; k++) soft += eo_sim_scene(s)->tet_mat[k] == 1;
+    CHECK(soft > 0 && soft < eo_sim_scene(s)->mesh->nt, "region tets %d", soft);
+    const eo_objective *obj = eo_test_sim_obj(s); /* the engine's objective: n of the last step built */
+    int n_before = obj->n, n_after = -1;
+    for (int k = 0; k < eo_sim_scene(s)->time.steps; k++) {
+        eo_sim_step_result r;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason), "step %d: %s", k,
               eo_reason_name(r.reason));
-        n_after = s.obj->n;
+        n_after = obj->n;
     }
     CHECK(n_after > n_before, "release frees the right end: n %d -> %d", n_before, n_after);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
