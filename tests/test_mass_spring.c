@@ -61,14 +61,10 @@ static double spring_period(const char *integrator, double dt, int steps, double
     double zprev = 0, tfirst = NAN, tlast = NAN;
     int ncross = 0;
     for (int k = 0; k < steps; k++) {
-        if (eo_step_is_explicit(eo_sim_step_problem(s))) {
-            int reason;
-            CHECK(eo_step_advance(eo_sim_step_problem(s), &reason) == 0 && reason == EO_CONVERGED_EXPLICIT, "advance %d", k);
-        } else {
-            eo_sim_step_result r;
-            CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason), "step %d: %s", k,
-                  eo_reason_name(r.reason));
-        }
+        eo_sim_step_result r;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason) &&
+                  (r.reason == EO_CONVERGED_EXPLICIT) == eo_sim_is_explicit(s),
+              "step %d: %s", k, eo_reason_name(r.reason));
         double z = eo_step_x(eo_sim_step_problem(s))[5] + 1, t = eo_step_time(eo_sim_step_problem(s));
         if (k > 0 && zprev < 0 && z >= 0) {
             double tc = t - dt * z / (z - zprev);
@@ -318,8 +314,9 @@ static void test_explicit_freefall(void)
         eo_step_stats s0, sk;
         eo_step_stats_compute(eo_sim_step_problem(s), &s0);
         for (int k = 0; k < 40; k++) {
-            int reason;
-            CHECK(eo_step_advance(eo_sim_step_problem(s), &reason) == 0 && reason == EO_CONVERGED_EXPLICIT, "advance");
+            eo_sim_step_result r;
+            CHECK(eo_sim_step(s, &r) == 0 && r.reason == EO_CONVERGED_EXPLICIT && r.iterations == 0 && isnan(r.g),
+                  "advance");
         }
         eo_step_stats_compute(eo_sim_step_problem(s), &sk);
         double t = eo_step_time(eo_sim_step_problem(s)), expect = -0.5 * 9.81 * t * t;
@@ -340,7 +337,9 @@ static void test_explicit_diverges(void)
     CHECK(eo_test_sim_open(&s, ctx, NULL, spring1, ov) == 0, "open");
     int reason = 0, k;
     for (k = 0; k < 2000; k++) {
-        CHECK(eo_step_advance(eo_sim_step_problem(s), &reason) == 0, "advance");
+        eo_sim_step_result r;
+        CHECK(eo_sim_step(s, &r) == 0, "advance");
+        reason = r.reason;
         if (reason != EO_CONVERGED_EXPLICIT) break;
     }
     printf("rk4 at h w = 5: %s after %d steps (t = %g)\n", eo_reason_name(reason), k, eo_step_time(eo_sim_step_problem(s)));
@@ -391,8 +390,96 @@ static void test_errors(void)
                  EO_ERR_INVALID, "no mass");
 }
 
+/* The cantilever beyond the stability limit of rk4 (dt = 3e-4) and forward Euler
+ * (dt = 1e-4), through eo_sim: the first step that meets a non-finite energy or force
+ * (or ends non-finite) returns EO_OK with reason diverged_nonfinite, before step 300;
+ * the state is exactly the one before that step (index, time, positions, velocities),
+ * and finite; a trial of an explicit step is refused. */
+static void test_explicit_blowup_cantilever(void)
+{
+    const char *cases[2][2] = {{"time.integrator=rk4", "time.dt=3e-4"},
+                               {"time.integrator=forward_euler", "time.dt=1e-4"}};
+    for (int c = 0; c < 2; c++) {
+        eo_ctx *ctx = eo_test_ctx();
+        eo_sim *s = NULL;
+        const char *ov[] = {cases[c][0], cases[c][1], "time.steps=300", "output.vtu=false", NULL};
+        CHECK(eo_sim_create_from(ctx, NULL, "cantilever", ov, &s) == EO_OK, "%s", eo_ctx_message(ctx));
+        if (!s) continue;
+        const int nf = 3 * eo_sim_scene(s)->mesh->nv;
+        const double dt = eo_sim_scene(s)->time.dt;
+        double *xb = malloc(4 * (size_t)nf * sizeof(double)), *vb = xb + nf, *xa = vb + nf, *va = xa + nf;
+        eo_sim_step_result r = {0};
+        int k, rc = 0;
+        for (k = 0; k < 300; k++) {
+            eo_sim_get_state(s, xb, vb, NULL, NULL);
+            if ((rc = eo_sim_step(s, &r)) < 0 || r.reason != EO_CONVERGED_EXPLICIT) break;
+        }
+        double t;
+        int index;
+        eo_sim_get_state(s, xa, va, &t, &index);
+        int same = 1;
+        for (int i = 0; i < nf; i++) same &= xa[i] == xb[i] && va[i] == vb[i];
+        printf("cantilever %s %s: %s at step %d, kept t = %g, max disp %.3g m\n", cases[c][0], cases[c][1],
+               eo_reason_name(r.reason), k + 1, t, r.stats.max_disp);
+        CHECK(rc == EO_OK && r.reason == EO_DIVERGED_NONFINITE, "%s: rc %d reason %s", cases[c][0], rc,
+              eo_reason_name(r.reason));
+        CHECK(k > 0 && k < 299, "%s: diverged at step %d of 300", cases[c][0], k + 1);
+        CHECK(index == k && fabs(t - k * dt) < 1e-9 * dt * (k + 1) && fabs(r.t - t) == 0,
+              "%s: the last finite state is kept (index %d, t %g)", cases[c][0], index, t);
+        CHECK(same && eo_step_state_finite(eo_sim_step_problem(s)) && isfinite(r.stats.max_disp),
+              "%s: state unchanged by the diverged step and finite", cases[c][0]);
+        double *x = malloc((size_t)nf * sizeof(double));
+        eo_solve_result sr;
+        CHECK(eo_sim_trial(s, NULL, NULL, x, NULL, NULL, NULL, &sr) == EO_ERR_UNSUPPORTED, "trial refuses explicit");
+        free(x);
+        free(xb);
+        eo_sim_destroy(&s);
+        eo_test_ctx_done(&ctx);
+    }
+}
+
+/* The consistent-mass solve of the explicit integrators takes solver.linear (with its
+ * section): rk4 on the cantilever, 60 steps at dt = 2e-5, with cholmod (default) and with
+ * pcg (ichol0, tol 1e-14): the trajectories differ (another solver ran) by at most
+ * 1e-8 relative to the displacement. A bad linear solver name fails at create. */
+static void test_mass_solver(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    const char *lin[2][3] = {{"solver.linear=cholmod", "solver.max_iters=100", NULL},
+                             {"solver.linear=pcg", "solver.pcg.tol=1e-14", "solver.pcg.preconditioner=ichol0"}};
+    eo_sim *s[2] = {NULL, NULL};
+    for (int q = 0; q < 2; q++) {
+        const char *ov[] = {"time.integrator=rk4", "time.dt=2e-5", "time.steps=60", lin[q][0], lin[q][1], lin[q][2],
+                            NULL};
+        CHECK(eo_sim_create_from(ctx, NULL, "cantilever", ov, &s[q]) == EO_OK, "%s", eo_ctx_message(ctx));
+        if (!s[q]) return;
+        for (int k = 0; k < 60; k++) {
+            eo_sim_step_result r;
+            CHECK(eo_sim_step(s[q], &r) == EO_OK && r.reason == EO_CONVERGED_EXPLICIT, "%s step %d", lin[q][0], k);
+        }
+    }
+    const eo_step *a = eo_sim_step_problem(s[0]), *b = eo_sim_step_problem(s[1]);
+    const double *X = eo_step_x0(a);
+    double dmax = 0, umax = 0;
+    for (int i = 0; i < 3 * eo_sim_scene(s[0])->mesh->nv; i++) {
+        dmax = fmax(dmax, fabs(eo_step_x(a)[i] - eo_step_x(b)[i]));
+        umax = fmax(umax, fabs(eo_step_x(a)[i] - X[i]));
+    }
+    printf("mass solve cholmod vs pcg, rk4 60 steps: max |dx| %.3g m, max displacement %.3g m\n", dmax, umax);
+    CHECK(umax > 1e-7 && dmax > 0 && dmax <= 1e-8 * umax, "pcg vs cholmod: %g of %g", dmax, umax);
+    eo_sim_destroy(&s[0]);
+    eo_sim_destroy(&s[1]);
+    const char *bad[] = {"time.integrator=rk4", "solver.linear=nosuch", NULL};
+    eo_sim *sb = NULL;
+    CHECK(eo_sim_create_from(ctx, NULL, "cantilever", bad, &sb) == EO_ERR_UNKNOWN_NAME && !sb, "bad linear name: %s",
+          eo_ctx_message(ctx));
+    eo_test_ctx_done(&ctx);
+}
+
 int main(void)
 {
+    test_explicit_blowup_cantilever();
+    test_mass_solver();
     test_errors();
     test_single_spring();
     test_hanging_chain();
