@@ -328,8 +328,78 @@ static void test_regions_and_release(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* The eo_sim API on the cantilever (newmark, Newton): a trial solves the next step
+ * without advancing (index and time unchanged, two trials bit-identical, and the step
+ * then accepted has exactly the trial's minimizer); get/set_state replays steps
+ * bit-identically; set_solver swaps the method (Newton + abs, capped at 7 iterations, converges the
+ * next steps; a bad name keeps the old solver);
+ * creation refuses an unknown key and an unknown solver name (no sim). */
+static void test_sim_api(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    eo_sim *s = NULL;
+    const char *ov[] = {"time.steps=10", NULL};
+    CHECK(eo_sim_create_from(ctx, NULL, "cantilever", ov, &s) == EO_OK, "%s", eo_ctx_message(ctx));
+    if (!s) return;
+    const int nf = 3 * eo_sim_scene(s)->mesh->nv;
+    double *buf = malloc(6 * (size_t)nf * sizeof(double));
+    double *x1 = buf, *x2 = buf + nf, *xs = buf + 2 * nf, *vs = buf + 3 * nf, *xa = buf + 4 * nf, *xb = buf + 5 * nf;
+    eo_sim_step_result r;
+    for (int k = 0; k < 2; k++) CHECK(eo_sim_step(s, &r) == EO_OK && r.reason > 0, "step %d", k);
+    eo_objective *obj;
+    eo_solve_result t1, t2;
+    CHECK(eo_sim_trial(s, NULL, NULL, x1, NULL, NULL, &obj, &t1) == EO_OK && t1.reason > 0, "trial 1");
+    CHECK(eo_sim_trial(s, NULL, NULL, x2, NULL, NULL, NULL, &t2) == EO_OK, "trial 2");
+    CHECK(eo_sim_index(s) == 2 && fabs(eo_sim_time(s) - 2 * eo_sim_scene(s)->time.dt) < 1e-15, "trial does not advance");
+    int same = t1.iterations == t2.iterations;
+    for (int i = 0; i < obj->n; i++) same &= x1[i] == x2[i];
+    CHECK(same, "two trials from one state are identical");
+    CHECK(eo_sim_step(s, &r) == EO_OK && r.iterations == t1.iterations && r.g == t1.g, "step = trial: %d vs %d",
+          r.iterations, t1.iterations);
+    const eo_step *st = eo_sim_step_problem(s);
+    same = 1;
+    for (int i = 0; i < obj->n; i++) same &= eo_step_x(st)[eo_step_free_to_full(st, i)] == x1[i];
+    CHECK(same, "the accepted step is the trial's minimizer");
+    /* replay */
+    double ts;
+    int is;
+    eo_sim_get_state(s, xs, vs, &ts, &is);
+    for (int k = 0; k < 2; k++) eo_sim_step(s, &r);
+    eo_sim_get_state(s, xa, NULL, NULL, NULL);
+    CHECK(eo_sim_set_state(s, xs, vs, ts, is) == EO_OK && eo_sim_index(s) == 3, "set_state");
+    for (int k = 0; k < 2; k++) eo_sim_step(s, &r);
+    eo_sim_get_state(s, xb, NULL, NULL, NULL);
+    same = eo_sim_index(s) == 5;
+    for (int i = 0; i < nf; i++) same &= xa[i] == xb[i];
+    CHECK(same, "set_state + 2 steps replays bit-identically");
+    /* swap the solver */
+    eo_solver_opts o;
+    eo_solver_opts_default(&o);
+    snprintf(o.hessian_fix, sizeof o.hessian_fix, "abs");
+    o.max_iters = 7;
+    CHECK(eo_sim_set_solver(s, &o, NULL) == EO_OK, "%s", eo_ctx_message(ctx));
+    CHECK(strcmp(eo_solver_get_opts(eo_sim_solver(s))->hessian_fix, "abs") == 0, "solver swapped");
+    for (int k = 0; k < 2; k++)
+        CHECK(eo_sim_step(s, &r) == EO_OK && r.reason > 0 && r.iterations <= 7, "swapped solver's step: %s",
+              eo_reason_name(r.reason));
+    snprintf(o.optimizer, sizeof o.optimizer, "nosuch");
+    CHECK(eo_sim_set_solver(s, &o, NULL) == EO_ERR_UNKNOWN_NAME &&
+              strcmp(eo_solver_get_opts(eo_sim_solver(s))->hessian_fix, "abs") == 0,
+          "a bad solver keeps the old one");
+    eo_sim_reset(s);
+    CHECK(eo_sim_index(s) == 0 && eo_sim_time(s) == 0, "reset");
+    free(buf);
+    eo_sim_destroy(&s);
+    CHECK(s == NULL, "destroy clears");
+    const char *bad1[] = {"solver.optimizer=newtn", NULL}, *bad2[] = {"time.stepz=3", NULL};
+    CHECK(eo_sim_create_from(ctx, NULL, "cantilever", bad1, &s) == EO_ERR_UNKNOWN_NAME && !s, "bad optimizer");
+    CHECK(eo_sim_create_from(ctx, NULL, "cantilever", bad2, &s) < 0 && !s, "unknown key: %s", eo_ctx_message(ctx));
+    eo_test_ctx_done(&ctx);
+}
+
 int main(void)
 {
+    test_sim_api();
     test_scene_errors();
     test_examples();
     test_freefall();
