@@ -45,7 +45,7 @@ const eo_param_desc eo_solver_opts_desc[] = {
      .help = "stopping rule (reads tol)"},
     {.key = "linear", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linear),
      OPTS_STR(linear), .def.s = "cholmod", .registry = &eo_reg_linsolve,
-     .help = "linear solver for Newton systems"},
+     .help = "linear solver for Newton systems and the consistent-mass solve of explicit integrators"},
     {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_solver_opts, tol), .def.d = 1e-10,
      .min = 0, .range = EO_RANGE_POSITIVE,
      .help = "newton_decrement: lambda^2/2 <= tol (units of g); gradient: relative reduction"},
