@@ -90,7 +90,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         EO_TRY(rc = eo_poisson_create_opts(ctx, n, &po, &p));
     }
     eo_objective *obj = eo_poisson_objective(p);
-    EO_TRY(rc = eo_solver_create(ctx, &so, cfg, obj->n, &solver));
+    EO_TRY(rc = eo_solver_create(ctx, &so, cfg, &solver));
     EO_TRY(rc = eo_cfg_finish(ctx, cfg));
     u = eo_calloc(ctx, (size_t)obj->n, sizeof(double));
     if (!u) {

@@ -24,18 +24,18 @@ static const char *scene =
 static int solve(const char *const *ov, double *x, int *n, int *iters, int *reason)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
-    int rc = eo_sim_open(&s, ctx, NULL, scene, ov);
+    eo_sim *s = NULL;
+    int rc = eo_test_sim_open(&s, ctx, NULL, scene, ov);
     if (rc == 0) {
         eo_solve_result r;
-        double *x0 = eo_step_guess(s.st);
-        rc = eo_solver_minimize(s.solver, s.obj, x0, NULL, NULL, &r);
-        *n = s.obj->n;
+        double *x0 = eo_test_sim_guess(s);
+        rc = eo_solver_minimize(eo_sim_solver(s), eo_test_sim_obj(s), x0, NULL, NULL, &r);
+        *n = eo_test_sim_obj(s)->n;
         memcpy(x, x0, (size_t)*n * sizeof(double));
         *iters = r.iterations;
         *reason = r.reason;
     }
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
     return rc;
 }

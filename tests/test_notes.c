@@ -159,7 +159,7 @@ static int minimize(eo_ctx *ctx, eo_objective *obj, const char *const *ov, doubl
     static const char *const top[] = {"solver", NULL};
     if (rc >= 0) eo_cfg_expect(cfg, "", top);
     if (rc >= 0) rc = eo_solver_opts_load(ctx, cfg, &so);
-    if (rc >= 0) rc = eo_solver_create(ctx, &so, cfg, obj->n, &s);
+    if (rc >= 0) rc = eo_solver_create(ctx, &so, cfg, &s);
     if (rc >= 0) rc = eo_cfg_finish(ctx, cfg);
     memset(r, 0, sizeof *r);
     if (rc >= 0) rc = eo_solver_minimize(s, obj, x, tr ? record : NULL, tr, r);

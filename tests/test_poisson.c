@@ -50,7 +50,7 @@ static int solve(eo_ctx *ctx, eo_poisson *p, const char *const *ov, double *u, i
     static const char *const top[] = {"solver", NULL};
     if (rc >= 0) eo_cfg_expect(cfg, "", top);
     if (rc >= 0) rc = eo_solver_opts_load(ctx, cfg, &so);
-    if (rc >= 0) rc = eo_solver_create(ctx, &so, cfg, obj->n, &s);
+    if (rc >= 0) rc = eo_solver_create(ctx, &so, cfg, &s);
     if (rc >= 0) rc = eo_cfg_finish(ctx, cfg);
     eo_solve_result r;
     memset(&r, 0, sizeof r);
