@@ -6,5 +6,8 @@ const void *const eo_registry_hessfix[] = {
     &eo_hessfix_shift,
     &eo_hessfix_clamp,
     &eo_hessfix_abs,
+    &eo_hessfix_project_on_demand,
+    &eo_hessfix_progressive,
+    &eo_hessfix_trust_region_filter,
     NULL,
 };
