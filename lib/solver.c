@@ -184,7 +184,7 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n
     s->opt_set_up = 1;
     EO_TRY(rc = opt->setup(s->opt_state, s->params[SLOT_OPT], n, ctx));
     const eo_hessfix_type *hf = s->type[SLOT_HESSFIX];
-    if (hf->state_size) {
+    if (hf->state_size && opt->needs_hessian) { /* optimizers without a Hessian skip it */
         s->hf_state = eo_calloc(ctx, 1, hf->state_size);
         if (!s->hf_state) {
             rc = eo_error(ctx, EO_ERR_NOMEM, "solver: out of memory");

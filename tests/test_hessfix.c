@@ -1,4 +1,4 @@
-/* Hessian fixes as methods (suite 'solvers'): the fix op of solver.h on the step
+/* Hessian fixes as methods (suite 'engine': it runs the engine scenes): the fix op of solver.h on the step
  * objective and through newton / projective_dynamics.
  *
  *  1. pin: Newton's iterates with none/shift/clamp/abs on the engine scenes cantilever,

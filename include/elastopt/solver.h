@@ -303,7 +303,8 @@ typedef struct eo_solver_ctx {
     eo_linsolve *linear;                ///< NULL for methods that do not solve systems
     const eo_hessfix_type *hessfix;
     const void *hessfix_params;         ///< the fix's params struct or NULL (= defaults)
-    void *hessfix_state;                ///< the fix's state (set up for n), NULL if none
+    void *hessfix_state;                ///< the fix's state (set up for n); NULL if the fix has
+                                        ///< none or the optimizer has needs_hessian = 0
     const eo_linesearch_type *linesearch;
     const void *linesearch_params;
     const eo_stop_type *stop;
