@@ -9,6 +9,7 @@
 
 #include "cli.h"
 #include "elastopt/registry.h"
+#include "elastopt/scene.h"
 
 extern const eo_cli_command eo_cmd_help;
 

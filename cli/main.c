@@ -2,9 +2,12 @@
  * per subcommand in the table below. */
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
+#include "eo_build_config.h"
+#include "elastopt/plugin.h"
 
 extern const eo_cli_command eo_cmd_list, eo_cmd_help;
 extern const eo_cli_command eo_cmd_material;
@@ -56,12 +59,50 @@ static void usage(FILE *f)
                "commands:\n");
     for (const eo_cli_command *const *c = eo_cli_commands; *c; c++)
         fprintf(f, "  %-10s %s\n", (*c)->name, (*c)->summary);
-    fprintf(f, "\n`elastopt COMMAND --help` documents each command.\n"
+    fprintf(f, "\nglobal option: --plugin FILE (repeatable; also ELASTOPT_PLUGINS=a.so:b.so) loads methods\n"
+               "from a plug-in shared object (elastopt/plugin.h).\n"
+               "\n`elastopt COMMAND --help` documents each command.\n"
                "exit status: 0 success, 1 ran but did not converge, 2 bad input or usage.\n");
+}
+
+/* Load the plug-ins of ELASTOPT_PLUGINS (':'-separated) and of every `--plugin FILE`
+ * (removed from argv, wherever it is). Returns 0, or 2 after printing the error. */
+static int load_plugins(eo_ctx *ctx, int *argc, char **argv)
+{
+    const char *env = getenv("ELASTOPT_PLUGINS");
+    if (env && *env) {
+        char buf[4096];
+        snprintf(buf, sizeof buf, "%s", env);
+        for (char *save = NULL, *tok = strtok_r(buf, ":", &save); tok; tok = strtok_r(NULL, ":", &save))
+            if (eo_plugin_load(ctx, tok) < 0) return eo_cli_fail(ctx, EO_ERR_IO);
+    }
+    int out = 1;
+    for (int i = 1; i < *argc; i++) {
+        if (strcmp(argv[i], "--plugin") == 0) {
+            if (i + 1 >= *argc) {
+                fprintf(stderr, "elastopt: error: --plugin needs a FILE\n");
+                return EO_EXIT_BAD_INPUT;
+            }
+            if (eo_plugin_load(ctx, argv[++i]) < 0) return eo_cli_fail(ctx, EO_ERR_IO);
+            continue;
+        }
+        argv[out++] = argv[i];
+    }
+    *argc = out;
+    argv[out] = NULL;
+    return 0;
 }
 
 int main(int argc, char **argv)
 {
+    eo_ctx *pctx = NULL; /* plug-ins register process-wide; this context only reports */
+    if (eo_ctx_create(NULL, &pctx) < 0) {
+        fprintf(stderr, "elastopt: out of memory\n");
+        return EO_EXIT_BAD_INPUT;
+    }
+    int prc = load_plugins(pctx, &argc, argv);
+    eo_ctx_destroy(&pctx);
+    if (prc) return prc;
     if (argc < 2) {
         usage(stderr);
         return EO_EXIT_BAD_INPUT;
@@ -71,7 +112,7 @@ int main(int argc, char **argv)
         return EO_EXIT_OK;
     }
     if (strcmp(argv[1], "--version") == 0) {
-        printf("elastopt %s\n", "0.1.0");
+        printf("elastopt %s (ABI %d)\n", EO_VERSION, eo_abi_version());
         return EO_EXIT_OK;
     }
     for (const eo_cli_command *const *c = eo_cli_commands; *c; c++) {

@@ -139,7 +139,7 @@ static int in_range(const eo_param_desc *p, double v)
 static void choices_list(const eo_param_desc *p, char *buf, size_t n)
 {
     if (p->kind == EO_PARAM_METHOD) {
-        eo_registry_names((eo_kind)p->method_kind, buf, n);
+        eo_registry_name_list(p->registry, buf, n);
         return;
     }
     size_t k = 0;
@@ -155,7 +155,7 @@ static int check_name(eo_ctx *ctx, const eo_param_desc *p, const char *s, const 
         for (const char *const *c = p->choices; c && *c; c++)
             if (strcmp(*c, s) == 0) return EO_OK;
     } else if (p->kind == EO_PARAM_METHOD) {
-        for (const void *const *t = eo_registry_list((eo_kind)p->method_kind); t && *t; t++)
+        for (const void *const *t = eo_registry_types(p->registry); t && *t; t++)
             if (strcmp(eo_method_info_of(*t)->name, s) == 0) return EO_OK;
     } else {
         return EO_OK;
@@ -163,7 +163,7 @@ static int check_name(eo_ctx *ctx, const eo_param_desc *p, const char *s, const 
     choices_list(p, list, sizeof list);
     if (p->kind == EO_PARAM_METHOD)
         return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown %s '%s'; valid: %s",
-                    eo_kind_label((eo_kind)p->method_kind), s, list);
+                    p->registry ? eo_kind_label(p->registry->kind) : "method", s, list);
     return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown value '%s'; valid: %s", s, list);
 }
 

@@ -6,6 +6,7 @@
 #include <stddef.h>
 
 #include "elastopt/material.h"
+#include "material_registry.h"
 
 eo_material_coef eo_material_coef_from(double E, double nu, double density, double k)
 {
@@ -27,7 +28,7 @@ eo_material_coef eo_material_coef_from_opts(const eo_material_opts *o)
 const eo_param_desc eo_material_opts_desc[] = {
     {.key = "model", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_material_opts, model),
      .size = sizeof(((eo_material_opts *)0)->model), .def.s = "stable_neo_hookean",
-     .method_kind = EO_KIND_MATERIAL, .help = "material model (registered name)"},
+     .registry = &eo_reg_material, .help = "material model (registered name)"},
     {.key = "E", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_material_opts, E), .def.d = 1e5,
      .min = 0, .range = EO_RANGE_POSITIVE, .help = "Young's modulus (Pa)"},
     {.key = "nu", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_material_opts, nu), .def.d = 0.45,

@@ -1,7 +1,12 @@
-/* Integrator and scene registries: one line per method. */
+/* Integrator and scene registries (one line per method), and the public by-kind entry
+ * points of registry.h: this is the top layer of the library, the one place that knows
+ * every kind's registry (each defined by the layer that owns the kind). */
 #include "elastopt/registry.h"
 #include "elastopt/scene.h"
 #include "elastopt/step.h"
+#include "../materials/material_registry.h"
+#include "../solvers/solver_registry.h"
+#include "problem_registry.h"
 
 #include <stddef.h>
 
@@ -36,3 +41,59 @@ const void *const eo_registry_scene[] = {
     &eo_scene_drop,
     NULL,
 };
+
+static int check_integrator(eo_ctx *ctx, const void *type)
+{
+    const eo_integrator_type *t = type;
+    if (!t->explicit_step && !(t->weight && t->predict && t->velocity))
+        return eo_error(ctx, EO_ERR_INVALID,
+                        "register integrator '%s': explicit_step, or weight + predict + velocity, required",
+                        t->info.name);
+    if (t->explicit_step && t->work_vectors < 0)
+        return eo_error(ctx, EO_ERR_INVALID, "register integrator '%s': work_vectors < 0", t->info.name);
+    return EO_OK;
+}
+
+static int check_scene(eo_ctx *ctx, const void *type)
+{
+    const eo_scene_type *t = type;
+    if (!t->json) return eo_error(ctx, EO_ERR_INVALID, "register scene '%s': json is required", t->info.name);
+    return EO_OK;
+}
+
+eo_registry eo_reg_integrator = EO_REGISTRY_INIT(EO_KIND_INTEGRATOR, eo_registry_integrator, check_integrator);
+eo_registry eo_reg_scene = EO_REGISTRY_INIT(EO_KIND_SCENE, eo_registry_scene, check_scene);
+
+static eo_registry *const kind_registry[EO_KIND_COUNT] = {
+    [EO_KIND_MATERIAL] = &eo_reg_material,
+    [EO_KIND_OPTIMIZER] = &eo_reg_optimizer,
+    [EO_KIND_HESSFIX] = &eo_reg_hessfix,
+    [EO_KIND_LINESEARCH] = &eo_reg_linesearch,
+    [EO_KIND_STOP] = &eo_reg_stop,
+    [EO_KIND_LINSOLVE] = &eo_reg_linsolve,
+    [EO_KIND_INTEGRATOR] = &eo_reg_integrator,
+    [EO_KIND_SCENE] = &eo_reg_scene,
+};
+
+eo_registry *eo_registry_of(eo_kind kind)
+{
+    return (unsigned)kind < EO_KIND_COUNT ? kind_registry[kind] : NULL;
+}
+
+const void *const *eo_registry_list(eo_kind kind) { return eo_registry_types(eo_registry_of(kind)); }
+
+void eo_registry_names(eo_kind kind, char *buf, size_t n) { eo_registry_name_list(eo_registry_of(kind), buf, n); }
+
+int eo_registry_find(eo_ctx *ctx, eo_kind kind, const char *name, const void **out)
+{
+    return eo_registry_lookup(ctx, eo_registry_of(kind), name, out);
+}
+
+int eo_register(eo_ctx *ctx, eo_kind kind, const void *type)
+{
+    eo_registry *r = eo_registry_of(kind);
+    if (!r) return eo_error(ctx, EO_ERR_INVALID, "register: invalid kind %d", (int)kind);
+    return eo_registry_add(ctx, r, type);
+}
+
+int eo_unregister(eo_kind kind, const void *type) { return eo_registry_remove(eo_registry_of(kind), type); }

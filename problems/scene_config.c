@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "elastopt/scene.h"
+#include "problem_registry.h"
 #include "elastopt/step.h"
 
 /* ---------------------------------------------------------------- descriptor tables */
@@ -83,7 +84,7 @@ const eo_param_desc eo_scene_generate_opts_desc[] = {
 
 const eo_param_desc eo_scene_time_opts_desc[] = {
     {.key = "integrator", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_scene_time_opts, integrator),
-     .size = SZ(eo_scene_time_opts, integrator), .def.s = "newmark", .method_kind = EO_KIND_INTEGRATOR,
+     .size = SZ(eo_scene_time_opts, integrator), .def.s = "newmark", .registry = &eo_reg_integrator,
      .help = "time integrator (registered name)"},
     {.key = "dt", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_time_opts, dt), .def.d = 0.01,
      .min = 0, .range = EO_RANGE_POSITIVE, .help = "time step (s)"},

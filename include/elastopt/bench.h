@@ -71,6 +71,7 @@
 #ifndef ELASTOPT_BENCH_H
 #define ELASTOPT_BENCH_H
 
+#include "export.h"
 #include "config.h"
 #include "solver.h"
 
@@ -96,7 +97,7 @@ typedef struct eo_bench_opts {
                             ///< decade of iteration count (0 = every iteration). Default 200.
     int plots;              ///< make PNG plots with gnuplot (if installed). Default true.
 } eo_bench_opts;
-extern const eo_param_desc eo_bench_opts_desc[];
+EO_API extern const eo_param_desc eo_bench_opts_desc[];
 
 /// One `scenes` entry (scalar keys; -1 = the suite's value).
 typedef struct eo_bench_scene_opts {
@@ -108,7 +109,7 @@ typedef struct eo_bench_scene_opts {
     int max_iters;          ///< Default -1.
     int repeats;            ///< timed repeats on this scene. Default -1.
 } eo_bench_scene_opts;
-extern const eo_param_desc eo_bench_scene_desc[];
+EO_API extern const eo_param_desc eo_bench_scene_desc[];
 
 typedef struct eo_bench_suite eo_bench_suite;
 
@@ -117,14 +118,14 @@ typedef struct eo_bench_suite eo_bench_suite;
 /// keys listed), EO_ERR_TYPE, EO_ERR_RANGE, EO_ERR_UNKNOWN_NAME, EO_ERR_INVALID
 /// (duplicate or missing names, baseline not a configuration, empty suite), each
 /// naming the suite file and the scene/configuration.
-int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out);
-void eo_bench_suite_destroy(eo_ctx *ctx, eo_bench_suite **s);
+EO_API int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out);
+EO_API void eo_bench_suite_destroy(eo_ctx *ctx, eo_bench_suite **s);
 /// Scalar options (borrowed) and the expanded names.
-const eo_bench_opts *eo_bench_suite_opts(const eo_bench_suite *s);
-int eo_bench_suite_nscenes(const eo_bench_suite *s);
-int eo_bench_suite_nconfigs(const eo_bench_suite *s);
-const char *eo_bench_suite_scene_name(const eo_bench_suite *s, int i);
-const char *eo_bench_suite_config_name(const eo_bench_suite *s, int i);
+EO_API const eo_bench_opts *eo_bench_suite_opts(const eo_bench_suite *s);
+EO_API int eo_bench_suite_nscenes(const eo_bench_suite *s);
+EO_API int eo_bench_suite_nconfigs(const eo_bench_suite *s);
+EO_API const char *eo_bench_suite_scene_name(const eo_bench_suite *s, int i);
+EO_API const char *eo_bench_suite_config_name(const eo_bench_suite *s, int i);
 
 /// Progress report: scene i of n, configuration j of m (-1 while the reference runs),
 /// fraction done in [0, 1] and estimated seconds left (< 0 unknown).
@@ -142,7 +143,7 @@ typedef struct eo_bench_run_opts {
     eo_bench_progress_fn progress;
     void *user;
 } eo_bench_run_opts;
-eo_bench_run_opts eo_bench_run_opts_default(void);
+EO_API eo_bench_run_opts eo_bench_run_opts_default(void);
 
 /// What eo_bench_run found (counts over every scene × configuration).
 typedef struct eo_bench_summary {
@@ -158,7 +159,7 @@ typedef struct eo_bench_summary {
 /// Run the suite and write into opts->out_dir: curves.csv, summary.csv, trajectory.csv,
 /// report.md and plots/ (PNG + gnuplot scripts and data). Returns EO_OK (the summary
 /// says what failed), or a negative status (I/O, out of memory, an objective error).
-int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *opts,
+EO_API int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *opts,
                  eo_bench_summary *sum);
 
 /* ---- pieces, exposed for tests */
@@ -166,13 +167,13 @@ int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *
 /// Time at which a curve first reaches err <= thr: log-linear interpolation between
 /// the last iterate above thr and the first at or below it (time of the first iterate
 /// if it is already below; INFINITY if never). t[] nondecreasing, err[] may be <= 0.
-double eo_bench_time_to(int n, const double *t, const double *err, double thr);
+EO_API double eo_bench_time_to(int n, const double *t, const double *err, double thr);
 /// Error of the last iterate whose time is <= budget (err[0] if none; NAN if n = 0).
-double eo_bench_error_at(int n, const double *t, const double *err, double budget);
+EO_API double eo_bench_error_at(int n, const double *t, const double *err, double budget);
 /// Median, minimum and maximum of n values (INFINITY counts as a value; NAN ignored).
 /// Works on a copy of at most 64 values (more are ignored). Returns the median (NAN
 /// if no value).
-double eo_bench_median(int n, const double *v, double *vmin, double *vmax);
+EO_API double eo_bench_median(int n, const double *v, double *vmin, double *vmax);
 
 #ifdef __cplusplus
 }

@@ -18,6 +18,7 @@
 #ifndef ELASTOPT_CONFIG_H
 #define ELASTOPT_CONFIG_H
 
+#include "export.h"
 #include "params.h"
 
 #ifdef __cplusplus
@@ -28,34 +29,34 @@ typedef struct eo_cfg eo_cfg;
 
 /// Parse `path` (or, if path is NULL, `builtin_text` named "<builtin>"). Malformed JSON:
 /// EO_ERR_PARSE with file:line:column and jansson's description. Missing file: EO_ERR_IO.
-int eo_cfg_load(eo_ctx *ctx, const char *path, const char *builtin_text, eo_cfg **out);
+EO_API int eo_cfg_load(eo_ctx *ctx, const char *path, const char *builtin_text, eo_cfg **out);
 /// An empty document.
-int eo_cfg_create_empty(eo_ctx *ctx, eo_cfg **out);
-void eo_cfg_destroy(eo_ctx *ctx, eo_cfg **cfg);
+EO_API int eo_cfg_create_empty(eo_ctx *ctx, eo_cfg **out);
+EO_API void eo_cfg_destroy(eo_ctx *ctx, eo_cfg **cfg);
 /// Apply "a.b.c=value": value parsed as JSON if it is JSON, else a string; creates
 /// intermediate objects; list items by index ("boundary.0.fixed=true").
 /// EO_ERR_INVALID for a text without '=' or an empty key.
-int eo_cfg_override(eo_ctx *ctx, eo_cfg *cfg, const char *assignment);
+EO_API int eo_cfg_override(eo_ctx *ctx, eo_cfg *cfg, const char *assignment);
 /// The value at a dotted path, or NULL (borrowed). Marks it (and its parents) consumed.
-json_t *eo_cfg_get(eo_cfg *cfg, const char *path);
+EO_API json_t *eo_cfg_get(eo_cfg *cfg, const char *path);
 /// Record the valid keys at a level that is not loaded by eo_cfg_section (e.g. the
 /// top level: "mesh", "material", ...), for the unknown-key message.
-void eo_cfg_expect(eo_cfg *cfg, const char *path, const char *const *keys);
+EO_API void eo_cfg_expect(eo_cfg *cfg, const char *path, const char *const *keys);
 /// Mark a path consumed without reading it (e.g. a subtree handled elsewhere).
-void eo_cfg_consume(eo_cfg *cfg, const char *path);
+EO_API void eo_cfg_consume(eo_cfg *cfg, const char *path);
 /// Load the object at `path` into a params struct (keys in `extra` are skipped; they are
 /// sub-sections the caller loads itself). Absent section: defaults kept, EO_OK.
-int eo_cfg_section(eo_ctx *ctx, eo_cfg *cfg, const char *path, const eo_param_desc *d,
+EO_API int eo_cfg_section(eo_ctx *ctx, eo_cfg *cfg, const char *path, const eo_param_desc *d,
                    void *obj, const char *const *extra);
 /// The error source for a path: file + text, or "-o" when an override set the value.
-eo_param_src eo_cfg_src(eo_cfg *cfg, const char *path);
+EO_API eo_param_src eo_cfg_src(eo_cfg *cfg, const char *path);
 /// Report the first key that no load consumed (EO_ERR_UNKNOWN_KEY listing the keys
 /// that are valid at that level, as recorded by the section loads).
-int eo_cfg_finish(eo_ctx *ctx, eo_cfg *cfg);
+EO_API int eo_cfg_finish(eo_ctx *ctx, eo_cfg *cfg);
 /// The whole document (borrowed), e.g. to echo it.
-json_t *eo_cfg_root(eo_cfg *cfg);
+EO_API json_t *eo_cfg_root(eo_cfg *cfg);
 /// File name the config came from ("<builtin>" if none).
-const char *eo_cfg_file(const eo_cfg *cfg);
+EO_API const char *eo_cfg_file(const eo_cfg *cfg);
 
 /// A documented config section: its dotted path, descriptor table and one-line summary.
 typedef struct eo_cfg_doc {
@@ -63,9 +64,6 @@ typedef struct eo_cfg_doc {
     const eo_param_desc *params;
     const char *summary;
 } eo_cfg_doc;
-/// The fixed sections of the scene configuration, terminated by a {NULL} entry (defined
-/// by the module that loads them; method parameter sections come from the registries).
-const eo_cfg_doc *eo_config_docs(void);
 
 #ifdef __cplusplus
 }

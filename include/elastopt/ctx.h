@@ -20,6 +20,7 @@
 #ifndef ELASTOPT_CTX_H
 #define ELASTOPT_CTX_H
 
+#include "export.h"
 #include <stddef.h>
 #include <stdarg.h>
 #include "status.h"
@@ -63,54 +64,54 @@ typedef struct eo_errloc {
 #define EO_ERRLOC_ITEM(f, l, k, i) ((eo_errloc){(f), (l), -1, (k), (i)})
 
 /// Create a context. `alloc` is copied (may be NULL). Returns EO_OK or EO_ERR_NOMEM.
-int eo_ctx_create(const eo_allocator *alloc, eo_ctx **out);
+EO_API int eo_ctx_create(const eo_allocator *alloc, eo_ctx **out);
 /// Destroy a context; sets *ctx to NULL; accepts NULL.
-void eo_ctx_destroy(eo_ctx **ctx);
+EO_API void eo_ctx_destroy(eo_ctx **ctx);
 
 /// Install a logger (NULL = silent) and the most verbose level passed to it.
-void eo_ctx_set_logger(eo_ctx *ctx, eo_log_fn fn, void *user, eo_log_level level);
+EO_API void eo_ctx_set_logger(eo_ctx *ctx, eo_log_fn fn, void *user, eo_log_level level);
 /// A ready-made logger writing "level: msg" lines to stderr.
-void eo_log_stderr(eo_log_level level, const char *msg, void *user);
+EO_API void eo_log_stderr(eo_log_level level, const char *msg, void *user);
 /// Log a printf-style message through the context's logger (no-op without one).
-void eo_log(eo_ctx *ctx, eo_log_level level, const char *fmt, ...)
+EO_API void eo_log(eo_ctx *ctx, eo_log_level level, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
 
 /// Allocation through the context; counted in live bytes. eo_free accepts NULL.
-void *eo_malloc(eo_ctx *ctx, size_t size);
-void *eo_calloc(eo_ctx *ctx, size_t n, size_t size);
-void *eo_realloc(eo_ctx *ctx, void *p, size_t size);
-void eo_free(eo_ctx *ctx, void *p);
+EO_API void *eo_malloc(eo_ctx *ctx, size_t size);
+EO_API void *eo_calloc(eo_ctx *ctx, size_t n, size_t size);
+EO_API void *eo_realloc(eo_ctx *ctx, void *p, size_t size);
+EO_API void eo_free(eo_ctx *ctx, void *p);
 /// Copy a string into context memory.
-char *eo_strdup(eo_ctx *ctx, const char *s);
+EO_API char *eo_strdup(eo_ctx *ctx, const char *s);
 /// Bytes currently allocated through the context.
-size_t eo_ctx_live_bytes(const eo_ctx *ctx);
+EO_API size_t eo_ctx_live_bytes(const eo_ctx *ctx);
 /// Failure injection for tests: the n-th allocation from now (1-based) fails; 0 disables.
-void eo_ctx_fail_after(eo_ctx *ctx, long n);
+EO_API void eo_ctx_fail_after(eo_ctx *ctx, long n);
 
 /// Record an error (or warning) and return `status`. The message is formatted as
 /// "<file>:<line>:<column>: <kind> <index>: <text>" with absent parts left out.
-int eo_error_at(eo_ctx *ctx, int status, eo_errloc loc, const char *fmt, ...)
+EO_API int eo_error_at(eo_ctx *ctx, int status, eo_errloc loc, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 4, 5)))
 #endif
     ;
-int eo_error_atv(eo_ctx *ctx, int status, eo_errloc loc, const char *fmt, va_list ap);
+EO_API int eo_error_atv(eo_ctx *ctx, int status, eo_errloc loc, const char *fmt, va_list ap);
 /// Shorthand without location.
 #define eo_error(ctx, status, ...) eo_error_at((ctx), (status), EO_ERRLOC_NONE, __VA_ARGS__)
 
 /// The last error message ("" if none) and its status.
-const char *eo_ctx_message(const eo_ctx *ctx);
-int eo_ctx_status(const eo_ctx *ctx);
+EO_API const char *eo_ctx_message(const eo_ctx *ctx);
+EO_API int eo_ctx_status(const eo_ctx *ctx);
 /// Forget the last error.
-void eo_ctx_clear_error(eo_ctx *ctx);
+EO_API void eo_ctx_clear_error(eo_ctx *ctx);
 /// Assertion handler for programmer errors (not input errors). Replaceable; the
 /// default prints and aborts.
 typedef void (*eo_assert_fn)(const char *expr, const char *file, int line);
-void eo_set_assert_handler(eo_assert_fn fn);
-void eo_assert_fail(const char *expr, const char *file, int line);
+EO_API void eo_set_assert_handler(eo_assert_fn fn);
+EO_API void eo_assert_fail(const char *expr, const char *file, int line);
 #define EO_ASSERT(c) ((c) ? (void)0 : eo_assert_fail(#c, __FILE__, __LINE__))
 
 /// Propagate a negative status: `EO_TRY(rc = f(...));` jumps to `fail` on error.
@@ -120,7 +121,7 @@ void eo_assert_fail(const char *expr, const char *file, int line);
     } while (0)
 
 /// Monotonic wall clock in seconds.
-double eo_wtime(void);
+EO_API double eo_wtime(void);
 
 #ifdef __cplusplus
 }

@@ -12,6 +12,7 @@
 #ifndef ELASTOPT_IO_H
 #define ELASTOPT_IO_H
 
+#include "export.h"
 #include <stdio.h>
 #include "mesh.h"
 
@@ -22,17 +23,17 @@ extern "C" {
 typedef struct eo_afile eo_afile;
 
 /// Open `path` for writing through a temporary file. EO_ERR_IO names the path.
-int eo_afile_open(eo_ctx *ctx, const char *path, eo_afile **out);
-FILE *eo_afile_fp(eo_afile *f);
+EO_API int eo_afile_open(eo_ctx *ctx, const char *path, eo_afile **out);
+EO_API FILE *eo_afile_fp(eo_afile *f);
 /// Flush, fsync-less close and rename into place; frees f and sets *f = NULL.
-int eo_afile_commit(eo_ctx *ctx, eo_afile **f);
+EO_API int eo_afile_commit(eo_ctx *ctx, eo_afile **f);
 /// Discard the temporary file; accepts NULL.
-void eo_afile_abort(eo_ctx *ctx, eo_afile **f);
+EO_API void eo_afile_abort(eo_ctx *ctx, eo_afile **f);
 
 /// Create a folder (and parents) if missing; EO_ERR_IO if impossible or not writable.
-int eo_mkdir_p(eo_ctx *ctx, const char *path);
+EO_API int eo_mkdir_p(eo_ctx *ctx, const char *path);
 /// Read a whole file into a NUL-terminated buffer (eo_free it). EO_ERR_IO if missing.
-int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len);
+EO_API int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len);
 
 /// Per-frame fields for VTU output; any pointer may be NULL to omit the field.
 typedef struct eo_vtu_fields {
@@ -45,17 +46,17 @@ typedef struct eo_vtu_fields {
 } eo_vtu_fields;
 
 /// Write one VTU (XML, appended raw binary, little endian) frame.
-int eo_vtu_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const eo_vtu_fields *f);
+EO_API int eo_vtu_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const eo_vtu_fields *f);
 
 /// A ParaView .pvd time series: add frames, write the index atomically each time.
 typedef struct eo_pvd eo_pvd;
-int eo_pvd_create(eo_ctx *ctx, const char *pvd_path, eo_pvd **out);
+EO_API int eo_pvd_create(eo_ctx *ctx, const char *pvd_path, eo_pvd **out);
 /// Record frame `vtu_file` (relative to the pvd's folder) at time t and rewrite the .pvd.
-int eo_pvd_add(eo_ctx *ctx, eo_pvd *p, double t, const char *vtu_file);
-void eo_pvd_destroy(eo_ctx *ctx, eo_pvd **p);
+EO_API int eo_pvd_add(eo_ctx *ctx, eo_pvd *p, double t, const char *vtu_file);
+EO_API void eo_pvd_destroy(eo_ctx *ctx, eo_pvd **p);
 
 /// Boundary surface as Wavefront OBJ at positions x (NULL: rest).
-int eo_obj_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const double *x);
+EO_API int eo_obj_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const double *x);
 
 #ifdef __cplusplus
 }

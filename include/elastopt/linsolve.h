@@ -34,6 +34,7 @@
 #ifndef ELASTOPT_LINSOLVE_H
 #define ELASTOPT_LINSOLVE_H
 
+#include "export.h"
 #include "registry.h"
 #include "sparse.h"
 
@@ -65,25 +66,25 @@ typedef struct eo_linsolve eo_linsolve;
 /// Create a solver of `type` with `params` (the type's params struct, copied; NULL =
 /// defaults of its descriptor table; checked against the table's ranges).
 /// Returns EO_OK, EO_ERR_RANGE / EO_ERR_UNKNOWN_NAME (bad params), EO_ERR_NOMEM.
-int eo_linsolve_create(eo_ctx *ctx, const eo_linsolve_type *type, const void *params,
+EO_API int eo_linsolve_create(eo_ctx *ctx, const eo_linsolve_type *type, const void *params,
                        eo_linsolve **out);
 /// Free; sets *ls = NULL; accepts NULL.
-void eo_linsolve_destroy(eo_linsolve **ls);
+EO_API void eo_linsolve_destroy(eo_linsolve **ls);
 /// Symbolic phase for the pattern of A (values ignored). Call again if the pattern
 /// changes. EO_OK, EO_ERR_INVALID, EO_ERR_NOMEM, EO_ERR_UNSUPPORTED (e.g. lapack n >
 /// max_n), EO_ERR_LINSOLVE.
-int eo_linsolve_analyze(eo_linsolve *ls, const eo_csc *A);
+EO_API int eo_linsolve_analyze(eo_linsolve *ls, const eo_csc *A);
 /// Numeric phase for A (same pattern as at analyze). EO_OK, EO_WARN_NOT_PD (column in
 /// stats.not_pd_column), EO_ERR_INVALID (pattern changed / not analyzed), EO_ERR_*.
-int eo_linsolve_factor(eo_linsolve *ls, const eo_csc *A);
+EO_API int eo_linsolve_factor(eo_linsolve *ls, const eo_csc *A);
 /// x = A⁻¹ b. EO_OK, EO_WARN_NOT_CONVERGED, EO_WARN_NOT_PD (cg/pcg), EO_ERR_*.
-int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x);
-const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls);
-const eo_linsolve_type *eo_linsolve_get_type(const eo_linsolve *ls);
+EO_API int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x);
+EO_API const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls);
+EO_API const eo_linsolve_type *eo_linsolve_get_type(const eo_linsolve *ls);
 /// The solver's params struct (the copy it uses; borrowed).
-const void *eo_linsolve_get_params(const eo_linsolve *ls);
+EO_API const void *eo_linsolve_get_params(const eo_linsolve *ls);
 /// Look up a registered solver by name (EO_ERR_UNKNOWN_NAME listing the valid names).
-int eo_linsolve_find(eo_ctx *ctx, const char *name, const eo_linsolve_type **out);
+EO_API int eo_linsolve_find(eo_ctx *ctx, const char *name, const eo_linsolve_type **out);
 
 #ifdef __cplusplus
 }

@@ -19,6 +19,7 @@
 #ifndef ELASTOPT_MACHINE_H
 #define ELASTOPT_MACHINE_H
 
+#include "export.h"
 #include <stddef.h>
 
 #ifdef __cplusplus
@@ -36,11 +37,11 @@ typedef struct eo_machine {
 } eo_machine;
 
 /// Fill *m. Never fails.
-void eo_machine_get(eo_machine *m);
+EO_API void eo_machine_get(eo_machine *m);
 
 /// One line (no newline) describing machine and build into buf (n bytes, truncated,
 /// always terminated when n > 0). Returns the length snprintf would have written.
-int eo_machine_describe(char *buf, size_t n);
+EO_API int eo_machine_describe(char *buf, size_t n);
 
 #ifdef __cplusplus
 }

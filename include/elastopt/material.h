@@ -32,6 +32,7 @@
 #ifndef ELASTOPT_MATERIAL_H
 #define ELASTOPT_MATERIAL_H
 
+#include "export.h"
 #include "registry.h"
 #include "proj.h"
 
@@ -47,7 +48,7 @@ typedef struct eo_material_coef {
     double k;        ///< spring stiffness (N/m), springs only
 } eo_material_coef;
 
-eo_material_coef eo_material_coef_from(double E, double nu, double density, double k);
+EO_API eo_material_coef eo_material_coef_from(double E, double nu, double density, double k);
 
 /// The `material` config section (and each entry of a per-region material list).
 typedef struct eo_material_opts {
@@ -58,9 +59,9 @@ typedef struct eo_material_opts {
     double k;         ///< spring stiffness, N/m (spring model). Default 1000; range (0, inf).
 } eo_material_opts;
 /// Descriptor table of eo_material_opts (keys model, E, nu, density, k).
-extern const eo_param_desc eo_material_opts_desc[];
+EO_API extern const eo_param_desc eo_material_opts_desc[];
 /// Coefficients from options.
-eo_material_coef eo_material_coef_from_opts(const eo_material_opts *o);
+EO_API eo_material_coef eo_material_coef_from_opts(const eo_material_opts *o);
 
 /// Values of ψ(σ) and its derivatives in singular-value space.
 typedef struct eo_sigma_eval {
@@ -120,7 +121,7 @@ typedef struct eo_material_eval {
 /// zero; sigma, U, V and J are always filled. Returns EO_OK, or EO_ERR_UNSUPPORTED for
 /// an edge (spring) model. ψ is +INFINITY for barrier models at J <= 0 (then P, dPdF
 /// are zero). Never allocates.
-int eo_material_evaluate(const eo_material_type *mt, const eo_material_coef *c,
+EO_API int eo_material_evaluate(const eo_material_type *mt, const eo_material_coef *c,
                          const double F[9], eo_eval_what what, eo_proj proj,
                          eo_material_eval *out);
 
@@ -129,8 +130,8 @@ int eo_material_evaluate(const eo_material_type *mt, const eo_material_coef *c,
 /// deficient) and the LAPACKE dgesvd reference. Both return U, V ∈ SO(3) (row-major)
 /// and signed σ sorted σ1 ≥ σ2 ≥ |σ3| with the sign of det F on σ3.
 /// eo_svd3_lapack returns EO_OK or EO_ERR_INTERNAL if dgesvd fails.
-void eo_svd3(const double F[9], double U[9], double s[3], double V[9]);
-int eo_svd3_lapack(const double F[9], double U[9], double s[3], double V[9]);
+EO_API void eo_svd3(const double F[9], double U[9], double s[3], double V[9]);
+EO_API int eo_svd3_lapack(const double F[9], double U[9], double s[3], double V[9]);
 
 /// Per-tet element kernel. Precomputed from rest positions: Dm⁻¹ (row-major) and rest
 /// volume w. Given the 12 current coordinates x (vertex-major), computes F = Ds Dm⁻¹,
@@ -147,7 +148,7 @@ typedef struct eo_tet_out {
     double J;
     double psi;
 } eo_tet_out;
-int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
+EO_API int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
                     const double Dminv[9], double w, const double x[12], eo_eval_what what,
                     eo_proj proj, eo_tet_out *out);
 /// Dm⁻¹ and rest volume w = |det Dm|/6 from 12 rest coordinates (vertex-major).
@@ -155,7 +156,7 @@ int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
 /// and w untouched then. Both orientations are accepted: F = Ds Dm⁻¹ is independent of
 /// it, and the mesh layer orients tets so that det[x1−x0, x2−x0, x3−x0] > 0, which is
 /// det Dm < 0 in the notes' Dm = [x1−x4, x2−x4, x3−x4] convention.
-int eo_tet_rest(const double X[12], double Dminv[9], double *w);
+EO_API int eo_tet_rest(const double X[12], double Dminv[9], double *w);
 
 #ifdef __cplusplus
 }

@@ -19,6 +19,7 @@
 #ifndef ELASTOPT_MESH_H
 #define ELASTOPT_MESH_H
 
+#include "export.h"
 #include "ctx.h"
 
 #ifdef __cplusplus
@@ -57,7 +58,7 @@ typedef struct eo_mesh_read_opts {
                              ///< zero-volume. Default 1e-12.
 } eo_mesh_read_opts;
 
-eo_mesh_read_opts eo_mesh_read_opts_default(void);
+EO_API eo_mesh_read_opts eo_mesh_read_opts_default(void);
 
 /// Box/bar generator options.
 typedef struct eo_mesh_gen_opts {
@@ -67,13 +68,13 @@ typedef struct eo_mesh_gen_opts {
     int split;         ///< 5 or 6 tets per cube. Default 6.
 } eo_mesh_gen_opts;
 
-eo_mesh_gen_opts eo_mesh_gen_opts_default(void);
+EO_API eo_mesh_gen_opts eo_mesh_gen_opts_default(void);
 
 /// Allocate an empty mesh with nv vertices and nt tets (arrays uninitialised).
-int eo_mesh_create(eo_ctx *ctx, int nv, int nt, eo_mesh **out);
-void eo_mesh_destroy(eo_ctx *ctx, eo_mesh **m);
+EO_API int eo_mesh_create(eo_ctx *ctx, int nv, int nt, eo_mesh **out);
+EO_API void eo_mesh_destroy(eo_ctx *ctx, eo_mesh **m);
 /// Generate a box of hexahedral cells split into tets (conforming, positive).
-int eo_mesh_generate_box(eo_ctx *ctx, const eo_mesh_gen_opts *o, eo_mesh **out);
+EO_API int eo_mesh_generate_box(eo_ctx *ctx, const eo_mesh_gen_opts *o, eo_mesh **out);
 /// Read a mesh file; validates (see eo_mesh_validate). opts may be NULL.
 /// Returns EO_OK, EO_WARN_DROPPED (items dropped as the options allow; counts in the
 /// mesh), or an error: EO_ERR_IO (missing/unreadable file), EO_ERR_PARSE (truncated,
@@ -82,42 +83,42 @@ int eo_mesh_generate_box(eo_ctx *ctx, const eo_mesh_gen_opts *o, eo_mesh **out);
 /// unreferenced vertex; names file, line and tet/vertex as the file numbers it),
 /// EO_ERR_UNSUPPORTED (binary or other versions, write-only formats), EO_ERR_NOMEM.
 /// On error *out is NULL.
-int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out);
+EO_API int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out);
 /// Read a mesh from text in memory (copied; need not be NUL-terminated). `fmt` must be
 /// TETGEN, MEDIT or GMSH; `name` is used in messages. For TETGEN the text is the .node
 /// contents, one NUL byte, then the .ele contents (named name.node / name.ele).
-int eo_mesh_read_buffer(eo_ctx *ctx, const char *text, size_t len, eo_mesh_format fmt,
+EO_API int eo_mesh_read_buffer(eo_ctx *ctx, const char *text, size_t len, eo_mesh_format fmt,
                         const char *name, const eo_mesh_read_opts *opts, eo_mesh **out);
 /// Parse a generator spec "gen:SX,SY,SZ:NX,NY,NZ[:5|6]" (sizes > 0, cells >= 1) into *o
 /// (origin 0). EO_ERR_PARSE naming the spec and what was expected.
-int eo_mesh_gen_opts_parse(eo_ctx *ctx, const char *spec, eo_mesh_gen_opts *o);
+EO_API int eo_mesh_gen_opts_parse(eo_ctx *ctx, const char *spec, eo_mesh_gen_opts *o);
 /// Load from a file path or a "gen:..." spec (then opts are ignored).
-int eo_mesh_load(eo_ctx *ctx, const char *source, const eo_mesh_read_opts *opts, eo_mesh **out);
+EO_API int eo_mesh_load(eo_ctx *ctx, const char *source, const eo_mesh_read_opts *opts, eo_mesh **out);
 /// Short name of a format ("tetgen", "medit", "gmsh", "vtu", "obj"; "auto").
-const char *eo_mesh_format_name(eo_mesh_format fmt);
+EO_API const char *eo_mesh_format_name(eo_mesh_format fmt);
 /// Write a mesh (rest positions) in the given or guessed format, atomically.
-int eo_mesh_write(eo_ctx *ctx, const eo_mesh *m, const char *path, eo_mesh_format fmt);
+EO_API int eo_mesh_write(eo_ctx *ctx, const eo_mesh *m, const char *path, eo_mesh_format fmt);
 /// Reorient negative tets, reject/drop zero-volume or duplicate tets, out-of-range
 /// indices, non-finite coordinates, unreferenced vertices. `file` is for messages.
-int eo_mesh_validate(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts, const char *file);
+EO_API int eo_mesh_validate(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts, const char *file);
 /// Format from a file name's extension (EO_MESH_AUTO if unknown).
-eo_mesh_format eo_mesh_format_from_path(const char *path);
+EO_API eo_mesh_format eo_mesh_format_from_path(const char *path);
 
 /// Signed volume of tet t at positions x (3*nv).
-double eo_tet_volume(const double *x, const int *tet);
+EO_API double eo_tet_volume(const double *x, const int *tet);
 /// Total rest volume.
-double eo_mesh_volume(const eo_mesh *m);
+EO_API double eo_mesh_volume(const eo_mesh *m);
 /// Mesh statistics.
 typedef struct eo_mesh_stats {
     double volume, min_volume, max_volume;
     double bbox[6];          ///< min xyz, max xyz
     double worst_quality;    ///< min over tets of the normalized radius ratio (1 = regular)
 } eo_mesh_stats;
-void eo_mesh_stats_compute(const eo_mesh *m, eo_mesh_stats *s);
+EO_API void eo_mesh_stats_compute(const eo_mesh *m, eo_mesh_stats *s);
 
 /// Boundary faces (triangles with one adjacent tet) of a valid mesh, outward oriented; *faces has
 /// 3*(*nf) vertex indices, allocated through ctx (caller frees with eo_free).
-int eo_mesh_boundary_faces(eo_ctx *ctx, const eo_mesh *m, int **faces, int *nf);
+EO_API int eo_mesh_boundary_faces(eo_ctx *ctx, const eo_mesh *m, int **faces, int *nf);
 
 #ifdef __cplusplus
 }

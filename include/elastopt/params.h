@@ -22,6 +22,7 @@
 #ifndef ELASTOPT_PARAMS_H
 #define ELASTOPT_PARAMS_H
 
+#include "export.h"
 #include <stddef.h>
 #include <stdio.h>
 #include "ctx.h"
@@ -39,7 +40,7 @@ typedef enum eo_param_kind {
     EO_PARAM_BOOL,     ///< int 0/1
     EO_PARAM_STRING,   ///< char[.size]
     EO_PARAM_CHOICE,   ///< char[.size], one of .choices
-    EO_PARAM_METHOD,   ///< char[.size], a registered name of kind .method_kind
+    EO_PARAM_METHOD,   ///< char[.size], a name registered in .registry
     EO_PARAM_VEC3      ///< double[3]
 } eo_param_kind;
 
@@ -67,7 +68,7 @@ typedef struct eo_param_desc {
     double min, max;           ///< range, used as told by .range
     unsigned range;            ///< EO_RANGE_* bits; 0 = unbounded
     const char *const *choices;///< CHOICE: NULL-terminated list
-    int method_kind;           ///< METHOD: an eo_kind (registry.h)
+    const struct eo_registry *registry; ///< METHOD: the registry of the kind (registry.h)
     const char *help;          ///< one line: meaning and unit
 } eo_param_desc;
 
@@ -82,37 +83,37 @@ typedef struct eo_param_src {
 } eo_param_src;
 
 /// Number of entries of a table (up to the END entry).
-size_t eo_params_count(const eo_param_desc *d);
+EO_API size_t eo_params_count(const eo_param_desc *d);
 /// Find a key in a table; NULL if absent.
-const eo_param_desc *eo_params_find(const eo_param_desc *d, const char *key);
+EO_API const eo_param_desc *eo_params_find(const eo_param_desc *d, const char *key);
 /// Set every field of `obj` to its default.
-void eo_params_default(const eo_param_desc *d, void *obj);
+EO_API void eo_params_default(const eo_param_desc *d, void *obj);
 /// Check every field against its range/choices. EO_ERR_RANGE with the key named.
-int eo_params_check(eo_ctx *ctx, const eo_param_desc *d, const void *obj, const eo_param_src *src);
+EO_API int eo_params_check(eo_ctx *ctx, const eo_param_desc *d, const void *obj, const eo_param_src *src);
 /// Load the members of a JSON object into `obj`. Keys not in the table are an error
 /// (EO_ERR_UNKNOWN_KEY listing the valid keys) unless listed in `extra_keys`
 /// (NULL-terminated; sub-sections the caller handles). Type mismatch: EO_ERR_TYPE;
 /// out of range: EO_ERR_RANGE; unknown choice/method: EO_ERR_UNKNOWN_NAME.
-int eo_params_load(eo_ctx *ctx, const eo_param_desc *d, void *obj, const json_t *section,
+EO_API int eo_params_load(eo_ctx *ctx, const eo_param_desc *d, void *obj, const json_t *section,
                    const char *const *extra_keys, const eo_param_src *src);
 /// Set one field from a JSON value (already parsed), with the same checks.
-int eo_params_set_json(eo_ctx *ctx, const eo_param_desc *p, void *obj, const json_t *value,
+EO_API int eo_params_set_json(eo_ctx *ctx, const eo_param_desc *p, void *obj, const json_t *value,
                        const eo_param_src *src);
 /// Echo the effective values as a new JSON object (caller owns the reference).
-json_t *eo_params_to_json(const eo_param_desc *d, const void *obj);
+EO_API json_t *eo_params_to_json(const eo_param_desc *d, const void *obj);
 /// Print `--help` lines: "  prefix.key  type  default  range — help".
-void eo_params_help(FILE *f, const eo_param_desc *d, const char *prefix);
+EO_API void eo_params_help(FILE *f, const eo_param_desc *d, const char *prefix);
 /// Format the valid keys of a table, comma-separated, into buf.
-void eo_params_keys(const eo_param_desc *d, const char *const *extra, char *buf, size_t n);
+EO_API void eo_params_keys(const eo_param_desc *d, const char *const *extra, char *buf, size_t n);
 
 /// Parse the value text of `-o key=value`: JSON if it parses as JSON (numbers, true,
 /// false, arrays, quoted strings, objects), else a plain string. New reference.
-json_t *eo_json_from_override(const char *text);
+EO_API json_t *eo_json_from_override(const char *text);
 /// Find the 1-based line and column of a dotted key path ("solver.newton.c1",
 /// list items as "boundary.2") in JSON text. Returns 0 if found, -1 if not.
-int eo_json_locate(const char *text, const char *path, long *line, long *col);
+EO_API int eo_json_locate(const char *text, const char *path, long *line, long *col);
 /// Name of a JSON value's type ("number", "string", ...).
-const char *eo_json_type_name(const json_t *v);
+EO_API const char *eo_json_type_name(const json_t *v);
 
 #ifdef __cplusplus
 }

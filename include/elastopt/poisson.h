@@ -26,6 +26,7 @@
 #ifndef ELASTOPT_POISSON_H
 #define ELASTOPT_POISSON_H
 
+#include "export.h"
 #include "objective.h"
 
 #ifdef __cplusplus
@@ -35,18 +36,18 @@ extern "C" {
 typedef struct eo_poisson eo_poisson;
 
 /// Unit square with n×n cells (n >= 2). EO_ERR_INVALID for n < 2, EO_ERR_NOMEM.
-int eo_poisson_create(eo_ctx *ctx, int n, eo_poisson **out);
-void eo_poisson_destroy(eo_poisson **p);
+EO_API int eo_poisson_create(eo_ctx *ctx, int n, eo_poisson **out);
+EO_API void eo_poisson_destroy(eo_poisson **p);
 /// The objective g(u) = ½uᵀKu − Fᵀu over the (n−1)² interior nodes (borrowed).
-eo_objective *eo_poisson_objective(eo_poisson *p);
+EO_API eo_objective *eo_poisson_objective(eo_poisson *p);
 /// The stiffness matrix K (upper CSC, borrowed) and load vector F (borrowed).
-const eo_csc *eo_poisson_matrix(const eo_poisson *p);
-const double *eo_poisson_load(const eo_poisson *p);
+EO_API const eo_csc *eo_poisson_matrix(const eo_poisson *p);
+EO_API const double *eo_poisson_load(const eo_poisson *p);
 /// Interior node i (0-based) ↔ grid position (i % (n−1) + 1, i / (n−1) + 1)·h.
 /// L2 error ‖u_h − u‖ over Ω and max nodal error of interior values u (n−1)².
-int eo_poisson_error(const eo_poisson *p, const double *u, double *l2, double *max_err);
+EO_API int eo_poisson_error(const eo_poisson *p, const double *u, double *l2, double *max_err);
 /// Mesh size h = 1/n.
-double eo_poisson_h(const eo_poisson *p);
+EO_API double eo_poisson_h(const eo_poisson *p);
 
 #ifdef __cplusplus
 }

@@ -61,6 +61,7 @@
 #ifndef ELASTOPT_SCENE_H
 #define ELASTOPT_SCENE_H
 
+#include "export.h"
 #include "config.h"
 #include "material.h"
 #include "mesh.h"
@@ -156,20 +157,23 @@ typedef struct eo_scene_rotate_opts {
     double rate;            ///< angular velocity, rad/s. Default 0.
 } eo_scene_rotate_opts;
 
-extern const eo_param_desc eo_scene_opts_desc[];
-extern const eo_param_desc eo_scene_mesh_opts_desc[];
-extern const eo_param_desc eo_scene_generate_opts_desc[];
-extern const eo_param_desc eo_scene_time_opts_desc[];
-extern const eo_param_desc eo_scene_output_opts_desc[];
-extern const eo_param_desc eo_scene_initial_opts_desc[];
-extern const eo_param_desc eo_scene_plane_opts_desc[];
-extern const eo_param_desc eo_scene_ball_opts_desc[];
-extern const eo_param_desc eo_scene_bc_opts_desc[];
-extern const eo_param_desc eo_scene_rotate_opts_desc[];
-extern const eo_param_desc eo_scene_springs_opts_desc[];
-extern const eo_param_desc eo_scene_collision_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_mesh_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_generate_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_time_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_output_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_initial_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_plane_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_ball_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_bc_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_rotate_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_springs_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_collision_opts_desc[];
 /// The scene's documented sections ({NULL} terminated), for `elastopt help`.
-extern const eo_cfg_doc eo_scene_docs[];
+EO_API extern const eo_cfg_doc eo_scene_docs[];
+/// Every fixed section of a scene configuration: the scene's, `material` and `solver`,
+/// terminated by a {NULL} entry (method parameter sections come from the registries).
+EO_API const eo_cfg_doc *eo_config_docs(void);
 
 typedef enum eo_bc_select { EO_BC_BOX, EO_BC_PLANE, EO_BC_MARKER } eo_bc_select;
 typedef enum eo_bc_motion { EO_BC_FIXED, EO_BC_TRANSLATE, EO_BC_ROTATE } eo_bc_motion;
@@ -225,15 +229,15 @@ typedef struct eo_scene {
 
 /// Load a configuration document: `path` if not NULL, else the built-in scene `name`
 /// (NULL: "cantilever", the default). EO_ERR_UNKNOWN_NAME lists the built-in scenes.
-int eo_scene_cfg_load(eo_ctx *ctx, const char *path, const char *name, eo_cfg **out);
+EO_API int eo_scene_cfg_load(eo_ctx *ctx, const char *path, const char *name, eo_cfg **out);
 /// Read every scene key of cfg (all but `solver`, which is declared valid at the top
 /// level), build or read the mesh, select boundary vertices, check everything.
 /// Errors name the file with the line of the key (or the -o override): unknown keys,
 /// wrong types, ranges, a boundary entry selecting no vertex, mesh problems.
-int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out);
-void eo_scene_destroy(eo_ctx *ctx, eo_scene **sc);
+EO_API int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out);
+EO_API void eo_scene_destroy(eo_ctx *ctx, eo_scene **sc);
 /// The resolved options (every section with its defaults filled in) as a new JSON object.
-json_t *eo_scene_to_json(const eo_scene *sc);
+EO_API json_t *eo_scene_to_json(const eo_scene *sc);
 
 /// A built-in scene: the registry (EO_KIND_SCENE) entry, JSON text identical in
 /// meaning to examples/<name>.json.

@@ -347,18 +347,18 @@ typedef struct eo_optimizer_type {
     void (*destroy)(void *st, eo_ctx *ctx);
 } eo_optimizer_type;
 
-extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_gradient_descent,
+EO_API extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_gradient_descent,
     eo_optimizer_lbfgs, eo_optimizer_projective_dynamics;
 EO_API extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfix_clamp,
     eo_hessfix_abs, eo_hessfix_project_on_demand, eo_hessfix_progressive,
     eo_hessfix_trust_region_filter;
-extern const eo_linesearch_type eo_linesearch_backtracking, eo_linesearch_exact,
+EO_API extern const eo_linesearch_type eo_linesearch_backtracking, eo_linesearch_exact,
     eo_linesearch_none;
-extern const eo_stop_type eo_stop_newton_decrement, eo_stop_gradient;
+EO_API extern const eo_stop_type eo_stop_newton_decrement, eo_stop_gradient;
 
 /// Shared helper for optimizers: report an iteration (fills time = now − t0, calls
 /// sc->on_iter); returns non-zero if the callback asked to stop.
-int eo_solver_report(const eo_solver_ctx *sc, double t0, eo_iter_info *info);
+EO_API int eo_solver_report(const eo_solver_ctx *sc, double t0, eo_iter_info *info);
 
 /// Solver choice: config section `solver` (descriptor eo_solver_opts_desc).
 typedef struct eo_solver_opts {
@@ -372,36 +372,36 @@ typedef struct eo_solver_opts {
     int max_iters;         ///< iteration cap → EO_DIVERGED_MAX_ITERS (default 100)
     double time_budget;    ///< seconds per minimization, 0 = none (default 0)
 } eo_solver_opts;
-extern const eo_param_desc eo_solver_opts_desc[];
+EO_API extern const eo_param_desc eo_solver_opts_desc[];
 
 /// Defaults of every field.
-void eo_solver_opts_default(eo_solver_opts *o);
+EO_API void eo_solver_opts_default(eo_solver_opts *o);
 /// Load config section `solver` into o (keys of eo_solver_opts_desc; the names of all
 /// registered solver methods are accepted as sub-sections, read by eo_solver_create;
 /// anything else is EO_ERR_UNKNOWN_KEY). cfg NULL: no-op.
-int eo_solver_opts_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver_opts *o);
+EO_API int eo_solver_opts_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver_opts *o);
 /// Resolve every name (EO_ERR_UNKNOWN_NAME listing the valid ones), load each method's
 /// params from `solver.<name>` (cfg may be NULL: defaults), check the sections of the
 /// registered but unselected methods too, create the linear solver if the optimizer
 /// needs one and size the workspace for n variables. opts NULL = defaults; copied.
 /// Returns EO_OK, EO_ERR_UNKNOWN_NAME, EO_ERR_UNKNOWN_KEY, EO_ERR_TYPE, EO_ERR_RANGE,
 /// EO_ERR_INVALID, EO_ERR_NOMEM.
-int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n,
+EO_API int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n,
                      eo_solver **out);
 /// Minimize obj (obj->n must equal the n of create) from x (in/out). on_iter may be
 /// NULL. Returns EO_OK with the reason in res (negative reasons are not errors), or a
 /// negative status (EO_ERR_INVALID for a size mismatch, an objective error).
-int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on_iter,
+EO_API int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on_iter,
                        void *user, eo_solve_result *res);
 /// Free; sets *s = NULL; accepts NULL.
-void eo_solver_destroy(eo_solver **s);
+EO_API void eo_solver_destroy(eo_solver **s);
 /// The options in use (borrowed).
-const eo_solver_opts *eo_solver_get_opts(const eo_solver *s);
+EO_API const eo_solver_opts *eo_solver_get_opts(const eo_solver *s);
 /// The linear solver (borrowed; NULL if the optimizer needs none), e.g. for its stats.
-eo_linsolve *eo_solver_get_linsolve(const eo_solver *s);
+EO_API eo_linsolve *eo_solver_get_linsolve(const eo_solver *s);
 /// Echo of the effective configuration: the `solver` section with the selected
 /// methods' parameter sections. New reference (NULL on out of memory).
-json_t *eo_solver_to_json(const eo_solver *s);
+EO_API json_t *eo_solver_to_json(const eo_solver *s);
 
 #ifdef __cplusplus
 }

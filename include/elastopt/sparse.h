@@ -28,6 +28,7 @@
 #ifndef ELASTOPT_SPARSE_H
 #define ELASTOPT_SPARSE_H
 
+#include "export.h"
 #include "ctx.h"
 
 #ifdef __cplusplus
@@ -47,25 +48,25 @@ typedef struct eo_csc {
 /// Allocate an n×n matrix with room for nnz entries (colptr zeroed, rowind/val
 /// uninitialized: the caller fills them keeping the invariants above).
 /// Returns EO_OK, EO_ERR_INVALID (n < 0, nnz < n) or EO_ERR_NOMEM.
-int eo_csc_create(eo_ctx *ctx, int n, int nnz, eo_csc **out);
+EO_API int eo_csc_create(eo_ctx *ctx, int n, int nnz, eo_csc **out);
 /// Deep copy (pattern and values).
-int eo_csc_clone(eo_ctx *ctx, const eo_csc *A, eo_csc **out);
+EO_API int eo_csc_clone(eo_ctx *ctx, const eo_csc *A, eo_csc **out);
 /// Free; sets *A = NULL; accepts NULL.
-void eo_csc_destroy(eo_ctx *ctx, eo_csc **A);
+EO_API void eo_csc_destroy(eo_ctx *ctx, eo_csc **A);
 /// y = A x for the symmetric matrix stored by its upper triangle (y must not alias x).
-void eo_csc_symv(const eo_csc *A, const double *x, double *y);
+EO_API void eo_csc_symv(const eo_csc *A, const double *x, double *y);
 /// Position of entry (i,j) (either order) in val, or -1 if not in the pattern
 /// (binary search in column max(i,j)).
-int eo_csc_find(const eo_csc *A, int i, int j);
+EO_API int eo_csc_find(const eo_csc *A, int i, int j);
 /// Diagonal into d (n).
-void eo_csc_diag(const eo_csc *A, double *d);
+EO_API void eo_csc_diag(const eo_csc *A, double *d);
 /// A += c·I (in place; the diagonal is always stored).
-void eo_csc_shift(eo_csc *A, double c);
+EO_API void eo_csc_shift(eo_csc *A, double c);
 /// Dense n×n (row-major, full symmetric) copy, for tests and small problems.
-void eo_csc_to_dense(const eo_csc *A, double *D);
+EO_API void eo_csc_to_dense(const eo_csc *A, double *D);
 /// Check the invariants (sizes, sorted rows, upper only, diagonal last).
 /// Returns EO_OK or EO_ERR_INVALID with the offending column in the message.
-int eo_csc_check(eo_ctx *ctx, const eo_csc *A);
+EO_API int eo_csc_check(eo_ctx *ctx, const eo_csc *A);
 
 /// Both triangles of a symmetric matrix, for methods that need whole rows
 /// (Gauss–Seidel, SOR, QR). Column j of the full matrix equals row j, rows sorted.
@@ -78,40 +79,40 @@ typedef struct eo_csc_full {
     int *src;       ///< nnz: position in the upper matrix's val of each full entry
     int *diag;      ///< n: position of (j,j) in val
 } eo_csc_full;
-int eo_csc_full_create(eo_ctx *ctx, const eo_csc *A, eo_csc_full **out);
+EO_API int eo_csc_full_create(eo_ctx *ctx, const eo_csc *A, eo_csc_full **out);
 /// Copy the values of A (same pattern as at create) into F. No allocation.
-void eo_csc_full_fill(eo_csc_full *F, const eo_csc *A);
-void eo_csc_full_destroy(eo_ctx *ctx, eo_csc_full **F);
+EO_API void eo_csc_full_fill(eo_csc_full *F, const eo_csc *A);
+EO_API void eo_csc_full_destroy(eo_ctx *ctx, eo_csc_full **F);
 
 typedef struct eo_assembler eo_assembler;
 
 /// Assembler for an n×n symmetric matrix. Returns EO_OK, EO_ERR_INVALID, EO_ERR_NOMEM.
-int eo_assembler_create(eo_ctx *ctx, int n, eo_assembler **out);
+EO_API int eo_assembler_create(eo_ctx *ctx, int n, eo_assembler **out);
 /// Free; sets *as = NULL; accepts NULL.
-void eo_assembler_destroy(eo_ctx *ctx, eo_assembler **as);
+EO_API void eo_assembler_destroy(eo_ctx *ctx, eo_assembler **as);
 /// Register `ne` elements of `k` variables each; `dofs` (ne*k, copied) gives the global
 /// variable of each local one, -1 for eliminated variables. A global id may repeat
 /// inside an element (contributions are summed). Returns a group handle >= 0 or a
 /// negative status (EO_ERR_INVALID for an id out of [-1, n) with the element index,
 /// or after finalize; EO_ERR_NOMEM). Only before finalize.
-int eo_assembler_add_elements(eo_ctx *ctx, eo_assembler *as, int ne, int k, const int *dofs);
+EO_API int eo_assembler_add_elements(eo_ctx *ctx, eo_assembler *as, int ne, int k, const int *dofs);
 /// Build the pattern (upper triangle; every diagonal entry present even if no element
 /// touches it) and the per-element scatter maps. O(nnz log(column length)) time.
 /// Values start at zero. After this, nothing allocates. May be called once.
-int eo_assembler_finalize(eo_ctx *ctx, eo_assembler *as);
+EO_API int eo_assembler_finalize(eo_ctx *ctx, eo_assembler *as);
 /// The assembled matrix (borrowed; pattern fixed after finalize; NULL before).
-eo_csc *eo_assembler_matrix(eo_assembler *as);
+EO_API eo_csc *eo_assembler_matrix(eo_assembler *as);
 /// Set all values to zero.
-void eo_assembler_zero(eo_assembler *as);
+EO_API void eo_assembler_zero(eo_assembler *as);
 /// Add the dense k×k (row-major, symmetric) element matrix of element e of group h:
 /// A += Σ_ab Ke[a*k+b] e_{g(a)} e_{g(b)}ᵀ over non-eliminated a, b. Only entries with
 /// g(a) <= g(b) are read (for g(a) == g(b), both orientations, so repeated ids sum).
-void eo_assembler_add(eo_assembler *as, int h, int e, const double *Ke);
+EO_API void eo_assembler_add(eo_assembler *as, int h, int e, const double *Ke);
 /// Add to one diagonal entry (e.g. a lumped mass or a shift).
-void eo_assembler_add_diag(eo_assembler *as, int i, double v);
+EO_API void eo_assembler_add_diag(eo_assembler *as, int i, double v);
 /// Scatter map of element e of group h: k*k positions in val, -1 where not stored
 /// (for callers that assemble in their own loop). Borrowed.
-const int *eo_assembler_map(const eo_assembler *as, int h, int e);
+EO_API const int *eo_assembler_map(const eo_assembler *as, int h, int e);
 
 #ifdef __cplusplus
 }

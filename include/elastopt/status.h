@@ -19,6 +19,7 @@
 #ifndef ELASTOPT_STATUS_H
 #define ELASTOPT_STATUS_H
 
+#include "export.h"
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -68,13 +69,13 @@ typedef enum eo_reason { EO_REASON_LIST(EO_X_ENUM) } eo_reason;
 #undef EO_X_ENUM
 
 /// Human-readable string of a status code; "unknown status" for values not listed.
-const char *eo_status_string(int status);
+EO_API const char *eo_status_string(int status);
 /// Symbolic name ("EO_ERR_PARSE") of a status code.
-const char *eo_status_name(int status);
+EO_API const char *eo_status_name(int status);
 /// Human-readable string of a convergence reason.
-const char *eo_reason_string(int reason);
+EO_API const char *eo_reason_string(int reason);
 /// Short symbolic name of a reason, lower case without prefix ("converged_decrement").
-const char *eo_reason_name(int reason);
+EO_API const char *eo_reason_name(int reason);
 /// 1 if the reason means converged (positive).
 static inline int eo_reason_is_converged(int reason) { return reason > 0; }
 

@@ -37,6 +37,7 @@
 #ifndef ELASTOPT_STEP_H
 #define ELASTOPT_STEP_H
 
+#include "export.h"
 #include "objective.h"
 #include "scene.h"
 
@@ -87,35 +88,35 @@ typedef struct eo_step eo_step;
 
 /// Create the step problem of a scene (borrowed; must outlive the step) and set the
 /// initial state (eo_step_reset). Errors: EO_ERR_MESH (bad rest tet), EO_ERR_NOMEM.
-int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out);
-void eo_step_destroy(eo_step **st);
+EO_API int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out);
+EO_API void eo_step_destroy(eo_step **st);
 /// Initial state of the scene: rest positions transformed by `initial`, its velocity,
 /// t = 0, step index 0.
-int eo_step_reset(eo_step *st);
+EO_API int eo_step_reset(eo_step *st);
 /// Set the state (3·nv positions and velocities, copied) and time.
-int eo_step_set_state(eo_step *st, const double *x, const double *v, double t);
+EO_API int eo_step_set_state(eo_step *st, const double *x, const double *v, double t);
 /// Build the objective of the next step (t → t + h) and the starting guess; *obj is
 /// borrowed until the next begin. Its n may change between steps when a boundary set
 /// is released.
-int eo_step_begin(eo_step *st, eo_objective **obj);
+EO_API int eo_step_begin(eo_step *st, eo_objective **obj);
 /// The free coordinates of the starting guess (obj->n values, borrowed, writable):
 /// the better (lower g) of xₙ and the predictor x̃; the solver works on it in place.
-double *eo_step_guess(eo_step *st);
+EO_API double *eo_step_guess(eo_step *st);
 /// Element loops with OpenMP (on = 1; only with >= 2048 tets and > 1 thread) or serial
 /// (default). Results are identical either way (per-element buffers, serial scatter).
 /// Measured on a 2-core machine shared with other jobs, the parallel loops were slower
 /// (30k tets: Hessian 50–70 ms serial vs 215–230 ms with 2 threads), hence off by default.
 /// Returns 1 if the parallel path is active.
-int eo_step_set_parallel(eo_step *st, int on);
+EO_API int eo_step_set_parallel(eo_step *st, int on);
 /// Accept the free coordinates x as xₙ₊₁: update positions, velocities, time, index.
 /// EO_ERR_UNSUPPORTED for an explicit integrator (use eo_step_advance).
-int eo_step_end(eo_step *st, const double *x);
+EO_API int eo_step_end(eo_step *st, const double *x);
 
 /// 1 if the scene's integrator is explicit (eo_integrator_type.explicit_step set). For
 /// those, eo_step_begin builds the potential-energy objective E(x) (weight 1, no
 /// inertia: its −∇ is the force the integrator uses), which `elastopt check` verifies;
 /// the run advances with eo_step_advance and needs no solver.
-int eo_step_is_explicit(const eo_step *st);
+EO_API int eo_step_is_explicit(const eo_step *st);
 /// Explicit integrators: advance one step t → t + h. Accelerations a = M⁻¹f: with lumped
 /// mass a division per vertex; with consistent mass M (over the free coordinates,
 /// prescribed accelerations taken as 0 in its coupling) is factored once per set of
@@ -124,24 +125,24 @@ int eo_step_is_explicit(const eo_step *st);
 /// finite (the state then stays at tₙ and the step counter does not advance).
 /// Returns EO_OK (also when diverged), EO_ERR_UNSUPPORTED for an implicit integrator,
 /// EO_ERR_INVALID for a free vertex without mass, or a linear solver error.
-int eo_step_advance(eo_step *st, int *reason);
+EO_API int eo_step_advance(eo_step *st, int *reason);
 /// 1 if the current state is finite: every position and velocity, ‖x‖² and Σ m‖v‖²
 /// (an overflowing square counts as diverged).
-int eo_step_state_finite(const eo_step *st);
+EO_API int eo_step_state_finite(const eo_step *st);
 
 /// Borrowed state: positions and velocities (3·nv), rest positions, mesh.
-const double *eo_step_x(const eo_step *st);
-const double *eo_step_v(const eo_step *st);
-const double *eo_step_x0(const eo_step *st);   ///< positions at t = 0
-double eo_step_time(const eo_step *st);
-int eo_step_index(const eo_step *st);
-const eo_mesh *eo_step_mesh(const eo_step *st);
+EO_API const double *eo_step_x(const eo_step *st);
+EO_API const double *eo_step_v(const eo_step *st);
+EO_API const double *eo_step_x0(const eo_step *st);   ///< positions at t = 0
+EO_API double eo_step_time(const eo_step *st);
+EO_API int eo_step_index(const eo_step *st);
+EO_API const eo_mesh *eo_step_mesh(const eo_step *st);
 /// Full coordinate of free coordinate i, and the free index of full coordinate j (-1 if
 /// constrained) for the current objective.
-int eo_step_free_to_full(const eo_step *st, int i);
-int eo_step_full_to_free(const eo_step *st, int j);
+EO_API int eo_step_free_to_full(const eo_step *st, int i);
+EO_API int eo_step_full_to_free(const eo_step *st, int j);
 /// Lumped mass of each vertex (nv), borrowed.
-const double *eo_step_vertex_mass(const eo_step *st);
+EO_API const double *eo_step_vertex_mass(const eo_step *st);
 
 /// Diagnostics of the current state.
 typedef struct eo_step_stats {
@@ -154,10 +155,10 @@ typedef struct eo_step_stats {
     double elastic;         ///< Σₜ Vₜ (ψ(Fₜ) − ψ(I)): zero at rest
     double gravity;         ///< −f_gᵀx
 } eo_step_stats;
-int eo_step_stats_compute(eo_step *st, eo_step_stats *s);
+EO_API int eo_step_stats_compute(eo_step *st, eo_step_stats *s);
 /// Per-tet fields of the current state: energy density ψ, det F, inverted flag (any
 /// pointer may be NULL; arrays of nt).
-int eo_step_fields(eo_step *st, double *psi, double *J, unsigned char *inverted);
+EO_API int eo_step_fields(eo_step *st, double *psi, double *J, unsigned char *inverted);
 
 #ifdef __cplusplus
 }

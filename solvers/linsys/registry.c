@@ -1,5 +1,6 @@
 /* Registry of the linsys folder: one line per method. */
 #include "elastopt/linsolve.h"
+#include "../solver_registry.h"
 
 extern const eo_linsolve_type eo_linsolve_cholmod;
 extern const eo_linsolve_type eo_linsolve_cholmod_ldlt;
@@ -23,3 +24,14 @@ const void *const eo_registry_linsolve[] = {
     &eo_linsolve_sor,
     NULL,
 };
+
+static int check_linsolve(eo_ctx *ctx, const void *type)
+{
+    const eo_linsolve_type *t = type;
+    if (!t->analyze || !t->factor || !t->solve)
+        return eo_error(ctx, EO_ERR_INVALID, "register linear solver '%s': analyze, factor and solve are required",
+                        t->info.name);
+    return EO_OK;
+}
+
+eo_registry eo_reg_linsolve = EO_REGISTRY_INIT(EO_KIND_LINSOLVE, eo_registry_linsolve, check_linsolve);

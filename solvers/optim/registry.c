@@ -1,6 +1,7 @@
 /* Registry of the optim folder: one line per method. */
 #include "eo_build_config.h"
 #include "elastopt/solver.h"
+#include "../solver_registry.h"
 
 #if EO_HAVE_NLOPT
 extern const eo_optimizer_type eo_optimizer_nlopt;   /* nlopt.c, optional backend */
@@ -22,3 +23,14 @@ const void *const eo_registry_optimizer[] = {
 #endif
     NULL,
 };
+
+static int check_optimizer(eo_ctx *ctx, const void *type)
+{
+    const eo_optimizer_type *t = type;
+    if (!t->setup || !t->minimize)
+        return eo_error(ctx, EO_ERR_INVALID, "register optimizer '%s': setup and minimize are required",
+                        t->info.name);
+    return EO_OK;
+}
+
+eo_registry eo_reg_optimizer = EO_REGISTRY_INIT(EO_KIND_OPTIMIZER, eo_registry_optimizer, check_optimizer);

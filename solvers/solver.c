@@ -3,6 +3,7 @@
  * optimizer state and the linear solver, and runs minimize. Also eo_solver_report, the
  * per-iteration reporting helper shared by the optimizers. */
 #include "elastopt/solver.h"
+#include "solver_registry.h"
 
 #include <jansson.h>
 #include <math.h>
@@ -12,9 +13,9 @@
 /* The kinds whose methods live in config section solver.<name>, by slot of type[] and
  * params[] (the optimizer first: it decides whether a linear solver is needed). */
 enum { SLOT_OPT, SLOT_HESSFIX, SLOT_LINESEARCH, SLOT_STOP, SLOT_LINEAR, N_KINDS };
-static const eo_kind solver_kinds[N_KINDS] = {
-    [SLOT_OPT] = EO_KIND_OPTIMIZER, [SLOT_HESSFIX] = EO_KIND_HESSFIX,
-    [SLOT_LINESEARCH] = EO_KIND_LINESEARCH, [SLOT_STOP] = EO_KIND_STOP, [SLOT_LINEAR] = EO_KIND_LINSOLVE};
+static eo_registry *const solver_regs[N_KINDS] = {
+    [SLOT_OPT] = &eo_reg_optimizer, [SLOT_HESSFIX] = &eo_reg_hessfix,
+    [SLOT_LINESEARCH] = &eo_reg_linesearch, [SLOT_STOP] = &eo_reg_stop, [SLOT_LINEAR] = &eo_reg_linsolve};
 
 struct eo_solver {
     eo_ctx *ctx;
@@ -33,19 +34,19 @@ struct eo_solver {
 
 const eo_param_desc eo_solver_opts_desc[] = {
     {.key = "optimizer", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, optimizer),
-     OPTS_STR(optimizer), .def.s = "newton", .method_kind = EO_KIND_OPTIMIZER,
+     OPTS_STR(optimizer), .def.s = "newton", .registry = &eo_reg_optimizer,
      .help = "optimizer minimizing each step problem"},
     {.key = "hessian_fix", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, hessian_fix),
-     OPTS_STR(hessian_fix), .def.s = "clamp", .method_kind = EO_KIND_HESSFIX,
+     OPTS_STR(hessian_fix), .def.s = "clamp", .registry = &eo_reg_hessfix,
      .help = "how Newton makes its Hessian positive definite"},
     {.key = "linesearch", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linesearch),
-     OPTS_STR(linesearch), .def.s = "backtracking", .method_kind = EO_KIND_LINESEARCH,
+     OPTS_STR(linesearch), .def.s = "backtracking", .registry = &eo_reg_linesearch,
      .help = "line search along each direction"},
     {.key = "stop", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, stop),
-     OPTS_STR(stop), .def.s = "newton_decrement", .method_kind = EO_KIND_STOP,
+     OPTS_STR(stop), .def.s = "newton_decrement", .registry = &eo_reg_stop,
      .help = "stopping rule (reads tol)"},
     {.key = "linear", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linear),
-     OPTS_STR(linear), .def.s = "cholmod", .method_kind = EO_KIND_LINSOLVE,
+     OPTS_STR(linear), .def.s = "cholmod", .registry = &eo_reg_linsolve,
      .help = "linear solver for Newton systems"},
     {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_solver_opts, tol), .def.d = 1e-10,
      .min = 0, .range = EO_RANGE_POSITIVE,
@@ -73,7 +74,7 @@ static void method_section_names(const char **names, size_t cap)
 {
     size_t k = 0;
     for (size_t i = 0; i < N_KINDS; i++)
-        for (const void *const *t = eo_registry_list(solver_kinds[i]); t && *t; t++) {
+        for (const void *const *t = eo_registry_types(solver_regs[i]); t && *t; t++) {
             const eo_method_info *mi = eo_method_info_of(*t);
             if (!mi->params || !mi->params_size) continue;
             int dup = 0;
@@ -114,16 +115,12 @@ static int load_params(eo_ctx *ctx, eo_cfg *cfg, const void *type, void **out)
     return EO_OK;
 }
 
-static const char *opts_name(const eo_solver_opts *o, eo_kind kind)
+static const char *opts_name(const eo_solver_opts *o, int slot)
 {
-    switch (kind) {
-    case EO_KIND_OPTIMIZER: return o->optimizer;
-    case EO_KIND_HESSFIX: return o->hessian_fix;
-    case EO_KIND_LINESEARCH: return o->linesearch;
-    case EO_KIND_STOP: return o->stop;
-    case EO_KIND_LINSOLVE: return o->linear;
-    default: return "";
-    }
+    const char *names[N_KINDS] = {[SLOT_OPT] = o->optimizer, [SLOT_HESSFIX] = o->hessian_fix,
+                                  [SLOT_LINESEARCH] = o->linesearch, [SLOT_STOP] = o->stop,
+                                  [SLOT_LINEAR] = o->linear};
+    return names[slot];
 }
 
 int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n,
@@ -157,14 +154,13 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n
     for (size_t i = 0; i < N_KINDS; i++) {
         if (i == SLOT_LINEAR && !((const eo_optimizer_type *)s->type[SLOT_OPT])->needs_linear)
             continue;
-        EO_TRY(rc = eo_registry_find(ctx, solver_kinds[i], opts_name(&s->opts, solver_kinds[i]),
-                                     &s->type[i]));
+        EO_TRY(rc = eo_registry_lookup(ctx, solver_regs[i], opts_name(&s->opts, (int)i), &s->type[i]));
         EO_TRY(rc = load_params(ctx, cfg, s->type[i], &s->params[i]));
     }
     /* check the sections of the registered methods that are not selected */
     if (cfg) {
         for (size_t i = 0; i < N_KINDS; i++)
-            for (const void *const *t = eo_registry_list(solver_kinds[i]); t && *t; t++) {
+            for (const void *const *t = eo_registry_types(solver_regs[i]); t && *t; t++) {
                 if (*t == s->type[i]) continue;
                 void *p = NULL;
                 EO_TRY(rc = load_params(ctx, cfg, *t, &p));

@@ -2,6 +2,7 @@
  * and the method's private state; forwards analyze/factor/solve with timing and
  * checks the phase order and that the pattern is the analyzed one. */
 #include "elastopt/linsolve.h"
+#include "../solver_registry.h"
 
 #include <stdalign.h>
 #include <stddef.h>
@@ -27,7 +28,7 @@ static size_t round_up(size_t s)
 int eo_linsolve_find(eo_ctx *ctx, const char *name, const eo_linsolve_type **out)
 {
     const void *t = NULL;
-    int rc = eo_registry_find(ctx, EO_KIND_LINSOLVE, name, &t);
+    int rc = eo_registry_lookup(ctx, &eo_reg_linsolve, name, &t);
     *out = t;
     return rc;
 }

@@ -1,0 +1,67 @@
+/// @file plugin.h
+/// Methods from outside the tree: plug-in shared objects loaded at run time.
+///
+/// A plug-in is a shared object, built against the installed library
+/// (`cc -shared -fPIC my.c $(pkg-config --cflags --libs elastopt) -o my.so`), that
+/// exports one entry point, declared with EO_PLUGIN_ENTRY. It registers its methods with
+/// eo_register (registry.h); from then on they are valid in configs, `-o`, `elastopt
+/// list`, `help`, `run` and `bench`, exactly like built-in ones.
+///
+/// ```c
+/// #include <elastopt/plugin.h>
+/// static const eo_optimizer_type heavy_ball = { .info = {.name = "heavy_ball", ...}, ... };
+/// EO_PLUGIN_ENTRY(ctx)
+/// {
+///     return eo_register(ctx, EO_KIND_OPTIMIZER, &heavy_ball);
+/// }
+/// ```
+/// The CLI loads plug-ins named by `--plugin FILE` (any number, anywhere on the command
+/// line) and by the environment variable ELASTOPT_PLUGINS (a ':'-separated list); a
+/// program calls eo_plugin_load itself. A program linking the library can also call
+/// eo_register directly, without a shared object.
+///
+/// Compatibility: the entry point receives the library's EO_ABI_VERSION; the macro makes
+/// the plug-in refuse to load (EO_ERR_UNSUPPORTED) when it was compiled against another
+/// one. Loaded objects are never unloaded (their tables stay registered).
+#ifndef ELASTOPT_PLUGIN_H
+#define ELASTOPT_PLUGIN_H
+
+#include "export.h"
+#include "registry.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/// Version of the method-table layouts (bumped when an ops table changes incompatibly).
+#define EO_ABI_VERSION 1
+
+/// The library's EO_ABI_VERSION.
+EO_API int eo_abi_version(void);
+
+/// Name of the entry point a plug-in exports.
+#define EO_PLUGIN_SYMBOL "elastopt_plugin_init"
+
+/// Define a plug-in's entry point: `EO_PLUGIN_ENTRY(ctx) { return eo_register(...); }`.
+/// The body runs only when the library's ABI version matches the plug-in's.
+#define EO_PLUGIN_ENTRY(ctx)                                                             \
+    static int eo_plugin_body_(eo_ctx *ctx);                                             \
+    __attribute__((visibility("default"))) int elastopt_plugin_init(eo_ctx *ctx, int abi) \
+    {                                                                                    \
+        if (abi != EO_ABI_VERSION)                                                       \
+            return eo_error(ctx, EO_ERR_UNSUPPORTED,                                     \
+                            "plug-in built for elastopt ABI %d, library has ABI %d",     \
+                            EO_ABI_VERSION, abi);                                        \
+        return eo_plugin_body_(ctx);                                                     \
+    }                                                                                    \
+    static int eo_plugin_body_(eo_ctx *ctx)
+
+/// Load a plug-in shared object and run its entry point. Errors name the file:
+/// EO_ERR_IO (cannot be loaded: the loader's message), EO_ERR_INVALID (no entry point),
+/// or the entry point's own status (e.g. a duplicate name from eo_register).
+EO_API int eo_plugin_load(eo_ctx *ctx, const char *path);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
