@@ -21,7 +21,10 @@
  *     progressive (measured 2.4), where clamp is linear (q ≤ 1.3, measured 1.00), and
  *     they need fewer iterations than clamp (measured 6 vs 10).
  *  5. projective_dynamics runs with every registered fix on the cantilever (constant
- *     matrix: the same iterates as with clamp). */
+ *     matrix: the same iterates as with clamp).
+ *  6. a fix registered at run time (eo_register), written only against solver.h
+ *     (clamp without safeguard), works in newton and projective_dynamics on the twist:
+ *     same iterations and |x − x_clamp| ≤ 1e-12; a fix without `factor` is refused. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -364,6 +367,66 @@ static void test_pd_fixes(void)
     free(ref.x);
 }
 
+/* ---- 6. a fix registered at run time, written only against solver.h ---------------- */
+static int ext_factor(void *st, const void *params, const eo_hessfix_env *env, double *p,
+                      eo_hessfix_out *out)
+{
+    (void)st, (void)params;
+    eo_csc *A = NULL;
+    int reason = 0;
+    int rc = env->assemble(env->user, EO_PROJ_CLAMP, NULL, &A, &reason);
+    if (rc < 0) return rc;
+    out->projected = 1;
+    if (reason) {
+        out->reason = reason;
+        return EO_OK;
+    }
+    rc = eo_linsolve_factor(env->linear, A);
+    env->res->n_factor++;
+    if (rc < 0 || rc == EO_WARN_NOT_PD) {
+        out->reason = rc < 0 ? EO_DIVERGED_LINSOLVE : EO_DIVERGED_NOT_PD;
+        return EO_OK;
+    }
+    out->factored = 1;
+    if (!env->want_direction) return EO_OK;
+    rc = eo_linsolve_solve(env->linear, env->grad, p);
+    if (rc < 0) {
+        out->reason = EO_DIVERGED_LINSOLVE;
+        return EO_OK;
+    }
+    for (int i = 0; i < env->n; i++) p[i] = -p[i];
+    return EO_OK;
+}
+
+static const eo_hessfix_type ext_fix = {
+    .info = {.name = "test_external_clamp", .summary = "clamp without safeguard (test plug-in)"},
+    .factor = ext_factor,
+};
+
+static void test_external_fix(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    static const eo_hessfix_type bad = {.info = {.name = "test_no_factor", .summary = "x"}};
+    CHECK(eo_register(ctx, EO_KIND_HESSFIX, &bad) == EO_ERR_INVALID, "a fix without factor is refused");
+    CHECK(eo_register(ctx, EO_KIND_HESSFIX, &ext_fix) == EO_OK, "register: %s", eo_ctx_message(ctx));
+    const char *const opts[] = {"newton", "projective_dynamics"};
+    for (int k = 0; k < 2; k++) {
+        static run_out ref, o;
+        int rc = run_first("twist", NULL, "clamp", opts[k], "1e-14", &ref);
+        CHECK(rc == 0, "%s/clamp", opts[k]);
+        rc = run_first("twist", NULL, "test_external_clamp", opts[k], "1e-14", &o);
+        double err = 0;
+        for (int j = 0; j < o.n && j < ref.n; j++) err = fmax(err, fabs(o.x[j] - ref.x[j]));
+        CHECK(rc == 0 && eo_reason_is_converged(o.reason) && o.iters == ref.iters && err <= 1e-12,
+              "%s/test_external_clamp: %s, %d iterations (clamp %d), |x - x_clamp| = %g", opts[k],
+              eo_reason_name(o.reason), o.iters, ref.iters, err);
+        free(ref.x);
+        free(o.x);
+    }
+    CHECK(eo_unregister(EO_KIND_HESSFIX, &ext_fix) == EO_OK, "unregister");
+    eo_test_ctx_done(&ctx);
+}
+
 int main(void)
 {
     test_pin();
@@ -371,5 +434,6 @@ int main(void)
     test_same_minimizer();
     test_quadratic();
     test_pd_fixes();
+    test_external_fix();
     return eo_test_finish("test_hessfix");
 }

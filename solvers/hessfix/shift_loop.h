@@ -50,11 +50,10 @@ void eo_shift_fallback(eo_shift_ws *w, const eo_hessfix_env *env, double *p, eo_
 /* pᵀAp for the upper-triangle CSC A (no workspace). */
 double eo_csc_quad_upper(const eo_csc *A, const double *p);
 
-
-
 /* Generic ops for fixes whose state begins with an eo_shift_ws (setup for n, begin resets
  * the carried shift, destroy frees it). */
 int eo_shift_op_setup(void *st, const void *params, int n, eo_ctx *ctx);
 int eo_shift_op_begin(void *st, const void *params, const eo_hessfix_env *env);
 void eo_shift_op_destroy(void *st, eo_ctx *ctx);
+
 #endif
