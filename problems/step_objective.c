@@ -65,6 +65,34 @@ static int op_hessian(void *data, const double *x, eo_proj proj, eo_csc **H)
     return EO_OK;
 }
 
+/* hessian_masked: tet k projected with proj_of[k] (term_elastic.c), the rest unprojected */
+static int op_hessian_masked(void *data, const double *x, const unsigned char *proj_of, eo_csc **H)
+{
+    eo_step *st = data;
+    st->sys.proj_of = proj_of;
+    int rc = op_hessian(data, x, EO_PROJ_NONE, H);
+    st->sys.proj_of = NULL;
+    return rc;
+}
+
+static int op_n_elements(void *data) { return ((eo_step *)data)->nt; }
+
+static int op_element_residual(void *data, const double *v, double *r)
+{
+    eo_step *st = data;
+    for (int k = 0; k < st->nt; k++) {
+        const int *d = st->tet_dofs + 12 * k;
+        double m = 0;
+        for (int a = 0; a < 4; a++) {
+            double s2 = 0;
+            for (int c = 0; c < 3; c++) s2 += d[3 * a + c] >= 0 ? v[d[3 * a + c]] * v[d[3 * a + c]] : 0;
+            m = s2 > m ? s2 : m;
+        }
+        r[k] = sqrt(m);
+    }
+    return EO_OK;
+}
+
 static int op_metric_diag(void *data, double *d)
 {
     eo_step *st = data;
@@ -95,6 +123,9 @@ const eo_objective_ops eo_stepi_ops = {
     .metric_diag = op_metric_diag,
     .inverted_count = op_inverted_count,
     .constant_hessian = op_constant_hessian,
+    .n_elements = op_n_elements,
+    .hessian_masked = op_hessian_masked,
+    .element_residual = op_element_residual,
 };
 
 

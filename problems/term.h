@@ -44,6 +44,8 @@ typedef struct eo_sys {
     double *elem_g;             /* 12·block */
     double *elem_H;             /* 144·block */
     int parallel;               /* 1: use OpenMP in element loops */
+    const unsigned char *proj_of; /* nt: per-tet projection during a hessian_masked call
+                                     (overrides the hessian's proj for tets), else NULL */
 } eo_sys;
 
 typedef struct eo_term eo_term;

@@ -4,7 +4,8 @@
  * (stable Neo-Hookean) have ψ(I) ≠ 0, and a constant of 10⁴ in g would leave the line
  * search's Armijo test comparing differences below its rounding error.
  * Per tet the material kernel eo_tet_evaluate gives Vψ, its 12-gradient and 12×12
- * Hessian (projected per element as asked: none, clamp, abs). Tets of an edge
+ * Hessian (projected per element as asked: none, clamp, abs; with s->proj_of set, by
+ * the objective op hessian_masked, tet k is projected with proj_of[k]). Tets of an edge
  * (spring) material are skipped here; the spring term handles them.
  *
  * Element loops run in blocks of s->block tets: element values are computed (in
@@ -88,7 +89,7 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
             int k = b0 + j;
             if (skip(s, k)) continue;
             eo_tet_out out;
-            eval_tet(s, k, x, EO_EVAL_HESS, proj, &out);
+            eval_tet(s, k, x, EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[k] : proj, &out);
             double *He = s->elem_H + 144 * j;
             for (int q = 0; q < 144; q++) He[q] = w * out.hess[q];
         }

@@ -25,6 +25,8 @@ struct eo_solver {
     void *params[N_KINDS];      /* their params (NULL if none) */
     void *opt_state;
     int opt_set_up;
+    void *hf_state;             /* the Hessian fix's state (NULL: none) */
+    int hf_set_up;
     eo_linsolve *linear;
 };
 
@@ -173,6 +175,14 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, eo_so
         rc = eo_error(ctx, EO_ERR_NOMEM, "solver: out of memory");
         goto fail;
     }
+    const eo_hessfix_type *hf = s->type[SLOT_HESSFIX];
+    if (hf->state_size && opt->needs_hessian) { /* optimizers without a Hessian skip it */
+        s->hf_state = eo_calloc(ctx, 1, hf->state_size);
+        if (!s->hf_state) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "solver: out of memory");
+            goto fail;
+        }
+    }
     *out = s;
     return EO_OK;
 fail:
@@ -188,6 +198,9 @@ void eo_solver_destroy(eo_solver **sp)
     const eo_optimizer_type *opt = s->type[SLOT_OPT];
     if (s->opt_state && s->opt_set_up && opt->destroy) opt->destroy(s->opt_state, ctx);
     eo_free(ctx, s->opt_state);
+    const eo_hessfix_type *hf = s->type[SLOT_HESSFIX];
+    if (s->hf_state && s->hf_set_up && hf->destroy) hf->destroy(s->hf_state, ctx);
+    eo_free(ctx, s->hf_state);
     eo_linsolve_destroy(&s->linear);
     for (size_t i = 0; i < N_KINDS; i++) eo_free(ctx, s->params[i]);
     eo_free(ctx, s);
@@ -213,6 +226,14 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         s->n = -1;
         int rc = opt->setup(s->opt_state, s->params[SLOT_OPT], obj->n, s->ctx);
         if (rc < 0) return res->status = rc;
+        const eo_hessfix_type *hf = s->type[SLOT_HESSFIX];
+        if (s->hf_state) { /* the fix's workspace follows the size too */
+            if (s->hf_set_up && hf->destroy) hf->destroy(s->hf_state, s->ctx);
+            memset(s->hf_state, 0, hf->state_size);
+            s->hf_set_up = 1;
+            if (hf->setup && (rc = hf->setup(s->hf_state, s->params[SLOT_HESSFIX], obj->n, s->ctx)) < 0)
+                return res->status = rc;
+        }
         s->n = obj->n;
     }
     eo_solver_ctx sc = {
@@ -221,6 +242,7 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         .linear = s->linear,
         .hessfix = s->type[SLOT_HESSFIX],
         .hessfix_params = s->params[SLOT_HESSFIX],
+        .hessfix_state = s->hf_state,
         .linesearch = s->type[SLOT_LINESEARCH],
         .linesearch_params = s->params[SLOT_LINESEARCH],
         .stop = s->type[SLOT_STOP],

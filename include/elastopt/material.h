@@ -34,6 +34,7 @@
 
 #include "export.h"
 #include "registry.h"
+#include "proj.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -78,12 +79,6 @@ typedef enum eo_eval_what {
     EO_EVAL_HESS = 2     ///< ψ, P and ∂P/∂F
 } eo_eval_what;
 
-/// Per-element Hessian projection.
-typedef enum eo_proj {
-    EO_PROJ_NONE = 0,   ///< true Hessian
-    EO_PROJ_CLAMP = 1,  ///< negative eigenvalues set to 0
-    EO_PROJ_ABS = 2     ///< eigenvalues replaced by their absolute value
-} eo_proj;
 
 enum {
     EO_MATERIAL_INVERSION_SAFE = 1,  ///< finite and smooth through J <= 0

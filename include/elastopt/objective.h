@@ -12,13 +12,21 @@
 /// eo_csc *L; unsigned long ver;                         // optional constant SPD matrix
 /// if (eo_objective_constant_hessian(obj, &L, &ver) == EO_OK) { /* factor once per ver */ }
 /// ```
+/// Optional per-element ops (the Hessian fixes `progressive` and friends use them):
+/// ```c
+/// int ne = eo_objective_n_elements(obj);              // E elements, < 0: unsupported
+/// eo_objective_element_residual(obj, grad, r);         // r[e] = max node |grad| of e
+/// eo_objective_hessian_masked(obj, x, proj_of, &H);    // element e projected by proj_of[e]
+/// ```
 /// Ownership: the objective owns its Hessian matrix; callers borrow it until the next
-/// hessian call.
+/// hessian or hessian_masked call (both write the same matrix).
 #ifndef ELASTOPT_OBJECTIVE_H
 #define ELASTOPT_OBJECTIVE_H
 
-#include "material.h"
+#include "export.h"
+#include "proj.h"
 #include "sparse.h"
+#include "status.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -47,6 +55,19 @@ typedef struct eo_objective_ops {
     /// the first iterate of each minimization instead. The step objective's L is defined
     /// in problems/pd_matrix.c.
     int (*constant_hessian)(void *data, eo_csc **L, unsigned long *version);
+    /// Optional: the number E of elements whose Hessians a per-element projection acts
+    /// on (the step objective: its tets; tets of an edge material count but are ignored
+    /// by the mask). Fixed for the objective's pattern. NULL if none.
+    int (*n_elements)(void *data);
+    /// Optional (with n_elements): ∇²g(x) like `hessian`, but element e assembled with
+    /// projection proj_of[e] (an eo_proj value, E entries, borrowed); contributions without
+    /// a per-element form (inertia, springs, contact) are not projected. Same matrix and
+    /// pattern as `hessian`; *H borrowed.
+    int (*hessian_masked)(void *data, const double *x, const unsigned char *proj_of, eo_csc **H);
+    /// Optional (with n_elements): r[e] = max over the nodes of element e of the 2-norm of
+    /// v at that node's free coordinates (v: n entries, e.g. ∇g; constrained coordinates
+    /// count as 0), E entries. Locates the residual on the elements.
+    int (*element_residual)(void *data, const double *v, double *r);
 } eo_objective_ops;
 
 typedef struct eo_objective {
@@ -77,6 +98,30 @@ static inline int eo_objective_constant_hessian(eo_objective *o, eo_csc **L, uns
 {
     if (!o->ops->constant_hessian) return EO_ERR_UNSUPPORTED;
     return o->ops->constant_hessian(o->data, L, version);
+}
+
+/// Number of elements of the per-element ops, or EO_ERR_UNSUPPORTED (< 0) if the
+/// objective has none (then hessian_masked and element_residual are unavailable too).
+static inline int eo_objective_n_elements(eo_objective *o)
+{
+    if (!o->ops->n_elements || !o->ops->hessian_masked || !o->ops->element_residual)
+        return EO_ERR_UNSUPPORTED;
+    return o->ops->n_elements(o->data);
+}
+/// The Hessian with a per-element projection (counted as a Hessian evaluation);
+/// EO_ERR_UNSUPPORTED if the objective has no per-element ops.
+static inline int eo_objective_hessian_masked(eo_objective *o, const double *x,
+                                              const unsigned char *proj_of, eo_csc **H)
+{
+    if (!o->ops->hessian_masked) return EO_ERR_UNSUPPORTED;
+    o->n_hessian++;
+    return o->ops->hessian_masked(o->data, x, proj_of, H);
+}
+/// Per-element residual r (see ops->element_residual); EO_ERR_UNSUPPORTED if none.
+static inline int eo_objective_element_residual(eo_objective *o, const double *v, double *r)
+{
+    if (!o->ops->element_residual) return EO_ERR_UNSUPPORTED;
+    return o->ops->element_residual(o->data, v, r);
 }
 
 #ifdef __cplusplus

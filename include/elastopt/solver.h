@@ -4,7 +4,8 @@
 /// The solver of one step problem is assembled from four pluggable pieces:
 ///   solver.optimizer   newton, gradient_descent, lbfgs,
 ///                      projective_dynamics                      (eo_optimizer_type)
-///   solver.hessian_fix none, shift, clamp, abs                  (eo_hessfix_type)
+///   solver.hessian_fix none, shift, clamp, abs, project_on_demand,
+///                      progressive, trust_region_filter         (eo_hessfix_type)
 ///   solver.linesearch  backtracking, exact, none                (eo_linesearch_type)
 ///   solver.stop        newton_decrement, gradient               (eo_stop_type)
 ///   solver.linear      cholmod, cholmod_ldlt, ...               (eo_linsolve_type)
@@ -40,8 +41,8 @@
 #ifndef ELASTOPT_SOLVER_H
 #define ELASTOPT_SOLVER_H
 
-#include "export.h"
 #include "config.h"
+#include "export.h"
 #include "linsolve.h"
 #include "objective.h"
 
@@ -66,6 +67,8 @@ typedef struct eo_iter_info {
     double alpha;         ///< step length accepted from x_k (NAN on the last record)
     int ls_evals;         ///< objective evaluations in the line search from x_k
     double shift;         ///< Hessian shift c used for the direction (0 if none)
+    double projected;     ///< fraction of elements whose Hessian the Hessian fix projected
+                          ///< for the direction (0 for optimizers without a fix)
     int inverted;         ///< inverted elements at x_k (-1 if unknown)
     int reason;           ///< reason if this is the last iteration, else 0
     const double *x;      ///< the iterate x_k (borrowed, valid during the callback)
@@ -109,13 +112,115 @@ typedef struct eo_linesearch_type {
                   double *alpha, int *nevals, double *work, eo_ctx *ctx);
 } eo_linesearch_type;
 
-/// Hessian fix: how Newton makes its system positive definite.
+/// Hessian fix: how an optimizer that factors a Hessian (newton, projective_dynamics)
+/// gets a positive-definite system. A fix is one file and one registry line; it owns
+/// the whole algorithm (which projection to assemble with, whether to shift, retry or
+/// fall back), the optimizer only supplies the matrix and uses the result.
+///
+/// Per minimization the optimizer calls `begin`, then per direction `factor` with an
+/// eo_hessfix_env, and after each accepted step `accepted` (optional) with the line
+/// search outcome. `factor` asks env->assemble for the system matrix at x with the
+/// per-element projection it wants (uniform, or one eo_proj per element), modifies it
+/// only in place (a c·I shift on the stored diagonal, restored before returning),
+/// factors it with env->linear and, if env->want_direction, solves p = −H̃⁻¹∇g and
+/// checks that p is a descent direction (∇gᵀp < −descent_eps·‖∇g‖‖p‖). The c·I shift
+/// loop shared by shift, clamp, abs and the newer fixes is in solvers/hessfix/shift_loop.c.
+///
+/// ```c
+/// // inside an optimizer's direction routine
+/// eo_hessfix_env env = {.obj = obj, .linear = ls, .ctx = ctx, .x = x, .g = g, .grad = grad,
+///                       .want_direction = 1, .descent_eps = 1e-12,
+///                       .assemble = my_assemble, .user = me, .res = res};
+/// eo_hessfix_out out;
+/// rc = hf->factor(sc->hessfix_state, sc->hessfix_params, &env, p, &out);
+/// if (rc < 0) return rc;             // error status
+/// if (out.reason) ...                // no direction: EO_DIVERGED_NOT_PD, _LINSOLVE, ...
+/// ```
+/// Ownership: env and everything it points to are borrowed for the call; the state is
+/// allocated by the solver (state_size bytes, zeroed), sized by `setup` once for n
+/// variables; nothing is allocated inside `factor` (progressive sizes its element mask
+/// in `begin`, when the objective's element count grows).
+
+typedef struct eo_solve_result eo_solve_result;
+
+/// Assemble the system matrix at env->x for a Hessian fix. proj_of NULL: every element
+/// projected with `proj` (objective op hessian); else element e with proj_of[e] (op
+/// hessian_masked, E = eo_objective_n_elements entries). The matrix returned in *A is
+/// borrowed until the next call, has the upper-triangle CSC layout of sparse.h with the
+/// diagonal stored last in each column, and has been analyzed by env->linear (the
+/// callback analyzes a new pattern). An optimizer with a constant matrix
+/// (projective_dynamics with the objective's constant_hessian) returns it whatever the
+/// projection. Returns EO_OK or a negative status (an error ending the run); sets
+/// *reason to a negative eo_reason (EO_DIVERGED_LINSOLVE, status in res) when no matrix
+/// can be given (then *A is unspecified).
+typedef int (*eo_hessfix_assemble_fn)(void *user, eo_proj proj, const unsigned char *proj_of,
+                                      eo_csc **A, int *reason);
+
+/// What a Hessian fix works on during one `factor` call (all borrowed).
+typedef struct eo_hessfix_env {
+    eo_objective *obj;        ///< the objective (per-element ops of objective.h)
+    eo_linsolve *linear;      ///< holds the factors on return (out.factored)
+    eo_ctx *ctx;
+    int n;                    ///< variables
+    const double *x;          ///< iterate (n)
+    double g;                 ///< g(x)
+    const double *grad;       ///< ∇g(x) (n)
+    int want_direction;       ///< 1: solve for p and test descent; 0: factors only, for an
+                              ///< optimizer that reuses them for many solves
+                              ///< (projective_dynamics): p untouched, no descent test, and
+                              ///< a fix must not fall back to −∇g (it shifts instead)
+    double descent_eps;       ///< p is a descent direction iff ∇gᵀp < −eps‖∇g‖‖p‖
+    eo_hessfix_assemble_fn assemble;
+    void *user;               ///< passed to assemble
+    eo_solve_result *res;     ///< counters n_factor, n_shifted, n_fallback; status on a
+                              ///< linear-solver failure
+} eo_hessfix_env;
+
+/// What `factor` returns besides p.
+typedef struct eo_hessfix_out {
+    double shift;             ///< c of the factored H̃ = H_proj + cI (0 if none)
+    double projected;         ///< fraction of the elements assembled with a projection
+                              ///< (0 none, 1 all; clamp/abs report 1 also on objectives
+                              ///< without per-element terms)
+    int factored;             ///< 1: env->linear holds the factors of a PD H̃ and (with
+                              ///< want_direction) p = −H̃⁻¹∇g; 0: p = −∇g fallback or none
+    int reason;               ///< negative eo_reason if there is no direction / system:
+                              ///< EO_DIVERGED_NOT_PD (shift above shift_max),
+                              ///< EO_DIVERGED_LINSOLVE, EO_DIVERGED_NONFINITE; else 0
+} eo_hessfix_out;
+
+/// Line-search outcome of the step along the fix's last direction (hook `accepted`).
+typedef struct eo_hessfix_step_info {
+    double alpha;             ///< accepted step length along p
+    double g_old, g_new;      ///< g(x_k), g(x_k + αp)
+    double dg;                ///< ∇g(x_k)ᵀp (< 0)
+    double actual;            ///< actual reduction g_old − g_new
+    double predicted;         ///< reduction predicted by the factored model,
+                              ///< −(α∇gᵀp + ½α²pᵀH̃p) = −α∇gᵀp(1 − α/2) since pᵀH̃p = −∇gᵀp
+                              ///< (for the −∇g fallback the model is H̃ = I)
+} eo_hessfix_step_info;
+
 typedef struct eo_hessfix_type {
     eo_method_info info;
-    eo_proj elem_proj;   ///< per-element projection used when assembling (clamp, abs)
-    int shifts;          ///< 1: adds c·I and retries on EO_WARN_NOT_PD / non-descent
-    int safeguard;       ///< shifts = 0: 1 = still shift (counted) if the projected
-                         ///< Hessian is not PD (clamp, abs); 0 = fall back to −∇g (none)
+    size_t state_size;        ///< private state (zeroed by the solver), 0 if none
+    /// Per-element projection for optimizers that correct the Hessian's inertia on their
+    /// own and only ask for a projected Hessian (ipopt). newton and projective_dynamics
+    /// never read it.
+    eo_proj elem_proj;
+    /// Optional: size workspace for n variables (once, before any begin).
+    int (*setup)(void *st, const void *params, int n, eo_ctx *ctx);
+    /// Optional: start of a minimization (env->x = x₀, env->g, env->grad given; no
+    /// matrix assembled yet). Returns EO_OK or a negative status.
+    int (*begin)(void *st, const void *params, const eo_hessfix_env *env);
+    /// The factored positive-definite system at env->x and (want_direction) p (n).
+    /// Returns EO_OK (see out->reason) or a negative status.
+    int (*factor)(void *st, const void *params, const eo_hessfix_env *env, double *p,
+                  eo_hessfix_out *out);
+    /// Optional: the step along the last direction was accepted (newton calls it before
+    /// the next `factor`, when g at the new point is known).
+    void (*accepted)(void *st, const void *params, const eo_hessfix_step_info *info);
+    /// Optional: free what setup/begin allocated (also after a failed setup).
+    void (*destroy)(void *st, eo_ctx *ctx);
 } eo_hessfix_type;
 
 /// Parameters of the c·I shift (config `solver.shift.*`, also `solver.clamp.*` and
@@ -129,6 +234,24 @@ typedef struct eo_hessfix_shift_params {
 } eo_hessfix_shift_params;
 /// Descriptor of eo_hessfix_shift_params (shared by shift, clamp, abs).
 EO_API extern const eo_param_desc eo_hessfix_shift_params_desc[];
+
+/// project_on_demand (config `solver.project_on_demand.*`): the shift safeguard of the
+/// projected retry (same keys as solver.shift.*).
+/// progressive (config `solver.progressive.*`).
+typedef struct eo_hessfix_progressive_params {
+    eo_hessfix_shift_params shift; ///< safeguard once every element is projected
+    double delta_init;   ///< first residual threshold, relative to max_e r_e (default 0.5)
+    double delta_shrink; ///< threshold factor on each detected indefiniteness (0.5)
+    int max_rounds;      ///< growth rounds per direction before projecting all (20)
+} eo_hessfix_progressive_params;
+
+/// trust_region_filter (config `solver.trust_region_filter.*`).
+typedef struct eo_hessfix_trust_region_filter_params {
+    eo_hessfix_shift_params shift; ///< safeguard (as clamp/abs)
+    double threshold;    ///< clamp when |ρ − 1| < threshold, else abs (default 0.01)
+    int exact_model;     ///< ρ with the true Hessian (the paper; one extra assembly per
+                         ///< iteration) or with the factored one (default true)
+} eo_hessfix_trust_region_filter_params;
 
 /// Newton (config `solver.newton.*`).
 typedef struct eo_newton_params {
@@ -182,7 +305,9 @@ typedef struct eo_solver_ctx {
     eo_ctx *ctx;
     eo_linsolve *linear;                ///< NULL for methods that do not solve systems
     const eo_hessfix_type *hessfix;
-    const void *hessfix_params;         ///< eo_hessfix_shift_params or NULL (= defaults)
+    const void *hessfix_params;         ///< the fix's params struct or NULL (= defaults)
+    void *hessfix_state;                ///< the fix's state (set up for n); NULL if the fix has
+                                        ///< none or the optimizer has needs_hessian = 0
     const eo_linesearch_type *linesearch;
     const void *linesearch_params;
     const eo_stop_type *stop;
@@ -206,6 +331,8 @@ typedef struct eo_solve_result {
                           ///< (newton + hessian_fix none; lbfgs memory resets)
     long n_shifted;       ///< newton iterations whose direction needed a shift c > 0
                           ///< (the fix for `shift`, the safeguard for clamp/abs)
+    double projected;     ///< mean over the directions of this minimization of the
+                          ///< fraction of elements projected (0 if none computed)
 } eo_solve_result;
 
 typedef struct eo_optimizer_type {
@@ -227,7 +354,8 @@ typedef struct eo_optimizer_type {
 EO_API extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_gradient_descent,
     eo_optimizer_lbfgs, eo_optimizer_projective_dynamics;
 EO_API extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfix_clamp,
-    eo_hessfix_abs;
+    eo_hessfix_abs, eo_hessfix_project_on_demand, eo_hessfix_progressive,
+    eo_hessfix_trust_region_filter;
 EO_API extern const eo_linesearch_type eo_linesearch_backtracking, eo_linesearch_exact,
     eo_linesearch_none;
 EO_API extern const eo_stop_type eo_stop_newton_decrement, eo_stop_gradient;

@@ -1,8 +1,8 @@
-/* Hessian fix "shift": Newton factors H + cI (002 Note 4).
+/* Hessian fix "shift": factor H + cI (002 Note 4).
  *
- * If H = QΛQᵀ then H + cI = Q(Λ + cI)Qᵀ, positive definite once c > −λ_min. Newton
- * (solvers/optim/newton.c) first tries the shift carried over from the previous
- * iteration (0 at the start); on EO_WARN_NOT_PD or a non-descent direction it retries
+ * If H = QΛQᵀ then H + cI = Q(Λ + cI)Qᵀ, positive definite once c > −λ_min. The shift
+ * loop (shift_loop.c) first tries the shift carried over from the previous
+ * direction (0 at the start); on EO_WARN_NOT_PD or a non-descent direction it retries
  * with c ← max(c_min, shift_grow·c), c_min = shift_init·s, s = mean |H_ii| (1 if 0), and
  * gives up with EO_DIVERGED_NOT_PD above shift_max·s. After a success the next iteration
  * starts at c/shift_shrink (0 when that is below c_min). The element Hessians are not
@@ -13,7 +13,7 @@
  * safeguard (config solver.shift.*, solver.clamp.*, solver.abs.*). */
 #include <stddef.h>
 
-#include "elastopt/solver.h"
+#include "shift_loop.h"
 
 const eo_param_desc eo_hessfix_shift_params_desc[] = {
     {.key = "shift_init", .kind = EO_PARAM_DOUBLE,
@@ -31,12 +31,25 @@ const eo_param_desc eo_hessfix_shift_params_desc[] = {
     {0},
 };
 
+static int shift_factor(void *vst, const void *params, const eo_hessfix_env *env, double *p,
+                        eo_hessfix_out *out)
+{
+    eo_hessfix_shift_params hp;
+    eo_shift_params_get(params, &hp);
+    out->projected = 0;
+    int ok = eo_shift_assemble_factor(vst, &hp, 1, env, EO_PROJ_NONE, NULL, p, out);
+    return ok < 0 ? ok : EO_OK;
+}
+
 const eo_hessfix_type eo_hessfix_shift = {
     .info = {.name = "shift",
              .summary = "factor H + cI, growing c until positive definite and descent",
              .params = eo_hessfix_shift_params_desc,
              .params_size = sizeof(eo_hessfix_shift_params)},
+    .state_size = sizeof(eo_shift_ws),
     .elem_proj = EO_PROJ_NONE,
-    .shifts = 1,
-    .safeguard = 0,
+    .setup = eo_shift_op_setup,
+    .begin = eo_shift_op_begin,
+    .factor = shift_factor,
+    .destroy = eo_shift_op_destroy,
 };

@@ -112,6 +112,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
             rc = ops->direction(st, params, sc, x, g, grad, p, &d, res);
             if (rc < 0) goto done;
             info.shift = d.shift;
+            info.projected = d.projected;
             alpha0 = d.alpha0;
             reason = d.reason;
             if (!reason) {

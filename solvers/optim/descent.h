@@ -23,6 +23,7 @@ void eo_descent_ws_deinit(eo_ctx *ctx, eo_descent_ws *w);
 typedef struct eo_direction_out {
     double alpha0;  /* first line-search trial; the decrement is −alpha0·∇gᵀp/2 */
     double shift;   /* Hessian shift used (0 if none) */
+    double projected; /* fraction of elements projected by the Hessian fix (0 if none) */
     int reason;     /* negative eo_reason when no direction could be computed */
 } eo_direction_out;
 

@@ -10,30 +10,19 @@
  *               trial where g = +∞ (inverted element of a barrier material) is rejected
  *               and the step shrunk by the line search.
  *
+ * Hessian fix  the system H̃ and p come from the configured fix (sc->hessfix, its op
+ *               `factor`, solver.h): which projection the Hessian is assembled with,
+ *               whether H̃ = H_proj + cI is shifted, retried or replaced by −∇g is the
+ *               fix's business (solvers/hessfix/); Newton supplies the matrix through the
+ *               callback `assemble` and reports each accepted step to the fix's
+ *               `accepted` hook (α, actual and predicted reduction) before the next
+ *               direction. shift = c of H̃ and the fraction of elements projected go to
+ *               the iteration record.
+ *
  * Linear algebra: the Hessian pattern is fixed for an objective, so
  * eo_linsolve_analyze runs once per pattern (the H pointer and its colptr/rowind arrays
- * are remembered; a new pattern is analyzed again) and eo_linsolve_factor at every
- * factorization. The shift c is added in place to the stored diagonal (the last entry
- * of each CSC column, see sparse.h) and the original diagonal restored after the
- * solve; nothing is allocated.
- *
- * Hessian fixes (sc->hessfix; shift parameters from sc->hessfix_params, see
- * eo_hessfix_shift_params; s = mean |H_ii|, c_min = shift_init·s, c_max = shift_max·s):
- *   shift        c starts at the value carried over from the previous iteration (0 at
- *                the first). If the factorization reports EO_WARN_NOT_PD or p is not a
- *                descent direction (∇gᵀp ≥ −descent_eps·‖∇g‖‖p‖), c ← max(c_min,
- *                shift_grow·c) and H + cI is factored again; c > c_max ends the run with
- *                EO_DIVERGED_NOT_PD. After success the next iteration starts at
- *                c/shift_shrink, or at 0 when that is below c_min (Nocedal & Wright,
- *                Numerical Optimization, Alg. 3.3, with the shift carried over).
- *   clamp, abs   H is assembled from per-element projected Hessians (PSD), c = 0; if the
- *                factorization still fails (e.g. rigid modes of a static problem make
- *                the projected H only semi-definite) the same shift logic runs as a
- *                safeguard. Iterations that needed c > 0 are counted in res.n_shifted.
- *   none         one factorization of the true H; if it is not PD or p is not a descent
- *                direction, this iteration uses the steepest-descent direction p = −∇g
- *                (counted in res.n_fallback), so the run always ends with a reason. The
- *                "decrement" of such an iteration is ‖∇g‖²/2, not a Newton decrement.
+ * are remembered; a new pattern is analyzed again, inside `assemble`) and
+ * eo_linsolve_factor at every factorization (by the fix). Nothing is allocated.
  * A factorization or solve error (negative status) ends the run with
  * EO_DIVERGED_LINSOLVE (status in res.status); a non-finite Hessian diagonal with
  * EO_DIVERGED_NONFINITE. */
@@ -44,12 +33,18 @@
 
 typedef struct newton_state {
     eo_descent_ws w;
-    double *diag;           /* n: saved diagonal of H */
     const eo_csc *H;        /* pattern last analyzed */
     const int *colptr, *rowind;
     int pn, pnnz;
-    double c_next;          /* shift to start the next iteration with */
-    eo_ctx *ctx;
+    /* the current direction call (for assemble) */
+    const eo_solver_ctx *sc;
+    const double *x;
+    eo_solve_result *res;
+    /* the last direction, reported to the fix once its step is accepted */
+    int pending;
+    double g_old, dg, alpha;
+    double proj_sum;
+    long proj_count;
 } newton_state;
 
 static const eo_param_desc newton_desc[] = {
@@ -64,55 +59,26 @@ static int newton_setup(void *vst, const void *params, int n, eo_ctx *ctx)
     newton_state *st = vst;
     (void)params;
     eo_descent_ws_deinit(ctx, &st->w);
-    eo_free(ctx, st->diag);
     memset(st, 0, sizeof *st);
-    st->ctx = ctx;
-    int rc = eo_descent_ws_init(ctx, n, &st->w);
-    if (rc < 0) return rc;
-    st->diag = eo_calloc(ctx, (size_t)(n > 0 ? n : 1), sizeof(double));
-    if (!st->diag) return eo_error(ctx, EO_ERR_NOMEM, "newton: out of memory");
-    return EO_OK;
+    return eo_descent_ws_init(ctx, n, &st->w);
 }
 
 static void newton_destroy(void *vst, eo_ctx *ctx)
 {
     newton_state *st = vst;
     eo_descent_ws_deinit(ctx, &st->w);
-    eo_free(ctx, st->diag);
-    st->diag = NULL;
 }
 
-static int newton_begin(void *vst, const void *params, const eo_solver_ctx *sc, const double *x,
-                        double g, const double *grad, eo_solve_result *res)
+/* eo_hessfix_assemble_fn: the objective's Hessian at st->x, analyzed on a new pattern. */
+static int newton_assemble(void *user, eo_proj proj, const unsigned char *proj_of, eo_csc **out,
+                           int *reason)
 {
-    newton_state *st = vst;
-    (void)params, (void)x, (void)g, (void)grad, (void)res;
-    st->c_next = 0;
-    if (!sc->linear) return eo_error(sc->ctx, EO_ERR_INVALID, "newton needs a linear solver");
-    return EO_OK;
-}
-
-static void set_diag(eo_csc *H, const double *d, double c)
-{
-    for (int j = 0; j < H->n; j++) H->val[H->colptr[j + 1] - 1] = d[j] + c;
-}
-
-static int newton_direction(void *vst, const void *params, const eo_solver_ctx *sc,
-                            const double *x, double g, const double *grad, double *p,
-                            eo_direction_out *out, eo_solve_result *res)
-{
-    newton_state *st = vst;
-    const eo_newton_params *np = params;
-    const eo_hessfix_type *hf = sc->hessfix;
-    eo_hessfix_shift_params hp;
+    newton_state *st = user;
+    const eo_solver_ctx *sc = st->sc;
     const int n = sc->obj->n;
     eo_csc *H = NULL;
-    (void)g;
-
-    if (sc->hessfix_params) hp = *(const eo_hessfix_shift_params *)sc->hessfix_params;
-    else eo_params_default(eo_hessfix_shift_params_desc, &hp);
-
-    int rc = eo_objective_hessian(sc->obj, x, hf->elem_proj, &H);
+    int rc = proj_of ? eo_objective_hessian_masked(sc->obj, st->x, proj_of, &H)
+                     : eo_objective_hessian(sc->obj, st->x, proj, &H);
     if (rc < 0) return rc;
     if (!H || H->n != n)
         return eo_error(sc->ctx, EO_ERR_INVALID, "newton: Hessian has n = %d, objective has n = %d",
@@ -128,8 +94,8 @@ static int newton_direction(void *vst, const void *params, const eo_solver_ctx *
         st->H = NULL;
         rc = eo_linsolve_analyze(sc->linear, H);
         if (rc < 0) {
-            res->status = rc;
-            out->reason = EO_DIVERGED_LINSOLVE;
+            st->res->status = rc;
+            *reason = EO_DIVERGED_LINSOLVE;
             return EO_OK;
         }
         st->H = H;
@@ -138,71 +104,84 @@ static int newton_direction(void *vst, const void *params, const eo_solver_ctx *
         st->pn = H->n;
         st->pnnz = H->nnz;
     }
+    *out = H;
+    return EO_OK;
+}
 
-    double s = 0;
-    for (int j = 0; j < n; j++) {
-        st->diag[j] = H->val[H->colptr[j + 1] - 1];
-        s += fabs(st->diag[j]);
+static eo_hessfix_env newton_env(newton_state *st, const eo_newton_params *np,
+                                 const eo_solver_ctx *sc, const double *x, double g,
+                                 const double *grad, eo_solve_result *res)
+{
+    st->sc = sc;
+    st->x = x;
+    st->res = res;
+    return (eo_hessfix_env){.obj = sc->obj, .linear = sc->linear, .ctx = sc->ctx, .n = sc->obj->n,
+                            .x = x, .g = g, .grad = grad, .want_direction = 1,
+                            .descent_eps = np->descent_eps, .assemble = newton_assemble,
+                            .user = st, .res = res};
+}
+
+static int newton_begin(void *vst, const void *params, const eo_solver_ctx *sc, const double *x,
+                        double g, const double *grad, eo_solve_result *res)
+{
+    newton_state *st = vst;
+    st->pending = 0;
+    st->proj_sum = 0;
+    st->proj_count = 0;
+    if (!sc->linear) return eo_error(sc->ctx, EO_ERR_INVALID, "newton needs a linear solver");
+    if (!sc->hessfix) return eo_error(sc->ctx, EO_ERR_INVALID, "newton needs a Hessian fix");
+    if (!sc->hessfix->begin) return EO_OK;
+    eo_hessfix_env env = newton_env(st, params, sc, x, g, grad, res);
+    return sc->hessfix->begin(sc->hessfix_state, sc->hessfix_params, &env);
+}
+
+static int newton_direction(void *vst, const void *params, const eo_solver_ctx *sc,
+                            const double *x, double g, const double *grad, double *p,
+                            eo_direction_out *out, eo_solve_result *res)
+{
+    newton_state *st = vst;
+    const eo_hessfix_type *hf = sc->hessfix;
+    if (st->pending && hf->accepted) {
+        const double a = st->alpha;
+        eo_hessfix_step_info si = {.alpha = a, .g_old = st->g_old, .g_new = g, .dg = st->dg,
+                                   .actual = st->g_old - g,
+                                   .predicted = -a * st->dg * (1 - a / 2)};
+        hf->accepted(sc->hessfix_state, sc->hessfix_params, &si);
     }
-    if (!isfinite(s)) {
-        out->reason = EO_DIVERGED_NONFINITE;
+    st->pending = 0;
+    eo_hessfix_env env = newton_env(st, params, sc, x, g, grad, res);
+    eo_hessfix_out fo = {.shift = 0, .projected = 0, .factored = 0, .reason = 0};
+    int rc = hf->factor(sc->hessfix_state, sc->hessfix_params, &env, p, &fo);
+    if (rc < 0) return rc;
+    out->shift = fo.shift;
+    out->projected = fo.projected;
+    st->proj_sum += fo.projected;
+    st->proj_count++;
+    res->projected = st->proj_sum / (double)st->proj_count;
+    if (fo.reason) {
+        out->reason = fo.reason;
         return EO_OK;
     }
-    s = n > 0 && s > 0 ? s / n : 1;
-    const int shifting = hf->shifts || hf->safeguard;
-    const double c_min = hp.shift_init * s, c_max = hp.shift_max * s;
-    const double gnorm = eo_norm2(n, grad);
-    double c = shifting ? st->c_next : 0;
-
-    for (;;) {
-        int good = 0;
-        if (c > 0) set_diag(H, st->diag, c);
-        int frc = eo_linsolve_factor(sc->linear, H);
-        res->n_factor++;
-        if (frc >= 0 && frc != EO_WARN_NOT_PD) {
-            frc = eo_linsolve_solve(sc->linear, grad, p);
-            if (frc >= 0 && frc != EO_WARN_NOT_PD) {
-                for (int i = 0; i < n; i++) p[i] = -p[i];
-                double dg = eo_dot(n, grad, p), pn = eo_norm2(n, p);
-                good = isfinite(dg) && isfinite(pn) && dg < -np->descent_eps * gnorm * pn;
-            }
-        }
-        if (c > 0) set_diag(H, st->diag, 0);
-        if (frc < 0) {
-            res->status = frc;
-            out->reason = EO_DIVERGED_LINSOLVE;
-            return EO_OK;
-        }
-        if (good) break;
-        if (!shifting) {
-            for (int i = 0; i < n; i++) p[i] = -grad[i];
-            res->n_fallback++;
-            eo_log(sc->ctx, EO_LOG_DEBUG, "newton: Hessian not positive definite, steepest descent");
-            c = 0;
-            break;
-        }
-        c = c * hp.shift_grow > c_min ? c * hp.shift_grow : c_min;
-        if (!(c <= c_max)) {
-            out->reason = EO_DIVERGED_NOT_PD;
-            out->shift = c;
-            return EO_OK;
-        }
-    }
-    if (c > 0) {
-        res->n_shifted++;
-        st->c_next = c / hp.shift_shrink >= c_min ? c / hp.shift_shrink : 0;
-    } else {
-        st->c_next = 0;
-    }
-    out->shift = c;
+    st->g_old = g;
+    st->dg = eo_dot(sc->obj->n, grad, p);
     out->alpha0 = 1;
     return EO_OK;
+}
+
+static void newton_accepted(void *vst, const void *params, const double *x, const double *x_new,
+                            const double *grad, const double *grad_new, const double *p,
+                            double alpha)
+{
+    newton_state *st = vst;
+    (void)params, (void)x, (void)x_new, (void)grad, (void)grad_new, (void)p;
+    st->alpha = alpha;
+    st->pending = 1;
 }
 
 static const eo_descent_ops newton_ops = {
     .begin = newton_begin,
     .direction = newton_direction,
-    .accepted = NULL,
+    .accepted = newton_accepted,
 };
 
 static int newton_minimize(void *vst, const void *params, const eo_solver_ctx *sc, double *x,

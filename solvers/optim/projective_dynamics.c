@@ -7,14 +7,15 @@
  *             the global matrix of projective dynamics (Bouaziz, Martin, Liu, Kavan &
  *             Pauly, "Projective Dynamics", SIGGRAPH 2014). An objective without the op
  *             gets L = ∇²g(x₀) at the first iterate of each minimization, assembled
- *             with the Hessian fix's per-element projection (clamp by default).
+ *             as the Hessian fix asks (clamp by default).
  * Factor      L is factored ONCE with solver.linear and the factors are reused by
  *             every iteration and every later minimization while the objective, the
  *             matrix pointer and its version are unchanged: one factorization per
- *             constrained set of a scene, solves only afterwards. If L is found not
- *             positive definite it is shifted, L + cI with c grown as Newton's shift
- *             (solver.shift.* parameters: c_min = shift_init·s, ×shift_grow, give up
- *             above shift_max·s, s = mean |L_ii|; EO_DIVERGED_NOT_PD).
+ *             constrained set of a scene, solves only afterwards. The factorization
+ *             is the Hessian fix's (its op `factor` with want_direction = 0, solver.h):
+ *             a matrix found not positive definite is shifted, L + cI, by the shift
+ *             loop all fixes share (solvers/hessfix/shift_loop.c; EO_DIVERGED_NOT_PD
+ *             above shift_max).
  * Direction   lbfgs_history = 0:  p = −L⁻¹∇g.
  *             For a PD-expressible energy E = Σ k/2‖Gx − proj(Gx)‖², ∇g = L x − b(x)
  *             and x + p = L⁻¹ b(x) is exactly the local/global iteration; for any
@@ -46,8 +47,8 @@ typedef struct pd_state {
     eo_descent_ws w;
     int n, m;
     eo_lbfgs_memory mem;      /* Liu 2017's L-BFGS pairs (m = 0: plain PD) */
-    double *store;            /* the memory's storage, then q and diag */
-    double *q, *diag;         /* n each */
+    double *store;            /* the memory's storage, then q */
+    double *q;                /* n */
     /* the factored matrix: own copy A, and what it was made from */
     eo_csc *A;
     const eo_objective *obj;  /* objective whose constant_hessian A is (NULL: none reusable) */
@@ -57,7 +58,14 @@ typedef struct pd_state {
     int analyzed, factored;
     int fail_reason;          /* negative reason when no usable factorization */
     double shift;             /* shift c in the factors */
+    double projected;         /* fraction of elements the fix projected for them */
     eo_ctx *ctx;
+    /* the factorization in progress (for pd_assemble) */
+    const eo_solver_ctx *sc;
+    const double *x;
+    eo_solve_result *res;
+    const eo_csc *L;          /* constant matrix being factored, NULL: Hessian at x */
+    eo_hessfix_env env;
 } pd_state;
 
 static const eo_param_desc pd_desc[] = {
@@ -92,12 +100,11 @@ static int pd_setup(void *vst, const void *params, int n, eo_ctx *ctx)
     if (rc < 0) return rc;
     size_t m = (size_t)pp->lbfgs_history, nn = (size_t)(n > 0 ? n : 1);
     size_t mem = eo_lbfgs_memory_size(n, (int)m);
-    st->store = eo_calloc(ctx, mem + 2 * nn, sizeof(double));
+    st->store = eo_calloc(ctx, mem + nn, sizeof(double));
     if (!st->store)
         return eo_error(ctx, EO_ERR_NOMEM, "projective_dynamics: out of memory (n = %d, m = %zu)", n, m);
     eo_lbfgs_memory_bind(&st->mem, n, (int)m, st->store);
     st->q = st->store + mem;
-    st->diag = st->q + nn;
     st->m = (int)m;
     st->n = n;
     return EO_OK;
@@ -112,80 +119,79 @@ static int same_pattern(const eo_csc *A, const eo_csc *B)
            memcmp(A->rowind, B->rowind, (size_t)A->nnz * sizeof(int)) == 0;
 }
 
-/* Copy src into the own matrix A (new pattern: clone + analyze) and factor it, shifting
- * if it is not positive definite. Sets st->factored or st->fail_reason. */
-static int load_and_factor(pd_state *st, const eo_solver_ctx *sc, const eo_csc *src,
-                           eo_solve_result *res)
+/* Copy src into the own matrix A (new pattern: clone + analyze). */
+static int load(pd_state *st, const eo_solver_ctx *sc, const eo_csc *src, eo_solve_result *res,
+                int *reason)
 {
     const int n = st->n;
     int rc;
-    st->factored = 0;
-    st->fail_reason = 0;
-    st->shift = 0;
     if (!src || src->n != n)
         return eo_error(sc->ctx, EO_ERR_INVALID,
                         "projective_dynamics: matrix has n = %d, objective has n = %d",
                         src ? src->n : -1, n);
     if (same_pattern(st->A, src) && st->analyzed && st->ls == sc->linear) {
         memcpy(st->A->val, src->val, (size_t)src->nnz * sizeof(double));
-    } else {
-        for (int j = 0; j < n; j++) {
-            int e = src->colptr[j + 1] - 1;
-            if (e < src->colptr[j] || src->rowind[e] != j)
-                return eo_error(sc->ctx, EO_ERR_INVALID,
-                                "projective_dynamics: matrix column %d has no stored diagonal", j);
-        }
-        st->analyzed = 0;
-        eo_csc_destroy(sc->ctx, &st->A);
-        rc = eo_csc_clone(sc->ctx, src, &st->A);
-        if (rc < 0) return rc;
-        rc = eo_linsolve_analyze(sc->linear, st->A);
-        if (rc < 0) {
-            res->status = rc;
-            st->fail_reason = EO_DIVERGED_LINSOLVE;
-            return EO_OK;
-        }
-        st->analyzed = 1;
-        st->ls = sc->linear;
-    }
-    eo_csc *A = st->A;
-    double s = 0;
-    for (int j = 0; j < n; j++) {
-        st->diag[j] = A->val[A->colptr[j + 1] - 1];
-        s += fabs(st->diag[j]);
-    }
-    if (!isfinite(s)) {
-        st->fail_reason = EO_DIVERGED_NONFINITE;
         return EO_OK;
     }
-    s = n > 0 && s > 0 ? s / n : 1;
-    eo_hessfix_shift_params hp;
-    if (sc->hessfix_params) hp = *(const eo_hessfix_shift_params *)sc->hessfix_params;
-    else eo_params_default(eo_hessfix_shift_params_desc, &hp);
-    const double c_min = hp.shift_init * s, c_max = hp.shift_max * s;
-    double c = 0;
-    for (;;) {
-        for (int j = 0; j < n; j++) A->val[A->colptr[j + 1] - 1] = st->diag[j] + c;
-        rc = eo_linsolve_factor(sc->linear, A);
-        res->n_factor++;
-        if (rc < 0) {
-            res->status = rc;
-            st->fail_reason = EO_DIVERGED_LINSOLVE;
-            return EO_OK;
-        }
-        if (rc != EO_WARN_NOT_PD) break;
-        c = c * hp.shift_grow > c_min ? c * hp.shift_grow : c_min;
-        if (!(c <= c_max)) {
-            st->fail_reason = EO_DIVERGED_NOT_PD;
-            return EO_OK;
-        }
+    for (int j = 0; j < n; j++) {
+        int e = src->colptr[j + 1] - 1;
+        if (e < src->colptr[j] || src->rowind[e] != j)
+            return eo_error(sc->ctx, EO_ERR_INVALID,
+                            "projective_dynamics: matrix column %d has no stored diagonal", j);
     }
-    if (c > 0) {
-        res->n_shifted++;
-        eo_log(sc->ctx, EO_LOG_DEBUG, "projective_dynamics: matrix shifted by %g to factor it", c);
+    st->analyzed = 0;
+    eo_csc_destroy(sc->ctx, &st->A);
+    rc = eo_csc_clone(sc->ctx, src, &st->A);
+    if (rc < 0) return rc;
+    rc = eo_linsolve_analyze(sc->linear, st->A);
+    if (rc < 0) {
+        res->status = rc;
+        *reason = EO_DIVERGED_LINSOLVE;
+        return EO_OK;
     }
-    st->shift = c;
-    st->factored = 1;
+    st->analyzed = 1;
+    st->ls = sc->linear;
+    return EO_OK;
+}
+
+/* eo_hessfix_assemble_fn: the constant matrix L (any projection), or the Hessian at x₀
+ * as the fix asks, copied into the own matrix A. */
+static int pd_assemble(void *user, eo_proj proj, const unsigned char *proj_of, eo_csc **out,
+                       int *reason)
+{
+    pd_state *st = user;
+    const eo_solver_ctx *sc = st->sc;
+    const eo_csc *src = st->L;
+    if (!src) {
+        eo_csc *H = NULL;
+        int rc = proj_of ? eo_objective_hessian_masked(sc->obj, st->x, proj_of, &H)
+                         : eo_objective_hessian(sc->obj, st->x, proj, &H);
+        if (rc < 0) return rc;
+        src = H;
+    }
+    int rc = load(st, sc, src, st->res, reason);
+    if (rc < 0) return rc;
+    *out = st->A;
+    return EO_OK;
+}
+
+/* Factor the matrix through the Hessian fix (factors only). Sets st->factored or
+ * st->fail_reason. */
+static int factor(pd_state *st, const eo_solver_ctx *sc)
+{
+    st->factored = 0;
+    st->fail_reason = 0;
+    st->shift = 0;
+    eo_hessfix_out out = {.shift = 0, .projected = 0, .factored = 0, .reason = 0};
+    int rc = sc->hessfix->factor(sc->hessfix_state, sc->hessfix_params, &st->env, st->q, &out);
+    if (rc < 0) return rc;
+    st->projected = out.projected;
+    if (out.factored) {
+        st->shift = out.shift;
+        st->factored = 1;
+    } else {
+        st->fail_reason = out.reason ? out.reason : EO_DIVERGED_NOT_PD;
+    }
     return EO_OK;
 }
 
@@ -194,22 +200,35 @@ static int pd_begin(void *vst, const void *params, const eo_solver_ctx *sc, cons
 {
     pd_state *st = vst;
     const eo_projective_dynamics_params *pp = params;
-    (void)g, (void)grad;
     eo_lbfgs_memory_clear(&st->mem);
     if (pp->lbfgs_history != st->m)
         return eo_error(sc->ctx, EO_ERR_INVALID,
                         "projective_dynamics: set up for lbfgs_history %d, called with %d", st->m,
                         pp->lbfgs_history);
     if (!sc->linear) return eo_error(sc->ctx, EO_ERR_INVALID, "projective_dynamics needs a linear solver");
+    if (!sc->hessfix) return eo_error(sc->ctx, EO_ERR_INVALID, "projective_dynamics needs a Hessian fix");
+    st->sc = sc;
+    st->x = x;
+    st->res = res;
+    st->env = (eo_hessfix_env){.obj = sc->obj, .linear = sc->linear, .ctx = sc->ctx, .n = st->n,
+                               .x = x, .g = g, .grad = grad, .want_direction = 0,
+                               .descent_eps = 0, .assemble = pd_assemble, .user = st, .res = res};
+    int rc;
+    if (sc->hessfix->begin) {
+        rc = sc->hessfix->begin(sc->hessfix_state, sc->hessfix_params, &st->env);
+        if (rc < 0) return rc;
+    }
     eo_csc *L = NULL;
     unsigned long ver = 0;
-    int rc = eo_objective_constant_hessian(sc->obj, &L, &ver);
+    rc = eo_objective_constant_hessian(sc->obj, &L, &ver);
     if (rc == EO_OK) {
         if (st->factored && st->obj == sc->obj && st->src == L && st->version == ver &&
             st->ls == sc->linear && st->A && st->A->n == st->n)
             return EO_OK; /* the factors of the previous minimization are still L's */
         st->obj = NULL;
-        rc = load_and_factor(st, sc, L, res);
+        st->L = L;
+        rc = factor(st, sc);
+        st->L = NULL;
         if (rc < 0) return rc;
         if (st->factored) {
             st->obj = sc->obj;
@@ -219,12 +238,10 @@ static int pd_begin(void *vst, const void *params, const eo_solver_ctx *sc, cons
         return EO_OK;
     }
     if (rc != EO_ERR_UNSUPPORTED) return rc;
-    /* no constant matrix: the (projected) Hessian at the first iterate */
-    eo_csc *H = NULL;
+    /* no constant matrix: the Hessian at the first iterate, as the fix asks */
     st->obj = NULL;
-    rc = eo_objective_hessian(sc->obj, x, sc->hessfix->elem_proj, &H);
-    if (rc < 0) return rc;
-    return load_and_factor(st, sc, H, res);
+    st->L = NULL;
+    return factor(st, sc);
 }
 
 /* r = A⁻¹ b (b and r distinct). Returns a negative reason on failure, else 0. */
@@ -249,6 +266,7 @@ static int pd_direction(void *vst, const void *params, const eo_solver_ctx *sc, 
     (void)params, (void)x, (void)g;
     out->alpha0 = 1;
     out->shift = st->shift;
+    out->projected = st->projected;
     if (!st->factored) {
         out->reason = st->fail_reason ? st->fail_reason : EO_DIVERGED_LINSOLVE;
         return EO_OK;
