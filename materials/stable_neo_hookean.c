@@ -9,7 +9,9 @@
  *   ∂²ψ/∂σ_i² = μ'(1 − r) + 2μ'σ_i² r² + λ'(σ_jσ_k)²,
  *   ∂²ψ/∂σ_i∂σ_j = 2μ'σ_iσ_j r² + λ'σ_k(2J − α),
  *   twist_ij = μ'(1 − r) − λ'(J − α)σ_k,
- *   flip_ij  = μ'(1 − r) + λ'(J − α)σ_k. */
+ *   flip_ij  = μ'(1 − r) + λ'(J − α)σ_k.
+ * Fast path from F (no SVD): I_C − 3 = 2 tr H + ‖H‖² (H = F − I), J = det F,
+ *   P = μ'(1 − r) F + λ'(J − α) cof(F),   cof(F) = ∂J/∂F = J F⁻ᵀ. */
 #include <math.h>
 
 #include "elastopt/material.h"
@@ -40,8 +42,37 @@ static void sigma_eval(const eo_material_coef *c, const double s[3], eo_eval_wha
     }
 }
 
+/* cofactor matrix C = ∂J/∂F = J F⁻ᵀ (row-major) */
+static void cofactor(const double F[9], double C[9])
+{
+    C[0] = F[4] * F[8] - F[5] * F[7], C[1] = F[5] * F[6] - F[3] * F[8], C[2] = F[3] * F[7] - F[4] * F[6];
+    C[3] = F[2] * F[7] - F[1] * F[8], C[4] = F[0] * F[8] - F[2] * F[6], C[5] = F[1] * F[6] - F[0] * F[7];
+    C[6] = F[1] * F[5] - F[2] * F[4], C[7] = F[2] * F[3] - F[0] * F[5], C[8] = F[0] * F[4] - F[1] * F[3];
+}
+/* I_C − 3 = tr(FᵀF) − 3 = 2 tr H + ‖H‖², H = F − I (accurate at small strain) */
+static double ic_minus_3(const double F[9])
+{
+    double h0 = F[0] - 1, h4 = F[4] - 1, h8 = F[8] - 1;
+    return 2 * (h0 + h4 + h8) + h0 * h0 + h4 * h4 + h8 * h8 + F[1] * F[1] + F[2] * F[2] + F[3] * F[3] +
+           F[5] * F[5] + F[6] * F[6] + F[7] * F[7];
+}
+
+static double F_psi_grad(const eo_material_coef *c, const double F[9], double J, double P[9])
+{
+    double mu = 4.0 / 3.0 * c->mu, la = c->lambda + 5.0 / 6.0 * c->mu;
+    double alpha = 1 + 0.75 * mu / la;
+    double Ic3 = ic_minus_3(F), Ic = Ic3 + 3;
+    if (P) {
+        double C[9], a = mu * (1 - 1 / (Ic + 1)), b = la * (J - alpha);
+        cofactor(F, C);
+        for (int i = 0; i < 9; i++) P[i] = a * F[i] + b * C[i];
+    }
+    return 0.5 * mu * Ic3 + 0.5 * la * (J - alpha) * (J - alpha) - 0.5 * mu * log(Ic + 1);
+}
+
 const eo_material_type eo_material_stable_neo_hookean = {
     .info = {.name = "stable_neo_hookean", .summary = "stable Neo-Hookean (Smith, de Goes, Kim 2018), smooth through inversion"},
     .flags = EO_MATERIAL_INVERSION_SAFE,
     .sigma_eval = sigma_eval,
+    .F_psi_grad = F_psi_grad,
 };
