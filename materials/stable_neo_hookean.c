@@ -10,8 +10,11 @@
  *   ∂²ψ/∂σ_i∂σ_j = 2μ'σ_iσ_j r² + λ'σ_k(2J − α),
  *   twist_ij = μ'(1 − r) − λ'(J − α)σ_k,
  *   flip_ij  = μ'(1 − r) + λ'(J − α)σ_k.
- * Fast path from F (no SVD): I_C − 3 = 2 tr H + ‖H‖² (H = F − I), J = det F,
- *   P = μ'(1 − r) F + λ'(J − α) cof(F),   cof(F) = ∂J/∂F = J F⁻ᵀ. */
+ * Fast path from F (no SVD), H = F − I: I_C − 3 = 2 tr H + ‖H‖², J − 1 = tr H + Σ
+ * principal 2×2 minors of H + det H (both without cancellation at small strain),
+ *   ψ = [μ'/2 (I_C − 3 − log1p((I_C − 3)/4)) + λ'/2 (J − 1)(J − 1 + 2(1 − α))] + ψ(I),
+ *   P = μ'(1 − r) F + λ'(J − α) cof(F),   cof(F) = ∂J/∂F = J F⁻ᵀ,
+ * so the rounding of ψ near rest is that of the last addition of the constant ψ(I). */
 #include <math.h>
 
 #include "elastopt/material.h"
@@ -57,17 +60,31 @@ static double ic_minus_3(const double F[9])
            F[5] * F[5] + F[6] * F[6] + F[7] * F[7];
 }
 
+/* J − 1 = det(I + H) − 1 = tr H + (sum of the principal 2×2 minors of H) + det H, accurate
+ * at small strain where det F − 1 cancels */
+static double det_minus_1(const double F[9])
+{
+    double h0 = F[0] - 1, h4 = F[4] - 1, h8 = F[8] - 1;
+    double m = h0 * h4 - F[1] * F[3] + h0 * h8 - F[2] * F[6] + h4 * h8 - F[5] * F[7];
+    double d = h0 * (h4 * h8 - F[5] * F[7]) - F[1] * (F[3] * h8 - F[5] * F[6]) + F[2] * (F[3] * F[7] - h4 * F[6]);
+    return (h0 + h4 + h8) + m + d;
+}
+
 static double F_psi_grad(const eo_material_coef *c, const double F[9], double J, double P[9])
 {
+    (void)J; /* not a barrier: J − 1 is formed accurately from H instead */
     double mu = 4.0 / 3.0 * c->mu, la = c->lambda + 5.0 / 6.0 * c->mu;
-    double alpha = 1 + 0.75 * mu / la;
-    double Ic3 = ic_minus_3(F), Ic = Ic3 + 3;
+    double alpha = 1 + 0.75 * mu / la, oma = -0.75 * mu / la; /* 1 − α */
+    double Ic3 = ic_minus_3(F), Jm1 = det_minus_1(F);
     if (P) {
-        double C[9], a = mu * (1 - 1 / (Ic + 1)), b = la * (J - alpha);
+        double C[9], a = mu * (Ic3 + 3) / (Ic3 + 4), b = la * (Jm1 + oma);
         cofactor(F, C);
         for (int i = 0; i < 9; i++) P[i] = a * F[i] + b * C[i];
     }
-    return 0.5 * mu * Ic3 + 0.5 * la * (J - alpha) * (J - alpha) - 0.5 * mu * log(Ic + 1);
+    /* ψ − ψ(I) summed first, ψ(I) = λ'/2 (1 − α)² − μ'/2 log 4 added last */
+    double rel = 0.5 * mu * (Ic3 - log1p(0.25 * Ic3)) + 0.5 * la * Jm1 * (Jm1 + 2 * oma);
+    (void)alpha;
+    return rel + (0.5 * la * oma * oma - mu * 0.69314718055994530942);
 }
 
 const eo_material_type eo_material_stable_neo_hookean = {
