@@ -1,6 +1,6 @@
 /* elastopt material: evaluate one material model at one deformation gradient and print
- * ψ, P, ∂P/∂F, its clamp projection, the signed singular values and J as one JSON
- * object (full precision). The coefficients come from the `material` config section,
+ * ψ, P, ∂P/∂F, its clamp projection, the signed singular values, J and the inversion
+ * flag (eo_tet_is_inverted) as one JSON object (full precision; ψ = +∞ prints as null). The coefficients come from the `material` config section,
  * so -o material.E=… / -o material.nu=… are checked exactly as in a scene file. */
 #include <errno.h>
 #include <jansson.h>
@@ -120,6 +120,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     json_object_set_new(o, "eig", array_of(e.eig, 9));
     json_object_set_new(o, "sigma", array_of(e.sigma, 3));
     json_object_set_new(o, "J", json_real(e.J));
+    json_object_set_new(o, "inverted", json_boolean(eo_tet_is_inverted(e.J)));
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17));
     json_decref(o);
     if (!s) {
@@ -141,8 +142,10 @@ const eo_cli_command eo_cmd_material = {
              "Prints one JSON object: model, E, nu, mu, lambda, F, psi, P (9, row-major),\n"
              "dPdF (81, dPdF[(3i+j)*9+(3k+l)] = dP_ij/dF_kl), dPdF_psd (negative eigenvalues\n"
              "clamped to 0), eig (the nine analytic eigenvalues: 3 scaling, 3 twist, 3 flip),\n"
-             "sigma (signed singular values) and J = det F. psi is null where the model is\n"
-             "+infinity (neo_hookean at J <= 0). Numbers are printed with 17 significant digits.\n\n"
+             "sigma (signed singular values), J = det F and inverted (J <= 0, the one rule the\n"
+             "library uses everywhere). psi is null (JSON has no infinity) where the model is\n"
+             "+infinity: neo_hookean exactly where inverted is true. Numbers are printed with\n"
+             "17 significant digits.\n\n"
              "  --model NAME   material model (default: material.model, stable_neo_hookean)\n"
              "  -o KEY=VALUE   material.model, material.E (default 1e5), material.nu (0.45),\n"
              "                 material.density, material.k\n"

@@ -9,7 +9,9 @@
  * flip is genuinely singular at σ_i + σ_j = 0 (only possible for the pair (·,3) of an
  * inverted element with |σ3| = σ_j, or rank ≤ 1): there the polar rotation R is not
  * unique and ψ is not differentiable. The denominator is kept away from 0 by
- * |σ_i + σ_j| ≥ 1e-12 (sign kept; +1e-12 at exactly 0), which keeps values finite. */
+ * |σ_i + σ_j| ≥ 1e-12 (sign kept; +1e-12 at exactly 0), which keeps values finite.
+ * Fast path from F (no SVD): R from eo_polar3 (the same R = U Vᵀ as the signed SVD),
+ * M = RᵀF (= V Σ Vᵀ), t = tr M − 3:  ψ = μ‖F − R‖² + (λ/2) t²,  P = 2μ(F − R) + λ t R. */
 #include <math.h>
 
 #include "elastopt/material.h"
@@ -32,8 +34,25 @@ static void sigma_eval(const eo_material_coef *c, const double s[3], eo_eval_wha
     }
 }
 
+
+static double F_psi_grad(const eo_material_coef *c, const double F[9], double J, double P[9])
+{
+    (void)J;
+    double mu = c->mu, la = c->lambda, R[9];
+    eo_polar3(F, R);
+    double t = -3, dd = 0;
+    for (int i = 0; i < 9; i++) {
+        t += R[i] * F[i]; /* tr(RᵀF) */
+        dd += (F[i] - R[i]) * (F[i] - R[i]);
+    }
+    if (P)
+        for (int i = 0; i < 9; i++) P[i] = 2 * mu * (F[i] - R[i]) + la * t * R[i];
+    return mu * dd + 0.5 * la * t * t;
+}
+
 const eo_material_type eo_material_corotated = {
     .info = {.name = "corotated", .summary = "general corotated, psi = mu sum (s_i-1)^2 + lambda/2 (sum s_i - 3)^2"},
     .flags = EO_MATERIAL_INVERSION_SAFE,
     .sigma_eval = sigma_eval,
+    .F_psi_grad = F_psi_grad,
 };

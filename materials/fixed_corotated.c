@@ -7,7 +7,9 @@
  *   twist_ij = 2μ − λ(J − 1) σ_k,
  *   flip_ij  = 2μ + λ(J − 1) σ_k − 4μ/(σ_i + σ_j).
  * flip is genuinely singular at σ_i + σ_j = 0 (non-unique polar rotation, ψ not
- * differentiable there); the denominator is kept at |σ_i + σ_j| ≥ 1e-12 (sign kept). */
+ * differentiable there); the denominator is kept at |σ_i + σ_j| ≥ 1e-12 (sign kept).
+ * Fast path from F (no SVD): R from eo_polar3 (R = U Vᵀ of the signed SVD), J = det F:
+ *   ψ = μ‖F − R‖² + (λ/2)(J − 1)²,   P = 2μ(F − R) + λ(J − 1) cof(F). */
 #include <math.h>
 
 #include "elastopt/material.h"
@@ -35,8 +37,31 @@ static void sigma_eval(const eo_material_coef *c, const double s[3], eo_eval_wha
     }
 }
 
+/* cofactor matrix C = ∂J/∂F = J F⁻ᵀ (row-major) */
+static void cofactor(const double F[9], double C[9])
+{
+    C[0] = F[4] * F[8] - F[5] * F[7], C[1] = F[5] * F[6] - F[3] * F[8], C[2] = F[3] * F[7] - F[4] * F[6];
+    C[3] = F[2] * F[7] - F[1] * F[8], C[4] = F[0] * F[8] - F[2] * F[6], C[5] = F[1] * F[6] - F[0] * F[7];
+    C[6] = F[1] * F[5] - F[2] * F[4], C[7] = F[2] * F[3] - F[0] * F[5], C[8] = F[0] * F[4] - F[1] * F[3];
+}
+
+static double F_psi_grad(const eo_material_coef *c, const double F[9], double J, double P[9])
+{
+    double mu = c->mu, la = c->lambda, R[9];
+    eo_polar3(F, R);
+    double dd = 0;
+    for (int i = 0; i < 9; i++) dd += (F[i] - R[i]) * (F[i] - R[i]);
+    if (P) {
+        double C[9];
+        cofactor(F, C);
+        for (int i = 0; i < 9; i++) P[i] = 2 * mu * (F[i] - R[i]) + la * (J - 1) * C[i];
+    }
+    return mu * dd + 0.5 * la * (J - 1) * (J - 1);
+}
+
 const eo_material_type eo_material_fixed_corotated = {
     .info = {.name = "fixed_corotated", .summary = "fixed corotated, psi = mu sum (s_i-1)^2 + lambda/2 (J-1)^2"},
     .flags = EO_MATERIAL_INVERSION_SAFE,
     .sigma_eval = sigma_eval,
+    .F_psi_grad = F_psi_grad,
 };

@@ -17,6 +17,14 @@
  * F-space models (F_eval, `linear`): ψ, P, ∂P/∂F as given; the Hessian is constant and
  *   PSD, so the projection is the identity.
  *
+ * Fast path (F_psi_grad): for EO_EVAL_ENERGY / EO_EVAL_GRAD a model that has it gives ψ
+ *   and P straight from F and J (no SVD); the SVD path above stays for EO_EVAL_HESS and
+ *   eo_material_evaluate_svd, the reference the tests compare against.
+ * Inversion (one rule, material.h): J = eo_det3(F) computed once per evaluation;
+ *   barrier models get ψ = +∞ iff eo_tet_is_inverted(J), decided here before any model
+ *   code runs. Where J > 0 but the SVD's signed σ3 ≤ 0 (|J| at rounding level, the two
+ *   signs computed differently), σ3 is replaced by J/(σ1σ2) > 0, a change of F at the
+ *   rounding level, so that the SVD path agrees with the rule.
  * Tet element (notes §4.2–4.3, ERRATA): Ds = [x0−x3, x1−x3, x2−x3], F = Ds Dm⁻¹,
  *   vec(F) = (Dm⁻ᵀ S ⊗ I3) x. The adjoint map B: 3×3 Q ↦ 12-vector ∂(F:Q)/∂x is
  *   vertex c ∈ {0,1,2}: column c of Q Dm⁻ᵀ; vertex 3: minus their sum.
@@ -28,11 +36,7 @@
 
 #include "elastopt/material.h"
 
-static double det3(const double M[9])
-{
-    return M[0] * (M[4] * M[8] - M[5] * M[7]) - M[1] * (M[3] * M[8] - M[5] * M[6]) +
-           M[2] * (M[3] * M[7] - M[4] * M[6]);
-}
+static double det3(const double M[9]) { return eo_det3(M); }
 
 /* Symmetric 3×3 eigen-decomposition, cyclic Jacobi. A row-major (destroyed copy taken),
  * d eigenvalues, W row-major with eigenvectors in columns. */
@@ -120,12 +124,17 @@ static double project(double l, eo_proj proj)
     return l;
 }
 
-/* Shared front half of both evaluations: SVD, σ-space model, P. Returns ψ. */
+/* Shared front half of both evaluations, after the SVD F = U diag(s) Vᵀ: σ-space model
+ * and P. J > 0 for barrier models (checked by the caller). Returns ψ. */
 static double iso_eval(const eo_material_type *mt, const eo_material_coef *c, const double F[9],
-                       eo_eval_what what, double U[9], double s[3], double V[9], eo_sigma_eval *se,
+                       double J, eo_eval_what what, double U[9], double s[3], double V[9], eo_sigma_eval *se,
                        double P[9])
 {
-    eo_svd3(F, U, s, V);
+    (void)F;
+    if ((mt->flags & EO_MATERIAL_BARRIER) && !(s[2] > 0)) { /* caller checked J > 0 */
+        double d = s[0] * s[1];
+        s[2] = d > 0 ? J / d : 0;
+    }
     memset(se, 0, sizeof *se);
     mt->sigma_eval(c, s, what, se);
     if (!(se->psi < INFINITY)) {
@@ -140,18 +149,22 @@ static double iso_eval(const eo_material_type *mt, const eo_material_coef *c, co
     return se->psi;
 }
 
-int eo_material_evaluate(const eo_material_type *mt, const eo_material_coef *c,
-                         const double F[9], eo_eval_what what, eo_proj proj,
-                         eo_material_eval *out)
+static int material_eval(const eo_material_type *mt, const eo_material_coef *c, const double F[9],
+                         eo_eval_what what, eo_proj proj, int fast, eo_material_eval *out)
 {
     memset(out, 0, sizeof *out);
     out->J = det3(F);
-    if (mt->flags & EO_MATERIAL_EDGE) {
-        eo_svd3(F, out->U, out->sigma, out->V);
-        return EO_ERR_UNSUPPORTED;
+    eo_svd3(F, out->U, out->sigma, out->V);
+    if (mt->flags & EO_MATERIAL_EDGE) return EO_ERR_UNSUPPORTED;
+    if ((mt->flags & EO_MATERIAL_BARRIER) && eo_tet_is_inverted(out->J)) {
+        out->psi = INFINITY;
+        return EO_OK;
+    }
+    if (fast && what < EO_EVAL_HESS && mt->F_psi_grad) {
+        out->psi = mt->F_psi_grad(c, F, out->J, what >= EO_EVAL_GRAD ? out->P : NULL);
+        return EO_OK;
     }
     if (mt->F_eval) {
-        eo_svd3(F, out->U, out->sigma, out->V);
         out->psi = mt->F_eval(c, F, what, what >= EO_EVAL_GRAD ? out->P : NULL,
                               what >= EO_EVAL_HESS ? out->dPdF : NULL);
         if (what >= EO_EVAL_HESS) {
@@ -163,7 +176,9 @@ int eo_material_evaluate(const eo_material_type *mt, const eo_material_coef *c,
         return EO_OK;
     }
     eo_sigma_eval se;
-    out->psi = iso_eval(mt, c, F, what, out->U, out->sigma, out->V, &se, out->P);
+    double s[3];
+    memcpy(s, out->sigma, sizeof s);
+    out->psi = iso_eval(mt, c, F, out->J, what, out->U, s, out->V, &se, out->P);
     if (!(out->psi < INFINITY) || what < EO_EVAL_HESS) return EO_OK;
     modes m;
     build_modes(&se, out->U, out->V, &m);
@@ -182,6 +197,18 @@ int eo_material_evaluate(const eo_material_type *mt, const eo_material_coef *c,
     return EO_OK;
 }
 
+int eo_material_evaluate(const eo_material_type *mt, const eo_material_coef *c, const double F[9],
+                         eo_eval_what what, eo_proj proj, eo_material_eval *out)
+{
+    return material_eval(mt, c, F, what, proj, 1, out);
+}
+
+int eo_material_evaluate_svd(const eo_material_type *mt, const eo_material_coef *c, const double F[9],
+                             eo_eval_what what, eo_proj proj, eo_material_eval *out)
+{
+    return material_eval(mt, c, F, what, proj, 0, out);
+}
+
 /* B: 3×3 Q (row-major) ↦ 12-vector ∂(F:Q)/∂x. */
 static void adjoint_map(const double Dminv[9], const double Q[9], double g[12])
 {
@@ -197,18 +224,239 @@ static void adjoint_map(const double Dminv[9], const double Q[9], double g[12])
     }
 }
 
+void eo_tet_F(const double Dminv[9], const double x[12], double F[9])
+{
+    for (int a = 0; a < 3; a++) {
+        double ds0 = x[a] - x[9 + a], ds1 = x[3 + a] - x[9 + a], ds2 = x[6 + a] - x[9 + a];
+        for (int b = 0; b < 3; b++) F[3 * a + b] = ds0 * Dminv[b] + ds1 * Dminv[3 + b] + ds2 * Dminv[6 + b];
+    }
+}
+
+double eo_tet_J(const double Dminv[9], const double x[12])
+{
+    double F[9];
+    eo_tet_F(Dminv, x, F);
+    return eo_det3(F);
+}
+
+/* Unit eigenvector of the symmetric B (row-major) for its eigenvalue lam: the largest of
+ * the three cross products of the rows of B − lam I; 0 if B − lam I has rank ≤ 1. */
+static int eigvec_cross(const double B[9], double lam, double v[3])
+{
+    double r0[3] = {B[0] - lam, B[1], B[2]}, r1[3] = {B[3], B[4] - lam, B[5]}, r2[3] = {B[6], B[7], B[8] - lam};
+    double c[3][3];
+    c[0][0] = r0[1] * r1[2] - r0[2] * r1[1], c[0][1] = r0[2] * r1[0] - r0[0] * r1[2], c[0][2] = r0[0] * r1[1] - r0[1] * r1[0];
+    c[1][0] = r0[1] * r2[2] - r0[2] * r2[1], c[1][1] = r0[2] * r2[0] - r0[0] * r2[2], c[1][2] = r0[0] * r2[1] - r0[1] * r2[0];
+    c[2][0] = r1[1] * r2[2] - r1[2] * r2[1], c[2][1] = r1[2] * r2[0] - r1[0] * r2[2], c[2][2] = r1[0] * r2[1] - r1[1] * r2[0];
+    int best = 0;
+    double nb = 0;
+    for (int k = 0; k < 3; k++) {
+        double n = c[k][0] * c[k][0] + c[k][1] * c[k][1] + c[k][2] * c[k][2];
+        if (n > nb) nb = n, best = k;
+    }
+    if (!(nb > 0)) return 0;
+    double s = 1 / sqrt(nb);
+    for (int i = 0; i < 3; i++) v[i] = c[best][i] * s;
+    return 1;
+}
+
+/* Symmetric 3×3 eigen-decomposition in closed form (no iteration): eigenvalues from the
+ * trigonometric solution of the characteristic cubic (A scaled by its largest entry);
+ * the eigenvector of the most separated eigenvalue (the largest when det(A − qI) ≥ 0,
+ * else the smallest) from cross products of the rows of A − λI; the other two from the
+ * 2×2 restriction of A to the orthogonal complement, diagonalized by one exact plane
+ * rotation, which stays accurate for a repeated pair. d eigenvalues, W row-major with
+ * the eigenvectors in its columns (orthonormal). */
+static void eig_sym3_closed(const double Ain[9], double d[3], double W[9])
+{
+    double m = 0;
+    for (int i = 0; i < 9; i++) m = fmax(m, fabs(Ain[i]));
+    static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    if (!(m > 0)) {
+        d[0] = d[1] = d[2] = 0;
+        memcpy(W, I3, sizeof I3);
+        return;
+    }
+    double A[9];
+    for (int i = 0; i < 9; i++) A[i] = Ain[i] / m;
+    double q = (A[0] + A[4] + A[8]) / 3;
+    double b00 = A[0] - q, b11 = A[4] - q, b22 = A[8] - q;
+    double p2 = (b00 * b00 + b11 * b11 + b22 * b22 + 2 * (A[1] * A[1] + A[2] * A[2] + A[5] * A[5])) / 6;
+    if (!(p2 > 1e-36)) { /* A = q I to working precision */
+        d[0] = A[0] * m, d[1] = A[4] * m, d[2] = A[8] * m;
+        memcpy(W, I3, sizeof I3);
+        return;
+    }
+    double p = sqrt(p2);
+    double r = (b00 * (b11 * b22 - A[5] * A[5]) - A[1] * (A[1] * b22 - A[5] * A[2]) + A[2] * (A[1] * A[5] - b11 * A[2])) /
+               (2 * p2 * p);
+    r = r < -1 ? -1 : r > 1 ? 1 : r;
+    double phi = acos(r) / 3;
+    double lam = r >= 0 ? q + 2 * p * cos(phi) : q + 2 * p * cos(phi + 2.0943951023931954923);
+    double v0[3];
+    if (!eigvec_cross(A, lam, v0)) v0[0] = 1, v0[1] = 0, v0[2] = 0;
+    /* orthonormal e1, e2 ⟂ v0 */
+    double e1[3], e2[3];
+    if (fabs(v0[0]) > fabs(v0[1])) {
+        double s = 1 / sqrt(v0[0] * v0[0] + v0[2] * v0[2]);
+        e1[0] = -v0[2] * s, e1[1] = 0, e1[2] = v0[0] * s;
+    } else {
+        double s = 1 / sqrt(v0[1] * v0[1] + v0[2] * v0[2]);
+        e1[0] = 0, e1[1] = v0[2] * s, e1[2] = -v0[1] * s;
+    }
+    e2[0] = v0[1] * e1[2] - v0[2] * e1[1], e2[1] = v0[2] * e1[0] - v0[0] * e1[2], e2[2] = v0[0] * e1[1] - v0[1] * e1[0];
+    double Ae1[3], Ae2[3], Av0[3];
+    for (int i = 0; i < 3; i++) {
+        Ae1[i] = A[3 * i] * e1[0] + A[3 * i + 1] * e1[1] + A[3 * i + 2] * e1[2];
+        Ae2[i] = A[3 * i] * e2[0] + A[3 * i + 1] * e2[1] + A[3 * i + 2] * e2[2];
+        Av0[i] = A[3 * i] * v0[0] + A[3 * i + 1] * v0[1] + A[3 * i + 2] * v0[2];
+    }
+    double m11 = e1[0] * Ae1[0] + e1[1] * Ae1[1] + e1[2] * Ae1[2];
+    double m22 = e2[0] * Ae2[0] + e2[1] * Ae2[1] + e2[2] * Ae2[2];
+    double m12 = e1[0] * Ae2[0] + e1[1] * Ae2[1] + e1[2] * Ae2[2];
+    double l0 = v0[0] * Av0[0] + v0[1] * Av0[1] + v0[2] * Av0[2]; /* Rayleigh quotient */
+    double c = 1, s = 0;
+    if (m12 != 0) { /* Jacobi rotation zeroing m12 */
+        double theta = (m22 - m11) / (2 * m12);
+        double t = fabs(theta) > 1e150 ? 0.5 / theta : copysign(1.0, theta) / (fabs(theta) + sqrt(theta * theta + 1));
+        c = 1 / sqrt(t * t + 1), s = t * c;
+    }
+    double l1 = c * c * m11 - 2 * s * c * m12 + s * s * m22, l2 = s * s * m11 + 2 * s * c * m12 + c * c * m22;
+    double w1[3], w2[3];
+    for (int i = 0; i < 3; i++) w1[i] = c * e1[i] - s * e2[i], w2[i] = s * e1[i] + c * e2[i];
+    d[0] = l0 * m, d[1] = l1 * m, d[2] = l2 * m;
+    for (int i = 0; i < 3; i++) W[3 * i] = v0[i], W[3 * i + 1] = w1[i], W[3 * i + 2] = w2[i];
+}
+
+/* The projected scaling block Hs⁺ = W proj(Λ) Wᵀ of ∂²ψ/∂σ². A positive definite Hs
+ * (all leading minors > 0, the common case) is its own clamp and abs projection and
+ * needs no eigensolve. */
+static void scaling_block(const double Hs[9], eo_proj proj, double out[9])
+{
+    double m2 = Hs[0] * Hs[4] - Hs[1] * Hs[3];
+    if (proj == EO_PROJ_NONE || (Hs[0] > 0 && m2 > 0 && det3(Hs) > 0)) {
+        memcpy(out, Hs, 9 * sizeof(double));
+        return;
+    }
+    double d[3], W[9];
+    eig_sym3_closed(Hs, d, W);
+    for (int k = 0; k < 3; k++) d[k] = project(d[k], proj);
+    for (int i = 0; i < 3; i++)
+        for (int j = i; j < 3; j++)
+            out[3 * i + j] = out[3 * j + i] = W[3 * i] * d[0] * W[3 * j] + W[3 * i + 1] * d[1] * W[3 * j + 1] +
+                                             W[3 * i + 2] * d[2] * W[3 * j + 2];
+}
+
+/* 12×12 element Hessian w (∂F/∂x)ᵀ ∂P/∂F (∂F/∂x) of an isotropic model, projected,
+ * without forming the nine modes. In the rotated frame A = Uᵀ dF V the (projected)
+ * ∂P/∂F acts as A'_aa = Σ_c Hs⁺_ac A_cc (Hs⁺ the projected 3×3 scaling block) and, per
+ * pair (i,j), A'_ij = α A_ij + β A_ji, α = (t⁺ + f⁺)/2, β = (t⁺ − f⁺)/2 (t, f the twist
+ * and flip eigenvalues, projected). With ∂F_ij/∂x_vk = δ_ik G_vj (G_vj = Dm⁻¹_vj for
+ * v < 3, G_3 = −Σ G_v) and GV = G V:
+ *     H_(v,i),(u,l) = w Σ_bd GV_vb GV_ud T_bd[i][l],   T_bd = U L_bd Uᵀ,
+ *     T_bb = Hs⁺_bb u_b u_bᵀ + Σ_(a≠b) α_ab u_a u_aᵀ,   T_bd = Hs⁺_bd u_b u_dᵀ + β_bd u_d u_bᵀ,
+ * (u_a the columns of U), contracted as Y_ub = Σ_d GV_ud T_bd, block(v,u) = Σ_b GV_vb Y_ub
+ * for v ≤ u < 3; the blocks of vertex 3 are minus the sums of the others (translation
+ * invariance, exact in G). */
+static void hess_iso(const eo_sigma_eval *se, const double U[9], const double V[9], const double Dminv[9],
+                     double w, eo_proj proj, double *H)
+{
+    double Hs[9];
+    scaling_block(se->H, proj, Hs);
+    double al[3][3] = {{0}}, be[3][3] = {{0}};
+    static const int PI[3] = {0, 0, 1}, PJ[3] = {1, 2, 2};
+    for (int p = 0; p < 3; p++) {
+        double t = project(se->twist[p], proj), f = project(se->flip[p], proj);
+        int i = PI[p], j = PJ[p];
+        al[i][j] = al[j][i] = 0.5 * (t + f);
+        be[i][j] = be[j][i] = 0.5 * (t - f);
+    }
+    double T[3][3][9];
+    for (int b = 0; b < 3; b++) {
+        double l[3];
+        for (int a = 0; a < 3; a++) l[a] = a == b ? Hs[4 * b] : al[a][b];
+        for (int i = 0; i < 3; i++)
+            for (int k = i; k < 3; k++)
+                T[b][b][3 * i + k] = T[b][b][3 * k + i] = l[0] * U[3 * i] * U[3 * k] + l[1] * U[3 * i + 1] * U[3 * k + 1] +
+                                                          l[2] * U[3 * i + 2] * U[3 * k + 2];
+        for (int dd = b + 1; dd < 3; dd++) {
+            double h = Hs[3 * b + dd], bb = be[b][dd];
+            for (int i = 0; i < 3; i++)
+                for (int k = 0; k < 3; k++) {
+                    double v = h * U[3 * i + b] * U[3 * k + dd] + bb * U[3 * i + dd] * U[3 * k + b];
+                    T[b][dd][3 * i + k] = v;
+                    T[dd][b][3 * k + i] = v;
+                }
+        }
+    }
+    double GV[3][3];
+    for (int v = 0; v < 3; v++)
+        for (int b = 0; b < 3; b++)
+            GV[v][b] = Dminv[3 * v] * V[b] + Dminv[3 * v + 1] * V[3 + b] + Dminv[3 * v + 2] * V[6 + b];
+    double Y[3][3][9];
+    for (int u = 0; u < 3; u++)
+        for (int b = 0; b < 3; b++)
+            for (int q = 0; q < 9; q++) Y[u][b][q] = GV[u][0] * T[b][0][q] + GV[u][1] * T[b][1][q] + GV[u][2] * T[b][2][q];
+    double Bk[3][3][9];
+    for (int v = 0; v < 3; v++)
+        for (int u = v; u < 3; u++)
+            for (int q = 0; q < 9; q++) Bk[v][u][q] = GV[v][0] * Y[u][0][q] + GV[v][1] * Y[u][1][q] + GV[v][2] * Y[u][2][q];
+    for (int v = 0; v < 3; v++)
+        for (int u = v; u < 3; u++)
+            for (int q = 0; q < 9; q++) Bk[v][u][q] *= w;
+    double S3[3][9]; /* block(3,u) = −Σ_v block(v,u) */
+    for (int u = 0; u < 3; u++)
+        for (int i = 0; i < 3; i++)
+            for (int l = 0; l < 3; l++) {
+                double s = 0;
+                for (int v = 0; v < 3; v++) s += v <= u ? Bk[v][u][3 * i + l] : Bk[u][v][3 * l + i];
+                S3[u][3 * i + l] = -s;
+            }
+    for (int v = 0; v < 3; v++)
+        for (int u = v; u < 3; u++)
+            for (int i = 0; i < 3; i++)
+                for (int l = 0; l < 3; l++) {
+                    double x = Bk[v][u][3 * i + l];
+                    H[12 * (3 * v + i) + 3 * u + l] = x;
+                    H[12 * (3 * u + l) + 3 * v + i] = x;
+                }
+    for (int u = 0; u < 3; u++)
+        for (int i = 0; i < 3; i++)
+            for (int l = 0; l < 3; l++) {
+                double x = S3[u][3 * i + l];
+                H[12 * (9 + i) + 3 * u + l] = x;
+                H[12 * (3 * u + l) + 9 + i] = x;
+            }
+    for (int i = 0; i < 3; i++)
+        for (int l = 0; l < 3; l++)
+            H[12 * (9 + i) + 9 + l] = -(S3[0][3 * l + i] + S3[1][3 * l + i] + S3[2][3 * l + i]);
+}
+
 int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
                     const double Dminv[9], double w, const double x[12], eo_eval_what what,
                     eo_proj proj, eo_tet_out *out)
 {
     if (mt->flags & EO_MATERIAL_EDGE) return EO_ERR_UNSUPPORTED;
     double F[9];
-    for (int a = 0; a < 3; a++) {
-        double ds0 = x[a] - x[9 + a], ds1 = x[3 + a] - x[9 + a], ds2 = x[6 + a] - x[9 + a];
-        for (int b = 0; b < 3; b++) F[3 * a + b] = ds0 * Dminv[b] + ds1 * Dminv[3 + b] + ds2 * Dminv[6 + b];
+    eo_tet_F(Dminv, x, F);
+    const double J = det3(F);
+    out->J = J;
+    if ((mt->flags & EO_MATERIAL_BARRIER) && eo_tet_is_inverted(J)) {
+        out->psi = out->energy = INFINITY;
+        if (what >= EO_EVAL_GRAD) memset(out->grad, 0, sizeof out->grad);
+        if (what >= EO_EVAL_HESS) memset(out->hess, 0, sizeof out->hess);
+        return EO_OK;
     }
-    out->J = det3(F);
     double P[9];
+    if (what < EO_EVAL_HESS && mt->F_psi_grad) {
+        out->psi = mt->F_psi_grad(c, F, J, what >= EO_EVAL_GRAD ? P : NULL);
+        out->energy = w * out->psi;
+        if (what >= EO_EVAL_GRAD) {
+            for (int i = 0; i < 9; i++) P[i] *= w;
+            adjoint_map(Dminv, P, out->grad);
+        }
+        return EO_OK;
+    }
     if (mt->F_eval) {
         double dPdF[81];
         out->psi = mt->F_eval(c, F, what, what >= EO_EVAL_GRAD ? P : NULL, what >= EO_EVAL_HESS ? dPdF : NULL);
@@ -233,7 +481,8 @@ int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
     }
     double U[9], s[3], V[9];
     eo_sigma_eval se;
-    out->psi = iso_eval(mt, c, F, what, U, s, V, &se, P);
+    eo_svd3(F, U, s, V);
+    out->psi = iso_eval(mt, c, F, J, what, U, s, V, &se, P);
     if (!(out->psi < INFINITY)) {
         out->energy = INFINITY;
         if (what >= EO_EVAL_GRAD) memset(out->grad, 0, sizeof out->grad);
@@ -245,24 +494,7 @@ int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
         adjoint_map(Dminv, P, out->grad);
         for (int i = 0; i < 12; i++) out->grad[i] *= w;
     }
-    if (what >= EO_EVAL_HESS) {
-        modes m;
-        build_modes(&se, U, V, &m);
-        double *H = out->hess;
-        memset(H, 0, sizeof out->hess);
-        for (int k = 0; k < 9; k++) {
-            double l = w * project(m.lam[k], proj);
-            if (l == 0) continue;
-            double g[12];
-            adjoint_map(Dminv, m.q[k], g);
-            for (int i = 0; i < 12; i++) {
-                double lg = l * g[i];
-                for (int j = i; j < 12; j++) H[12 * i + j] += lg * g[j];
-            }
-        }
-        for (int i = 0; i < 12; i++)
-            for (int j = 0; j < i; j++) H[12 * i + j] = H[12 * j + i];
-    }
+    if (what >= EO_EVAL_HESS) hess_iso(&se, U, V, Dminv, w, proj, out->hess);
     return EO_OK;
 }
 

@@ -5,7 +5,8 @@
  *   ∂P_ij/∂F_kl = μ(δ_ik δ_jl + δ_il δ_jk) + λ δ_ij δ_kl   (constant).
  * Not rotation invariant, so it is an F-space model. The Hessian is PSD (eigenvalues
  * 2μ+3λ on I, 2μ on the five deviatoric symmetric directions, 0 on the three skew
- * ones), hence every projection (clamp, abs) is the identity for it. */
+ * ones), hence every projection (clamp, abs) is the identity for it.
+ * F_psi_grad (the energy/gradient fast path) is the same formula without the Hessian. */
 #include <string.h>
 
 #include "elastopt/material.h"
@@ -34,8 +35,15 @@ static double F_eval(const eo_material_coef *c, const double F[9], eo_eval_what 
     return mu * ee + 0.5 * la * tr * tr;
 }
 
+static double F_psi_grad(const eo_material_coef *c, const double F[9], double J, double P[9])
+{
+    (void)J;
+    return F_eval(c, F, P ? EO_EVAL_GRAD : EO_EVAL_ENERGY, P, NULL);
+}
+
 const eo_material_type eo_material_linear = {
     .info = {.name = "linear", .summary = "linear elasticity, psi = mu eps:eps + lambda/2 tr^2(eps) (not rotation invariant)"},
     .flags = EO_MATERIAL_INVERSION_SAFE,
     .F_eval = F_eval,
+    .F_psi_grad = F_psi_grad,
 };

@@ -26,6 +26,9 @@ static int check_material(eo_ctx *ctx, const void *type)
         return eo_error(ctx, EO_ERR_INVALID,
                         "register material '%s': exactly one of sigma_eval, F_eval, edge_eval must be set",
                         t->info.name);
+    if (t->F_psi_grad && t->edge_eval)
+        return eo_error(ctx, EO_ERR_INVALID,
+                        "register material '%s': F_psi_grad is for models of F, not edge models", t->info.name);
     if (!!(t->flags & EO_MATERIAL_EDGE) != (t->edge_eval != NULL))
         return eo_error(ctx, EO_ERR_INVALID,
                         "register material '%s': EO_MATERIAL_EDGE goes with edge_eval", t->info.name);

@@ -105,7 +105,7 @@ static int op_inverted_count(void *data, const double *x)
     eo_step *st = data;
     eo_stepi_scatter_free(st, x);
     int n = 0;
-    for (int k = 0; k < st->nt; k++) n += eo_stepi_tet_J(st, st->xw, k) <= 0;
+    for (int k = 0; k < st->nt; k++) n += eo_tet_is_inverted(eo_stepi_tet_J(st, st->xw, k));
     return n;
 }
 

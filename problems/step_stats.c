@@ -9,20 +9,13 @@
 
 /* ---------------------------------------------------------------- small math */
 
-static double det3(const double A[9])
-{
-    return A[0] * (A[4] * A[8] - A[5] * A[7]) - A[1] * (A[3] * A[8] - A[5] * A[6]) +
-           A[2] * (A[3] * A[7] - A[4] * A[6]);
-}
-
-/* det F of tet k at positions x: det(Ds)·det(Dm⁻¹). */
+/* det F of tet k at positions x, computed as the material kernel computes it (eo_tet_J:
+ * F = Ds Dm⁻¹, then eo_det3), so that eo_tet_is_inverted agrees with the barrier. */
 double eo_stepi_tet_J(const eo_step *st, const double *x, int k)
 {
-    const int *tet = st->sc->mesh->tets + 4 * k;
-    double Ds[9];
-    for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) Ds[3 * r + c] = x[3 * tet[c] + r] - x[3 * tet[3] + r];
-    return det3(Ds) * det3(st->Dminv + 9 * k);
+    double x12[12];
+    eo_gather12(x, st->sc->mesh->tets + 4 * k, x12);
+    return eo_tet_J(st->Dminv + 9 * k, x12);
 }
 
 int eo_step_stats_compute(eo_step *st, eo_step_stats *s)
@@ -48,7 +41,7 @@ int eo_step_stats_compute(eo_step *st, eo_step_stats *s)
         double J = eo_stepi_tet_J(st, x, k);
         if (J < s->min_J) s->min_J = J;
         if (J > s->max_J) s->max_J = J;
-        s->inverted += J <= 0;
+        s->inverted += eo_tet_is_inverted(J);
     }
     /* kinetic energy with the scene's mass matrix */
     double ke = 0;
@@ -98,7 +91,7 @@ int eo_step_fields(eo_step *st, double *psi, double *J, unsigned char *inverted)
         }
         if (psi) psi[k] = p;
         if (J) J[k] = Jk;
-        if (inverted) inverted[k] = Jk <= 0;
+        if (inverted) inverted[k] = (unsigned char)eo_tet_is_inverted(Jk);
     }
     return EO_OK;
 }

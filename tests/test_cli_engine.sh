@@ -50,10 +50,11 @@ rc=$?
 [ $rc -eq 1 ] && ok || bad "not converged should exit 1, got $rc"
 python3 -c "import json; s = json.load(open('capped/summary.json')); assert not s['all_converged'] and s['not_converged'] == [1, 2]" && ok || bad "capped summary"
 
-# --- a tolerance below the rounding level of g: the step ends as diverged_stagnated
-# after a few non-decreasing steps instead of spending max_iters at the floor
+# --- a tolerance below the rounding level (relative gradient 1e-20): the step ends as
+# diverged_stagnated after a few steps without progress instead of spending max_iters
+# at the floor
 "$EXE" run --scene twist --out stall --quiet -o 'mesh.generate.cells=[10,2,2]' -o time.steps=4 \
-    -o solver.tol=4e-20 -o solver.max_iters=500 -o output.vtu=false
+    -o solver.stop=gradient -o solver.tol=1e-20 -o solver.max_iters=500 -o output.vtu=false
 rc=$?
 [ $rc -eq 1 ] && ok || bad "stagnating run should exit 1, got $rc"
 python3 - stall/summary.json <<'PY' && ok || bad "stagnation summary"
@@ -61,7 +62,7 @@ import json, sys
 s = json.load(open(sys.argv[1]))
 reasons = [st["reason"] for st in s["steps"]]
 assert "diverged_stagnated" in reasons, reasons
-assert all(st["iterations"] <= 30 for st in s["steps"]), [st["iterations"] for st in s["steps"]]
+assert all(st["iterations"] <= 45 for st in s["steps"]), [st["iterations"] for st in s["steps"]]
 PY
 
 # --- bad input: exit 2, message with file:line, nothing written

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # elastopt material: JSON keys and sizes, a hand-computed StVK value at a diagonal F,
+# the inversion flag and psi = null at the pinned near-singular inverted F of issue 15,
 # -o overrides, and exit status 2 on bad input (bad --F, unknown model, bad key/value).
 set -u
 EXE="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"
@@ -55,6 +56,26 @@ import json, sys
 o = json.load(sys.stdin)
 assert o["psi"] is None and o["J"] == -1 and o["sigma"][2] == -1
 ' && ok || bad "neo_hookean inverted values"
+
+# the F of issue 15 (an L-BFGS iterate on a hand mesh): J = det F = -1.4e-17 < 0, so the
+# element is inverted and the barrier model is +infinity (null), in agreement with the flag
+out=$("$EXE" material --model neo_hookean --F "0.052508965302966913 -0.60269908045118836 0.5231714895167181 0.28929428228145077 0.040833032270308357 -0.076993424939603775 -0.80658925397590697 -0.72485843956344009 0.75260633555179257") && ok || bad "pinned F run"
+printf '%s' "$out" | python3 -c '
+import json, sys
+o = json.load(sys.stdin)
+assert o["J"] < 0 and abs(o["J"] + 1.4e-17) < 0.1e-17, o["J"]
+assert o["inverted"] is True and o["psi"] is None, (o["inverted"], o["psi"])
+assert all(p == 0 for p in o["P"]) and all(d == 0 for d in o["dPdF"]), "P, dPdF zero where psi is infinite"
+' && ok || bad "pinned F: inverted, psi null"
+# the same F for an inversion-safe model: finite, inverted flagged all the same
+out=$("$EXE" material --model stable_neo_hookean --F "0.052508965302966913 -0.60269908045118836 0.5231714895167181 0.28929428228145077 0.040833032270308357 -0.076993424939603775 -0.80658925397590697 -0.72485843956344009 0.75260633555179257") && ok || bad "pinned F snh run"
+printf '%s' "$out" | python3 -c '
+import json, sys
+o = json.load(sys.stdin)
+assert o["inverted"] is True and isinstance(o["psi"], float), o["psi"]
+' && ok || bad "pinned F snh: finite psi"
+# the stvk case above is not inverted
+"$EXE" material --model stvk --F "1.1 0 0 0 0.9 0 0 0 1.2" | python3 -c 'import json,sys; assert json.load(sys.stdin)["inverted"] is False' && ok || bad "inverted false"
 
 expect2() {
     local what="$1"

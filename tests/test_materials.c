@@ -8,7 +8,15 @@
  *    their eigenvalues equal max(λ,0)/|λ| of a LAPACKE_dsyev eigendecomposition of the true
  *    Hessian (1e-9 relative); the analytic eigenvalues equal the numeric ones;
  *  - tet element gradient/Hessian by finite differences, rest data, spring edge model;
- *  - fast SVD vs LAPACKE SVD; barrier +INFINITY and no NaN anywhere. */
+ *  - fast SVD vs LAPACKE SVD; barrier +INFINITY and no NaN anywhere;
+ *  - the fast path (F_psi_grad: ψ, P from invariants / polar decomposition) against the
+ *    SVD path (eo_material_evaluate_svd) on random F in five families, 1e-12 relative;
+ *    eo_polar3 against U Vᵀ of the SVD; the element energy/gradient of both paths;
+ *  - the structured 12×12 element Hessian against a copy of the previous kernel (nine
+ *    analytic modes, Jacobi 3×3 eigensolve, nine rank-1 12×12 updates), 1e-12 relative;
+ *  - the inversion rule (issue 15's F with J = −1.4e-17): ψ = +∞ for the barrier model in
+ *    every path, finite at −F (J > 0) in every path. */
+#include <float.h>
 #include <lapacke.h>
 #include <math.h>
 #include <stdlib.h>
@@ -353,6 +361,13 @@ static void test_tet(const eo_material_type *mt)
             bh = fmin(bh, diffnorm(Hfd, o.hess, 144) / sh);
         }
         CHECK(bg <= 1e-6 && bh <= 1e-6, "%s: tet %d FD grad %g hess %g", mt->info.name, t, bg, bh);
+        /* energy and gradient of the fast path (EO_EVAL_GRAD) equal the SVD path's (EO_EVAL_HESS) */
+        eo_tet_out of;
+        eo_tet_evaluate(mt, coef, Dminv, w, x, EO_EVAL_GRAD, EO_PROJ_NONE, &of);
+        CHECK(fabs(of.energy - o.energy) <= 1e-12 * fmax(fabs(o.energy), 1e-3 * w * coef->mu) &&
+                  diffnorm(of.grad, o.grad, 12) <= 1e-12 * sg && of.J == o.J,
+              "%s: tet %d fast vs SVD path: energy %.17g vs %.17g, grad diff %.2e", mt->info.name, t, of.energy,
+              o.energy, diffnorm(of.grad, o.grad, 12) / sg);
         worstg = fmax(worstg, bg), worsth = fmax(worsth, bh);
         /* energy = w psi(F) with the F recovered from the vertices */
         double Ds[9], F[9];
@@ -581,6 +596,306 @@ static void test_barrier_and_nan(const eo_material_type *mt)
     }
 }
 
+/* ---------------------------------------------------------------- fast path vs SVD path */
+/* F = R1 diag(s) R2ᵀ for the five families; returns 0 when the corotated kinds are not
+ * differentiable there (σ2 + σ3 small, the polar rotation is not unique). */
+static const char *const fam_name[5] = {"well-conditioned", "near-singular", "inverted", "large stretch", "random entries"};
+static void family_F(int fam, double F[9])
+{
+    double a, b, c;
+    switch (fam) {
+    case 0: make_F(eo_test_rand(0.5, 2), eo_test_rand(0.5, 2), eo_test_rand(0.5, 2), F); return;
+    case 1:
+        a = eo_test_rand(0.5, 2), b = eo_test_rand(0.5, 2);
+        make_F(a, b, pow(10, eo_test_rand(-6, -2)), F);
+        return;
+    case 2:
+        a = eo_test_rand(0.6, 2), b = eo_test_rand(0.5, 1) * a;
+        make_F(a, b, -eo_test_rand(0.02, 0.8) * b, F);
+        return;
+    case 3:
+        a = eo_test_rand(3, 20), b = eo_test_rand(0.3, 3), c = eo_test_rand(0.3, 3);
+        make_F(a, b, c, F);
+        return;
+    default:
+        for (int i = 0; i < 9; i++) F[i] = eo_test_rand(-1.5, 1.5);
+    }
+}
+static void test_fast_path(const eo_material_type *mt)
+{
+    if (!mt->F_psi_grad) return;
+    double worst_psi[5] = {0}, worst_P[5] = {0};
+    int n[5] = {0}, ninf = 0;
+    for (int fam = 0; fam < 5; fam++)
+        for (int k = 0; k < 200; k++) {
+            double F[9], U[9], sg[3], V[9];
+            family_F(fam, F);
+            eo_svd3(F, U, sg, V);
+            int corot = strstr(mt->info.name, "corotated") != NULL;
+            if (corot && !(sg[1] + sg[2] > 0.02 * sg[0])) continue;
+            eo_material_eval ef, es;
+            eo_material_evaluate(mt, coef, F, EO_EVAL_GRAD, EO_PROJ_NONE, &ef);
+            eo_material_evaluate_svd(mt, coef, F, EO_EVAL_GRAD, EO_PROJ_NONE, &es);
+            if ((mt->flags & EO_MATERIAL_BARRIER) && eo_tet_is_inverted(eo_det3(F))) {
+                CHECK(ef.psi == INFINITY && es.psi == INFINITY && norm(ef.P, 9) == 0,
+                      "%s: inverted F (%s) psi fast %g svd %g", mt->info.name, fam_name[fam], ef.psi, es.psi);
+                ninf++;
+                continue;
+            }
+            double ep = fabs(ef.psi - es.psi) / fmax(fabs(es.psi), 1e-3 * coef->mu);
+            double eP = diffnorm(ef.P, es.P, 9) / fmax(norm(es.P, 9), 1e-3 * coef->mu);
+            /* 1e-12, widened only by the conditioning of the data: the rounded entries of F
+             * fix J (and F⁻ᵀ) to a relative accuracy of ~ε κ(F), κ = σ1/|σ3|, whichever way
+             * it is computed (det F or σ1σ2σ3); it matters for neo_hookean's 1/J terms at
+             * near-singular F (κ up to 2e6 here) and nowhere else */
+            double kappa = sg[0] / fabs(sg[2]), tol = 1e-12 + 16 * DBL_EPSILON * kappa;
+            CHECK(ep <= tol && eP <= tol, "%s: fast vs SVD path at %s F: psi %.17g vs %.17g (rel %.2e), P rel %.2e, tol %.1e",
+                  mt->info.name, fam_name[fam], ef.psi, es.psi, ep, eP, tol);
+            if (kappa < 1e3) CHECK(ep <= 1e-12 && eP <= 1e-12, "%s: kappa %g: 1e-12 expected", mt->info.name, kappa);
+            /* the energy-only evaluation gives the same psi */
+            eo_material_eval e0;
+            eo_material_evaluate(mt, coef, F, EO_EVAL_ENERGY, EO_PROJ_NONE, &e0);
+            CHECK(e0.psi == ef.psi, "%s: energy-only psi %.17g vs %.17g", mt->info.name, e0.psi, ef.psi);
+            worst_psi[fam] = fmax(worst_psi[fam], ep), worst_P[fam] = fmax(worst_P[fam], eP);
+            n[fam]++;
+        }
+    printf("  %-20s fast vs SVD path, worst rel. psi / P:", mt->info.name);
+    for (int fam = 0; fam < 5; fam++) printf(" %s (%d) %.1e/%.1e;", fam_name[fam], n[fam], worst_psi[fam], worst_P[fam]);
+    printf(" +inf at %d inverted\n", ninf);
+    for (int fam = 0; fam < 5; fam++)
+        CHECK(n[fam] >= 50 || (fam == 2 && (mt->flags & EO_MATERIAL_BARRIER)), "%s: only %d F in family %s",
+              mt->info.name, n[fam], fam_name[fam]);
+}
+
+static void test_polar(void)
+{
+    eo_test_seed(4242);
+    double worst = 0, worst_orth = 0;
+    int n = 0, itmax = 0;
+    long itsum = 0;
+    for (int fam = 0; fam < 5; fam++)
+        for (int k = 0; k < 300; k++) {
+            double F[9], U[9], s[3], V[9], R[9], VT[9], UVt[9];
+            family_F(fam, F);
+            eo_svd3(F, U, s, V);
+            double gap = (s[1] + s[2]) / s[0];
+            if (!(gap > 1e-3)) continue;
+            int it = eo_polar3(F, R);
+            transpose3(V, VT);
+            mul3(U, VT, UVt);
+            double e = diffnorm(R, UVt, 9) * gap, RT[9], RR[9], Id[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+            transpose3(R, RT);
+            mul3(RT, R, RR);
+            double eo = fmax(diffnorm(RR, Id, 9), fabs(det3(R) - 1));
+            CHECK(e <= 1e-13 && eo <= 1e-14, "polar3 (%s): |R - U V^T| (sigma2+sigma3)/sigma1 = %.2e, orthogonality %.2e",
+                  fam_name[fam], e, eo);
+            worst = fmax(worst, e), worst_orth = fmax(worst_orth, eo);
+            itmax = it > itmax ? it : itmax, itsum += it, n++;
+        }
+    /* diagonal and exactly stationary starts, including a saddle of tr(R^T F) */
+    static const double diag[][3] = {{1.2, 0.9, -0.3}, {-1.2, 0.9, 0.3}, {0.3, 0.9, -1.2}, {-0.3, -0.9, -1.2}, {2, 1, 1}};
+    for (int k = 0; k < 5; k++) {
+        double F[9] = {diag[k][0], 0, 0, 0, diag[k][1], 0, 0, 0, diag[k][2]}, R[9], U[9], s[3], V[9], VT[9], UVt[9];
+        eo_polar3(F, R);
+        eo_svd3(F, U, s, V);
+        transpose3(V, VT);
+        mul3(U, VT, UVt);
+        CHECK(diffnorm(R, UVt, 9) <= 1e-14, "polar3 at diag(%g, %g, %g): |R - U V^T| = %.2e", diag[k][0], diag[k][1],
+              diag[k][2], diffnorm(R, UVt, 9));
+    }
+    printf("  polar3 vs U V^T on %d F: worst |dR| (sigma2+sigma3)/sigma1 %.2e, orthogonality %.2e, iterations mean %.2f max %d\n",
+           n, worst, worst_orth, (double)itsum / n, itmax);
+}
+
+/* ---------------------------------------------------------------- previous Hessian kernel (reference copy) */
+/* The element Hessian as the kernel computed it before the structured assembly (commit
+ * 0ecd213): SVD, nine analytic modes with a cyclic-Jacobi 3×3 eigensolve, and nine
+ * rank-1 updates of the 12×12 matrix. Kept here verbatim in substance as the reference. */
+static void old_eig_sym3(const double Ain[9], double d[3], double W[9])
+{
+    double A[9];
+    memcpy(A, Ain, sizeof A);
+    static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    memcpy(W, I3, sizeof I3);
+    static const int P[3] = {0, 0, 1}, Q[3] = {1, 2, 2};
+    for (int sweep = 0; sweep < 30; sweep++) {
+        double off = A[1] * A[1] + A[2] * A[2] + A[5] * A[5];
+        double dg = A[0] * A[0] + A[4] * A[4] + A[8] * A[8];
+        if (!(off > 1e-36 * dg)) break;
+        for (int k = 0; k < 3; k++) {
+            int p = P[k], q = Q[k];
+            double apq = A[3 * p + q];
+            if (apq == 0) continue;
+            double theta = (A[3 * q + q] - A[3 * p + p]) / (2 * apq);
+            double t = fabs(theta) > 1e150 ? 0.5 / theta : copysign(1.0, theta) / (fabs(theta) + sqrt(theta * theta + 1));
+            double c = 1 / sqrt(t * t + 1), sn = t * c;
+            for (int r = 0; r < 3; r++) {
+                double arp = A[3 * r + p], arq = A[3 * r + q];
+                A[3 * r + p] = c * arp - sn * arq;
+                A[3 * r + q] = sn * arp + c * arq;
+            }
+            for (int r = 0; r < 3; r++) {
+                double apr = A[3 * p + r], aqr = A[3 * q + r];
+                A[3 * p + r] = c * apr - sn * aqr;
+                A[3 * q + r] = sn * apr + c * aqr;
+            }
+            A[3 * p + q] = A[3 * q + p] = 0;
+            for (int r = 0; r < 3; r++) {
+                double wrp = W[3 * r + p], wrq = W[3 * r + q];
+                W[3 * r + p] = c * wrp - sn * wrq;
+                W[3 * r + q] = sn * wrp + c * wrq;
+            }
+        }
+    }
+    d[0] = A[0], d[1] = A[4], d[2] = A[8];
+}
+static void old_adjoint_map(const double Dminv[9], const double Q[9], double g[12])
+{
+    for (int a = 0; a < 3; a++) {
+        double sum = 0;
+        for (int c = 0; c < 3; c++) {
+            double v = Q[3 * a] * Dminv[3 * c] + Q[3 * a + 1] * Dminv[3 * c + 1] + Q[3 * a + 2] * Dminv[3 * c + 2];
+            g[3 * c + a] = v;
+            sum += v;
+        }
+        g[9 + a] = -sum;
+    }
+}
+static double old_project(double l, eo_proj proj)
+{
+    return proj == EO_PROJ_CLAMP ? (l > 0 ? l : 0) : proj == EO_PROJ_ABS ? fabs(l) : l;
+}
+/* returns the number of negative scaling eigenvalues (to show the indefinite case is covered) */
+static int old_tet_hess(const eo_material_type *mt, const double Dminv[9], double w, const double F[9], eo_proj proj,
+                        double H[144])
+{
+    double U[9], s[3], V[9];
+    eo_svd3(F, U, s, V);
+    eo_sigma_eval se;
+    memset(&se, 0, sizeof se);
+    mt->sigma_eval(coef, s, EO_EVAL_HESS, &se);
+    double lam[9], q[9][9], d[3], W[9];
+    old_eig_sym3(se.H, d, W);
+    int nneg = 0;
+    for (int k = 0; k < 3; k++) {
+        lam[k] = d[k];
+        nneg += d[k] < 0;
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++)
+                q[k][3 * a + b] = U[3 * a] * W[k] * V[3 * b] + U[3 * a + 1] * W[3 + k] * V[3 * b + 1] +
+                                  U[3 * a + 2] * W[6 + k] * V[3 * b + 2];
+    }
+    static const int PI[3] = {0, 0, 1}, PJ[3] = {1, 2, 2};
+    const double r2 = 0.70710678118654752440;
+    for (int p = 0; p < 3; p++) {
+        int i = PI[p], j = PJ[p];
+        lam[3 + p] = se.twist[p];
+        lam[6 + p] = se.flip[p];
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++) {
+                double x = U[3 * a + i] * V[3 * b + j], y = U[3 * a + j] * V[3 * b + i];
+                q[3 + p][3 * a + b] = r2 * (x + y);
+                q[6 + p][3 * a + b] = r2 * (x - y);
+            }
+    }
+    memset(H, 0, 144 * sizeof(double));
+    for (int k = 0; k < 9; k++) {
+        double l = w * old_project(lam[k], proj), g[12];
+        if (l == 0) continue;
+        old_adjoint_map(Dminv, q[k], g);
+        for (int i = 0; i < 12; i++)
+            for (int j = i; j < 12; j++) H[12 * i + j] += l * g[i] * g[j];
+    }
+    for (int i = 0; i < 12; i++)
+        for (int j = 0; j < i; j++) H[12 * i + j] = H[12 * j + i];
+    return nneg;
+}
+static void test_hess_vs_old(const eo_material_type *mt)
+{
+    if (!mt->sigma_eval) return;
+    static const eo_proj projs[3] = {EO_PROJ_NONE, EO_PROJ_CLAMP, EO_PROJ_ABS};
+    double worst = 0;
+    int n = 0, nindef = 0;
+    for (int f = 0; f < nF + 400; f++) {
+        double F0[9], X[12], Dminv[9], w, x[12];
+        if (f < nF) memcpy(F0, Fs[f], sizeof F0);
+        else family_F(f % 5, F0);
+        rand_tet(X, f & 1);
+        eo_tet_rest(X, Dminv, &w);
+        for (int v = 0; v < 4; v++)
+            for (int a = 0; a < 3; a++)
+                x[3 * v + a] = F0[3 * a] * X[3 * v] + F0[3 * a + 1] * X[3 * v + 1] + F0[3 * a + 2] * X[3 * v + 2];
+        double F[9];
+        eo_tet_F(Dminv, x, F);
+        if ((mt->flags & EO_MATERIAL_BARRIER) && eo_tet_is_inverted(eo_det3(F))) continue;
+        double U[9], sg[3], V[9];
+        eo_svd3(F, U, sg, V);
+        if (strstr(mt->info.name, "corotated") && !(fabs(sg[1] + sg[2]) > 1e-6 * sg[0])) continue;
+        for (int pi = 0; pi < 3; pi++) {
+            eo_tet_out o;
+            double Hold[144];
+            eo_tet_evaluate(mt, coef, Dminv, w, x, EO_EVAL_HESS, projs[pi], &o);
+            int neg = old_tet_hess(mt, Dminv, w, F, projs[pi], Hold);
+            if (pi == 1) nindef += neg > 0;
+            double e = diffnorm(o.hess, Hold, 144) / fmax(norm(Hold, 144), 1e-300);
+            CHECK(e <= 1e-12, "%s: structured Hessian (proj %d) differs from the previous kernel by %.2e (F #%d)",
+                  mt->info.name, pi, e, f);
+            worst = fmax(worst, e);
+        }
+        n++;
+    }
+    printf("  %-20s structured 12x12 Hessian vs previous kernel on %d tets x 3 projections (%d with an indefinite "
+           "scaling block): worst rel. %.2e\n", mt->info.name, n, nindef, worst);
+}
+
+/* ---------------------------------------------------------------- the inversion rule */
+static void test_inversion_rule(const eo_material_type *mt)
+{
+    /* issue 15: an L-BFGS iterate on a hand mesh; J = det F = -1.4e-17 while the SVD's
+     * signed sigma3 comes out +2e-18 */
+    static const double Fp[9] = {0.052508965302966913, -0.60269908045118836, 0.5231714895167181,
+                                 0.28929428228145077,  0.040833032270308357, -0.076993424939603775,
+                                 -0.80658925397590697, -0.72485843956344009, 0.75260633555179257};
+    double J = eo_det3(Fp);
+    CHECK(J < 0 && J > -2e-17, "pinned F: J = %g", J);
+    CHECK(eo_tet_is_inverted(J) && !eo_tet_is_inverted(1e-300) && eo_tet_is_inverted(0) && eo_tet_is_inverted(NAN),
+          "eo_tet_is_inverted");
+    /* the rest tet with Dm = I: x = the columns of F, vertex 3 at the origin, F exactly */
+    double X[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0}, Dminv[9], w;
+    eo_tet_rest(X, Dminv, &w);
+    for (int sign = 1; sign >= -1; sign -= 2) {
+        double F[9], x[12] = {0};
+        for (int i = 0; i < 9; i++) F[i] = sign * Fp[i];
+        for (int c = 0; c < 3; c++)
+            for (int a = 0; a < 3; a++) x[3 * c + a] = F[3 * a + c];
+        int inv = eo_tet_is_inverted(eo_det3(F));
+        CHECK(inv == (sign == 1), "sign %d: inverted %d", sign, inv);
+        CHECK(eo_tet_J(Dminv, x) == eo_det3(F), "eo_tet_J %g vs eo_det3 %g", eo_tet_J(Dminv, x), eo_det3(F));
+        int barrier = (mt->flags & EO_MATERIAL_BARRIER) != 0;
+        for (int what = EO_EVAL_ENERGY; what <= EO_EVAL_HESS; what++) {
+            eo_material_eval e1, e2;
+            eo_tet_out o;
+            eo_material_evaluate(mt, coef, F, (eo_eval_what)what, EO_PROJ_CLAMP, &e1);
+            eo_material_evaluate_svd(mt, coef, F, (eo_eval_what)what, EO_PROJ_CLAMP, &e2);
+            eo_tet_evaluate(mt, coef, Dminv, w, x, (eo_eval_what)what, EO_PROJ_CLAMP, &o);
+            CHECK(o.J == eo_det3(F) && e1.J == o.J, "%s: J kernel %g material %g det3 %g", mt->info.name, o.J, e1.J,
+                  eo_det3(F));
+            if (barrier && inv)
+                CHECK(e1.psi == INFINITY && e2.psi == INFINITY && o.energy == INFINITY,
+                      "%s: inverted pinned F (what %d): psi %g, svd path %g, tet %g", mt->info.name, what, e1.psi,
+                      e2.psi, o.energy);
+            else
+                CHECK(isfinite(e1.psi) && isfinite(e2.psi) && isfinite(o.energy),
+                      "%s: pinned F sign %d (what %d): psi %g, svd path %g, tet %g", mt->info.name, sign, what, e1.psi,
+                      e2.psi, o.energy);
+            int finite = 1;
+            for (int i = 0; i < 9; i++) finite &= isfinite(e1.P[i]) && isfinite(e2.P[i]);
+            for (int i = 0; what == EO_EVAL_HESS && i < 144; i++) finite &= isfinite(o.hess[i]);
+            CHECK(finite, "%s: non-finite P or Hessian at the pinned F", mt->info.name);
+        }
+    }
+}
+
 /* ---------------------------------------------------------------- params */
 static void test_params(void)
 {
@@ -622,6 +937,7 @@ int main(void)
     test_params();
     test_svd();
     test_tet_rest();
+    test_polar();
     for (const void *const *t = eo_registry_list(EO_KIND_MATERIAL); t && *t; t++) {
         const eo_material_type *mt = *t;
         if (mt->flags & EO_MATERIAL_EDGE) {
@@ -633,6 +949,9 @@ int main(void)
         test_projection(mt);
         test_tet(mt);
         test_barrier_and_nan(mt);
+        test_fast_path(mt);
+        test_hess_vs_old(mt);
+        test_inversion_rule(mt);
     }
     return eo_test_finish("test_materials");
 }

@@ -97,12 +97,32 @@ typedef struct eo_material_type {
     /// beyond `what` may be NULL. NULL for isotropic models.
     double (*F_eval)(const eo_material_coef *c, const double F[9], eo_eval_what what,
                      double P[9], double dPdF[81]);
+    /// Optional fast path (isotropic and F-space models): ψ and, when P is not NULL,
+    /// P = ∂ψ/∂F directly from F (invariants I_C = tr FᵀF, J, cofactor ∂J/∂F = J F⁻ᵀ;
+    /// the corotated kinds a polar decomposition eo_polar3), with no SVD. J is det F as
+    /// the kernel computed it (eo_det3); barrier models are never called where
+    /// eo_tet_is_inverted(J). eo_tet_evaluate and eo_material_evaluate use it for
+    /// EO_EVAL_ENERGY and EO_EVAL_GRAD; the SVD path (sigma_eval) serves EO_EVAL_HESS
+    /// and eo_material_evaluate_svd. Both agree to ~1e-12 relative (tests/test_materials.c).
+    double (*F_psi_grad)(const eo_material_coef *c, const double F[9], double J, double P[9]);
     /// Edge models: energy of a spring of rest length L between points a and b;
     /// gradient (6: d/da, d/db) and Hessian (36) as asked, projected as told.
     double (*edge_eval)(const eo_material_coef *c, double L, const double a[3],
                         const double b[3], eo_eval_what what, eo_proj proj, double grad[6],
                         double hess[36]);
 } eo_material_type;
+
+/// det F, the one way J is computed everywhere (kernel, barrier, inverted counts):
+/// cofactor expansion along the first row, F row-major.
+static inline double eo_det3(const double F[9])
+{
+    return F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
+           F[2] * (F[3] * F[7] - F[4] * F[6]);
+}
+/// The inversion rule, used by every caller: an element is inverted iff J <= 0 (or J is
+/// NaN), J = eo_det3(F) with F = Ds Dm⁻¹ from eo_tet_F. Barrier models (neo_hookean) have
+/// ψ = +∞ exactly where this holds, in every evaluation path.
+static inline int eo_tet_is_inverted(double J) { return !(J > 0); }
 
 /// Result of a full evaluation at F.
 typedef struct eo_material_eval {
@@ -118,12 +138,27 @@ typedef struct eo_material_eval {
 } eo_material_eval;
 
 /// Evaluate ψ, P and ∂P/∂F at F with projection `proj`. Outputs beyond `what` are left
-/// zero; sigma, U, V and J are always filled. Returns EO_OK, or EO_ERR_UNSUPPORTED for
-/// an edge (spring) model. ψ is +INFINITY for barrier models at J <= 0 (then P, dPdF
-/// are zero). Never allocates.
+/// zero; sigma, U, V and J (= eo_det3(F)) are always filled. ψ and P come from the
+/// model's F_psi_grad when it has one and what < EO_EVAL_HESS, else from the SVD path.
+/// Returns EO_OK, or EO_ERR_UNSUPPORTED for an edge (spring) model. ψ is +INFINITY for
+/// barrier models where eo_tet_is_inverted(J) (then P, dPdF are zero). Never allocates.
 EO_API int eo_material_evaluate(const eo_material_type *mt, const eo_material_coef *c,
                          const double F[9], eo_eval_what what, eo_proj proj,
                          eo_material_eval *out);
+
+/// The same evaluation with ψ and P always taken from the SVD path (signed singular
+/// values, sigma_eval), never from F_psi_grad: the reference the fast path is tested
+/// against. Same outputs and return values as eo_material_evaluate.
+EO_API int eo_material_evaluate_svd(const eo_material_type *mt, const eo_material_coef *c,
+                                    const double F[9], eo_eval_what what, eo_proj proj,
+                                    eo_material_eval *out);
+
+/// Rotation R ∈ SO(3) (row-major) of the polar decomposition F = R S consistent with the
+/// signed SVD: R = U Vᵀ for F = U diag(σ) Vᵀ, U, V ∈ SO(3), σ3 < 0 when det F < 0, i.e.
+/// the maximizer of tr(RᵀF) over SO(3). Newton's method on SO(3) with an exact line
+/// search along each direction (materials/polar3.c). Unique where σ2 + σ3 > 0.
+/// Returns the number of iterations (for benchmarks); never allocates.
+EO_API int eo_polar3(const double F[9], double R[9]);
 
 /// SVD of a 3×3 F (row-major): the hot-path version (one-sided Jacobi on the columns
 /// of F, relative accuracy for small σ; U completed by cross products when F is rank
@@ -139,8 +174,11 @@ EO_API int eo_svd3_lapack(const double F[9], double U[9], double s[3], double V[
 /// Convention (notes §4.2–4.3): Ds columns x_i − x_4 (local vertices 0,1,2 minus 3), and
 /// vec(F) = (Dm⁻ᵀ S ⊗ I3) x. Energy w·ψ, gradient w·(∂F/∂x)ᵀ P, Hessian
 /// w·(∂F/∂x)ᵀ ∂P/∂F (∂F/∂x), built from the nine analytic modes (no 12×12 eigensolve).
+/// Energy and gradient (what < EO_EVAL_HESS) come from the model's F_psi_grad when it has
+/// one (no SVD); EO_EVAL_HESS uses the SVD path for all three outputs.
 /// Outputs beyond `what` are not written. Returns EO_OK, EO_ERR_UNSUPPORTED for an
-/// edge model; energy +INFINITY (grad, hess zero) for barrier models at J <= 0.
+/// edge model; energy +INFINITY (grad, hess zero) for barrier models where
+/// eo_tet_is_inverted(J), J = eo_tet_J(Dminv, x).
 typedef struct eo_tet_out {
     double energy;
     double grad[12];
@@ -151,6 +189,10 @@ typedef struct eo_tet_out {
 EO_API int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
                     const double Dminv[9], double w, const double x[12], eo_eval_what what,
                     eo_proj proj, eo_tet_out *out);
+/// F = Ds Dm⁻¹ of a tet from its 12 coordinates (vertex-major), exactly as the kernel
+/// forms it, and its J = eo_det3(F): the inputs of eo_tet_is_inverted.
+EO_API void eo_tet_F(const double Dminv[9], const double x[12], double F[9]);
+EO_API double eo_tet_J(const double Dminv[9], const double x[12]);
 /// Dm⁻¹ and rest volume w = |det Dm|/6 from 12 rest coordinates (vertex-major).
 /// EO_ERR_MESH if |det Dm| <= 1e-12·(longest Dm column)³ (degenerate rest tet); Dminv
 /// and w untouched then. Both orientations are accepted: F = Ds Dm⁻¹ is independent of

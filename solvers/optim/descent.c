@@ -18,7 +18,13 @@
  *   nor the gradient makes progress) → EO_DIVERGED_STAGNATED: the stopping
  *   tolerance is below what the floating-point g can resolve; without this the loop
  *   would spend its whole iteration budget (and ~35 evaluations per iteration) at the
- *   rounding floor
+ *   rounding floor.
+ *   Likewise EO_DESCENT_WEAK_LIMIT accepted steps in a row without SIGNIFICANT progress
+ *   (g decreasing by more than 1e-13·|g|, or ‖∇g‖ below 0.9 times its best significant
+ *   value) → EO_DIVERGED_STAGNATED: at the floor g and ‖∇g‖ wander at the rounding
+ *   level and set new "records" by noise now and then, which the rule above counts as
+ *   progress (measured: Newton on the twist with a relative gradient tolerance of 1e-18
+ *   ran 182 iterations at the floor before it).
  * The last record carries the reason. Converged reasons are checked before the
  * iteration cap, so a run that converges exactly at k = max_iters says so.
  * Nothing here allocates. */
@@ -29,6 +35,8 @@
 
 /* accepted steps without a strict decrease of g before EO_DIVERGED_STAGNATED */
 #define EO_DESCENT_STALL_LIMIT 5
+/* accepted steps without significant progress before EO_DIVERGED_STAGNATED */
+#define EO_DESCENT_WEAK_LIMIT 25
 
 int eo_descent_ws_init(eo_ctx *ctx, int n, eo_descent_ws *w)
 {
@@ -77,8 +85,8 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
     const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
     double *grad = w->grad, *grad_new = w->grad_new, *p = w->p;
     double g = NAN, gn = NAN, gn0, g_prev = NAN, step_norm = NAN, last_dec = NAN;
-    int rc = EO_OK, reason = 0, k = 0, stalled = 0;
-    double gn_best = INFINITY;
+    int rc = EO_OK, reason = 0, k = 0, stalled = 0, weak = 0;
+    double gn_best = INFINITY, gn_sig = INFINITY;
 
     memset(res, 0, sizeof *res);
     res->decrement = NAN;
@@ -128,7 +136,8 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                 }
             }
         }
-        if (!reason && stalled >= EO_DESCENT_STALL_LIMIT) reason = EO_DIVERGED_STAGNATED;
+        if (!reason && (stalled >= EO_DESCENT_STALL_LIMIT || weak >= EO_DESCENT_WEAK_LIMIT))
+            reason = EO_DIVERGED_STAGNATED;
         if (!reason && k >= sc->max_iters) reason = EO_DIVERGED_MAX_ITERS;
         if (reason) {
             info.reason = reason;
@@ -175,6 +184,12 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
         last_dec = NAN;
         stalled = (g < g_prev || gn < gn_best) ? 0 : stalled + 1;
+        if (g < g_prev - 1e-13 * fabs(g_prev) || gn < 0.9 * gn_sig) {
+            weak = 0;
+            if (gn < gn_sig) gn_sig = gn;
+        } else {
+            weak++;
+        }
     }
 done:
     res->reason = reason;
