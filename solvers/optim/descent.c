@@ -1,4 +1,5 @@
-/* The line-search descent loop shared by newton, gradient_descent and lbfgs.
+/* The line-search descent loop shared by newton, gradient_descent, lbfgs, ncg and
+ * projective_dynamics.
  *
  * At iterate x_k (k = 0, 1, ...):
  *   g_k = g(x_k), ∇g_k                                  (one gradient call)
@@ -9,7 +10,8 @@
  *   ∇g_kᵀp_k ≥ 0 or non-finite            → EO_DIVERGED_NOT_DESCENT
  *   λ_k²/2 = −α₀∇g_kᵀp_k/2;  stop rule with direction → e.g. EO_CONVERGED_DECREMENT
  *   k = max_iters                         → EO_DIVERGED_MAX_ITERS
- *   line search from x_k along p_k, first trial α₀ → x_{k+1}
+ *   line search from x_k along p_k, first trial α₀ → x_{k+1} and, from searches that
+ *     evaluate gradients (wolfe, exact), ∇g(x_{k+1}) (else one more gradient call)
  *     accepted when the search returns EO_OK, or a warning but g(x_{k+1}) < g_k;
  *     else                                → EO_DIVERGED_LINESEARCH (x stays x_k)
  *   record k is reported (callback non-zero → EO_DIVERGED_EXTERNAL, x stays x_k)
@@ -136,8 +138,9 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         }
         double gnew = NAN, alpha = 0;
         int nev = 0;
+        eo_ls_extra ex = {.grad_new = grad_new, .have_grad = 0, .c2 = ops->ls_c2};
         rc = sc->linesearch->search(sc->linesearch_params, obj, x, p, g, dg, alpha0, w->x_new,
-                                    &gnew, &alpha, &nev, w->work, sc->ctx);
+                                    &gnew, &alpha, &nev, w->work, sc->ctx, &ex);
         info.ls_evals = nev;
         if (rc < 0) goto done;
         if (!isfinite(gnew) || !(rc == EO_OK || gnew < g) || !(alpha > 0)) {
@@ -154,10 +157,12 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
             reason = EO_DIVERGED_EXTERNAL;
             break;
         }
-        /* accept */
-        double gchk;
-        rc = eo_objective_gradient(obj, w->x_new, &gchk, grad_new);
-        if (rc < 0) goto done;
+        /* accept: the gradient at x_{k+1} from the line search if it has it, else one call */
+        double gchk = gnew;
+        if (!ex.have_grad) {
+            rc = eo_objective_gradient(obj, w->x_new, &gchk, grad_new);
+            if (rc < 0) goto done;
+        }
         if (ops->accepted) ops->accepted(st, params, x, w->x_new, grad, grad_new, p, alpha);
         double s2 = 0;
         for (int i = 0; i < n; i++) {

@@ -41,22 +41,15 @@
 
 #include "descent.h"
 #include "lbfgs_memory.h"
+#include "pd_factor.h"
 
 typedef struct pd_state {
     eo_descent_ws w;
     int n, m;
     eo_lbfgs_memory mem;      /* Liu 2017's L-BFGS pairs (m = 0: plain PD) */
-    double *store;            /* the memory's storage, then q and diag */
-    double *q, *diag;         /* n each */
-    /* the factored matrix: own copy A, and what it was made from */
-    eo_csc *A;
-    const eo_objective *obj;  /* objective whose constant_hessian A is (NULL: none reusable) */
-    const eo_csc *src;
-    unsigned long version;
-    const eo_linsolve *ls;    /* linear solver holding the analysis of A */
-    int analyzed, factored;
-    int fail_reason;          /* negative reason when no usable factorization */
-    double shift;             /* shift c in the factors */
+    double *store;            /* the memory's storage, then q */
+    double *q;                /* n */
+    eo_pd_factor L;           /* the factored matrix (pd_factor.h) */
     eo_ctx *ctx;
 } pd_state;
 
@@ -73,7 +66,7 @@ static void pd_free(pd_state *st, eo_ctx *ctx)
     eo_descent_ws_deinit(ctx, &st->w);
     eo_free(ctx, st->store);
     st->store = NULL;
-    eo_csc_destroy(ctx, &st->A);
+    eo_pd_factor_deinit(ctx, &st->L);
 }
 
 static int pd_setup(void *vst, const void *params, int n, eo_ctx *ctx)
@@ -92,102 +85,17 @@ static int pd_setup(void *vst, const void *params, int n, eo_ctx *ctx)
     if (rc < 0) return rc;
     size_t m = (size_t)pp->lbfgs_history, nn = (size_t)(n > 0 ? n : 1);
     size_t mem = eo_lbfgs_memory_size(n, (int)m);
-    st->store = eo_calloc(ctx, mem + 2 * nn, sizeof(double));
+    st->store = eo_calloc(ctx, mem + nn, sizeof(double));
     if (!st->store)
         return eo_error(ctx, EO_ERR_NOMEM, "projective_dynamics: out of memory (n = %d, m = %zu)", n, m);
     eo_lbfgs_memory_bind(&st->mem, n, (int)m, st->store);
     st->q = st->store + mem;
-    st->diag = st->q + nn;
     st->m = (int)m;
     st->n = n;
-    return EO_OK;
+    return eo_pd_factor_init(ctx, n, "projective_dynamics", &st->L);
 }
 
 static void pd_destroy(void *vst, eo_ctx *ctx) { pd_free(vst, ctx); }
-
-static int same_pattern(const eo_csc *A, const eo_csc *B)
-{
-    return A && B && A->n == B->n && A->nnz == B->nnz &&
-           memcmp(A->colptr, B->colptr, ((size_t)A->n + 1) * sizeof(int)) == 0 &&
-           memcmp(A->rowind, B->rowind, (size_t)A->nnz * sizeof(int)) == 0;
-}
-
-/* Copy src into the own matrix A (new pattern: clone + analyze) and factor it, shifting
- * if it is not positive definite. Sets st->factored or st->fail_reason. */
-static int load_and_factor(pd_state *st, const eo_solver_ctx *sc, const eo_csc *src,
-                           eo_solve_result *res)
-{
-    const int n = st->n;
-    int rc;
-    st->factored = 0;
-    st->fail_reason = 0;
-    st->shift = 0;
-    if (!src || src->n != n)
-        return eo_error(sc->ctx, EO_ERR_INVALID,
-                        "projective_dynamics: matrix has n = %d, objective has n = %d",
-                        src ? src->n : -1, n);
-    if (same_pattern(st->A, src) && st->analyzed && st->ls == sc->linear) {
-        memcpy(st->A->val, src->val, (size_t)src->nnz * sizeof(double));
-    } else {
-        for (int j = 0; j < n; j++) {
-            int e = src->colptr[j + 1] - 1;
-            if (e < src->colptr[j] || src->rowind[e] != j)
-                return eo_error(sc->ctx, EO_ERR_INVALID,
-                                "projective_dynamics: matrix column %d has no stored diagonal", j);
-        }
-        st->analyzed = 0;
-        eo_csc_destroy(sc->ctx, &st->A);
-        rc = eo_csc_clone(sc->ctx, src, &st->A);
-        if (rc < 0) return rc;
-        rc = eo_linsolve_analyze(sc->linear, st->A);
-        if (rc < 0) {
-            res->status = rc;
-            st->fail_reason = EO_DIVERGED_LINSOLVE;
-            return EO_OK;
-        }
-        st->analyzed = 1;
-        st->ls = sc->linear;
-    }
-    eo_csc *A = st->A;
-    double s = 0;
-    for (int j = 0; j < n; j++) {
-        st->diag[j] = A->val[A->colptr[j + 1] - 1];
-        s += fabs(st->diag[j]);
-    }
-    if (!isfinite(s)) {
-        st->fail_reason = EO_DIVERGED_NONFINITE;
-        return EO_OK;
-    }
-    s = n > 0 && s > 0 ? s / n : 1;
-    eo_hessfix_shift_params hp;
-    if (sc->hessfix_params) hp = *(const eo_hessfix_shift_params *)sc->hessfix_params;
-    else eo_params_default(eo_hessfix_shift_params_desc, &hp);
-    const double c_min = hp.shift_init * s, c_max = hp.shift_max * s;
-    double c = 0;
-    for (;;) {
-        for (int j = 0; j < n; j++) A->val[A->colptr[j + 1] - 1] = st->diag[j] + c;
-        rc = eo_linsolve_factor(sc->linear, A);
-        res->n_factor++;
-        if (rc < 0) {
-            res->status = rc;
-            st->fail_reason = EO_DIVERGED_LINSOLVE;
-            return EO_OK;
-        }
-        if (rc != EO_WARN_NOT_PD) break;
-        c = c * hp.shift_grow > c_min ? c * hp.shift_grow : c_min;
-        if (!(c <= c_max)) {
-            st->fail_reason = EO_DIVERGED_NOT_PD;
-            return EO_OK;
-        }
-    }
-    if (c > 0) {
-        res->n_shifted++;
-        eo_log(sc->ctx, EO_LOG_DEBUG, "projective_dynamics: matrix shifted by %g to factor it", c);
-    }
-    st->shift = c;
-    st->factored = 1;
-    return EO_OK;
-}
 
 static int pd_begin(void *vst, const void *params, const eo_solver_ctx *sc, const double *x,
                     double g, const double *grad, eo_solve_result *res)
@@ -200,43 +108,13 @@ static int pd_begin(void *vst, const void *params, const eo_solver_ctx *sc, cons
         return eo_error(sc->ctx, EO_ERR_INVALID,
                         "projective_dynamics: set up for lbfgs_history %d, called with %d", st->m,
                         pp->lbfgs_history);
-    if (!sc->linear) return eo_error(sc->ctx, EO_ERR_INVALID, "projective_dynamics needs a linear solver");
-    eo_csc *L = NULL;
-    unsigned long ver = 0;
-    int rc = eo_objective_constant_hessian(sc->obj, &L, &ver);
-    if (rc == EO_OK) {
-        if (st->factored && st->obj == sc->obj && st->src == L && st->version == ver &&
-            st->ls == sc->linear && st->A && st->A->n == st->n)
-            return EO_OK; /* the factors of the previous minimization are still L's */
-        st->obj = NULL;
-        rc = load_and_factor(st, sc, L, res);
-        if (rc < 0) return rc;
-        if (st->factored) {
-            st->obj = sc->obj;
-            st->src = L;
-            st->version = ver;
-        }
-        return EO_OK;
-    }
-    if (rc != EO_ERR_UNSUPPORTED) return rc;
-    /* no constant matrix: the (projected) Hessian at the first iterate */
-    eo_csc *H = NULL;
-    st->obj = NULL;
-    rc = eo_objective_hessian(sc->obj, x, sc->hessfix->elem_proj, &H);
-    if (rc < 0) return rc;
-    return load_and_factor(st, sc, H, res);
+    return eo_pd_factor_prepare(&st->L, sc, x, res);
 }
 
-/* r = A⁻¹ b (b and r distinct). Returns a negative reason on failure, else 0. */
-static int solve(const eo_solver_ctx *sc, const double *b, double *r, eo_solve_result *res)
+/* r = L⁻¹ b (b and r distinct). Returns a negative reason on failure, else 0. */
+static int solve(pd_state *st, const eo_solver_ctx *sc, const double *b, double *r, eo_solve_result *res)
 {
-    int rc = eo_linsolve_solve(sc->linear, b, r);
-    if (rc < 0) {
-        res->status = rc;
-        return EO_DIVERGED_LINSOLVE;
-    }
-    if (rc == EO_WARN_NOT_PD) return EO_DIVERGED_NOT_PD;
-    return 0;
+    return eo_pd_factor_solve(&st->L, sc, b, r, res);
 }
 
 static int pd_direction(void *vst, const void *params, const eo_solver_ctx *sc, const double *x,
@@ -248,16 +126,16 @@ static int pd_direction(void *vst, const void *params, const eo_solver_ctx *sc, 
     const int n = st->n;
     (void)params, (void)x, (void)g;
     out->alpha0 = 1;
-    out->shift = st->shift;
-    if (!st->factored) {
-        out->reason = st->fail_reason ? st->fail_reason : EO_DIVERGED_LINSOLVE;
+    out->shift = st->L.shift;
+    if (!st->L.factored) {
+        out->reason = st->L.fail_reason ? st->L.fail_reason : EO_DIVERGED_LINSOLVE;
         return EO_OK;
     }
     double *q = st->q;
     if (h->count > 0) {
         for (int i = 0; i < n; i++) q[i] = grad[i];
         eo_lbfgs_memory_first_loop(h, q);
-        int reason = solve(sc, q, p, res); /* r = L⁻¹ q */
+        int reason = solve(st, sc, q, p, res); /* r = L⁻¹ q */
         if (reason) {
             out->reason = reason;
             return EO_OK;
@@ -268,7 +146,7 @@ static int pd_direction(void *vst, const void *params, const eo_solver_ctx *sc, 
         eo_lbfgs_memory_clear(h); /* not a descent direction: plain PD step */
         res->n_fallback++;
     }
-    int reason = solve(sc, grad, p, res);
+    int reason = solve(st, sc, grad, p, res);
     if (reason) {
         out->reason = reason;
         return EO_OK;
