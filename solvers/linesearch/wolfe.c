@@ -52,7 +52,7 @@ static const eo_param_desc wolfe_desc[] = {
      .help = "sufficient decrease: g(x+ap) <= g + c1*a*grad'p"},
     {.key = "c2", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_wolfe_params, c2), .def.d = 0,
      .min = 0, .max = 1, .range = EO_RANGE_MIN | EO_RANGE_MAX_OPEN,
-     .help = "curvature: |grad(x+ap)'p| <= c2*|grad'p| (c1 < c2 < 1); 0 = optimizer's choice "
+     .help = "curvature: |grad(x+ap)'p| <= c2*|grad'p| (c1 <= c2 < 1, raised to c1); 0 = optimizer's choice "
              "(lbfgs 0.9, ncg 0.1), else 0.9"},
     {.key = "max_evals", .kind = EO_PARAM_INT, .offset = offsetof(eo_wolfe_params, max_evals),
      .def.i = 40, .min = 1, .max = 10000, .range = EO_RANGE_CLOSED,
@@ -127,7 +127,7 @@ static int wolfe_search(const void *params, eo_objective *obj, const double *x, 
     }
     const double c1 = wp->c1;
     double c2 = wp->c2 > 0 ? wp->c2 : (extra && extra->c2 > 0 && extra->c2 < 1 ? extra->c2 : 0.9);
-    if (c2 <= c1) c2 = fmin(0.9, 10 * c1) > c1 ? fmin(0.9, 10 * c1) : 0.5 * (1 + c1);
+    if (c2 < c1) c2 = c1; /* c1 ≤ c2 (Moré–Thuente allow equality) */
     const double eps_g = wp->noise * fabs(g0);
     const double curv = c2 * fabs(dg0), aw_hi = (2 * c1 - 1) * dg0;
     /* the gradient of each trial goes where the caller wants the accepted one */
