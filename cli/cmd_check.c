@@ -16,8 +16,8 @@
 #include <string.h>
 
 #include "elastopt/io.h"
-#include "elastopt/solver.h"
-#include "elastopt/step.h"
+#include "elastopt/mesh.h"
+#include "elastopt/sim.h"
 #include "scene_args.h"
 
 extern const eo_cli_command eo_cmd_check;
@@ -179,25 +179,21 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             return eo_cli_usage_error(&eo_cmd_check, "unknown option '%s'", argv[i]);
         }
     }
-    eo_cfg *cfg = NULL;
-    eo_scene *sc = NULL;
-    eo_step *st = NULL;
-    eo_solver *solver = NULL;
+    eo_sim *sim = NULL;
     fd_ws w = {0};
     double *buf = NULL;
     int exit_code = EO_EXIT_BAD_INPUT, rc;
     eo_objective *obj;
     char name[256];
     eo_cli_scene_name(&a, name, sizeof name);
-    EO_TRY(rc = eo_cli_scene_load(ctx, &a, &cfg, &sc));
-    eo_solver_opts so;
-    eo_solver_opts_default(&so);
-    EO_TRY(rc = eo_solver_opts_load(ctx, cfg, &so));
-    EO_TRY(rc = eo_step_create(ctx, sc, &st));
-    EO_TRY(rc = eo_step_begin(st, &obj));
-    /* the solver is not used; creating it validates the solver section */
-    EO_TRY(rc = eo_solver_create(ctx, &so, cfg, obj->n, &solver));
-    EO_TRY(rc = eo_cfg_finish(ctx, cfg));
+    /* the sim's solver is not used; creating the sim validates the whole config */
+    const char *ov[EO_CLI_MAX_OVERRIDES + 1];
+    for (int k = 0; k < a.noverrides; k++) ov[k] = a.overrides[k];
+    ov[a.noverrides] = NULL;
+    EO_TRY(rc = eo_sim_create_from(ctx, a.file, a.scene, ov, &sim));
+    const eo_scene *sc = eo_sim_scene(sim);
+    double *guess;
+    EO_TRY(rc = eo_sim_prepare(sim, &obj, &guess));
     int n = obj->n;
     if (n < 1) {
         rc = eo_error(ctx, EO_ERR_INVALID, "scene %s has no free coordinate", name);
@@ -219,7 +215,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     const double *bb = ms.bbox;
     w.L = sqrt((bb[3] - bb[0]) * (bb[3] - bb[0]) + (bb[4] - bb[1]) * (bb[4] - bb[1]) + (bb[5] - bb[2]) * (bb[5] - bb[2]));
     double h = sc->mesh->nt ? cbrt(ms.volume / sc->mesh->nt) : w.L / 10; /* mesh.points: no tets */
-    memcpy(x, eo_step_guess(st), (size_t)n * sizeof(double));
+    memcpy(x, guess, (size_t)n * sizeof(double));
     printf("check %s: %d free coordinates, %d tets, integrator %s, dt %g, tol %g\n", name, n, sc->mesh->nt,
            sc->time.integrator, sc->time.dt, tol);
     int all_ok = 1;
@@ -232,10 +228,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
 fail:
     if (rc < 0) eo_cli_fail(ctx, rc);
     eo_free(ctx, buf);
-    eo_solver_destroy(&solver);
-    eo_step_destroy(&st);
-    eo_scene_destroy(ctx, &sc);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_sim_destroy(&sim);
     return rc < 0 ? EO_EXIT_BAD_INPUT : exit_code;
 }
 

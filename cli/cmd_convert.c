@@ -1,5 +1,6 @@
 /* elastopt convert: read (or generate) a mesh and write it in the format of OUT's extension. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
@@ -14,6 +15,15 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--drop-degenerate") == 0) o.drop_degenerate = 1;
         else if (strcmp(argv[i], "--drop-unreferenced") == 0) o.drop_unreferenced = 1;
+        else if (strcmp(argv[i], "--quality") == 0 || strcmp(argv[i], "--max-volume") == 0) {
+            char *e = NULL;
+            double v = i + 1 < argc ? strtod(argv[i + 1], &e) : 0;
+            if (!e || e == argv[i + 1] || *e || !(v >= 0))
+                return eo_cli_usage_error(&eo_cmd_convert, "%s needs a number >= 0", argv[i]);
+            if (argv[i][2] == 'q') o.tetgen_quality = v;
+            else o.tetgen_max_volume = v;
+            i++;
+        }
         else if (argv[i][0] == '-' && argv[i][1])
             return eo_cli_usage_error(&eo_cmd_convert, "unknown option '%s'", argv[i]);
         else if (!in) in = argv[i];
@@ -41,11 +51,16 @@ static int run(eo_ctx *ctx, int argc, char **argv)
 const eo_cli_command eo_cmd_convert = {
     .name = "convert",
     .summary = "convert a mesh between TetGen, MEDIT, Gmsh, VTU and boundary OBJ",
-    .usage = "elastopt convert IN OUT [--drop-degenerate] [--drop-unreferenced]\n\n"
-             "IN: .node/.ele (TetGen, file or base name), .mesh (MEDIT), .msh (Gmsh 2.2/4.1 ASCII)\n"
+    .usage = "elastopt convert IN OUT [--drop-degenerate] [--drop-unreferenced] [--quality Q] [--max-volume V]\n\n"
+             "IN: .node/.ele (TetGen, file or base name), .mesh (MEDIT), .msh (Gmsh 2.2/4.1 ASCII),\n"
+             ".vtu (tets), a closed surface .obj/.off/.stl/.ply (tetrahedralized by TetGen with\n"
+             "radius-edge bound Q, default 2, 0 = none, and tet volume bound V, default 0 = none)\n"
              "or gen:SX,SY,SZ:NX,NY,NZ[:5|6]. OUT's extension picks the format: .node or .ele\n"
-             "(TetGen pair, 1-based), .mesh, .msh (Gmsh 4.1 ASCII), .vtu (VTK XML, rest state),\n"
-             ".obj (boundary surface). IN is validated as by `elastopt mesh`. OUT is written\n"
-             "atomically: on any error nothing is left behind.\n",
+             "(TetGen pair, 1-based, plus .face when the mesh has tagged triangles), .mesh, .msh\n"
+             "(Gmsh 4.1 ASCII), .vtu (VTK XML, rest state), .obj (boundary surface). IN is\n"
+             "validated as by `elastopt mesh`. OUT is written atomically (a TetGen pair: both\n"
+             "files to temporaries, renamed together): on any error nothing is left behind and\n"
+             "no existing file is changed. A path that cannot be used (a folder, device, FIFO,\n"
+             "empty or unreadable file, a name longer than the system allows) fails at once.\n",
     .run = run,
 };

@@ -18,6 +18,15 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         if (strcmp(argv[i], "--json") == 0) as_json = 1;
         else if (strcmp(argv[i], "--drop-degenerate") == 0) o.drop_degenerate = 1;
         else if (strcmp(argv[i], "--drop-unreferenced") == 0) o.drop_unreferenced = 1;
+        else if (strcmp(argv[i], "--quality") == 0 || strcmp(argv[i], "--max-volume") == 0) {
+            char *e = NULL;
+            double v = i + 1 < argc ? strtod(argv[i + 1], &e) : 0;
+            if (!e || e == argv[i + 1] || *e || !(v >= 0))
+                return eo_cli_usage_error(&eo_cmd_mesh, "%s needs a number >= 0", argv[i]);
+            if (argv[i][2] == 'q') o.tetgen_quality = v;
+            else o.tetgen_max_volume = v;
+            i++;
+        }
         else if (argv[i][0] == '-' && argv[i][1]) return eo_cli_usage_error(&eo_cmd_mesh, "unknown option '%s'", argv[i]);
         else if (!src) src = argv[i];
         else return eo_cli_usage_error(&eo_cmd_mesh, "expected one mesh, got a second: '%s'", argv[i]);
@@ -50,6 +59,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         json_object_set_new(j, "max_volume", json_real(s.max_volume));
         json_object_set_new(j, "worst_quality", json_real(s.worst_quality));
         json_object_set_new(j, "boundary_faces", json_integer(nf));
+        json_object_set_new(j, "tagged_triangles", json_integer(m->ntri));
         json_object_set_new(j, "reoriented", json_integer(m->reoriented));
         json_object_set_new(j, "dropped_tets", json_integer(m->dropped_tets));
         json_object_set_new(j, "dropped_vertices", json_integer(m->dropped_vertices));
@@ -69,6 +79,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         printf("max tet volume  %.6g\n", s.max_volume);
         printf("worst quality   %.6g (normalized radius ratio, 1 = regular)\n", s.worst_quality);
         printf("boundary faces  %d\n", nf);
+        if (m->ntri) printf("tagged faces    %d\n", m->ntri);
         printf("reoriented      %d\n", m->reoriented);
         printf("dropped         %d tets, %d vertices\n", m->dropped_tets, m->dropped_vertices);
         printf("load time       %.3f s\n", t_load);
@@ -80,9 +91,11 @@ static int run(eo_ctx *ctx, int argc, char **argv)
 const eo_cli_command eo_cmd_mesh = {
     .name = "mesh",
     .summary = "load or generate a tet mesh, validate it, print statistics",
-    .usage = "elastopt mesh FILE [--json] [--drop-degenerate] [--drop-unreferenced]\n\n"
-             "FILE is a TetGen .node/.ele (file or base name), MEDIT .mesh or Gmsh .msh (2.2/4.1\n"
-             "ASCII) file, or gen:SX,SY,SZ:NX,NY,NZ[:5|6] for a box of NX*NY*NZ cells of size\n"
+    .usage = "elastopt mesh FILE [--json] [--drop-degenerate] [--drop-unreferenced] [--quality Q] [--max-volume V]\n\n"
+             "FILE is a TetGen .node/.ele (file or base name), MEDIT .mesh, Gmsh .msh (2.2/4.1\n"
+             "ASCII) or VTU file, a closed surface .obj/.off/.stl/.ply tetrahedralized by TetGen\n"
+             "(radius-edge bound Q, default 2, 0 = none; tet volume bound V, default 0 = none),\n"
+             "or gen:SX,SY,SZ:NX,NY,NZ[:5|6] for a box of NX*NY*NZ cells of size\n"
              "SX*SY*SZ split into 5 or 6 (default) tets each.\n"
              "Prints vertex and tet counts, total rest volume, bounding box, smallest and largest\n"
              "tet volume, worst quality (normalized radius ratio), boundary faces, and how many tets\n"
@@ -90,7 +103,7 @@ const eo_cli_command eo_cmd_mesh = {
              "of range, zero-volume or duplicate tets, unreferenced vertices) fail with exit 2\n"
              "unless --drop-degenerate / --drop-unreferenced allow dropping them with a warning.\n"
              "  --json   one JSON object: vertices, tets, volume, bbox [min xyz, max xyz],\n"
-             "           min_volume, max_volume, worst_quality, boundary_faces, reoriented,\n"
+             "           min_volume, max_volume, worst_quality, boundary_faces, tagged_triangles, reoriented,\n"
              "           dropped_tets, dropped_vertices, load_seconds, source\n",
     .run = run,
 };

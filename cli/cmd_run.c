@@ -12,16 +12,17 @@
  * all written atomically. Exit 0 if every step converged, 1 if some did not, 2 on bad
  * input.
  *
- * Explicit integrators (forward_euler, ..., leapfrog) advance with eo_step_advance: no
+ * The steps run through eo_sim (sim.h), the library's one copy of the step protocol.
+ * Explicit integrators (forward_euler, ..., leapfrog) advance without a solver: no
  * objective is minimized, so each step records iterations 0, reason
  * "converged_explicit", g and grad_norm null (NaN in the CSV) and one CSV row
  * (iteration 0). The solver section is still validated (and unused).
- * After every step the state is checked: a non-finite position or velocity (an
- * explicit integrator beyond its stability limit, or a blown-up implicit solve) stops
- * the run with reason "diverged_nonfinite" on that step and as "stop_reason" in
- * summary.json (null when the run was not stopped), an error message naming the
- * step, and exit 1 (explicit integrators keep the last finite state for the frames and
- * the summary). */
+ * After every step the state is checked: a non-finite position, velocity, energy or
+ * force (an explicit integrator beyond its stability limit, or a blown-up implicit
+ * solve) stops the run with reason "diverged_nonfinite" on that step and as
+ * "stop_reason" in summary.json (null when the run was not stopped), an error message
+ * naming the step, and exit 1; the last finite state is kept for the frames and the
+ * summary. */
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
@@ -32,8 +33,7 @@
 #include "eo_build_config.h"
 #include "elastopt/io.h"
 #include "elastopt/machine.h"
-#include "elastopt/solver.h"
-#include "elastopt/step.h"
+#include "elastopt/sim.h"
 #include "scene_args.h"
 
 extern const eo_cli_command eo_cmd_run;
@@ -195,29 +195,23 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) quiet = 1;
         else return eo_cli_usage_error(&eo_cmd_run, "unknown option '%s'", argv[i]);
     }
-    eo_cfg *cfg = NULL;
-    eo_scene *sc = NULL;
-    eo_step *st = NULL;
-    eo_solver *solver = NULL;
+    eo_sim *sim = NULL;
     eo_afile *csv = NULL;
     eo_pvd *pvd = NULL;
     step_record *rec = NULL;
     double *fbuf = NULL;
     int rc, bad_input = 1, nrec = 0, nframes = 0;
     char name[256], dir[1024], path[1400], pvd_file[300], errtext[1024] = "";
-    eo_objective *obj;
     eo_cli_scene_name(&a, name, sizeof name);
 
-    /* ---- validate everything before writing anything */
-    EO_TRY(rc = eo_cli_scene_load(ctx, &a, &cfg, &sc));
-    eo_solver_opts so;
-    eo_solver_opts_default(&so);
-    EO_TRY(rc = eo_solver_opts_load(ctx, cfg, &so));
-    EO_TRY(rc = eo_step_create(ctx, sc, &st));
-    EO_TRY(rc = eo_step_begin(st, &obj));
-    int solver_n = obj->n;
-    EO_TRY(rc = eo_solver_create(ctx, &so, cfg, solver_n, &solver));
-    EO_TRY(rc = eo_cfg_finish(ctx, cfg));
+    /* ---- validate everything before writing anything (eo_sim_create: scene, solver
+     * section, every method's section, unknown keys) */
+    const char *ov[EO_CLI_MAX_OVERRIDES + 1];
+    for (int k = 0; k < a.noverrides; k++) ov[k] = a.overrides[k];
+    ov[a.noverrides] = NULL;
+    EO_TRY(rc = eo_sim_create_from(ctx, a.file, a.scene, ov, &sim));
+    const eo_scene *sc = eo_sim_scene(sim);
+    eo_step *st = eo_sim_step_problem(sim);
     snprintf(dir, sizeof dir, "%s", out_dir ? out_dir : sc->output.dir);
     const eo_mesh *m = sc->mesh;
     rec = eo_calloc(ctx, (size_t)sc->time.steps, sizeof *rec);
@@ -229,6 +223,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     double *disp = fbuf, *psi = fbuf + 3 * m->nv, *J = psi + m->nt;
     unsigned char *inv = (unsigned char *)(J + m->nt);
 
+    eo_cli_scene_report(ctx, sc, quiet);
     /* ---- outputs */
     bad_input = 0;
     EO_TRY(rc = eo_mkdir_p(ctx, dir));
@@ -245,46 +240,31 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_step_stats s0;
     eo_step_stats_compute(st, &s0);
     run_state rs = {.csv = eo_afile_fp(csv), .progress = !quiet && isatty(2), .nsteps = sc->time.steps};
+    eo_sim_set_iter_callback(sim, on_iter, &rs);
     progress(&rs, 0, 0, 0);
+    const int expl = eo_sim_is_explicit(sim);
     int all_converged = 1;
     long total_iters = 0;
     double t_start = eo_wtime();
     for (int k = 0; k < sc->time.steps; k++) {
-        if (k > 0) EO_TRY(rc = eo_step_begin(st, &obj));
-        if (obj->n != solver_n) { /* a boundary set was released: new problem size */
-            eo_solver_destroy(&solver);
-            solver_n = obj->n;
-            EO_TRY(rc = eo_solver_create(ctx, &so, cfg, solver_n, &solver));
-        }
         rs.step = k + 1;
-        eo_solve_result r;
-        memset(&r, 0, sizeof r);
-        if (eo_step_is_explicit(st)) {
-            double t0 = eo_wtime();
-            EO_TRY(rc = eo_step_advance(st, &r.reason));
-            r.time = eo_wtime() - t0;
-            r.g = r.grad_norm = NAN;
-            fprintf(rs.csv, "%d,0,%.6e,nan,nan,nan,nan,0,-1,%s\n", k + 1, r.time, eo_reason_name(r.reason));
-        } else {
-            double *x = eo_step_guess(st);
-            rc = eo_solver_minimize(solver, obj, x, on_iter, &rs, &r);
-            if (rc < 0) {
-                snprintf(errtext, sizeof errtext, "step %d: %s", k + 1, eo_ctx_message(ctx));
-                all_converged = 0;
-                break;
-            }
-            EO_TRY(rc = eo_step_end(st, x));
-            if (!eo_step_state_finite(st)) r.reason = EO_DIVERGED_NONFINITE;
+        eo_sim_step_result r;
+        rc = eo_sim_step(sim, &r);
+        if (rc < 0) {
+            snprintf(errtext, sizeof errtext, "step %d: %s", k + 1, eo_ctx_message(ctx));
+            all_converged = 0;
+            break;
         }
+        if (expl) fprintf(rs.csv, "%d,0,%.6e,nan,nan,nan,nan,0,-1,%s\n", k + 1, r.time, eo_reason_name(r.reason));
         if (r.reason == EO_DIVERGED_NONFINITE) {
+            /* the sim kept the last finite state (tₙ) */
             snprintf(errtext, sizeof errtext,
                      "step %d (t = %g s): the state became non-finite (diverged_nonfinite)%s", k + 1,
-                     eo_step_time(st) + (eo_step_is_explicit(st) ? sc->time.dt : 0),
-                     eo_step_is_explicit(st) ? "; the explicit integrator is beyond its stability limit: reduce time.dt"
-                                             : "");
+                     eo_sim_time(sim) + sc->time.dt,
+                     expl ? "; the explicit integrator is beyond its stability limit: reduce time.dt" : "");
             rec[nrec].reason = r.reason;
-            rec[nrec].t = eo_step_time(st);
-            eo_step_stats_compute(st, &rec[nrec].stats);
+            rec[nrec].t = r.t;
+            rec[nrec].stats = r.stats;
             rec[nrec].g = rec[nrec].grad_norm = NAN;
             nrec++;
             all_converged = 0;
@@ -293,7 +273,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         step_record *e = rec + nrec++;
         e->iterations = r.iterations;
         e->reason = r.reason;
-        e->t = eo_step_time(st);
+        e->t = r.t;
         e->time = r.time;
         e->g = r.g;
         e->grad_norm = r.grad_norm;
@@ -301,18 +281,18 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         e->n_gradient = r.n_gradient;
         e->n_hessian = r.n_hessian;
         e->n_factor = r.n_factor;
-        eo_step_stats_compute(st, &e->stats);
+        e->stats = r.stats;
         all_converged &= eo_reason_is_converged(r.reason);
         total_iters += r.iterations;
         if (frames && (k + 1) % sc->output.every == 0)
             EO_TRY(rc = write_frame(ctx, st, dir, name, nframes++, pvd, disp, psi, J, inv));
-        progress(&rs, k + 1, eo_step_time(st), r.iterations);
+        progress(&rs, k + 1, r.t, r.iterations);
     }
     double wall = eo_wtime() - t_start;
     if (rs.progress && nrec < sc->time.steps) fprintf(stderr, "\n");
     EO_TRY(rc = eo_afile_commit(ctx, &csv));
-    EO_TRY(rc = write_summary(ctx, dir, name, cfg, sc, solver, rec, nrec, &s0, nframes, frames ? pvd_file : NULL,
-                              errtext[0] ? errtext : NULL));
+    EO_TRY(rc = write_summary(ctx, dir, name, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, nframes,
+                              frames ? pvd_file : NULL, errtext[0] ? errtext : NULL));
     if (errtext[0]) fprintf(stderr, "elastopt: error: %s\n", errtext);
     if (!quiet) {
         int nconv = 0;
@@ -331,10 +311,7 @@ done:
     eo_pvd_destroy(ctx, &pvd);
     eo_free(ctx, rec);
     eo_free(ctx, fbuf);
-    eo_solver_destroy(&solver);
-    eo_step_destroy(&st);
-    eo_scene_destroy(ctx, &sc);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_sim_destroy(&sim);
     return rc;
 }
 

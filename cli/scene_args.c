@@ -1,4 +1,5 @@
 /* Scene arguments shared by `elastopt run` and `elastopt check` (see scene_args.h). */
+#include <stdio.h>
 #include <string.h>
 
 #include "scene_args.h"
@@ -52,4 +53,22 @@ void eo_cli_scene_name(const eo_cli_scene_args *a, char *buf, size_t n)
     snprintf(buf, n, "%s", b);
     char *dot = strrchr(buf, '.');
     if (dot && dot != buf) *dot = 0;
+}
+
+void eo_cli_scene_report(eo_ctx *ctx, const eo_scene *sc, int quiet)
+{
+    if (quiet) return;
+    char *text = NULL;
+    if (eo_scene_describe(ctx, sc, &text) < 0) {
+        fprintf(stderr, "elastopt: warning: no scene description: %s\n", eo_ctx_message(ctx));
+        return;
+    }
+    for (char *line = text, *nl; line && *line; line = nl ? nl + 1 : NULL) {
+        nl = strchr(line, '\n');
+        int n = nl ? (int)(nl - line) : (int)strlen(line);
+        if (strncmp(line, "warning: ", 9) == 0) fprintf(stderr, "elastopt: %.*s\n", n, line);
+        else printf("%.*s\n", n, line);
+    }
+    fflush(stdout);
+    eo_free(ctx, text);
 }

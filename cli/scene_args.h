@@ -21,6 +21,10 @@ int eo_cli_scene_arg(const eo_cli_command *cmd, int argc, char **argv, int *i, e
 /* Load the document (file or built-in scene, default cantilever), apply the
  * overrides, load the scene. Errors are in ctx (bad input). */
 int eo_cli_scene_load(eo_ctx *ctx, const eo_cli_scene_args *a, eo_cfg **cfg, eo_scene **sc);
+/* Print the scene description (eo_scene_describe): vertex count of every boundary
+ * set, tet count of every material region to stdout, "elastopt: warning: ..." lines
+ * (gravity against the mesh's obvious up) to stderr. Nothing when quiet. */
+void eo_cli_scene_report(eo_ctx *ctx, const eo_scene *sc, int quiet);
 /* Name of the run: the built-in scene name or the file's base name without .json. */
 void eo_cli_scene_name(const eo_cli_scene_args *a, char *buf, size_t n);
 

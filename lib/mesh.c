@@ -13,19 +13,21 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "elastopt/io.h"
 #include "elastopt/mesh.h"
 #include "mesh_io.h"
 
 static const eo_mesh_io_type *const formats[] = {
-    &eo_mesh_io_tetgen, &eo_mesh_io_medit, &eo_mesh_io_gmsh, &eo_mesh_io_vtu, &eo_mesh_io_obj, NULL,
+    &eo_mesh_io_tetgen, &eo_mesh_io_medit, &eo_mesh_io_gmsh, &eo_mesh_io_vtu, &eo_mesh_io_obj,
+    &eo_mesh_io_off, &eo_mesh_io_stl, &eo_mesh_io_ply, NULL,
 };
 
 eo_mesh_read_opts eo_mesh_read_opts_default(void)
 {
     return (eo_mesh_read_opts){.format = EO_MESH_AUTO, .drop_degenerate = 0, .drop_unreferenced = 0,
-                               .min_rel_volume = 1e-12};
+                               .min_rel_volume = 1e-12, .tetgen_quality = 2.0, .tetgen_max_volume = 0};
 }
 
 eo_mesh_gen_opts eo_mesh_gen_opts_default(void)
@@ -59,6 +61,8 @@ void eo_mesh_destroy(eo_ctx *ctx, eo_mesh **pm)
     eo_free(ctx, m->tets);
     eo_free(ctx, m->tet_attr);
     eo_free(ctx, m->vmarker);
+    eo_free(ctx, m->tris);
+    eo_free(ctx, m->tri_tag);
     eo_free(ctx, m);
     *pm = NULL;
 }
@@ -88,8 +92,30 @@ void eo_mesh_src_free(eo_ctx *ctx, eo_mesh_src *src)
     eo_free(ctx, src->t_line);
     eo_free(ctx, src->t_id);
     eo_free(ctx, src->owned);
+    eo_free(ctx, src->f_line);
+    src->f_line = NULL;
     src->v_line = src->v_id = src->t_line = src->t_id = NULL;
     src->owned = NULL;
+}
+
+int eo_mesh_add_tri(eo_ctx *ctx, eo_mesh *m, eo_mesh_src *src, int *cap, const int v[3], int tag, long line)
+{
+    if (m->ntri == *cap) {
+        int nc = *cap ? 2 * *cap : 64;
+        int *t = eo_realloc(ctx, m->tris, (size_t)nc * 3 * sizeof(int));
+        if (t) m->tris = t;
+        int *g = t ? eo_realloc(ctx, m->tri_tag, (size_t)nc * sizeof(int)) : NULL;
+        if (g) m->tri_tag = g;
+        long *l = g && src ? eo_realloc(ctx, src->f_line, (size_t)nc * sizeof(long)) : NULL;
+        if (l) src->f_line = l;
+        if (!t || !g || (src && !l)) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (%d triangles)", nc);
+        *cap = nc;
+    }
+    memcpy(m->tris + 3 * m->ntri, v, 3 * sizeof(int));
+    m->tri_tag[m->ntri] = tag;
+    if (src) src->f_line[m->ntri] = line;
+    m->ntri++;
+    return EO_OK;
 }
 
 /* ---- formats ----------------------------------------------------------------------- */
@@ -154,6 +180,12 @@ static const eo_mesh_io_type *pick(eo_ctx *ctx, const char *path, eo_mesh_format
                           "unknown mesh format; expected a file name ending in one of: %s", exts);
         return NULL;
     }
+    if (!reading && !t->write) {
+        *rc = eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(path, -1),
+                          "%s files can be read, not written; expected .node, .ele, .mesh, .msh, .vtu or .obj",
+                          t->name);
+        return NULL;
+    }
     if (reading && !t->read_text && !t->read_path) {
         list_exts(exts, sizeof exts, 1);
         *rc = eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(path, -1),
@@ -182,11 +214,9 @@ static int finish_read(eo_ctx *ctx, int rc, eo_mesh **m, const eo_mesh_read_opts
 static int base_has_node(const char *path)
 {
     char buf[4096];
+    struct stat st;
     if (snprintf(buf, sizeof buf, "%s.node", path) >= (int)sizeof buf) return 0;
-    FILE *f = fopen(buf, "rb");
-    if (!f) return 0;
-    fclose(f);
-    return 1;
+    return stat(buf, &st) == 0; /* not fopen: a FIFO would block; eo_path_check reports the rest */
 }
 
 int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out)
@@ -198,13 +228,14 @@ int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, e
     const eo_mesh_io_type *t = pick(ctx, path, fmt, 1, &rc);
     if (!t) return rc;
     eo_mesh *m = NULL;
-    eo_mesh_src src = {0};
+    eo_mesh_src src = {.opts = opts};
     if (t->read_path) {
         rc = t->read_path(ctx, path, &m, &src);
     } else {
         char *text = NULL;
         size_t len = 0;
-        rc = eo_read_file(ctx, path, &text, &len);
+        rc = eo_path_check(ctx, path, EO_PATH_READ);
+        if (rc >= 0) rc = eo_read_file(ctx, path, &text, &len);
         src.vert_file = src.tet_file = path;
         if (rc >= 0) rc = t->read_text(ctx, text, len, path, &m, &src);
         eo_free(ctx, text);
@@ -225,22 +256,29 @@ int eo_mesh_read_buffer(eo_ctx *ctx, const char *text, size_t len, eo_mesh_forma
     memcpy(buf, text, len);
     buf[len] = 0;
     eo_mesh *m = NULL;
-    eo_mesh_src src = {0};
+    eo_mesh_src src = {.opts = opts};
     int rc;
     char *names = NULL;
     if (fmt == EO_MESH_TETGEN) {
         size_t n = strlen(buf), k = strlen(name) + 8;
-        names = eo_malloc(ctx, 2 * k);
+        names = eo_malloc(ctx, 3 * k);
         if (!names) {
             eo_free(ctx, buf);
             return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
         }
         snprintf(names, k, "%s.node", name);
         snprintf(names + k, k, "%s.ele", name);
+        snprintf(names + 2 * k, k, "%s.face", name);
         src.vert_file = names;
         src.tet_file = names + k;
         const char *ele = n < len ? buf + n + 1 : buf + len;
-        rc = eo_tetgen_read_texts(ctx, buf, n, names, ele, (size_t)(buf + len - ele), names + k, &m, &src);
+        size_t ne = strlen(ele);
+        const char *face = ele + ne < buf + len ? ele + ne + 1 : NULL;
+        rc = eo_tetgen_read_texts(ctx, buf, n, names, ele, ne, names + k, &m, &src);
+        if (rc >= 0 && face) {
+            src.tri_file = names + 2 * k;
+            rc = eo_tetgen_read_face(ctx, face, (size_t)(buf + len - face), names + 2 * k, m, &src);
+        }
     } else {
         src.vert_file = src.tet_file = name;
         rc = t->read_text(ctx, buf, len, name, &m, &src);
@@ -256,6 +294,7 @@ int eo_mesh_write(eo_ctx *ctx, const eo_mesh *m, const char *path, eo_mesh_forma
     int rc = EO_OK;
     const eo_mesh_io_type *t = pick(ctx, path, fmt, 0, &rc);
     if (!t) return rc;
+    if (t->format != EO_MESH_TETGEN && (rc = eo_path_check(ctx, path, EO_PATH_WRITE)) < 0) return rc;
     return t->write(ctx, m, path);
 }
 
@@ -563,6 +602,18 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
                                        "expected 4 distinct vertices, got vertex %d twice", v);
         }
 
+    for (int f = 0; f < m->ntri; f++)
+        for (int i = 0; i < 3; i++) {
+            int v = m->tris[3 * f + i];
+            eo_errloc loc = EO_ERRLOC_ITEM(src && src->tri_file ? src->tri_file : tfile,
+                                           src && src->f_line ? src->f_line[f] : -1, "triangle", f + 1);
+            if (v < 0 || v >= m->nv)
+                return eo_error_at(ctx, EO_ERR_MESH, loc, "expected vertex indices in [0, %d), got %d", m->nv, v);
+            for (int j = 0; j < i; j++)
+                if (m->tris[3 * f + j] == v)
+                    return eo_error_at(ctx, EO_ERR_MESH, loc, "expected 3 distinct vertices, got vertex %d twice", v);
+        }
+
     flag = eo_malloc(ctx, (size_t)(m->nt > m->nv ? m->nt : m->nv) + 1);
     if (!flag) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (validation)");
@@ -575,6 +626,11 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
     for (int t = 0; t < m->nt; t++) {
         int *tt = m->tets + 4 * t;
         double v = eo_tet_volume(m->X, tt);
+        if (!isfinite(v)) {
+            rc = eo_error_at(ctx, EO_ERR_NONFINITE, tet_loc(src, t),
+                             "the volume overflows (%g); expected coordinates of a sensible magnitude", v);
+            goto fail;
+        }
         if (v < 0) {
             int tmp = tt[1];
             tt[1] = tt[2];
@@ -584,6 +640,11 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
         mean += fabs(v);
     }
     mean /= m->nt;
+    if (!isfinite(mean)) {
+        rc = eo_error_at(ctx, EO_ERR_NONFINITE, EO_ERRLOC_FILE(tfile, -1),
+                         "the total volume overflows; expected coordinates of a sensible magnitude");
+        goto fail;
+    }
     m->reoriented += reoriented;
     double vmin = opts->min_rel_volume * mean;
     int nzero = 0;
@@ -671,6 +732,17 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
             n++;
         }
         for (int i = 0; i < 4 * m->nt; i++) m->tets[i] = map[m->tets[i]];
+        int nf = 0; /* tagged triangles on a dropped vertex go too */
+        for (int f = 0; f < m->ntri; f++) {
+            const int *q = m->tris + 3 * f;
+            if (map[q[0]] < 0 || map[q[1]] < 0 || map[q[2]] < 0) continue;
+            int w[3] = {map[q[0]], map[q[1]], map[q[2]]};
+            memcpy(m->tris + 3 * nf, w, sizeof w);
+            m->tri_tag[nf] = m->tri_tag[f];
+            if (src && src->f_line) src->f_line[nf] = src->f_line[f];
+            nf++;
+        }
+        m->ntri = nf;
         dropped_v = m->nv - n;
         m->nv = n;
     }
@@ -707,6 +779,21 @@ static int cmp_facekey(const void *a, const void *b)
     for (int i = 0; i < 3; i++)
         if (x->k[i] != y->k[i]) return x->k[i] < y->k[i] ? -1 : 1;
     return 0;
+}
+
+int eo_mesh_surface_vertices(eo_ctx *ctx, const eo_mesh *m, unsigned char *flag, int *count)
+{
+    int *faces = NULL, nf = 0;
+    *count = 0;
+    memset(flag, 0, (size_t)m->nv);
+    int rc = eo_mesh_boundary_faces(ctx, m, &faces, &nf);
+    if (rc < 0) return rc;
+    for (int i = 0; i < 3 * nf; i++) {
+        *count += !flag[faces[i]];
+        flag[faces[i]] = 1;
+    }
+    eo_free(ctx, faces);
+    return EO_OK;
 }
 
 /* outward faces of a positive tet, local indices */

@@ -6,9 +6,14 @@
  *  4.1  $Nodes: "numBlocks numNodes minTag maxTag", per block "dim entity parametric n",
  *       n tags, then n lines "x y z [u v w]"; $Elements: "numBlocks numElements minTag
  *       maxTag", per block "dim entity type n", then n lines "tag node1..nodeK".
- * Only tets (type 4) are kept; tet_attr is the physical tag (2.2, 0 if none) or the
- * entity tag (4.1). Every other element type and every other section ($Entities,
- * $PhysicalNames, IPC's $Surface, ...) is skipped line by line.
+ *  4.1  $Entities: "nP nC nS nV", then one line per entity: "tag [x y z | 6 bbox
+ *       numbers] numPhysicalTags physicalTags... [bounding entities...]".
+ * Tets (type 4) and triangles (type 2) are kept. tet_attr is the physical tag (2.2: the
+ * first element tag, 0 if none; 4.1: the first physical tag of the tet's volume entity
+ * in $Entities, else the entity tag). Triangles become tagged triangles (tris/tri_tag)
+ * with the same rule, except that a 4.1 surface entity in several physical groups gives
+ * its triangles once per group. Every other element type and every other section
+ * ($PhysicalNames, IPC's $Surface, ...) is skipped line by line.
  * The writer emits one node block and one element block per run of equal tet_attr. */
 #include <string.h>
 
@@ -25,6 +30,12 @@ typedef struct {
     eo_tagmap map;
     int v41;         /* 1: version 4.1, 0: 2.x */
     int cap;         /* tet capacity */
+    int tcap;        /* triangle capacity */
+    /* 4.1 $Entities of dimension 2 and 3: tag, physical tags ent_phys[first .. first+n) */
+    long *ent_tag[2];
+    int *ent_first[2], *ent_n[2], nent[2];
+    long *ent_phys;
+    int nphys, physcap;
 } gmsh_reader;
 
 static int make_map(gmsh_reader *r)
@@ -167,6 +178,94 @@ static int read_tet(gmsh_reader *r, long tag, long line, int attr)
     return EO_OK;
 }
 
+/* Read the 3 node tags of a triangle on the current line; add it once per tag. */
+static int read_tri(gmsh_reader *r, long tag, long line, const long *tags, int ntags)
+{
+    eo_scan *s = &r->s;
+    int v[3], rc;
+    eo_scan_item(s, "triangle", tag);
+    for (int a = 0; a < 3; a++) {
+        long nt;
+        if ((rc = eo_scan_long(s, "node tag", &nt)) < 0) return rc;
+        if ((v[a] = eo_tagmap_find(&r->map, nt)) < 0)
+            return eo_scan_error(s, EO_ERR_MESH, "node %ld: expected a node tag defined in $Nodes", nt);
+    }
+    if ((rc = eo_scan_eol(s, "the 3 nodes of a triangle")) < 0) return rc;
+    eo_scan_item(s, NULL, -1);
+    for (int k = 0; k < ntags; k++) {
+        if (tags[k] < -2147483647L || tags[k] > 2147483647L)
+            return eo_scan_error(s, EO_ERR_PARSE, "physical tag %ld out of range", tags[k]);
+        if ((rc = eo_mesh_add_tri(r->ctx, r->m, r->src, &r->tcap, v, (int)tags[k], line)) < 0) return rc;
+    }
+    return EO_OK;
+}
+
+/* 4.1 $Entities: keep the physical tags of surfaces and volumes. */
+static int entities_41(gmsh_reader *r)
+{
+    eo_scan *s = &r->s;
+    int cnt[4], rc;
+    if (r->nphys || r->ent_tag[0] || r->ent_tag[1])
+        return eo_scan_error(s, EO_ERR_PARSE, "second $Entities section; expected one");
+    for (int d = 0; d < 4; d++)
+        if ((rc = eo_scan_count(s, "entity count", &cnt[d])) < 0) return rc;
+    if ((rc = eo_scan_eol(s, "the 4 entity counts")) < 0) return rc;
+    for (int d = 2; d < 4; d++) {
+        size_t n = (size_t)(cnt[d] ? cnt[d] : 1);
+        r->ent_tag[d - 2] = eo_malloc(r->ctx, n * sizeof(long));
+        r->ent_first[d - 2] = eo_malloc(r->ctx, n * sizeof(int));
+        r->ent_n[d - 2] = eo_malloc(r->ctx, n * sizeof(int));
+        if (!r->ent_tag[d - 2] || !r->ent_first[d - 2] || !r->ent_n[d - 2])
+            return eo_error(r->ctx, EO_ERR_NOMEM, "out of memory ($Entities)");
+    }
+    for (int d = 0; d < 4; d++)
+        for (int e = 0; e < cnt[d]; e++) {
+            long tag;
+            int np;
+            double x;
+            eo_scan_record(s);
+            if ((rc = eo_scan_long(s, "entity tag", &tag)) < 0) return rc;
+            for (int k = 0; k < (d == 0 ? 3 : 6); k++)
+                if ((rc = eo_scan_double(s, d == 0 ? "point coordinate" : "bounding box coordinate", &x)) < 0) return rc;
+            if ((rc = eo_scan_int(s, "number of physical tags", 0, 1000000, &np)) < 0) return rc;
+            if (d >= 2) {
+                r->ent_tag[d - 2][e] = tag;
+                r->ent_first[d - 2][e] = r->nphys;
+                r->ent_n[d - 2][e] = np;
+                r->nent[d - 2] = e + 1;
+            }
+            for (int k = 0; k < np; k++) {
+                long p;
+                if ((rc = eo_scan_long(s, "physical tag", &p)) < 0) return rc;
+                if (d < 2) continue;
+                if (r->nphys == r->physcap) {
+                    int nc = r->physcap ? 2 * r->physcap : 16;
+                    long *q = eo_realloc(r->ctx, r->ent_phys, (size_t)nc * sizeof(long));
+                    if (!q) return eo_error(r->ctx, EO_ERR_NOMEM, "out of memory ($Entities)");
+                    r->ent_phys = q;
+                    r->physcap = nc;
+                }
+                r->ent_phys[r->nphys++] = p;
+            }
+            eo_scan_skip_line(s); /* bounding entities */
+            s->in_record = 0;
+        }
+    return eo_scan_expect(s, "$EndEntities");
+}
+
+/* Physical tags of the entity (dim 2 or 3, 4.1): *tags points into ent_phys, or to the
+ * entity tag itself when the entity has none (or $Entities is absent). */
+static int entity_tags(const gmsh_reader *r, int dim, const long *ent, const long **tags)
+{
+    for (int e = 0; e < r->nent[dim - 2]; e++)
+        if (r->ent_tag[dim - 2][e] == *ent && r->ent_n[dim - 2][e] > 0) {
+            *tags = r->ent_phys + r->ent_first[dim - 2][e];
+            return r->ent_n[dim - 2][e];
+        }
+    *tags = ent;
+    return 1;
+}
+
 static int elements_22(gmsh_reader *r)
 {
     eo_scan *s = &r->s;
@@ -175,7 +274,8 @@ static int elements_22(gmsh_reader *r)
     if ((rc = alloc_elements(r, n)) < 0) return rc;
     for (int i = 0; i < n; i++) {
         long tag;
-        int type, ntags, phys = 0;
+        int type, ntags;
+        long phys = 0;
         eo_scan_item(s, NULL, -1);
         long line = eo_scan_record(s);
         if ((rc = eo_scan_long(s, "element tag", &tag)) < 0) return rc;
@@ -185,10 +285,14 @@ static int elements_22(gmsh_reader *r)
         for (int k = 0; k < ntags; k++) {
             long v;
             if ((rc = eo_scan_long(s, "element tag value", &v)) < 0) return rc;
-            if (k == 0) phys = (int)v;
+            if (k == 0) phys = v;
         }
         if (type == 4) {
-            if ((rc = read_tet(r, tag, line, phys)) < 0) return rc;
+            if (phys < -2147483647L || phys > 2147483647L)
+                return eo_scan_error(s, EO_ERR_PARSE, "physical tag %ld out of range", phys);
+            if ((rc = read_tet(r, tag, line, (int)phys)) < 0) return rc;
+        } else if (type == 2) {
+            if ((rc = read_tri(r, tag, line, &phys, 1)) < 0) return rc;
         } else {
             eo_scan_skip_line(s);
         }
@@ -218,17 +322,23 @@ static int elements_41(gmsh_reader *r)
         if (k > n - done)
             return eo_scan_error(s, EO_ERR_PARSE,
                                  "block of %d elements exceeds the %d announced in the $Elements header", k, n);
-        if (type != 4) {
+        if (!(type == 4 && dim == 3) && !(type == 2 && dim == 2)) {
             if ((rc = eo_scan_skip_lines(s, k, "element lines")) < 0) return rc;
             done += k;
             continue;
         }
+        const long *tags;
+        int ntags = entity_tags(r, dim, &ent, &tags);
+        if (type == 4 && (tags[0] < -2147483647L || tags[0] > 2147483647L))
+            return eo_scan_error(s, EO_ERR_PARSE, "physical tag %ld out of range", tags[0]);
         if ((rc = eo_scan_eol(s, "the element block header")) < 0) return rc;
         for (int i = 0; i < k; i++) {
             long tag;
             long line = eo_scan_record(s);
             if ((rc = eo_scan_long(s, "element tag", &tag)) < 0) return rc;
-            if ((rc = read_tet(r, tag, line, (int)ent)) < 0) return rc;
+            if (type == 4) rc = read_tet(r, tag, line, (int)tags[0]);
+            else rc = read_tri(r, tag, line, tags, ntags);
+            if (rc < 0) return rc;
         }
         done += k;
     }
@@ -285,6 +395,8 @@ static int read_gmsh(eo_ctx *ctx, const char *text, size_t len, const char *file
             rc = r.v41 ? nodes_41(&r) : nodes_22(&r);
         } else if (eo_scan_accept(s, "$Elements")) {
             rc = r.v41 ? elements_41(&r) : elements_22(&r);
+        } else if (r.v41 && eo_scan_accept(s, "$Entities")) {
+            rc = entities_41(&r);
         } else if (t[0] == '$' && n > 1 && !(n > 4 && memcmp(t, "$End", 4) == 0)) {
             s->p += n;
             rc = skip_section(&r, t, n);
@@ -308,6 +420,12 @@ static int read_gmsh(eo_ctx *ctx, const char *text, size_t len, const char *file
     }
 fail:
     eo_free(ctx, r.tags);
+    for (int d = 0; d < 2; d++) {
+        eo_free(ctx, r.ent_tag[d]);
+        eo_free(ctx, r.ent_first[d]);
+        eo_free(ctx, r.ent_n[d]);
+    }
+    eo_free(ctx, r.ent_phys);
     eo_tagmap_deinit(ctx, &r.map);
     if (rc < 0) eo_mesh_destroy(ctx, &r.m);
     *out = r.m;

@@ -15,6 +15,10 @@ typedef struct eo_mesh_src {
     long *v_line, *v_id;    /* nv: line and input id of each vertex */
     long *t_line, *t_id;    /* nt: line and input id of each tet */
     char *owned;            /* file names allocated by a reader, freed with the rest */
+    const char *tri_file;   /* file holding the tagged triangles (borrowed; NULL: tet_file) */
+    long *f_line;           /* ntri: line of each tagged triangle (NULL if unknown) */
+    const eo_mesh_read_opts *opts; /* the caller's options (TetGen quality for surfaces) */
+    int base;               /* TetGen: index base (0 or 1) of the .node file */
 } eo_mesh_src;
 
 typedef struct eo_mesh_io_type {
@@ -31,7 +35,44 @@ typedef struct eo_mesh_io_type {
 } eo_mesh_io_type;
 
 extern const eo_mesh_io_type eo_mesh_io_tetgen, eo_mesh_io_medit, eo_mesh_io_gmsh, eo_mesh_io_vtu,
-    eo_mesh_io_obj;
+    eo_mesh_io_obj, eo_mesh_io_off, eo_mesh_io_stl, eo_mesh_io_ply;
+
+/* Readers behind the format tables in vtu.c (VTU, OBJ). */
+int eo_vtu_read_text(eo_ctx *ctx, const char *text, size_t len, const char *file, eo_mesh **out, eo_mesh_src *src);
+int eo_obj_read_text(eo_ctx *ctx, const char *text, size_t len, const char *file, eo_mesh **out, eo_mesh_src *src);
+
+/* Append a tagged triangle (growing m->tris/tri_tag/src->f_line); line may be -1. */
+int eo_mesh_add_tri(eo_ctx *ctx, eo_mesh *m, eo_mesh_src *src, int *cap, const int v[3], int tag, long line);
+
+/* A closed triangle surface (mesh_surface.c): np points, nt triangles (0-based). */
+typedef struct eo_surface {
+    int np, nt;
+    double *X;   /* 3*np */
+    int *tri;    /* 3*nt */
+    long *line;  /* nt: source line (or -1) of each triangle; NULL if unknown */
+} eo_surface;
+void eo_surface_deinit(eo_ctx *ctx, eo_surface *s);
+/* Parse a surface file of format fmt (OBJ, OFF, STL, PLY) without tetrahedralizing it:
+ * the fuzz target calls this directly. Checks indices, degenerate triangles, closedness. */
+int eo_surface_parse(eo_ctx *ctx, eo_mesh_format fmt, const char *text, size_t len, const char *file,
+                     eo_surface *s);
+/* TetGen library shim (mesh_tetgen_lib.cpp; a stub that fails when not built):
+ * tetrahedralize the closed surface with "pzQ" + q<quality> (if > 0) + a<max_volume>
+ * (if > 0). Creates *out (vertices: the surface points first, then Steiner points). */
+int eo_tetgen_tetrahedralize(eo_ctx *ctx, const eo_surface *s, double quality, double max_volume,
+                             const char *file, eo_mesh **out);
+
+/* TetGen's C++ library behind a C interface (mesh_tetgen_lib.cpp, built with
+ * -Dtetgen): outputs are malloc'ed (caller frees); returns 0, or TetGen's error code
+ * (1 memory, 2 internal, 3 self-intersection, 4 small feature, 5 close facets, 10 input)
+ * or -1 (other exception) with a message in msg. */
+int eo_tetgen_run(const double *X, int np, const int *tri, int nt, const char *switches, double **Xout,
+                  int *npout, int **tets, int *ntout, char *msg, size_t msgn);
+
+/* Rename n temporaries over their targets, all or nothing (mesh_path.c): an existing
+ * target is hard-linked to a backup first; when a rename fails the targets already
+ * renamed are restored from their backups and every temporary is removed. */
+int eo_rename_all(eo_ctx *ctx, int n, const char *const *tmp, const char *const *dst);
 
 /* Allocate the vertex arrays (if nv >= 0) and tet arrays (if nt >= 0). */
 int eo_mesh_src_alloc(eo_ctx *ctx, eo_mesh_src *src, int nv, int nt);
@@ -42,5 +83,7 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
 int eo_tetgen_read_texts(eo_ctx *ctx, const char *node, size_t node_len, const char *node_file,
                          const char *ele, size_t ele_len, const char *ele_file, eo_mesh **out,
                          eo_mesh_src *src);
+/* TetGen .face text (marker flag 1: tagged triangles; 0: ignored) onto mesh m. */
+int eo_tetgen_read_face(eo_ctx *ctx, const char *text, size_t len, const char *file, eo_mesh *m, eo_mesh_src *src);
 
 #endif

@@ -6,6 +6,7 @@
  *   Dimension 3
  *   Vertices  n   then n lines "x y z ref"      (ref -> vmarker)
  *   Tetrahedra n  then n lines "v1 v2 v3 v4 ref" (1-based; ref -> tet_attr)
+ *   Triangles n   then n lines "v1 v2 v3 ref"    (1-based; -> tris/tri_tag)
  *   End
  * Comments start with '#'. Every other keyword (Triangles, Edges, Corners, Normals, ...)
  * is followed by a count and that many one-line entries, which are skipped. */
@@ -21,7 +22,7 @@ static int read_medit(eo_ctx *ctx, const char *text, size_t len, const char *fil
     eo_scan_init(s, ctx, file, text, len, '#');
     eo_mesh *m = NULL;
     int rc = EO_OK, ver, dim, have_tets = 0;
-    int *tets = NULL, *attr = NULL, nt = 0;
+    int *tets = NULL, *attr = NULL, nt = 0, tcap = 0, have_tris = 0;
     if ((rc = eo_scan_expect(s, "MeshVersionFormatted")) < 0) goto fail;
     if ((rc = eo_scan_int(s, "mesh version", 1, 3, &ver)) < 0) goto fail;
     for (;;) {
@@ -94,6 +95,36 @@ static int read_medit(eo_ctx *ctx, const char *text, size_t len, const char *fil
                     goto fail;
             }
             eo_scan_item(s, NULL, -1);
+        } else if (eo_scan_accept(s, "Triangles")) {
+            int nf;
+            if (!m) {
+                rc = eo_scan_error(s, EO_ERR_PARSE, "Triangles before Vertices; expected Vertices first");
+                goto fail;
+            }
+            if (have_tris) {
+                rc = eo_scan_error(s, EO_ERR_PARSE, "second Triangles section; expected one");
+                goto fail;
+            }
+            have_tris = 1;
+            if ((rc = eo_scan_count(s, "triangle count", &nf)) < 0) goto fail;
+            for (int q = 0; q < nf; q++) {
+                int v[3], ref;
+                eo_scan_item(s, "triangle", q + 1);
+                long line = eo_scan_record(s);
+                for (int a = 0; a < 3; a++) {
+                    long x;
+                    if ((rc = eo_scan_long(s, "vertex index", &x)) < 0) goto fail;
+                    if (x < 1 || x > m->nv) {
+                        rc = eo_scan_error(s, EO_ERR_MESH, "expected vertex index in [1, %d], got %ld", m->nv, x);
+                        goto fail;
+                    }
+                    v[a] = (int)x - 1;
+                }
+                if ((rc = eo_scan_int(s, "triangle reference", -2147483647L, 2147483647L, &ref)) < 0 ||
+                    (rc = eo_scan_eol(s, "v1 v2 v3 ref")) < 0 || (rc = eo_mesh_add_tri(ctx, m, src, &tcap, v, ref, line)) < 0)
+                    goto fail;
+            }
+            eo_scan_item(s, NULL, -1);
         } else if (t[0] >= 'A' && t[0] <= 'Z') {
             /* another section: keyword, count, count lines */
             char kw[48];
@@ -150,6 +181,13 @@ static int write_medit(eo_ctx *ctx, const eo_mesh *m, const char *path)
     for (int t = 0; t < m->nt; t++) {
         const int *q = m->tets + 4 * t;
         fprintf(f, "%d %d %d %d %d\n", q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1, m->tet_attr ? m->tet_attr[t] : 0);
+    }
+    if (m->ntri) {
+        fprintf(f, "\nTriangles\n%d\n", m->ntri);
+        for (int t = 0; t < m->ntri; t++) {
+            const int *q = m->tris + 3 * t;
+            fprintf(f, "%d %d %d %d\n", q[0] + 1, q[1] + 1, q[2] + 1, m->tri_tag[t]);
+        }
     }
     fprintf(f, "\nEnd\n");
     return eo_afile_commit(ctx, &af);

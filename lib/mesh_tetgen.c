@@ -6,11 +6,21 @@
  *   .ele:  "<#tets> <nodes per tet 4|10> <#attributes>", then per tet
  *          "<index> <n1> <n2> <n3> <n4> [6 more nodes] [attributes...]"
  *          (the first attribute, the region, -> tet_attr; it must be an integer)
+ *   .face: "<#faces> <#markers 0|1>", then per face "<index> <n1> <n2> <n3> [marker]"
+ *          (optional; with markers -> tagged triangles tris/tri_tag, without: ignored)
  * Indices start at 0 or 1 (the first point's index decides, as TetGen's -z does) and
  * are consecutive. '#' starts a comment. Given "a.node", "a.ele" or "a", both files
- * a.node and a.ele are read. The writer uses 1-based indices. */
+ * a.node and a.ele are read, and a.face when it exists. The writer uses 1-based
+ * indices and writes a.face when the mesh has tagged triangles; it writes every file
+ * to a temporary first and renames them together (eo_rename_all), so a failure
+ * leaves existing files untouched. */
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "elastopt/io.h"
 #include "mesh_io.h"
@@ -136,6 +146,7 @@ int eo_tetgen_read_texts(eo_ctx *ctx, const char *node, size_t node_len, const c
     *out = NULL;
     eo_scan_init(&s, ctx, node_file, node, node_len, '#');
     rc = read_node(&s, &m, src, &base);
+    src->base = base;
     if (rc >= 0) {
         m->nt = 0;
         eo_scan_init(&s, ctx, ele_file, ele, ele_len, '#');
@@ -149,17 +160,53 @@ int eo_tetgen_read_texts(eo_ctx *ctx, const char *node, size_t node_len, const c
     return EO_OK;
 }
 
-/* "a.node" / "a.ele" / "a" -> "a.node" and "a.ele" in one allocation: node at 0, ele at k. */
+int eo_tetgen_read_face(eo_ctx *ctx, const char *text, size_t len, const char *file, eo_mesh *m, eo_mesh_src *src)
+{
+    eo_scan sc, *s = &sc;
+    int n, nmark, rc, cap = 0;
+    eo_scan_init(s, ctx, file, text, len, '#');
+    if ((rc = eo_scan_count(s, "face count", &n)) < 0) return rc;
+    if ((rc = eo_scan_int(s, "boundary marker flag", 0, 1, &nmark)) < 0) return rc;
+    if ((rc = eo_scan_eol(s, "the .face header")) < 0) return rc;
+    for (int f = 0; f < n; f++) {
+        long idx, line = eo_scan_record(s);
+        int v[3], tag = 0;
+        if ((rc = eo_scan_long(s, "face index", &idx)) < 0) return rc;
+        eo_scan_item(s, "triangle", idx);
+        for (int a = 0; a < 3; a++) {
+            long x;
+            if ((rc = eo_scan_long(s, "point index", &x)) < 0) return rc;
+            if (x < src->base || x >= (long)src->base + m->nv)
+                return eo_scan_error(s, EO_ERR_MESH, "expected point index in [%d, %d], got %ld", src->base,
+                                     src->base + m->nv - 1, x);
+            v[a] = (int)(x - src->base);
+        }
+        if (nmark && (rc = eo_scan_int(s, "boundary marker", -2147483647L, 2147483647L, &tag)) < 0) return rc;
+        if ((rc = eo_scan_eol(s, "the face's fields (header says so)")) < 0) return rc;
+        eo_scan_item(s, NULL, -1);
+        if (nmark && (rc = eo_mesh_add_tri(ctx, m, src, &cap, v, tag, line)) < 0) return rc;
+    }
+    if (eo_scan_skip(s)) {
+        char w[96];
+        snprintf(w, sizeof w, "end of file after %d faces", n);
+        return eo_scan_fail(s, w);
+    }
+    return EO_OK;
+}
+
+/* "a.node" / "a.ele" / "a" -> "a.node", "a.ele", "a.face" in one allocation: node at 0,
+ * ele at k, face at 2k. */
 static char *tetgen_names(eo_ctx *ctx, const char *path, size_t *k)
 {
     size_t n = strlen(path);
     if (n >= 5 && strcmp(path + n - 5, ".node") == 0) n -= 5;
     else if (n >= 4 && strcmp(path + n - 4, ".ele") == 0) n -= 4;
     *k = n + 6;
-    char *b = eo_malloc(ctx, 2 * *k);
+    char *b = eo_malloc(ctx, 3 * *k);
     if (!b) return NULL;
     snprintf(b, *k, "%.*s.node", (int)n, path);
     snprintf(b + *k, *k, "%.*s.ele", (int)n, path);
+    snprintf(b + 2 * *k, *k, "%.*s.face", (int)n, path);
     return b;
 }
 
@@ -172,9 +219,21 @@ static int read_tetgen(eo_ctx *ctx, const char *path, eo_mesh **out, eo_mesh_src
     src->owned = names;
     src->vert_file = names;
     src->tet_file = names + k;
-    int rc = eo_read_file(ctx, names, &node, &nn);
+    int rc = eo_path_check(ctx, names, EO_PATH_READ);
+    if (rc >= 0) rc = eo_path_check(ctx, names + k, EO_PATH_READ);
+    if (rc >= 0) rc = eo_read_file(ctx, names, &node, &nn);
     if (rc >= 0) rc = eo_read_file(ctx, names + k, &ele, &ne);
     if (rc >= 0) rc = eo_tetgen_read_texts(ctx, node, nn, names, ele, ne, names + k, out, src);
+    struct stat st;
+    if (rc >= 0 && stat(names + 2 * k, &st) == 0) { /* optional .face */
+        eo_free(ctx, node);
+        node = NULL;
+        src->tri_file = names + 2 * k;
+        rc = eo_path_check(ctx, names + 2 * k, EO_PATH_READ);
+        if (rc >= 0) rc = eo_read_file(ctx, names + 2 * k, &node, &nn);
+        if (rc >= 0) rc = eo_tetgen_read_face(ctx, node, nn, names + 2 * k, *out, src);
+        if (rc < 0) eo_mesh_destroy(ctx, out);
+    }
     eo_free(ctx, node);
     eo_free(ctx, ele);
     return rc;
@@ -185,33 +244,55 @@ static int write_tetgen(eo_ctx *ctx, const eo_mesh *m, const char *path)
     size_t k;
     char *names = tetgen_names(ctx, path, &k);
     if (!names) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
-    eo_afile *an = NULL, *ae = NULL;
-    int rc = eo_afile_open(ctx, names, &an);
-    if (rc >= 0) rc = eo_afile_open(ctx, names + k, &ae);
-    if (rc < 0) goto fail;
-    FILE *f = eo_afile_fp(an);
-    fprintf(f, "# written by elastopt\n%d 3 0 %d\n", m->nv, m->vmarker ? 1 : 0);
-    for (int v = 0; v < m->nv; v++) {
-        fprintf(f, "%d %.17g %.17g %.17g", v + 1, m->X[3 * v], m->X[3 * v + 1], m->X[3 * v + 2]);
-        if (m->vmarker) fprintf(f, " %d", m->vmarker[v]);
-        fputc('\n', f);
+    const int nfile = m->ntri ? 3 : 2;
+    const char *dst[3] = {names, names + k, names + 2 * k};
+    char tmp[3][4200] = {{0}, {0}, {0}};
+    const char *tmpp[3] = {tmp[0], tmp[1], tmp[2]};
+    FILE *f[3] = {NULL, NULL, NULL};
+    int rc = EO_OK;
+    for (int i = 0; i < nfile && rc >= 0; i++) rc = eo_path_check(ctx, dst[i], EO_PATH_WRITE);
+    for (int i = 0; i < nfile && rc >= 0; i++) {
+        snprintf(tmp[i], sizeof tmp[i], "%s.tmp.%ld", dst[i], (long)getpid());
+        if (!(f[i] = fopen(tmp[i], "wb")))
+            rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(dst[i], -1), "cannot write: %s", strerror(errno));
     }
-    f = eo_afile_fp(ae);
-    fprintf(f, "# written by elastopt\n%d 4 %d\n", m->nt, m->tet_attr ? 1 : 0);
+    if (rc < 0) goto fail;
+    fprintf(f[0], "# written by elastopt\n%d 3 0 %d\n", m->nv, m->vmarker ? 1 : 0);
+    for (int v = 0; v < m->nv; v++) {
+        fprintf(f[0], "%d %.17g %.17g %.17g", v + 1, m->X[3 * v], m->X[3 * v + 1], m->X[3 * v + 2]);
+        if (m->vmarker) fprintf(f[0], " %d", m->vmarker[v]);
+        fputc('\n', f[0]);
+    }
+    fprintf(f[1], "# written by elastopt\n%d 4 %d\n", m->nt, m->tet_attr ? 1 : 0);
     for (int t = 0; t < m->nt; t++) {
         const int *q = m->tets + 4 * t;
-        fprintf(f, "%d %d %d %d %d", t + 1, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
-        if (m->tet_attr) fprintf(f, " %d", m->tet_attr[t]);
-        fputc('\n', f);
+        fprintf(f[1], "%d %d %d %d %d", t + 1, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+        if (m->tet_attr) fprintf(f[1], " %d", m->tet_attr[t]);
+        fputc('\n', f[1]);
     }
-    if ((rc = eo_afile_commit(ctx, &an)) < 0) goto fail;
-    if ((rc = eo_afile_commit(ctx, &ae)) < 0) {
-        remove(names); /* do not leave half of a pair */
-        goto fail;
+    if (nfile == 3) {
+        fprintf(f[2], "# written by elastopt\n%d 1\n", m->ntri);
+        for (int t = 0; t < m->ntri; t++) {
+            const int *q = m->tris + 3 * t;
+            fprintf(f[2], "%d %d %d %d %d\n", t + 1, q[0] + 1, q[1] + 1, q[2] + 1, m->tri_tag[t]);
+        }
+    }
+    for (int i = 0; i < nfile; i++) {
+        int bad = ferror(f[i]);
+        if (fclose(f[i]) != 0) bad = 1;
+        f[i] = NULL;
+        if (bad && rc >= 0) rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(dst[i], -1), "write failed: %s", strerror(errno));
+    }
+    if (rc >= 0) {
+        rc = eo_rename_all(ctx, nfile, tmpp, dst); /* removes the temporaries on failure */
+        eo_free(ctx, names);
+        return rc;
     }
 fail:
-    eo_afile_abort(ctx, &an);
-    eo_afile_abort(ctx, &ae);
+    for (int i = 0; i < nfile; i++) {
+        if (f[i]) fclose(f[i]);
+        if (tmp[i][0]) remove(tmp[i]);
+    }
     eo_free(ctx, names);
     return rc;
 }

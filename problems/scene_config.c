@@ -63,9 +63,20 @@ const eo_param_desc eo_scene_collision_opts_desc[] = {
 const eo_param_desc eo_scene_mesh_opts_desc[] = {
     {.key = "file", .kind = EO_PARAM_STRING, .offset = offsetof(eo_scene_mesh_opts, file),
      .size = SZ(eo_scene_mesh_opts, file), .def.s = "",
-     .help = "mesh file (.node/.ele, .mesh, .msh), relative to the config's folder; empty = mesh.generate"},
+     .help = "mesh file (.node/.ele, .mesh, .msh, .vtu; or a closed surface .obj, .off, .stl, .ply tetrahedralized by "
+             "TetGen with mesh.tetgen), relative to the config's folder; empty = mesh.generate"},
     {.key = "drop_degenerate", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_mesh_opts, drop_degenerate),
      .def.i = 0, .help = "drop zero-volume/duplicate tets and unreferenced vertices with a warning"},
+    {0},
+};
+
+const eo_param_desc eo_scene_tetgen_opts_desc[] = {
+    {.key = "quality", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_tetgen_opts, quality), .def.d = 2.0,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "radius-edge ratio bound of the tets (TetGen -q): 0 = no quality refinement, else >= 1 (smaller = "
+             "better shaped, more tets)"},
+    {.key = "max_volume", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_tetgen_opts, max_volume), .def.d = 0,
+     .min = 0, .range = EO_RANGE_MIN, .help = "largest tet volume (m^3, TetGen -a); 0 = no bound"},
     {0},
 };
 
@@ -130,6 +141,14 @@ const eo_param_desc eo_scene_ball_opts_desc[] = {
 const eo_param_desc eo_scene_bc_opts_desc[] = {
     {.key = "marker", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_bc_opts, marker), .def.i = -1,
      .help = "select the vertices with this mesh vertex marker"},
+    {.key = "tag", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_bc_opts, tag), .def.i = 0,
+     .help = "select the vertices of the tagged triangles with this tag (Gmsh physical surface, MEDIT triangle "
+             "reference, TetGen .face marker); if none, of the tets with this attribute (physical volume); if none, "
+             "the vertices with this marker"},
+    {.key = "surface", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_bc_opts, surface), .def.i = 0,
+     .help = "true: select every vertex of the boundary surface (faces used by one tet)"},
+    {.key = "nearest", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_bc_opts, nearest), .def.v = {0, 0, 0},
+     .help = "select the single rest vertex nearest to this point (m)"},
     {.key = "fixed", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_bc_opts, fixed), .def.i = 0,
      .help = "hold the vertices at their initial positions"},
     {.key = "translate", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_bc_opts, translate),
@@ -155,12 +174,13 @@ const eo_cfg_doc eo_scene_docs[] = {
     {"", eo_scene_opts_desc, "top-level scene keys (also: mesh, material, materials, boundary, initial, springs, collisions, point_masses, time, solver, output)"},
     {"mesh", eo_scene_mesh_opts_desc, "the mesh: a file, mesh.generate, or mesh.points [[x,y,z], ...] (points without tets: a mass-spring system)"},
     {"mesh.generate", eo_scene_generate_opts_desc, "generated box of hexahedral cells split into tets"},
+    {"mesh.tetgen", eo_scene_tetgen_opts_desc, "tetrahedralization of a surface mesh file (.obj, .off, .stl, .ply) by TetGen"},
     {"time", eo_scene_time_opts_desc, "time stepping"},
     {"output", eo_scene_output_opts_desc, "what `elastopt run` writes"},
     {"initial", eo_scene_initial_opts_desc, "initial state (also initial.reflect {point, normal}, initial.random_ball)"},
     {"initial.reflect", eo_scene_plane_opts_desc, "reflect the rest shape through a plane (fully inverted start)"},
     {"initial.random_ball", eo_scene_ball_opts_desc, "scatter vertices uniformly in a ball (random start)"},
-    {"boundary.N", eo_scene_bc_opts_desc, "boundary list entry: selector (box | plane | marker) and motion (fixed | translate | rotate)"},
+    {"boundary.N", eo_scene_bc_opts_desc, "boundary list entry: selector (box | plane | marker | tag | surface | nearest) and motion (fixed | translate | rotate)"},
     {"boundary.N.plane", eo_scene_plane_opts_desc, "select rest vertices with (X - point).normal >= 0"},
     {"boundary.N.rotate", eo_scene_rotate_opts_desc, "rotate the set about an axis"},
     {"springs", eo_scene_springs_opts_desc, "scene springs (mass-spring system) on top of the materials' tet elasticity; material.model = spring means springs only"},
@@ -257,9 +277,21 @@ static int load_points(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc, const json_t *pts
 
 static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
 {
-    static const char *const extra[] = {"generate", "points", NULL};
+    static const char *const extra[] = {"generate", "points", "tetgen", NULL};
     int rc = eo_cfg_section(ctx, cfg, "mesh", eo_scene_mesh_opts_desc, &sc->mesh_opts, extra);
     if (rc < 0) return rc;
+    eo_params_default(eo_scene_tetgen_opts_desc, &sc->tetgen);
+    if ((rc = eo_cfg_section(ctx, cfg, "mesh.tetgen", eo_scene_tetgen_opts_desc, &sc->tetgen, NULL)) < 0) return rc;
+    if (sc->tetgen.quality > 0 && sc->tetgen.quality < 1)
+        return cfg_err(ctx, cfg, "mesh.tetgen.quality", EO_ERR_RANGE,
+                       "expected 0 (no quality refinement) or a radius-edge bound >= 1, got %g", sc->tetgen.quality);
+    if (eo_cfg_get(cfg, "mesh.tetgen")) {
+        eo_mesh_format f = eo_mesh_format_from_path(sc->mesh_opts.file);
+        if (f != EO_MESH_OBJ && f != EO_MESH_OFF && f != EO_MESH_STL && f != EO_MESH_PLY)
+            return cfg_err(ctx, cfg, "mesh.tetgen", EO_ERR_INVALID,
+                           "mesh.tetgen applies to surface mesh files (.obj, .off, .stl, .ply); mesh.file is '%s'",
+                           sc->mesh_opts.file);
+    }
     json_t *pts = eo_cfg_get(cfg, "mesh.points");
     if (pts) {
         if (sc->mesh_opts.file[0] || eo_cfg_get(cfg, "mesh.generate"))
@@ -300,6 +332,8 @@ static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     eo_mesh_read_opts ro = eo_mesh_read_opts_default();
     ro.drop_degenerate = sc->mesh_opts.drop_degenerate;
     ro.drop_unreferenced = sc->mesh_opts.drop_degenerate;
+    ro.tetgen_quality = sc->tetgen.quality;
+    ro.tetgen_max_volume = sc->tetgen.max_volume;
     rc = eo_mesh_read(ctx, path, &ro, &sc->mesh);
     return rc;
 }
@@ -378,6 +412,99 @@ static int load_materials(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     return EO_OK;
 }
 
+/* "1, 2, 5" (distinct values of v, at most 16 listed) or "none" */
+static void list_values(const int *v, int n, char *buf, size_t size)
+{
+    int shown[16], ns = 0, more = 0;
+    for (int i = 0; i < n; i++) {
+        int seen = 0;
+        for (int k = 0; k < ns && !seen; k++) seen = shown[k] == v[i];
+        if (seen) continue;
+        if (ns == 16) {
+            more = 1;
+            continue;
+        }
+        int k = ns++;
+        while (k > 0 && shown[k - 1] > v[i]) { /* keep sorted */
+            shown[k] = shown[k - 1];
+            k--;
+        }
+        shown[k] = v[i];
+    }
+    size_t k = 0;
+    buf[0] = 0;
+    if (!ns) snprintf(buf, size, "none");
+    for (int i = 0; i < ns && k < size; i++) k += (size_t)snprintf(buf + k, size - k, "%s%d", i ? ", " : "", shown[i]);
+    if (more && k < size) snprintf(buf + k, size - k, ", ...");
+}
+
+/* tag / surface / nearest selection into bc->verts (capacity nv) */
+static int select_special(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc, eo_bc *bc, const char *path)
+{
+    const eo_mesh *m = sc->mesh;
+    char sub[96];
+    if (bc->select == EO_BC_NEAREST) {
+        const double *p = bc->opts.nearest;
+        double best = INFINITY;
+        int bv = -1;
+        for (int v = 0; v < m->nv; v++) {
+            const double *X = m->X + 3 * v;
+            double d = (X[0] - p[0]) * (X[0] - p[0]) + (X[1] - p[1]) * (X[1] - p[1]) + (X[2] - p[2]) * (X[2] - p[2]);
+            if (d < best) {
+                best = d;
+                bv = v;
+            }
+        }
+        snprintf(sub, sizeof sub, "%s.nearest", path);
+        if (bv < 0) return cfg_err(ctx, cfg, sub, EO_ERR_INVALID, "the mesh has no vertex");
+        bc->verts[bc->nverts++] = bv;
+        bc->nearest_dist = sqrt(best);
+        return EO_OK;
+    }
+    unsigned char *flag = eo_calloc(ctx, (size_t)(m->nv > 0 ? m->nv : 1), 1);
+    if (!flag) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    int rc = EO_OK, count = 0;
+    if (bc->select == EO_BC_SURFACE) {
+        rc = eo_mesh_surface_vertices(ctx, m, flag, &count);
+    } else {
+        const int K = bc->opts.tag;
+        for (int f = 0; f < m->ntri; f++)
+            if (m->tri_tag[f] == K)
+                for (int a = 0; a < 3; a++) flag[m->tris[3 * f + a]] = 1;
+        bc->tag_source = EO_TAG_TRIANGLES;
+        for (int v = 0; v < m->nv; v++) count += flag[v];
+        if (!count && m->tet_attr) {
+            for (int t = 0; t < m->nt; t++)
+                if (m->tet_attr[t] == K)
+                    for (int a = 0; a < 4; a++) flag[m->tets[4 * t + a]] = 1;
+            bc->tag_source = EO_TAG_TETS;
+            for (int v = 0; v < m->nv; v++) count += flag[v];
+        }
+        if (!count && m->vmarker) {
+            for (int v = 0; v < m->nv; v++) count += flag[v] = m->vmarker[v] == K;
+            bc->tag_source = EO_TAG_VERTICES;
+        }
+        if (!count) {
+            char a[160], b[160], c[160];
+            list_values(m->tri_tag, m->ntri, a, sizeof a);
+            list_values(m->tet_attr, m->tet_attr ? m->nt : 0, b, sizeof b);
+            list_values(m->vmarker, m->vmarker ? m->nv : 0, c, sizeof c);
+            snprintf(sub, sizeof sub, "%s.tag", path);
+            bc->tag_source = EO_TAG_NONE;
+            rc = cfg_err(ctx, cfg, sub, EO_ERR_INVALID,
+                         "no tagged triangle, tet or vertex carries tag %d; the mesh has triangle tags: %s; tet "
+                         "attributes: %s; vertex markers: %s",
+                         K, a, b, c);
+        }
+    }
+    if (rc >= 0)
+        for (int v = 0; v < m->nv; v++)
+            if (flag[v]) bc->verts[bc->nverts++] = v;
+    eo_free(ctx, flag);
+    if (rc >= 0 && !bc->nverts) rc = cfg_err(ctx, cfg, path, EO_ERR_INVALID, "boundary entry selects no vertex");
+    return rc;
+}
+
 static int load_boundary(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
 {
     const eo_mesh *m = sc->mesh;
@@ -411,10 +538,12 @@ static int load_boundary(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
         eo_params_default(eo_scene_rotate_opts_desc, &bc->rotate);
         int rc = eo_cfg_section(ctx, cfg, path, eo_scene_bc_opts_desc, &bc->opts, extra);
         if (rc < 0) return rc;
-        int nsel = (member(item, "box") != NULL) + (member(item, "plane") != NULL) + (member(item, "marker") != NULL);
+        int nsel = (member(item, "box") != NULL) + (member(item, "plane") != NULL) + (member(item, "marker") != NULL) +
+                   (member(item, "tag") != NULL) + (member(item, "surface") != NULL) + (member(item, "nearest") != NULL);
         if (nsel != 1)
             return cfg_err(ctx, cfg, path, EO_ERR_INVALID,
-                           "a boundary entry selects vertices by exactly one of \"box\", \"plane\", \"marker\" (found %d)",
+                           "a boundary entry selects vertices by exactly one of \"box\", \"plane\", \"marker\", "
+                           "\"tag\", \"surface\", \"nearest\" (found %d)",
                            nsel);
         int nmot = bc->opts.fixed + (member(item, "translate") != NULL) + (member(item, "rotate") != NULL);
         if (nmot != 1)
@@ -433,10 +562,21 @@ static int load_boundary(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
             if (rc < 0) return rc;
             snprintf(sub, sizeof sub, "%s.plane.normal", path);
             if (normalize(bc->plane.normal) < 0) return cfg_err(ctx, cfg, sub, EO_ERR_RANGE, "zero normal");
-        } else {
+        } else if (member(item, "marker")) {
             bc->select = EO_BC_MARKER;
             snprintf(sub, sizeof sub, "%s.marker", path);
             if (!m->vmarker) return cfg_err(ctx, cfg, sub, EO_ERR_INVALID, "the mesh has no vertex markers");
+        } else if (member(item, "tag")) {
+            bc->select = EO_BC_TAG;
+        } else if (member(item, "surface")) {
+            bc->select = EO_BC_SURFACE;
+            snprintf(sub, sizeof sub, "%s.surface", path);
+            if (!bc->opts.surface)
+                return cfg_err(ctx, cfg, sub, EO_ERR_INVALID,
+                               "\"surface\" selects the boundary-surface vertices: give true (or another selector)");
+            if (m->nt < 1) return cfg_err(ctx, cfg, sub, EO_ERR_INVALID, "the mesh has no tets, hence no surface");
+        } else {
+            bc->select = EO_BC_NEAREST;
         }
         if (bc->opts.fixed) {
             bc->motion = EO_BC_FIXED;
@@ -453,6 +593,10 @@ static int load_boundary(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
         /* select */
         bc->verts = eo_malloc(ctx, (size_t)(m->nv > 0 ? m->nv : 1) * sizeof(int));
         if (!bc->verts) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+        if (bc->select == EO_BC_TAG || bc->select == EO_BC_SURFACE || bc->select == EO_BC_NEAREST) {
+            if ((rc = select_special(ctx, cfg, sc, bc, path)) < 0) return rc;
+            continue;
+        }
         for (int v = 0; v < m->nv; v++) {
             const double *X = m->X + 3 * v;
             int hit = 0;
@@ -467,6 +611,7 @@ static int load_boundary(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
                 break;
             }
             case EO_BC_MARKER: hit = m->vmarker[v] == bc->opts.marker; break;
+            default: break;
             }
             if (hit) bc->verts[bc->nverts++] = v;
         }
@@ -708,6 +853,7 @@ json_t *eo_scene_to_json(const eo_scene *sc)
     json_t *o = eo_params_to_json(eo_scene_opts_desc, &sc->opts);
     json_t *mesh = eo_params_to_json(eo_scene_mesh_opts_desc, &sc->mesh_opts);
     if (sc->generated) json_object_set_new(mesh, "generate", eo_params_to_json(eo_scene_generate_opts_desc, &sc->gen));
+    json_object_set_new(mesh, "tetgen", eo_params_to_json(eo_scene_tetgen_opts_desc, &sc->tetgen));
     json_object_set_new(mesh, "vertices", json_integer(sc->mesh->nv));
     json_object_set_new(mesh, "tets", json_integer(sc->mesh->nt));
     json_object_set_new(o, "mesh", mesh);
@@ -721,7 +867,7 @@ json_t *eo_scene_to_json(const eo_scene *sc)
         json_array_append_new(mats, e);
     }
     json_object_set_new(o, "materials", mats);
-    static const char *const sel[] = {"box", "plane", "marker"};
+    static const char *const sel[] = {"box", "plane", "marker", "tag", "surface", "nearest"};
     static const char *const mot[] = {"fixed", "translate", "rotate"};
     json_t *bcs = json_array();
     for (int b = 0; b < sc->nbc; b++) {
@@ -756,4 +902,175 @@ json_t *eo_scene_to_json(const eo_scene *sc)
     json_object_set_new(o, "time", eo_params_to_json(eo_scene_time_opts_desc, &sc->time));
     json_object_set_new(o, "output", eo_params_to_json(eo_scene_output_opts_desc, &sc->output));
     return o;
+}
+
+/* ---------------------------------------------------------------- description */
+
+int eo_scene_up_guess(eo_ctx *ctx, const eo_scene *sc, eo_scene_up *up)
+{
+    const eo_mesh *m = sc->mesh;
+    memset(up, 0, sizeof *up);
+    up->axis = -1;
+    if (m->nt < 1) return EO_OK;
+    int *faces = NULL, nf = 0;
+    int rc = eo_mesh_boundary_faces(ctx, m, &faces, &nf);
+    if (rc < 0) return rc;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int v = 0; v < m->nv; v++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = fmin(lo[k], m->X[3 * v + k]);
+            hi[k] = fmax(hi[k], m->X[3 * v + k]);
+        }
+    const double cos20 = 0.93969262078590838 /* cos 20° */;
+    double S[6] = {0}; /* side d = 2k + (sign > 0) */
+    for (int f = 0; f < nf; f++) {
+        const double *a = m->X + 3 * faces[3 * f], *b = m->X + 3 * faces[3 * f + 1], *c = m->X + 3 * faces[3 * f + 2];
+        double u[3], w[3], n[3];
+        for (int k = 0; k < 3; k++) {
+            u[k] = b[k] - a[k];
+            w[k] = c[k] - a[k];
+        }
+        n[0] = u[1] * w[2] - u[2] * w[1];
+        n[1] = u[2] * w[0] - u[0] * w[2];
+        n[2] = u[0] * w[1] - u[1] * w[0];
+        double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        if (!(len > 0)) continue;
+        for (int k = 0; k < 3; k++) {
+            double cen = (a[k] + b[k] + c[k]) / 3, ext = hi[k] - lo[k];
+            if (n[k] / len >= cos20 && hi[k] - cen <= 0.05 * ext) S[2 * k + 1] += 0.5 * len;
+            if (-n[k] / len >= cos20 && cen - lo[k] <= 0.05 * ext) S[2 * k] += 0.5 * len;
+        }
+    }
+    eo_free(ctx, faces);
+    for (int d = 0; d < 6; d++) {
+        int k = d / 2;
+        double side = (hi[(k + 1) % 3] - lo[(k + 1) % 3]) * (hi[(k + 2) % 3] - lo[(k + 2) % 3]);
+        S[d] = side > 0 ? S[d] / side : 0;
+    }
+    int best = 0;
+    for (int d = 1; d < 6; d++)
+        if (S[d] > S[best]) best = d;
+    double second = 0;
+    for (int d = 0; d < 6; d++)
+        if (d != best) second = fmax(second, S[d]);
+    up->support = S[best];
+    up->ratio = second > 0 ? S[best] / second : INFINITY;
+    if (!(S[best] >= 0.02 && S[best] >= 3 * second)) return EO_OK;
+    up->axis = best / 2;
+    up->sign = best % 2 ? 1 : -1;
+    const double *g = sc->opts.gravity;
+    double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    up->warn = gn > 0 && up->sign * g[up->axis] / gn < 0.70710678118654752 /* cos 45° */;
+    return EO_OK;
+}
+
+typedef struct {
+    eo_ctx *ctx;
+    char *s;
+    size_t n, cap;
+    int nomem;
+} textbuf;
+
+static void tb_printf(textbuf *t, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+static void tb_printf(textbuf *t, const char *fmt, ...)
+{
+    if (t->nomem) return;
+    for (;;) {
+        va_list ap;
+        va_start(ap, fmt);
+        int k = vsnprintf(t->s ? t->s + t->n : NULL, t->s ? t->cap - t->n : 0, fmt, ap);
+        va_end(ap);
+        if (k < 0) return;
+        if (t->s && t->n + (size_t)k < t->cap) {
+            t->n += (size_t)k;
+            return;
+        }
+        size_t nc = (t->cap ? 2 * t->cap : 1024) + (size_t)k;
+        char *q = eo_realloc(t->ctx, t->s, nc);
+        if (!q) {
+            t->nomem = 1;
+            return;
+        }
+        t->s = q;
+        t->cap = nc;
+    }
+}
+
+int eo_scene_describe(eo_ctx *ctx, const eo_scene *sc, char **text)
+{
+    *text = NULL;
+    const eo_mesh *m = sc->mesh;
+    textbuf t = {.ctx = ctx};
+    double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (int v = 0; v < m->nv; v++)
+        for (int k = 0; k < 3; k++) {
+            lo[k] = v ? fmin(lo[k], m->X[3 * v + k]) : m->X[k];
+            hi[k] = v ? fmax(hi[k], m->X[3 * v + k]) : m->X[k];
+        }
+    tb_printf(&t, "mesh: %s: %d vertices, %d tets, bbox [%g, %g, %g] - [%g, %g, %g]\n",
+              sc->points ? "mesh.points" : sc->generated ? "mesh.generate" : sc->mesh_opts.file, m->nv, m->nt, lo[0],
+              lo[1], lo[2], hi[0], hi[1], hi[2]);
+    for (int r = 0; r < sc->nmat; r++) {
+        int n = 0;
+        for (int k = 0; k < m->nt; k++) n += sc->tet_mat[k] == r;
+        char name[32];
+        snprintf(name, sizeof name, r ? "materials.%d" : "material", r - 1);
+        tb_printf(&t, "region %d (%s, %s): %d tets\n", r, name, sc->mat[r].opts.model, n);
+    }
+    static const char *const mot[] = {"fixed", "translate", "rotate"};
+    static const char *const src[] = {"", "tagged triangles", "tets", "vertex markers"};
+    for (int b = 0; b < sc->nbc; b++) {
+        const eo_bc *bc = sc->bc + b;
+        char sel[200];
+        switch (bc->select) {
+        case EO_BC_BOX:
+            snprintf(sel, sizeof sel, "box [%g, %g, %g] - [%g, %g, %g]", bc->box[0], bc->box[1], bc->box[2], bc->box[3],
+                     bc->box[4], bc->box[5]);
+            break;
+        case EO_BC_PLANE:
+            snprintf(sel, sizeof sel, "plane through [%g, %g, %g], normal [%g, %g, %g]", bc->plane.point[0],
+                     bc->plane.point[1], bc->plane.point[2], bc->plane.normal[0], bc->plane.normal[1],
+                     bc->plane.normal[2]);
+            break;
+        case EO_BC_MARKER: snprintf(sel, sizeof sel, "marker %d", bc->opts.marker); break;
+        case EO_BC_TAG: snprintf(sel, sizeof sel, "tag %d of the %s", bc->opts.tag, src[bc->tag_source]); break;
+        case EO_BC_SURFACE: snprintf(sel, sizeof sel, "boundary surface"); break;
+        case EO_BC_NEAREST: {
+            int v = bc->verts[0];
+            snprintf(sel, sizeof sel, "nearest [%g, %g, %g]: vertex %d at [%g, %g, %g], distance %.3g",
+                     bc->opts.nearest[0], bc->opts.nearest[1], bc->opts.nearest[2], v, m->X[3 * v], m->X[3 * v + 1],
+                     m->X[3 * v + 2], bc->nearest_dist);
+            break;
+        }
+        }
+        tb_printf(&t, "boundary.%d (%s; %s): %d vert%s\n", b, sel, mot[bc->motion], bc->nverts, bc->nverts == 1 ? "ex" : "ices");
+    }
+    eo_scene_up up;
+    int rc = eo_scene_up_guess(ctx, sc, &up);
+    if (rc < 0) {
+        eo_free(ctx, t.s);
+        return rc;
+    }
+    if (up.warn) {
+        const double *g = sc->opts.gravity;
+        double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        double sug[3] = {0, 0, 0};
+        sug[up.axis] = up.sign * gn;
+        tb_printf(&t,
+                  "warning: gravity [%g, %g, %g] does not point down this mesh: it rests on a flat base facing %c%c "
+                  "(%.0f%% of that bounding-box side, %.1fx any other side), so it looks %c-up; set gravity "
+                  "[%g, %g, %g] (or rotate the mesh) if that is its up\n",
+                  g[0], g[1], g[2], up.sign < 0 ? '-' : '+', "xyz"[up.axis], 100 * up.support, up.ratio,
+                  "xyz"[up.axis], sug[0], sug[1], sug[2]);
+    }
+    if (t.nomem || !t.s) {
+        eo_free(ctx, t.s);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory (scene description)");
+    }
+    *text = t.s;
+    return EO_OK;
 }

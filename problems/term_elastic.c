@@ -63,8 +63,7 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
             eb += out.energy - s->vol[k] * s->psi_rest[k];
             memcpy(s->elem_g + 12 * j, out.grad, sizeof out.grad);
         }
-        e += eb;
-        if (!isfinite(e)) return INFINITY;
+        e += eb; /* a non-finite e is returned after all forces are scattered */
         for (int j = 0; j < nb; j++) {
             int k = b0 + j;
             if (skip(s, k)) continue;
@@ -74,7 +73,7 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
                 for (int c = 0; c < 3; c++) g[3 * tet[a] + c] += w * ge[3 * a + c];
         }
     }
-    return w * e;
+    return isfinite(e) ? w * e : INFINITY;
 }
 
 static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)

@@ -20,7 +20,7 @@ static eo_registry *const solver_regs[N_KINDS] = {
 struct eo_solver {
     eo_ctx *ctx;
     eo_solver_opts opts;
-    int n;
+    int n;                      /* size the optimizer state is set up for (-1: not yet) */
     const void *type[N_KINDS];  /* selected ops table per kind (linear: NULL if unused) */
     void *params[N_KINDS];      /* their params (NULL if none) */
     void *opt_state;
@@ -45,7 +45,7 @@ const eo_param_desc eo_solver_opts_desc[] = {
      .help = "stopping rule (reads tol)"},
     {.key = "linear", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linear),
      OPTS_STR(linear), .def.s = "cholmod", .registry = &eo_reg_linsolve,
-     .help = "linear solver for Newton systems"},
+     .help = "linear solver for Newton systems and the consistent-mass solve of explicit integrators"},
     {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_solver_opts, tol), .def.d = 1e-10,
      .min = 0, .range = EO_RANGE_POSITIVE,
      .help = "newton_decrement: lambda^2/2 <= tol (units of g); gradient: relative reduction"},
@@ -121,16 +121,14 @@ static const char *opts_name(const eo_solver_opts *o, int slot)
     return names[slot];
 }
 
-int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n,
-                     eo_solver **out)
+int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, eo_solver **out)
 {
     int rc = EO_OK;
     *out = NULL;
-    if (n < 0) return eo_error(ctx, EO_ERR_INVALID, "solver: n = %d < 0", n);
     eo_solver *s = eo_calloc(ctx, 1, sizeof *s);
     if (!s) return eo_error(ctx, EO_ERR_NOMEM, "solver: out of memory");
     s->ctx = ctx;
-    s->n = n;
+    s->n = -1;
     if (opts) s->opts = *opts;
     else eo_solver_opts_default(&s->opts);
     if (!(s->opts.tol > 0 && isfinite(s->opts.tol))) {
@@ -175,8 +173,6 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n
         rc = eo_error(ctx, EO_ERR_NOMEM, "solver: out of memory");
         goto fail;
     }
-    s->opt_set_up = 1;
-    EO_TRY(rc = opt->setup(s->opt_state, s->params[SLOT_OPT], n, ctx));
     *out = s;
     return EO_OK;
 fail:
@@ -205,11 +201,20 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
     res->decrement = NAN;
     if (!obj || !x)
         return res->status = eo_error(s->ctx, EO_ERR_INVALID, "solver: no objective or no x");
-    if (obj->n != s->n)
-        return res->status = eo_error(s->ctx, EO_ERR_INVALID,
-                                      "solver created for n = %d, objective has n = %d", s->n,
-                                      obj->n);
+    if (obj->n < 0)
+        return res->status = eo_error(s->ctx, EO_ERR_INVALID, "solver: objective has n = %d < 0", obj->n);
     const eo_optimizer_type *opt = s->type[SLOT_OPT];
+    if (obj->n != s->n) {
+        /* first minimize, or a new problem size (a boundary set was released): size the
+         * optimizer's workspace for it (the only allocation outside create) */
+        if (s->opt_set_up && opt->destroy) opt->destroy(s->opt_state, s->ctx);
+        memset(s->opt_state, 0, opt->state_size ? opt->state_size : 1);
+        s->opt_set_up = 1;
+        s->n = -1;
+        int rc = opt->setup(s->opt_state, s->params[SLOT_OPT], obj->n, s->ctx);
+        if (rc < 0) return res->status = rc;
+        s->n = obj->n;
+    }
     eo_solver_ctx sc = {
         .obj = obj,
         .ctx = s->ctx,

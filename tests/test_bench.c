@@ -111,6 +111,13 @@ static void test_parse_errors(const char *dir)
     refuse(dir, "{\"target\": 1e-3, " SCENE ", " CONF "}", EO_ERR_RANGE, "is not above target");
     refuse(dir, "{\"require_converged\": [\"zz\"], " SCENE ", " CONF "}", EO_ERR_INVALID, "require_converged");
     refuse(dir, "{" SCENE ", " CONF ", }", EO_ERR_PARSE, "bad.json");
+    /* an explicit integrator has no step problem: refused at load, naming the scene */
+    refuse(dir,
+           "{\"scenes\": [{\"name\": \"c\", \"scene\": \"cantilever\", \"set\": {\"time.integrator\": \"rk4\"}}], " CONF "}",
+           EO_ERR_INVALID, "rk4 is explicit");
+    refuse(dir,
+           "{\"scenes\": [{\"name\": \"c\", \"scene\": \"cantilever\", \"set\": {\"time.integrator\": \"forward_euler\"}}], " CONF "}",
+           EO_ERR_INVALID, "scene 'c'");
 }
 
 static void test_expansion(const char *dir)

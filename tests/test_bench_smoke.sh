@@ -112,6 +112,13 @@ grep -q "valid keys here" "$OUT/bad.txt" && ok || bad "bad suite message: $(cat 
 [ ! -e "$OUT/bad" ] && ok || bad "bad suite wrote output"
 "$EXE" bench > /dev/null 2>&1
 [ $? -eq 2 ] && ok || bad "no suite should exit 2"
+# a scene with an explicit integrator: nothing to minimize, refused at load (exit 2)
+printf '{"scenes": [{"name": "a", "scene": "cantilever", "set": {"time.integrator": "rk4"}}], "configs": [{"name": "n"}]}\n' > "$OUT/explicit.json"
+"$EXE" bench "$OUT/explicit.json" --out "$OUT/explicit" > /dev/null 2> "$OUT/explicit.txt"
+rc=$?
+[ $rc -eq 2 ] && ok || bad "explicit suite exited $rc"
+grep -q "rk4 is explicit" "$OUT/explicit.txt" && ok || bad "explicit suite message: $(cat "$OUT/explicit.txt")"
+[ ! -e "$OUT/explicit" ] && ok || bad "explicit suite wrote output"
 
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

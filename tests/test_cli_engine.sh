@@ -132,5 +132,35 @@ for h in 0 5; do
     [ $rc -eq 0 ] && ok || bad "twist with projective_dynamics lbfgs_history=$h: exit $rc $(cat "pd_twist_$h.err")"
 done
 
+# --- explicit integrators beyond their stability limit: the cantilever with rk4 at
+# dt = 3e-4 and forward_euler at dt = 1e-4 blow up within 300 steps. The first non-finite
+# energy or force (any term, any stage) ends the run: exit 1, stop_reason
+# diverged_nonfinite, fewer than 300 steps run, the last step's reason
+# diverged_nonfinite, every recorded state finite, one frame per completed step.
+for cfg in "rk4 3e-4" "forward_euler 1e-4"; do
+    set -- $cfg
+    d="blowup_$1"
+    "$EXE" run --scene cantilever -o time.integrator=$1 -o time.dt=$2 -o time.steps=300 -o output.every=1 \
+        --out "$d" --quiet >/dev/null 2>"$d.err"
+    rc=$?
+    [ $rc -eq 1 ] && ok || bad "$1 dt=$2 blow-up: exit $rc (expected 1) $(cat "$d.err")"
+    grep -q "diverged_nonfinite" "$d.err" && ok || bad "$1 blow-up: no error message: $(cat "$d.err")"
+    python3 - "$d/summary.json" "$d" <<'PY' && ok || bad "$1 dt=$2 blow-up: summary"
+import json, math, sys, glob
+s = json.load(open(sys.argv[1]))
+assert s["stop_reason"] == "diverged_nonfinite", s["stop_reason"]
+assert 1 < s["steps_run"] < 300, s["steps_run"]
+assert s["all_converged"] is False
+assert s["steps"][-1]["reason"] == "diverged_nonfinite"
+assert all(st["reason"] == "converged_explicit" for st in s["steps"][:-1])
+for st in s["steps"]:
+    assert all(math.isfinite(c) for c in st["com"]), st["com"]
+    assert st["max_disp"] is not None and math.isfinite(st["max_disp"]), st["max_disp"]
+# frames: the initial one + one per completed step (the diverged step writes none)
+frames = glob.glob(sys.argv[2] + "/cantilever_*.vtu")
+assert len(frames) == s["steps_run"] == s["frames"], (len(frames), s["steps_run"], s["frames"])
+PY
+done
+
 echo "cli_engine: $pass passed, $fail failed"
 [ $fail -eq 0 ]

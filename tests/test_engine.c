@@ -23,19 +23,19 @@
 static void test_freefall(void)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     const char *ov[] = {"solver.tol=1e-24", "solver.max_iters=10", NULL};
-    CHECK(eo_sim_open(&s, ctx, "freefall", NULL, ov) == 0, "open");
+    CHECK(eo_test_sim_open(&s, ctx, "freefall", NULL, ov) == 0, "open");
     eo_step_stats s0, sk;
-    eo_step_stats_compute(s.st, &s0);
+    eo_step_stats_compute(eo_sim_step_problem(s), &s0);
     double worst = 0, worstJ = 0;
     const double g = 9.81;
-    for (int k = 0; k < s.sc->time.steps; k++) {
-        eo_solve_result r;
-        CHECK(eo_sim_step(&s, NULL, NULL, &r) == 0, "step %d", k);
+    for (int k = 0; k < eo_sim_scene(s)->time.steps; k++) {
+        eo_sim_step_result r;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0, "step %d", k);
         CHECK(eo_reason_is_converged(r.reason), "step %d reason %s", k, eo_reason_name(r.reason));
-        eo_step_stats_compute(s.st, &sk);
-        double t = eo_step_time(s.st), expect = -0.5 * g * t * t;
+        eo_step_stats_compute(eo_sim_step_problem(s), &sk);
+        double t = eo_step_time(eo_sim_step_problem(s)), expect = -0.5 * g * t * t;
         double err = fabs((sk.com[2] - s0.com[2]) - expect) / fabs(expect);
         if (err > worst) worst = err;
         double dj = fmax(fabs(sk.min_J - 1), fabs(sk.max_J - 1));
@@ -45,7 +45,7 @@ static void test_freefall(void)
     printf("freefall: worst relative COM error %.3g, max |J-1| %.3g\n", worst, worstJ);
     CHECK(worst < 1e-9, "COM displacement relative error %g", worst);
     CHECK(worstJ < 1e-9, "max |J-1| %g", worstJ);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -55,7 +55,7 @@ static void test_freefall(void)
 static double static_cantilever(int n, const char *model, double E, double nu, const char *fix, int *iters)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     char cells[64], mod[64], e[64], v[64], hf[64];
     snprintf(hf, sizeof hf, "solver.hessian_fix=%s", fix);
     snprintf(cells, sizeof cells, "mesh.generate.cells=[%d,%d,%d]", 10 * n, n, n);
@@ -64,16 +64,16 @@ static double static_cantilever(int n, const char *model, double E, double nu, c
     snprintf(v, sizeof v, "material.nu=%g", nu);
     const char *ov[] = {cells, mod, e, v, hf, "solver.tol=1e-16", "solver.max_iters=100", NULL};
     double dz = NAN;
-    if (eo_sim_open(&s, ctx, "cantilever_static", NULL, ov) == 0) {
-        eo_solve_result r;
-        CHECK(eo_sim_step(&s, NULL, NULL, &r) == 0, "step");
+    if (eo_test_sim_open(&s, ctx, "cantilever_static", NULL, ov) == 0) {
+        eo_sim_step_result r;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0, "step");
         CHECK(eo_reason_is_converged(r.reason), "%s n=%d: %s", model, n, eo_reason_name(r.reason));
         if (iters) *iters = r.iterations;
-        dz = eo_sim_tip_dz(&s, 1.0 - 1e-9);
+        dz = eo_test_tip_dz(s, 1.0 - 1e-9);
     } else {
         CHECK(0, "open cantilever_static");
     }
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
     return dz;
 }
@@ -128,12 +128,12 @@ static int log_grad(const eo_iter_info *it, void *user)
 static void test_newton_quadratic(void)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     const char *ov[] = {"solver.hessian_fix=none", "solver.tol=1e-30", "solver.max_iters=12", NULL};
-    CHECK(eo_sim_open(&s, ctx, "cantilever_static", NULL, ov) == 0, "open");
+    CHECK(eo_test_sim_open(&s, ctx, "cantilever_static", NULL, ov) == 0, "open");
     gn_log l = {.n = 0};
-    eo_solve_result r;
-    CHECK(eo_sim_step(&s, log_grad, &l, &r) == 0, "step");
+    eo_sim_step_result r;
+    CHECK(eo_test_sim_step(s, log_grad, &l, &r) == 0, "step");
     /* the floor: smallest gradient norm reached (rounding level) */
     double floor_ = INFINITY;
     for (int k = 0; k < l.n; k++) floor_ = fmin(floor_, l.r[k]);
@@ -148,7 +148,7 @@ static void test_newton_quadratic(void)
     }
     printf("newton: observed order near the solution %.2f\n", last);
     CHECK(last > 1.8, "convergence order %g", last);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -165,26 +165,26 @@ static const char *energy_scene =
 static void run_energy(const char *integrator, const char *mass, int steps, double *drift, int *monotone)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     char io[64], mo[64], so[64];
     snprintf(io, sizeof io, "time.integrator=%s", integrator);
     snprintf(mo, sizeof mo, "mass=%s", mass);
     snprintf(so, sizeof so, "time.steps=%d", steps);
     /* backward Euler: no rigid motion, so that the decay is not hidden under its constant energy */
     const char *ov[] = {io, mo, so, strcmp(integrator, "newmark") ? "initial.velocity=[0,0,0]" : NULL, NULL};
-    CHECK(eo_sim_open(&s, ctx, NULL, energy_scene, ov) == 0, "open");
+    CHECK(eo_test_sim_open(&s, ctx, NULL, energy_scene, ov) == 0, "open");
     eo_step_stats st;
-    eo_step_stats_compute(s.st, &st);
+    eo_step_stats_compute(eo_sim_step_problem(s), &st);
     double e0 = st.kinetic + st.elastic, prev = e0;
     *drift = 0;
     *monotone = 1;
-    for (int k = 0; k < s.sc->time.steps; k++) {
-        eo_solve_result r;
-        if (eo_sim_step(&s, NULL, NULL, &r) != 0 || !eo_reason_is_converged(r.reason)) {
+    for (int k = 0; k < eo_sim_scene(s)->time.steps; k++) {
+        eo_sim_step_result r;
+        if (eo_test_sim_step(s, NULL, NULL, &r) != 0 || !eo_reason_is_converged(r.reason)) {
             CHECK(0, "%s step %d: %s", integrator, k, eo_reason_name(r.reason));
             break;
         }
-        eo_step_stats_compute(s.st, &st);
+        eo_step_stats_compute(eo_sim_step_problem(s), &st);
         double e = st.kinetic + st.elastic;
         *drift = fmax(*drift, fabs(e - e0) / e0);
         if (!(e < prev)) *monotone = 0;
@@ -192,7 +192,7 @@ static void run_energy(const char *integrator, const char *mass, int steps, doub
     }
     printf("energy %s (%s mass): initial %.6g, final %.6g, max relative drift %.3g\n", integrator, mass, e0, prev,
            *drift);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -214,23 +214,23 @@ static void test_energy(void)
 static void test_inverted(void)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
-    CHECK(eo_sim_open(&s, ctx, "inverted", NULL, NULL) == 0, "open");
+    eo_sim *s = NULL;
+    CHECK(eo_test_sim_open(&s, ctx, "inverted", NULL, NULL) == 0, "open");
     eo_step_stats st;
-    eo_step_stats_compute(s.st, &st);
-    CHECK(st.inverted == s.sc->mesh->nt, "every tet starts inverted (%d of %d)", st.inverted, s.sc->mesh->nt);
+    eo_step_stats_compute(eo_sim_step_problem(s), &st);
+    CHECK(st.inverted == eo_sim_scene(s)->mesh->nt, "every tet starts inverted (%d of %d)", st.inverted, eo_sim_scene(s)->mesh->nt);
     int nconv = 0;
-    for (int k = 0; k < s.sc->time.steps; k++) {
-        eo_solve_result r;
-        CHECK(eo_sim_step(&s, NULL, NULL, &r) == 0, "step %d", k);
+    for (int k = 0; k < eo_sim_scene(s)->time.steps; k++) {
+        eo_sim_step_result r;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0, "step %d", k);
         nconv += eo_reason_is_converged(r.reason);
     }
-    eo_step_stats_compute(s.st, &st);
+    eo_step_stats_compute(eo_sim_step_problem(s), &st);
     printf("inverted: %d/%d steps converged, final inverted %d, min J %.4g, max displacement %.4g\n", nconv,
-           s.sc->time.steps, st.inverted, st.min_J, st.max_disp);
+           eo_sim_scene(s)->time.steps, st.inverted, st.min_J, st.max_disp);
     CHECK(st.inverted == 0, "%d tets still inverted", st.inverted);
     CHECK(st.max_disp < 0.05, "rest shape not recovered (max displacement %g)", st.max_disp);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -250,7 +250,7 @@ static void test_examples(void)
         CHECK(a && b && json_equal(a, b), "%s: example file and built-in scene differ", sty->info.name);
         json_decref(a);
         json_decref(b);
-        eo_sim s;
+        eo_sim *s = NULL;
         eo_ctx_clear_error(ctx);
         eo_cfg *cfg = NULL;
         eo_scene *sc = NULL;
@@ -261,11 +261,11 @@ static void test_examples(void)
         eo_cfg_destroy(ctx, &cfg);
         /* and the built-in runs one step */
         const char *ov[] = {"time.steps=1", NULL};
-        CHECK(eo_sim_open(&s, ctx, sty->info.name, NULL, ov) == 0, "open %s", sty->info.name);
-        eo_solve_result r;
-        CHECK(eo_sim_step(&s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason), "%s first step: %s",
+        CHECK(eo_test_sim_open(&s, ctx, sty->info.name, NULL, ov) == 0, "open %s", sty->info.name);
+        eo_sim_step_result r;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason), "%s first step: %s",
               sty->info.name, eo_reason_name(r.reason));
-        eo_sim_close(&s);
+        eo_sim_destroy(&s);
     }
     CHECK(n >= 6, "built-in scenes: %d", n);
     eo_test_ctx_done(&ctx);
@@ -309,26 +309,97 @@ static void test_scene_errors(void)
 static void test_regions_and_release(void)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     const char *ov[] = {"materials=[{\"box\": [[0.5,-1,-1],[2,1,1]], \"E\": 1e5}]", "time.steps=40", NULL};
-    CHECK(eo_sim_open(&s, ctx, "stretch", NULL, ov) == 0, "open");
+    CHECK(eo_test_sim_open(&s, ctx, "stretch", NULL, ov) == 0, "open");
     int soft = 0;
-    for (int k = 0; k < s.sc->mesh->nt; k++) soft += s.sc->tet_mat[k] == 1;
-    CHECK(soft > 0 && soft < s.sc->mesh->nt, "region tets %d", soft);
-    int n_before = s.obj->n, n_after = -1;
-    for (int k = 0; k < s.sc->time.steps; k++) {
-        eo_solve_result r;
-        CHECK(eo_sim_step(&s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason), "step %d: %s", k,
+    for (int k = 0; k < eo_sim_scene(s)->mesh->nt; k++) soft += eo_sim_scene(s)->tet_mat[k] == 1;
+    CHECK(soft > 0 && soft < eo_sim_scene(s)->mesh->nt, "region tets %d", soft);
+    const eo_objective *obj = eo_test_sim_obj(s); /* the engine's objective: n of the last step built */
+    int n_before = obj->n, n_after = -1;
+    for (int k = 0; k < eo_sim_scene(s)->time.steps; k++) {
+        eo_sim_step_result r;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason), "step %d: %s", k,
               eo_reason_name(r.reason));
-        n_after = s.obj->n;
+        n_after = obj->n;
     }
     CHECK(n_after > n_before, "release frees the right end: n %d -> %d", n_before, n_after);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
+    eo_test_ctx_done(&ctx);
+}
+
+/* The eo_sim API on the cantilever (newmark, Newton): a trial solves the next step
+ * without advancing (index and time unchanged, two trials bit-identical, and the step
+ * then accepted has exactly the trial's minimizer); get/set_state replays steps
+ * bit-identically; set_solver swaps the method (Newton + abs, capped at 7 iterations, converges the
+ * next steps; a bad name keeps the old solver);
+ * creation refuses an unknown key and an unknown solver name (no sim). */
+static void test_sim_api(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    eo_sim *s = NULL;
+    const char *ov[] = {"time.steps=10", NULL};
+    CHECK(eo_sim_create_from(ctx, NULL, "cantilever", ov, &s) == EO_OK, "%s", eo_ctx_message(ctx));
+    if (!s) return;
+    const int nf = 3 * eo_sim_scene(s)->mesh->nv;
+    double *buf = malloc(6 * (size_t)nf * sizeof(double));
+    double *x1 = buf, *x2 = buf + nf, *xs = buf + 2 * nf, *vs = buf + 3 * nf, *xa = buf + 4 * nf, *xb = buf + 5 * nf;
+    eo_sim_step_result r;
+    for (int k = 0; k < 2; k++) CHECK(eo_sim_step(s, &r) == EO_OK && r.reason > 0, "step %d", k);
+    eo_objective *obj;
+    eo_solve_result t1, t2;
+    CHECK(eo_sim_trial(s, NULL, NULL, x1, NULL, NULL, &obj, &t1) == EO_OK && t1.reason > 0, "trial 1");
+    CHECK(eo_sim_trial(s, NULL, NULL, x2, NULL, NULL, NULL, &t2) == EO_OK, "trial 2");
+    CHECK(eo_sim_index(s) == 2 && fabs(eo_sim_time(s) - 2 * eo_sim_scene(s)->time.dt) < 1e-15, "trial does not advance");
+    int same = t1.iterations == t2.iterations;
+    for (int i = 0; i < obj->n; i++) same &= x1[i] == x2[i];
+    CHECK(same, "two trials from one state are identical");
+    CHECK(eo_sim_step(s, &r) == EO_OK && r.iterations == t1.iterations && r.g == t1.g, "step = trial: %d vs %d",
+          r.iterations, t1.iterations);
+    const eo_step *st = eo_sim_step_problem(s);
+    same = 1;
+    for (int i = 0; i < obj->n; i++) same &= eo_step_x(st)[eo_step_free_to_full(st, i)] == x1[i];
+    CHECK(same, "the accepted step is the trial's minimizer");
+    /* replay */
+    double ts;
+    int is;
+    eo_sim_get_state(s, xs, vs, &ts, &is);
+    for (int k = 0; k < 2; k++) eo_sim_step(s, &r);
+    eo_sim_get_state(s, xa, NULL, NULL, NULL);
+    CHECK(eo_sim_set_state(s, xs, vs, ts, is) == EO_OK && eo_sim_index(s) == 3, "set_state");
+    for (int k = 0; k < 2; k++) eo_sim_step(s, &r);
+    eo_sim_get_state(s, xb, NULL, NULL, NULL);
+    same = eo_sim_index(s) == 5;
+    for (int i = 0; i < nf; i++) same &= xa[i] == xb[i];
+    CHECK(same, "set_state + 2 steps replays bit-identically");
+    /* swap the solver */
+    eo_solver_opts o;
+    eo_solver_opts_default(&o);
+    snprintf(o.hessian_fix, sizeof o.hessian_fix, "abs");
+    o.max_iters = 7;
+    CHECK(eo_sim_set_solver(s, &o, NULL) == EO_OK, "%s", eo_ctx_message(ctx));
+    CHECK(strcmp(eo_solver_get_opts(eo_sim_solver(s))->hessian_fix, "abs") == 0, "solver swapped");
+    for (int k = 0; k < 2; k++)
+        CHECK(eo_sim_step(s, &r) == EO_OK && r.reason > 0 && r.iterations <= 7, "swapped solver's step: %s",
+              eo_reason_name(r.reason));
+    snprintf(o.optimizer, sizeof o.optimizer, "nosuch");
+    CHECK(eo_sim_set_solver(s, &o, NULL) == EO_ERR_UNKNOWN_NAME &&
+              strcmp(eo_solver_get_opts(eo_sim_solver(s))->hessian_fix, "abs") == 0,
+          "a bad solver keeps the old one");
+    eo_sim_reset(s);
+    CHECK(eo_sim_index(s) == 0 && eo_sim_time(s) == 0, "reset");
+    free(buf);
+    eo_sim_destroy(&s);
+    CHECK(s == NULL, "destroy clears");
+    const char *bad1[] = {"solver.optimizer=newtn", NULL}, *bad2[] = {"time.stepz=3", NULL};
+    CHECK(eo_sim_create_from(ctx, NULL, "cantilever", bad1, &s) == EO_ERR_UNKNOWN_NAME && !s, "bad optimizer");
+    CHECK(eo_sim_create_from(ctx, NULL, "cantilever", bad2, &s) < 0 && !s, "unknown key: %s", eo_ctx_message(ctx));
     eo_test_ctx_done(&ctx);
 }
 
 int main(void)
 {
+    test_sim_api();
     test_scene_errors();
     test_examples();
     test_freefall();

@@ -30,18 +30,18 @@ static const char *scene =
 static int solve(const char *const *ov, double *x, int *n, int *iters, int *reason)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
-    int rc = eo_sim_open(&s, ctx, NULL, scene, ov);
+    eo_sim *s = NULL;
+    int rc = eo_test_sim_open(&s, ctx, NULL, scene, ov);
     if (rc == 0) {
         eo_solve_result r;
-        double *x0 = eo_step_guess(s.st);
-        rc = eo_solver_minimize(s.solver, s.obj, x0, NULL, NULL, &r);
-        *n = s.obj->n;
+        double *x0 = eo_test_sim_guess(s);
+        rc = eo_solver_minimize(eo_sim_solver(s), eo_test_sim_obj(s), x0, NULL, NULL, &r);
+        *n = eo_test_sim_obj(s)->n;
         memcpy(x, x0, (size_t)*n * sizeof(double));
         *iters = r.iterations;
         *reason = r.reason;
     }
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
     return rc;
 }
@@ -99,14 +99,14 @@ static void scene_first_step(const char *scene_name, const char *opt, double tol
     snprintf(o, sizeof o, "solver.optimizer=%s", opt);
     snprintf(t, sizeof t, "solver.tol=%g", tol);
     const char *ov[] = {o, "solver.linesearch=wolfe", "solver.stop=gradient", t, "solver.max_iters=20000", NULL};
-    eo_sim s;
-    int rc = eo_sim_open(&s, ctx, scene_name, NULL, ov);
+    eo_sim *s = NULL;
+    int rc = eo_test_sim_open(&s, ctx, scene_name, NULL, ov);
     CHECK(rc == 0, "%s: open", scene_name);
     if (rc == 0) {
         eo_solve_result r;
         evcount c = {0, 0};
-        double *x = eo_step_guess(s.st);
-        rc = eo_solver_minimize(s.solver, s.obj, x, count_trials, &c, &r);
+        double *x = eo_test_sim_guess(s);
+        rc = eo_solver_minimize(eo_sim_solver(s), eo_test_sim_obj(s), x, count_trials, &c, &r);
         CHECK(rc == 0, "%s/%s: minimize", scene_name, opt);
         printf("  %-18s %-6s %5d iterations  %-20s |grad| %.2e  value calls %ld, gradient calls %ld = 1 + %ld "
                "trials\n", scene_name, opt, r.iterations, eo_reason_name(r.reason), r.grad_norm, r.n_value,
@@ -116,7 +116,7 @@ static void scene_first_step(const char *scene_name, const char *opt, double tol
               "%s/%s: %ld value and %ld gradient calls for %ld trials", scene_name, opt, r.n_value,
               r.n_gradient, c.trials);
     }
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 

@@ -52,7 +52,7 @@ static int run(eo_ctx *ctx, tprob *p, const char *opt, const char *stop, double 
     for (const char *const *ov = overrides; ov && *ov; ov++)
         if (eo_cfg_override(ctx, cfg, *ov) < 0) abort();
     eo_solver *s = NULL;
-    int st = eo_solver_create(ctx, &o, cfg, p->n, &s);
+    int st = eo_solver_create(ctx, &o, cfg, &s);
     if (st == EO_OK) st = eo_cfg_finish(ctx, cfg);
     eo_cfg_destroy(ctx, &cfg);
     CHECK(st == EO_OK, "create %s: %s", opt, eo_ctx_message(ctx));
@@ -288,7 +288,7 @@ static void test_no_feasible_descent(void)
         for (int i = 0; configs[c].overrides[i]; i++)
             if (eo_cfg_override(ctx, cfg, configs[c].overrides[i]) < 0) abort();
         eo_solver *s = NULL;
-        int st = eo_solver_create(ctx, &o, cfg, 3, &s);
+        int st = eo_solver_create(ctx, &o, cfg, &s);
         eo_cfg_destroy(ctx, &cfg);
         CHECK(st == EO_OK, "%s: create", configs[c].tag);
         if (st < 0) continue;
@@ -338,7 +338,7 @@ static void test_config(void)
         eo_solver *s = NULL;
         if (eo_cfg_create_empty(ctx, &cfg) < 0) abort();
         int rc = eo_cfg_override(ctx, cfg, cases[i].ov);
-        if (rc == EO_OK) rc = eo_solver_create(ctx, &o, cfg, 4, &s);
+        if (rc == EO_OK) rc = eo_solver_create(ctx, &o, cfg, &s);
         CHECK(rc == cases[i].rc, "%s: rc %d (%s), expected %d", cases[i].ov, rc, eo_ctx_message(ctx), cases[i].rc);
         if (s) {
             json_t *j = eo_solver_to_json(s);

@@ -35,33 +35,33 @@ static const char *cube =
 static void check_matrix(const char *model, const char *integrator, int lumped)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     char mod[64], integ[64], lm[64];
     snprintf(mod, sizeof mod, "material.model=%s", model);
     snprintf(integ, sizeof integ, "time.integrator=%s", integrator);
     snprintf(lm, sizeof lm, "mass=lumped");
     const char *ov[] = {mod, integ, lumped ? lm : NULL, NULL};
-    if (eo_sim_open(&s, ctx, NULL, cube, ov) != 0) {
+    if (eo_test_sim_open(&s, ctx, NULL, cube, ov) != 0) {
         CHECK(0, "open %s", model);
-        eo_sim_close(&s);
+        eo_sim_destroy(&s);
         eo_test_ctx_done(&ctx);
         return;
     }
-    const int n = s.obj->n;
-    const eo_mesh *m = eo_step_mesh(s.st);
-    const eo_scene_material *mat = s.sc->mat;
-    const double h = s.sc->time.dt, w = strcmp(integrator, "newmark") == 0 ? h * h / 4 : h * h;
+    const int n = eo_test_sim_obj(s)->n;
+    const eo_mesh *m = eo_step_mesh(eo_sim_step_problem(s));
+    const eo_scene_material *mat = eo_sim_scene(s)->mat;
+    const double h = eo_sim_scene(s)->time.dt, w = strcmp(integrator, "newmark") == 0 ? h * h / 4 : h * h;
 
     /* a Hessian held by a caller must survive the constant_hessian call */
     eo_csc *H = NULL;
-    CHECK(eo_objective_hessian(s.obj, eo_step_guess(s.st), EO_PROJ_CLAMP, &H) == EO_OK, "hessian");
+    CHECK(eo_objective_hessian(eo_test_sim_obj(s), eo_test_sim_guess(s), EO_PROJ_CLAMP, &H) == EO_OK, "hessian");
     double *Hsave = malloc((size_t)H->nnz * sizeof(double));
     memcpy(Hsave, H->val, (size_t)H->nnz * sizeof(double));
 
     eo_csc *L = NULL, *L2 = NULL;
     unsigned long ver = 0, ver2 = 0;
-    CHECK(eo_objective_constant_hessian(s.obj, &L, &ver) == EO_OK, "constant_hessian: %s", eo_ctx_message(ctx));
-    CHECK(eo_objective_constant_hessian(s.obj, &L2, &ver2) == EO_OK && L2 == L && ver2 == ver && ver > 0,
+    CHECK(eo_objective_constant_hessian(eo_test_sim_obj(s), &L, &ver) == EO_OK, "constant_hessian: %s", eo_ctx_message(ctx));
+    CHECK(eo_objective_constant_hessian(eo_test_sim_obj(s), &L2, &ver2) == EO_OK && L2 == L && ver2 == ver && ver > 0,
           "second call: same matrix and version");
     CHECK(memcmp(Hsave, H->val, (size_t)H->nnz * sizeof(double)) == 0, "the held Hessian is untouched");
     CHECK(L && L->n == n && eo_csc_check(ctx, L) == EO_OK, "L invariants");
@@ -89,7 +89,7 @@ static void check_matrix(const char *model, const char *integrator, int lumped)
         for (int a = 0; a < 4; a++)
             for (int bb = 0; bb < 4; bb++)
                 for (int r = 0; r < 3; r++) {
-                    int i = eo_step_full_to_free(s.st, 3 * tet[a] + r), j = eo_step_full_to_free(s.st, 3 * tet[bb] + r);
+                    int i = eo_step_full_to_free(eo_sim_step_problem(s), 3 * tet[a] + r), j = eo_step_full_to_free(eo_sim_step_problem(s), 3 * tet[bb] + r);
                     if (i < 0 || j < 0) continue;
                     double mass = lumped ? (a == bb ? mt / 4 : 0) : mt / 20 * (a == bb ? 2 : 1);
                     R[(size_t)i * n + j] +=
@@ -121,7 +121,7 @@ static void check_matrix(const char *model, const char *integrator, int lumped)
     free(R);
     free(D);
     free(Hsave);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -137,27 +137,27 @@ typedef struct run_out {
 static int run_step(const char *scene, const char *const *ov, int drop_op, run_out *o)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     memset(o, 0, sizeof *o);
-    int rc = eo_sim_open(&s, ctx, NULL, scene, ov);
+    int rc = eo_test_sim_open(&s, ctx, NULL, scene, ov);
     if (rc == 0) {
-        eo_objective_ops ops = *s.obj->ops;
-        eo_objective obj = *s.obj;
+        eo_objective_ops ops = *eo_test_sim_obj(s)->ops;
+        eo_objective obj = *eo_test_sim_obj(s);
         if (drop_op) {
             ops.constant_hessian = NULL;
             obj.ops = &ops;
         }
         eo_solve_result r;
-        double *x = eo_step_guess(s.st);
-        rc = eo_solver_minimize(s.solver, &obj, x, NULL, NULL, &r);
-        o->n = s.obj->n;
+        double *x = eo_test_sim_guess(s);
+        rc = eo_solver_minimize(eo_sim_solver(s), &obj, x, NULL, NULL, &r);
+        o->n = eo_test_sim_obj(s)->n;
         o->x = malloc((size_t)o->n * sizeof(double));
         memcpy(o->x, x, (size_t)o->n * sizeof(double));
         o->iterations = r.iterations;
         o->reason = r.reason;
         o->n_factor = r.n_factor;
     }
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
     return rc;
 }
@@ -223,41 +223,42 @@ static void check_lbfgs_faster(void)
 static void check_factor_count(void)
 {
     eo_ctx *ctx = eo_test_ctx();
-    eo_sim s;
+    eo_sim *s = NULL;
     /* stretch: right end pulled until 0.2 s, held, released at 0.3 s (new pattern) */
     const char *ov[] = {"solver.optimizer=projective_dynamics", "solver.projective_dynamics.lbfgs_history=5",
                         "solver.max_iters=2000", "time.steps=40", NULL};
-    CHECK(eo_sim_open(&s, ctx, "stretch", NULL, ov) == 0, "open stretch");
+    CHECK(eo_test_sim_open(&s, ctx, "stretch", NULL, ov) == 0, "open stretch");
     long total = 0, before = -1;
-    int n0 = s.obj->n, released_at = -1, ok = 1;
+    eo_objective *obj = eo_test_sim_obj(s); /* the engine's objective: n of the last step built */
+    int n0 = obj->n, released_at = -1, ok = 1;
     unsigned long ver0 = 0;
     eo_csc *L;
-    CHECK(eo_objective_constant_hessian(s.obj, &L, &ver0) == EO_OK, "L");
-    for (int k = 0; k < s.sc->time.steps; k++) {
-        eo_solve_result r;
-        int rc = eo_sim_step(&s, NULL, NULL, &r);
+    CHECK(eo_objective_constant_hessian(eo_test_sim_obj(s), &L, &ver0) == EO_OK, "L");
+    for (int k = 0; k < eo_sim_scene(s)->time.steps; k++) {
+        eo_sim_step_result r;
+        int rc = eo_test_sim_step(s, NULL, NULL, &r);
         ok &= rc == 0 && eo_reason_is_converged(r.reason);
         if (!(rc == 0 && eo_reason_is_converged(r.reason)))
             fprintf(stderr, "step %d: rc %d %s\n", k, rc, eo_reason_name(r.reason));
         total += r.n_factor;
-        if (s.obj->n != n0 && released_at < 0) {
+        if (obj->n != n0 && released_at < 0) {
             released_at = k;
             before = total - r.n_factor;
         }
         if (k == 10) {
-            const eo_linsolve_stats *ls = eo_linsolve_get_stats(eo_solver_get_linsolve(s.solver));
+            const eo_linsolve_stats *ls = eo_linsolve_get_stats(eo_solver_get_linsolve(eo_sim_solver(s)));
             CHECK(ls->n_factor == 1, "linsolve: %ld factorizations in 11 steps", ls->n_factor);
             CHECK(total == 1, "%ld factorizations in 11 steps", total);
         }
     }
     unsigned long ver1 = 0;
-    CHECK(eo_objective_constant_hessian(s.obj, &L, &ver1) == EO_OK && ver1 != ver0, "new version after release");
+    CHECK(eo_objective_constant_hessian(eo_test_sim_obj(s), &L, &ver1) == EO_OK && ver1 != ver0, "new version after release");
     printf("  stretch, 40 steps: %ld factorizations (%ld before the release at step %d)\n", total, before,
            released_at);
     CHECK(ok, "every step converges");
     CHECK(released_at > 0 && before == 1 && total == 2, "one factorization per pattern: %ld before, %ld total",
           before, total);
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -296,7 +297,7 @@ static void check_fallback_and_alloc(void)
     snprintf(o.optimizer, sizeof o.optimizer, "projective_dynamics");
     o.tol = 1e-20;
     eo_solver *sv = NULL;
-    CHECK(eo_solver_create(ctx, &o, NULL, p.n, &sv) == EO_OK, "%s", eo_ctx_message(ctx));
+    CHECK(eo_solver_create(ctx, &o, NULL, &sv) == EO_OK, "%s", eo_ctx_message(ctx));
     if (sv) {
         eo_objective obj = prob_objective(&p);
         double x[NMAX];
@@ -316,20 +317,20 @@ static void check_fallback_and_alloc(void)
     prob_done(ctx, &p);
 
     /* step objective: after the first minimization nothing allocates */
-    eo_sim s;
+    eo_sim *s = NULL;
     const char *ov[] = {"solver.optimizer=projective_dynamics", "solver.projective_dynamics.lbfgs_history=5",
                         "time.steps=3", NULL};
-    if (eo_sim_open(&s, ctx, "twist", NULL, ov) == 0) {
+    if (eo_test_sim_open(&s, ctx, "twist", NULL, ov) == 0) {
         for (int k = 0; k < 3; k++) {
             long c0 = cnt.calls;
-            eo_solve_result r;
-            CHECK(eo_sim_step(&s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason), "twist step %d", k);
+            eo_sim_step_result r;
+            CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason), "twist step %d", k);
             if (k > 0) CHECK(cnt.calls == c0, "twist step %d: %ld allocations", k, cnt.calls - c0);
         }
     } else {
         CHECK(0, "open twist");
     }
-    eo_sim_close(&s);
+    eo_sim_destroy(&s);
     CHECK(eo_ctx_live_bytes(ctx) == 0, "%zu bytes leaked", eo_ctx_live_bytes(ctx));
     eo_ctx_destroy(&ctx);
 }

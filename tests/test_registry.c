@@ -9,6 +9,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "elastopt/sim.h"
 #include "elastopt/config.h"
 #include "elastopt/linsolve.h"
 #include "elastopt/material.h"
@@ -83,9 +84,7 @@ static void test_register_every_kind(void)
     double g[2] = {NAN, NAN};
     for (int v = 0; v < 2; v++) {
         eo_cfg *cfg = NULL;
-        eo_scene *sc = NULL;
-        eo_step *st = NULL;
-        eo_solver *s = NULL;
+        eo_sim *sim = NULL;
         int rc = eo_scene_cfg_load(ctx, NULL, v ? "cantilever_ext" : "cantilever", &cfg);
         const char *ov[] = {v ? "solver.optimizer=newton_ext" : "solver.optimizer=newton",
                             v ? "material.model=stvk_ext" : "material.model=stvk",
@@ -97,22 +96,15 @@ static void test_register_every_kind(void)
                             v ? "time.integrator=newmark_ext" : "time.integrator=newmark",
                             "mesh.generate.cells=[6,2,2]"};
         for (size_t i = 0; rc >= 0 && i < sizeof ov / sizeof ov[0]; i++) rc = eo_cfg_override(ctx, cfg, ov[i]);
-        if (rc >= 0) rc = eo_scene_load(ctx, cfg, &sc);
-        eo_solver_opts so;
-        eo_solver_opts_default(&so);
-        if (rc >= 0) rc = eo_solver_opts_load(ctx, cfg, &so);
-        if (rc >= 0) rc = eo_solver_create(ctx, &so, cfg, &s);
-        if (rc >= 0) rc = eo_cfg_finish(ctx, cfg);
-        if (rc >= 0) rc = eo_step_create(ctx, sc, &st);
-        eo_objective *obj = NULL;
-        if (rc >= 0) rc = eo_step_begin(st, &obj);
-        eo_solve_result r;
-        if (rc >= 0) rc = eo_solver_minimize(s, obj, eo_step_guess(st), NULL, NULL, &r);
+        if (rc >= 0) {
+            rc = eo_sim_create(ctx, cfg, &sim); /* takes cfg over */
+            cfg = NULL;
+        }
+        eo_sim_step_result r = {0};
+        if (rc >= 0) rc = eo_sim_step(sim, &r);
         CHECK(rc == EO_OK && r.reason > 0, "variant %d: rc %d %s", v, rc, eo_ctx_message(ctx));
         if (rc == EO_OK) g[v] = r.g;
-        eo_solver_destroy(&s);
-        eo_step_destroy(&st);
-        eo_scene_destroy(ctx, &sc);
+        eo_sim_destroy(&sim);
         eo_cfg_destroy(ctx, &cfg);
     }
     CHECK(g[0] == g[1], "registered copies give the built-ins' minimum: %.17g vs %.17g", g[0], g[1]);

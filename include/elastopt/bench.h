@@ -2,6 +2,11 @@
 /// The optimizer benchmark: speed against error of solver configurations on the step
 /// problems of scenes (`elastopt bench SUITE.json`).
 ///
+/// Not part of libelastopt: the harness (bench/harness/, static library elastopt_bench,
+/// linked by the CLI and the tests) spawns gnuplot and writes reports. Every step runs
+/// through eo_sim (sim.h); a scene with an explicit integrator is refused at load
+/// (EO_ERR_INVALID: no step problem to minimize).
+///
 /// A suite (JSON, loaded through config.h with descriptor tables; unknown keys are
 /// errors listing the valid keys) names scenes and solver configurations. For every
 /// scene the harness

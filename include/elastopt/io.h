@@ -30,6 +30,17 @@ EO_API int eo_afile_commit(eo_ctx *ctx, eo_afile **f);
 /// Discard the temporary file; accepts NULL.
 EO_API void eo_afile_abort(eo_ctx *ctx, eo_afile **f);
 
+/// How a path is going to be used (eo_path_check).
+typedef enum eo_path_mode { EO_PATH_READ = 0, EO_PATH_WRITE = 1 } eo_path_mode;
+
+/// Check a file path before using it, without opening it (so a FIFO never blocks):
+/// EO_ERR_IO with "PATH: <why>; expected ..." for a name longer than PATH_MAX (or a
+/// component longer than NAME_MAX); reading: a missing or unreadable file, a folder,
+/// a device, FIFO or socket, an empty file; writing: a folder, device, FIFO or socket
+/// at the path, a missing parent folder or a parent that is not a folder, an
+/// unwritable parent. EO_OK otherwise.
+EO_API int eo_path_check(eo_ctx *ctx, const char *path, eo_path_mode mode);
+
 /// Create a folder (and parents) if missing; EO_ERR_IO if impossible or not writable.
 EO_API int eo_mkdir_p(eo_ctx *ctx, const char *path);
 /// Read a whole file into a NUL-terminated buffer (eo_free it). EO_ERR_IO if missing.

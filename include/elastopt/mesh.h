@@ -2,9 +2,26 @@
 /// Tetrahedral meshes: generation, reading, validation and writing.
 ///
 /// A mesh holds rest positions and tets (4 vertex indices each, 0-based, positively
-/// oriented after loading), an optional per-tet attribute (region id) and an optional
-/// per-vertex marker. Readers: TetGen .node/.ele, MEDIT .mesh, Gmsh .msh 2.2 and 4.1
-/// ASCII. Writers: TetGen, MEDIT, VTU (with a .pvd series, see io.h), boundary OBJ.
+/// oriented after loading), an optional per-tet attribute (region id), an optional
+/// per-vertex marker and optional tagged triangles (boundary or interface faces with a
+/// tag each). Readers: TetGen .node/.ele[/.face], MEDIT .mesh, Gmsh .msh 2.2 and 4.1
+/// ASCII, VTU (ASCII, inline base64 binary, appended raw or base64; tets), and closed
+/// surface meshes .obj, .off, .stl (ASCII/binary), .ply (ASCII/binary_little_endian)
+/// tetrahedralized by the TetGen library (built with -Dtetgen; otherwise reading them
+/// fails with EO_ERR_UNSUPPORTED naming the option). Writers: TetGen, MEDIT, Gmsh, VTU
+/// (with a .pvd series, see io.h), boundary OBJ.
+///
+/// Where the tags come from (the `tag: K` boundary selector of scenes uses them):
+/// | format | tet_attr | tris/tri_tag | vmarker |
+/// |---|---|---|---|
+/// | Gmsh 2.2 | physical tag (1st element tag) of each tet | triangles (type 2), physical tag | - |
+/// | Gmsh 4.1 | physical tag of the tet's volume entity ($Entities), else the entity tag | triangles (type 2): each physical tag of the surface entity (a triangle appears once per group), else the entity tag | - |
+/// | MEDIT | Tetrahedra reference | Triangles with their reference | Vertices reference |
+/// | TetGen | first region attribute of .ele | .face (if present, with markers) | .node boundary marker |
+/// | VTU | cell data "region" (Int) | - | - |
+/// | surface (TetGen) | - | - | - |
+/// Triangles need not be on the boundary; they are kept as the file gives them
+/// (0-based vertex indices, validated: in range, 3 distinct vertices).
 ///
 /// ```c
 /// eo_mesh *m = NULL;
@@ -33,6 +50,9 @@ typedef struct eo_mesh {
     int *tets;       ///< 4*nt vertex indices, 0-based, positive rest volume
     int *tet_attr;   ///< nt region attributes (NULL if the input had none)
     int *vmarker;    ///< nv vertex markers (NULL if none)
+    int ntri;        ///< tagged triangles (0 if the input had none)
+    int *tris;       ///< 3*ntri vertex indices, 0-based (NULL if ntri == 0)
+    int *tri_tag;    ///< ntri tags: physical group / reference / boundary marker
     /* load report */
     int reoriented;  ///< tets whose vertex order was flipped to make volume positive
     int dropped_tets;      ///< zero-volume or duplicate tets dropped (when allowed)
@@ -44,8 +64,11 @@ typedef enum eo_mesh_format {
     EO_MESH_TETGEN,   ///< .node + .ele (give either name, or the base name)
     EO_MESH_MEDIT,    ///< .mesh
     EO_MESH_GMSH,     ///< .msh (read 2.2 and 4.1 ASCII; write 4.1 ASCII)
-    EO_MESH_VTU,      ///< .vtu (write only)
-    EO_MESH_OBJ       ///< .obj boundary surface (write only)
+    EO_MESH_VTU,      ///< .vtu (read: tets; write: VTK XML, appended raw)
+    EO_MESH_OBJ,      ///< .obj (read: closed surface, tetrahedralized; write: boundary)
+    EO_MESH_OFF,      ///< .off closed surface (read only, tetrahedralized)
+    EO_MESH_STL,      ///< .stl ASCII or binary closed surface (read only, tetrahedralized)
+    EO_MESH_PLY       ///< .ply ASCII or binary_little_endian surface (read only, tetrahedralized)
 } eo_mesh_format;
 
 typedef struct eo_mesh_read_opts {
@@ -56,9 +79,14 @@ typedef struct eo_mesh_read_opts {
                              ///< of failing. Default 0.
     double min_rel_volume;   ///< a tet with |V| <= min_rel_volume * (mean |V|) is
                              ///< zero-volume. Default 1e-12.
+    double tetgen_quality;   ///< surface input: TetGen radius-edge ratio bound (-q);
+                             ///< 0 = no quality refinement, else >= 1. Default 2.0.
+    double tetgen_max_volume;///< surface input: tet volume bound (-a), m^3; 0 = none. Default 0.
 } eo_mesh_read_opts;
 
 EO_API eo_mesh_read_opts eo_mesh_read_opts_default(void);
+/// 1 if this build can tetrahedralize surface meshes (TetGen library found).
+EO_API int eo_mesh_have_tetgen(void);
 
 /// Box/bar generator options.
 typedef struct eo_mesh_gen_opts {
@@ -77,16 +105,20 @@ EO_API void eo_mesh_destroy(eo_ctx *ctx, eo_mesh **m);
 EO_API int eo_mesh_generate_box(eo_ctx *ctx, const eo_mesh_gen_opts *o, eo_mesh **out);
 /// Read a mesh file; validates (see eo_mesh_validate). opts may be NULL.
 /// Returns EO_OK, EO_WARN_DROPPED (items dropped as the options allow; counts in the
-/// mesh), or an error: EO_ERR_IO (missing/unreadable file), EO_ERR_PARSE (truncated,
+/// mesh), or an error: EO_ERR_IO (missing/unreadable file; a folder, device, FIFO or
+/// socket; an empty file; a name longer than PATH_MAX — checked with stat before
+/// opening, see eo_path_check, so a FIFO never blocks), EO_ERR_PARSE (truncated,
 /// wrong counts, non-numeric token: "file:line: expected X, got 'tok'"),
 /// EO_ERR_NONFINITE, EO_ERR_MESH (index out of range, zero-volume/duplicate tet,
 /// unreferenced vertex; names file, line and tet/vertex as the file numbers it),
-/// EO_ERR_UNSUPPORTED (binary or other versions, write-only formats), EO_ERR_NOMEM.
+/// EO_ERR_UNSUPPORTED (binary or other versions, write-only formats, compressed VTU,
+/// surface meshes in a build without TetGen), EO_ERR_NOMEM.
 /// On error *out is NULL.
 EO_API int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out);
-/// Read a mesh from text in memory (copied; need not be NUL-terminated). `fmt` must be
-/// TETGEN, MEDIT or GMSH; `name` is used in messages. For TETGEN the text is the .node
-/// contents, one NUL byte, then the .ele contents (named name.node / name.ele).
+/// Read a mesh from text in memory (copied; need not be NUL-terminated). `fmt` is any
+/// readable format; `name` is used in messages. For TETGEN the text is the .node
+/// contents, one NUL byte, then the .ele contents (named name.node / name.ele),
+/// optionally one more NUL byte and the .face contents.
 EO_API int eo_mesh_read_buffer(eo_ctx *ctx, const char *text, size_t len, eo_mesh_format fmt,
                         const char *name, const eo_mesh_read_opts *opts, eo_mesh **out);
 /// Parse a generator spec "gen:SX,SY,SZ:NX,NY,NZ[:5|6]" (sizes > 0, cells >= 1) into *o
@@ -94,7 +126,7 @@ EO_API int eo_mesh_read_buffer(eo_ctx *ctx, const char *text, size_t len, eo_mes
 EO_API int eo_mesh_gen_opts_parse(eo_ctx *ctx, const char *spec, eo_mesh_gen_opts *o);
 /// Load from a file path or a "gen:..." spec (then opts are ignored).
 EO_API int eo_mesh_load(eo_ctx *ctx, const char *source, const eo_mesh_read_opts *opts, eo_mesh **out);
-/// Short name of a format ("tetgen", "medit", "gmsh", "vtu", "obj"; "auto").
+/// Short name of a format ("tetgen", "medit", "gmsh", "vtu", "obj", "off", "stl", "ply"; "auto").
 EO_API const char *eo_mesh_format_name(eo_mesh_format fmt);
 /// Write a mesh (rest positions) in the given or guessed format, atomically.
 EO_API int eo_mesh_write(eo_ctx *ctx, const eo_mesh *m, const char *path, eo_mesh_format fmt);
@@ -115,6 +147,10 @@ typedef struct eo_mesh_stats {
     double worst_quality;    ///< min over tets of the normalized radius ratio (1 = regular)
 } eo_mesh_stats;
 EO_API void eo_mesh_stats_compute(const eo_mesh *m, eo_mesh_stats *s);
+
+/// Vertices of the boundary surface (faces used by one tet): flag[v] = 1 for each, 0
+/// otherwise (flag has nv entries, caller storage); *count = how many. EO_ERR_NOMEM.
+EO_API int eo_mesh_surface_vertices(eo_ctx *ctx, const eo_mesh *m, unsigned char *flag, int *count);
 
 /// Boundary faces (triangles with one adjacent tet) of a valid mesh, outward oriented; *faces has
 /// 3*(*nf) vertex indices, allocated through ctx (caller frees with eo_free).

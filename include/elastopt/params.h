@@ -101,6 +101,10 @@ EO_API int eo_params_set_json(eo_ctx *ctx, const eo_param_desc *p, void *obj, co
                        const eo_param_src *src);
 /// Echo the effective values as a new JSON object (caller owns the reference).
 EO_API json_t *eo_params_to_json(const eo_param_desc *d, const void *obj);
+/// JSON Schema (draft 2020-12) of a params table: an object with one property per key
+/// (type, enum of choices or registered names, range, default, description) and
+/// additionalProperties false. New reference.
+EO_API json_t *eo_params_schema(const eo_param_desc *d, const char *description);
 /// Print `--help` lines: "  prefix.key  type  default  range — help".
 EO_API void eo_params_help(FILE *f, const eo_param_desc *d, const char *prefix);
 /// Format the valid keys of a table, comma-separated, into buf.

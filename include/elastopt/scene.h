@@ -18,8 +18,13 @@
 /// Config keys (top level; `elastopt help` prints the tables with defaults):
 ///   description        free text, ignored
 ///   mesh.file | mesh.generate.{size, cells, split, origin} | mesh.points,
-///   mesh.drop_degenerate
+///   mesh.drop_degenerate, mesh.tetgen.{quality, max_volume}
 ///                      a relative mesh.file is resolved against the config's folder;
+///                      it is a volume mesh (.node/.ele, .mesh, .msh, .vtu) or a closed
+///                      surface (.obj, .off, .stl, .ply) tetrahedralized by TetGen with
+///                      mesh.tetgen (radius-edge bound `quality`, default 2, 0 = none;
+///                      `max_volume` m³, 0 = none; a build without TetGen fails naming
+///                      the meson option -Dtetgen);
 ///                      mesh.points [[x,y,z], ...] is a point cloud without tets (a pure
 ///                      mass-spring system: mass from point_mass/point_masses, forces
 ///                      from springs, gravity, collisions)
@@ -46,6 +51,15 @@
 ///                      "box": [[lo],[hi]] (inside, inclusive, with a tolerance of 1e-9
 ///                      of the mesh size), "plane": {"point", "normal"} (on the side the
 ///                      normal points to, (X − p)·n ≥ −tol), "marker": k (vertex marker),
+///                      "tag": k (the vertices of the mesh's tagged triangles with tag k
+///                      — Gmsh physical surface, MEDIT triangle reference, TetGen .face
+///                      marker —; if no triangle has tag k, of the tets with attribute k
+///                      — Gmsh physical volume, MEDIT tet reference, TetGen region —; if
+///                      none, the vertices with marker k; an absent tag is an error
+///                      listing the tags the mesh has), "surface": true (every vertex
+///                      of the boundary surface: faces used by one tet), "nearest":
+///                      [x,y,z] (the single rest vertex nearest to the point; ties: the
+///                      lowest index),
 ///                      and prescribes their motion: "fixed": true | "translate": velocity
 ///                      (position x₀ + t·v) | "rotate": {"axis", "center", "rate"} (angle
 ///                      rate·t about the axis through center); optional "until": t (the
@@ -98,6 +112,12 @@ typedef struct eo_scene_mesh_opts {
     int drop_degenerate;    ///< drop zero-volume/duplicate tets with a warning. Default false.
 } eo_scene_mesh_opts;
 
+/// `mesh.tetgen` section: tetrahedralization of a surface mesh file.
+typedef struct eo_scene_tetgen_opts {
+    double quality;         ///< radius-edge ratio bound (TetGen -q), 0 = none, else >= 1. Default 2.
+    double max_volume;      ///< tet volume bound (TetGen -a), m³, 0 = none. Default 0.
+} eo_scene_tetgen_opts;
+
 /// `mesh.generate` section (a box of hexahedral cells split into tets).
 typedef struct eo_scene_generate_opts {
     double size[3];         ///< m. Default [1, 0.1, 0.1].
@@ -144,6 +164,9 @@ typedef struct eo_scene_ball_opts {
 /// Scalar keys of one `boundary` entry.
 typedef struct eo_scene_bc_opts {
     int marker;             ///< vertex marker selector, -1 = not used. Default -1.
+    int tag;                ///< tag selector (used when the entry has "tag"). Default 0.
+    int surface;            ///< select the boundary-surface vertices (must be true if given). Default false.
+    double nearest[3];      ///< select the rest vertex nearest this point (used when given), m. Default [0, 0, 0].
     int fixed;              ///< fixed at the initial position. Default false.
     double translate[3];    ///< velocity of a translation, m/s. Default [0, 0, 0].
     double until;           ///< motion stops at this time, s; < 0 = never. Default -1.
@@ -160,6 +183,7 @@ typedef struct eo_scene_rotate_opts {
 EO_API extern const eo_param_desc eo_scene_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_mesh_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_generate_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_tetgen_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_time_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_output_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_initial_opts_desc[];
@@ -174,8 +198,15 @@ EO_API extern const eo_cfg_doc eo_scene_docs[];
 /// Every fixed section of a scene configuration: the scene's, `material` and `solver`,
 /// terminated by a {NULL} entry (method parameter sections come from the registries).
 EO_API const eo_cfg_doc *eo_config_docs(void);
+/// The keys of a scene the loader reads itself (not params sections), {NULL}-terminated.
+EO_API const eo_cfg_raw_doc *eo_config_raw_docs(void);
+/// JSON Schema (draft 2020-12) of a scene document, generated from eo_config_docs and
+/// the registries (docs/scene.schema.json is its output). New reference.
+EO_API json_t *eo_config_schema(void);
 
-typedef enum eo_bc_select { EO_BC_BOX, EO_BC_PLANE, EO_BC_MARKER } eo_bc_select;
+typedef enum eo_bc_select { EO_BC_BOX, EO_BC_PLANE, EO_BC_MARKER, EO_BC_TAG, EO_BC_SURFACE, EO_BC_NEAREST } eo_bc_select;
+/// Where a `tag` selector found its tag.
+typedef enum eo_bc_tag_source { EO_TAG_NONE, EO_TAG_TRIANGLES, EO_TAG_TETS, EO_TAG_VERTICES } eo_bc_tag_source;
 typedef enum eo_bc_motion { EO_BC_FIXED, EO_BC_TRANSLATE, EO_BC_ROTATE } eo_bc_motion;
 
 /// One boundary condition with its selected vertices.
@@ -188,6 +219,8 @@ typedef struct eo_bc {
     eo_scene_rotate_opts rotate;  ///< EO_BC_ROTATE (axis normalized)
     int nverts;             ///< selected vertices (>= 1)
     int *verts;             ///< owned
+    eo_bc_tag_source tag_source;  ///< EO_BC_TAG: triangles, tets or vertex markers
+    double nearest_dist;    ///< EO_BC_NEAREST: distance of the selected vertex, m
 } eo_bc;
 
 /// One material region.
@@ -201,6 +234,7 @@ typedef struct eo_scene {
     eo_scene_opts opts;
     eo_scene_mesh_opts mesh_opts;
     eo_scene_generate_opts gen;
+    eo_scene_tetgen_opts tetgen;       ///< mesh.tetgen (used for surface mesh files)
     int generated;                     ///< 1 if the mesh was generated
     int points;                        ///< 1 if the mesh is mesh.points (vertices, no tets)
     eo_mesh *mesh;                     ///< owned
@@ -238,6 +272,33 @@ EO_API int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out);
 EO_API void eo_scene_destroy(eo_ctx *ctx, eo_scene **sc);
 /// The resolved options (every section with its defaults filled in) as a new JSON object.
 EO_API json_t *eo_scene_to_json(const eo_scene *sc);
+
+/// Up-axis guess of a scene's mesh (see eo_scene_describe).
+typedef struct eo_scene_up {
+    int axis;               ///< axis (0..2) of the flat base, -1 if no obvious one
+    int sign;               ///< -1 or +1: the base's outward normal is sign·e_axis ("down")
+    double support;         ///< base area / bounding-box side area, of the base side
+    double ratio;           ///< support of the base side / largest support of the other 5 sides
+    int warn;               ///< 1: gravity is more than 45° away from the down direction
+} eo_scene_up;
+
+/// Guess where "down" is for the scene's mesh and whether gravity disagrees.
+/// Heuristic: for each of the 6 bounding-box sides ±e_k, the support S is the area of
+/// the boundary faces whose outward normal is within 20° of ±e_k and whose centroid is
+/// within 5% of the box extent from that side, divided by the area of the side. The
+/// side with the largest S is an obvious base when S >= 0.02 and S >= 3 × the S of
+/// every other side (a box has 6 equal sides: no base; the IPC bunny: S = 0.26 on −y,
+/// 5.4 × any other). Then warn when gravity is non-zero and more than 45° from the
+/// base's outward normal (e.g. a y-up mesh with gravity −z). Meshes without tets are
+/// not checked (axis -1). EO_ERR_NOMEM.
+EO_API int eo_scene_up_guess(eo_ctx *ctx, const eo_scene *sc, eo_scene_up *up);
+
+/// Describe the loaded scene as text (allocated through ctx, eo_free it), one line
+/// each: the mesh (source, vertices, tets, bounding box), every material region with
+/// its tet count, every boundary entry with its selector, motion and vertex count, and
+/// lines starting "warning: " (gravity against the mesh's obvious up, see
+/// eo_scene_up_guess). EO_ERR_NOMEM.
+EO_API int eo_scene_describe(eo_ctx *ctx, const eo_scene *sc, char **text);
 
 /// A built-in scene: the registry (EO_KIND_SCENE) entry, JSON text identical in
 /// meaning to examples/<name>.json.

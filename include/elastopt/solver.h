@@ -17,16 +17,19 @@
 /// ```c
 /// eo_solver_opts o; eo_solver_opts_default(&o);
 /// rc = eo_solver_opts_load(ctx, cfg, &o);                  // section "solver" (cfg may be NULL)
-/// eo_solver *s; rc = eo_solver_create(ctx, &o, cfg, obj->n, &s); // + sections solver.<name>
+/// eo_solver *s; rc = eo_solver_create(ctx, &o, cfg, &s);     // + sections solver.<name>
 /// eo_solve_result r;
 /// rc = eo_solver_minimize(s, obj, x, on_iter, user, &r);   // x: start in, minimizer out
 /// printf("%s after %d iterations\n", eo_reason_string(r.reason), r.iterations);
 /// eo_solver_destroy(&s);
 /// ```
 /// Ownership: the solver copies opts and all params; the objective and x are borrowed
-/// for the duration of minimize. No allocation happens inside the iterations: workspace
-/// is sized in create. The only exception is Newton's first iteration on a Hessian whose
-/// pattern it has not seen (eo_linsolve_analyze, once per pattern).
+/// for the duration of minimize. A solver is created without knowing the problem size:
+/// the optimizer's workspace is sized at the first minimize and again whenever obj->n
+/// differs from the previous call (a released boundary set), so one solver serves every
+/// step of a simulation. No allocation happens inside the iterations; the only exception
+/// is Newton's first iteration on a Hessian whose pattern it has not seen
+/// (eo_linsolve_analyze, once per pattern).
 ///
 /// The tolerance `solver.tol` (default 1e-10) is read by the stopping rule:
 ///  - newton_decrement: λ²/2 = −∇gᵀp/2 ≤ tol, in the units of g (for the step objective
@@ -246,7 +249,8 @@ typedef struct eo_optimizer_type {
     size_t state_size;
     int needs_linear;     ///< 1 if it factors/solves systems (solver.linear used)
     int needs_hessian;    ///< 1 if it calls objective hessian
-    /// Size workspace for n variables. Called once before minimize (and again if n changes).
+    /// Size workspace for n variables, on a zeroed state. The solver calls it at the
+    /// first minimize and, after destroy and zeroing, whenever obj->n changes.
     int (*setup)(void *st, const void *params, int n, eo_ctx *ctx);
     /// Minimize from x (in: start, out: last iterate). Must record every iteration
     /// through sc->on_iter (if set) and end with a reason in res. Returns EO_OK (also
@@ -290,15 +294,16 @@ EO_API void eo_solver_opts_default(eo_solver_opts *o);
 EO_API int eo_solver_opts_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver_opts *o);
 /// Resolve every name (EO_ERR_UNKNOWN_NAME listing the valid ones), load each method's
 /// params from `solver.<name>` (cfg may be NULL: defaults), check the sections of the
-/// registered but unselected methods too, create the linear solver if the optimizer
-/// needs one and size the workspace for n variables. opts NULL = defaults; copied.
+/// registered but unselected methods too and create the linear solver if the optimizer
+/// needs one. The problem size is not needed: the workspace is sized lazily by
+/// eo_solver_minimize. opts NULL = defaults; copied.
 /// Returns EO_OK, EO_ERR_UNKNOWN_NAME, EO_ERR_UNKNOWN_KEY, EO_ERR_TYPE, EO_ERR_RANGE,
 /// EO_ERR_INVALID, EO_ERR_NOMEM.
-EO_API int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, int n,
-                     eo_solver **out);
-/// Minimize obj (obj->n must equal the n of create) from x (in/out). on_iter may be
-/// NULL. Returns EO_OK with the reason in res (negative reasons are not errors), or a
-/// negative status (EO_ERR_INVALID for a size mismatch, an objective error).
+EO_API int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, eo_solver **out);
+/// Minimize obj from x (obj->n values, in/out); (re)sizes the optimizer's workspace
+/// when obj->n differs from the previous call. on_iter may be NULL. Returns EO_OK with
+/// the reason in res (negative reasons are not errors), or a negative status
+/// (EO_ERR_INVALID for no objective, an objective error, EO_ERR_NOMEM).
 EO_API int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on_iter,
                        void *user, eo_solve_result *res);
 /// Free; sets *s = NULL; accepts NULL.

@@ -20,6 +20,10 @@
 /// (Newmark in this form equals ½‖x − y‖²_M + (h²/4)E(x) with y = xₙ + h vₙ + (h²/4)M⁻¹fₙ
 /// up to a constant, without solving with M; see ERRATA for 002 §3.1.)
 ///
+/// This is the engine under eo_sim (sim.h), which runs the whole per-step protocol
+/// (implicit or explicit branch, divergence check, statistics); programs use eo_sim,
+/// only the step engine's own tests call begin / end / advance directly.
+///
 /// ```c
 /// eo_step *st; eo_step_create(ctx, scene, &st);      // scene borrowed, must outlive st
 /// for (int k = 0; k < scene->time.steps; k++) {
@@ -38,6 +42,7 @@
 #define ELASTOPT_STEP_H
 
 #include "export.h"
+#include "linsolve.h"
 #include "objective.h"
 #include "scene.h"
 
@@ -95,6 +100,8 @@ EO_API void eo_step_destroy(eo_step **st);
 EO_API int eo_step_reset(eo_step *st);
 /// Set the state (3·nv positions and velocities, copied) and time.
 EO_API int eo_step_set_state(eo_step *st, const double *x, const double *v, double t);
+/// Set the step index (eo_step_index; eo_sim_set_state restores it with the state).
+EO_API int eo_step_set_index(eo_step *st, int index);
 /// Build the objective of the next step (t → t + h) and the starting guess; *obj is
 /// borrowed until the next begin. Its n may change between steps when a boundary set
 /// is released.
@@ -120,12 +127,19 @@ EO_API int eo_step_is_explicit(const eo_step *st);
 /// Explicit integrators: advance one step t → t + h. Accelerations a = M⁻¹f: with lumped
 /// mass a division per vertex; with consistent mass M (over the free coordinates,
 /// prescribed accelerations taken as 0 in its coupling) is factored once per set of
-/// constrained vertices with CHOLMOD. Prescribed vertices follow their motion exactly.
-/// *reason: EO_CONVERGED_EXPLICIT, or EO_DIVERGED_NONFINITE when the new state is not
-/// finite (the state then stays at tₙ and the step counter does not advance).
+/// constrained vertices with the mass solver (eo_step_set_mass_solver; default
+/// cholmod). Prescribed vertices follow their motion exactly.
+/// *reason: EO_CONVERGED_EXPLICIT, or EO_DIVERGED_NONFINITE when a non-finite energy or
+/// force was met at any stage of the step (any term) or the new state is not finite
+/// (the state then stays at tₙ, the last finite one, and the step counter does not
+/// advance).
 /// Returns EO_OK (also when diverged), EO_ERR_UNSUPPORTED for an implicit integrator,
 /// EO_ERR_INVALID for a free vertex without mass, or a linear solver error.
 EO_API int eo_step_advance(eo_step *st, int *reason);
+/// Linear solver of the consistent-mass solve of eo_step_advance (ls: taken over, NULL =
+/// the default cholmod); the mass matrix is factored again at the next advance. eo_sim
+/// sets it from the scene's `solver.linear` (with its `solver.<name>` parameters).
+EO_API int eo_step_set_mass_solver(eo_step *st, eo_linsolve *ls);
 /// 1 if the current state is finite: every position and velocity, ‖x‖² and Σ m‖v‖²
 /// (an overflowing square counts as diverged).
 EO_API int eo_step_state_finite(const eo_step *st);

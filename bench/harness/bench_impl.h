@@ -1,5 +1,5 @@
-/* Private structures of the benchmark harness (problems/bench.c runs, problems/
- * bench_report.c writes the report and plots). Not installed. */
+/* Private structures of the benchmark harness (bench/harness/bench.c runs,
+ * bench/harness/bench_report.c writes the report and plots). Not installed. */
 #ifndef ELASTOPT_BENCH_IMPL_H
 #define ELASTOPT_BENCH_IMPL_H
 

@@ -18,9 +18,15 @@
  *               the first step its rule does not meet; distance per frame to the
  *               reference positions.
  *
+ * Every step runs through eo_sim (sim.h), the library's one copy of the step protocol:
+ * the reference and the trajectories with eo_sim_step (the sim's solver swapped with
+ * eo_sim_set_solver), the measured steps with eo_sim_set_state + eo_sim_trial (the
+ * next step's problem solved from one state, without advancing). A scene with an
+ * explicit integrator has no step problem to minimize and is rejected at load.
+ *
  * All recording buffers are sized before the runs; the callbacks do not allocate. One
- * solver per configuration exists at a time (created per scene, rebuilt only when a
- * release changes the number of free coordinates). */
+ * curve solver per configuration exists at a time (created per scene; it re-sizes
+ * itself when a release changes the number of free coordinates). */
 #include <jansson.h>
 #include <math.h>
 #include <stdarg.h>
@@ -31,7 +37,7 @@
 #include "bench_impl.h"
 #include "elastopt/io.h"
 #include "elastopt/scene.h"
-#include "elastopt/step.h"
+#include "elastopt/sim.h"
 
 #define SZ(T, f) sizeof(((T *)0)->f)
 
@@ -554,7 +560,7 @@ static int check_config(eo_ctx *ctx, eo_bench_suite *s, bench_config *c)
             goto fail;
         }
     EO_TRY(rc = config_cfg(ctx, c, &cfg, &so));
-    EO_TRY(rc = eo_solver_create(ctx, &so, cfg, 0, &sv));
+    EO_TRY(rc = eo_solver_create(ctx, &so, cfg, &sv));
     EO_TRY(rc = eo_cfg_finish(ctx, cfg));
     const eo_optimizer_type *ot = NULL;
     EO_TRY(rc = eo_registry_find(ctx, EO_KIND_OPTIMIZER, so.optimizer, (const void **)&ot));
@@ -581,6 +587,11 @@ static int check_scene(eo_ctx *ctx, eo_bench_suite *s, bench_scene *b)
     eo_cfg *cfg = NULL;
     eo_scene *sc = NULL;
     int rc = scene_open(ctx, b, &cfg, &sc);
+    if (rc >= 0 && sc->integrator->explicit_step)
+        rc = eo_error(ctx, EO_ERR_INVALID,
+                      "key 'time.integrator': %s is explicit: its steps are no optimization problem, so there "
+                      "is nothing to benchmark (use an implicit integrator: newmark, backward_euler, static)",
+                      sc->integrator->info.name);
     if (rc >= 0) {
         b->nt = sc->mesh->nt;
         b->nv = sc->mesh->nv;
@@ -890,15 +901,6 @@ static double scene_units(const eo_bench_suite *s, const bench_scene *b, int rep
            (double)b->nt * b->steps * s->ncf * (repeats + 1);
 }
 
-/* (Re)create a solver for n free coordinates when needed. */
-static int solver_for(eo_ctx *ctx, const eo_solver_opts *so, eo_cfg *cfg, int n, eo_solver **sv, int *sv_n)
-{
-    if (*sv && *sv_n == n) return EO_OK;
-    eo_solver_destroy(sv);
-    *sv_n = n;
-    return eo_solver_create(ctx, so, cfg, n, sv);
-}
-
 static void csv_num(FILE *f, double v)
 {
     if (isnan(v)) fputs(",", f);
@@ -946,12 +948,11 @@ static void write_curve(run_ctx *r, FILE *dat, const bench_scene *b, const bench
 }
 
 /* Run the curves of one configuration on one step from the current guess. */
-static int run_curves(run_ctx *r, eo_solver *sv, eo_objective *obj, const double *x0, double *x, const bench_ref *ref,
-                      const double *xstar, const double *wM, rec_buf *w, rec_buf *rep, bench_step_res *res,
-                      double budget)
+static int run_curves(run_ctx *r, eo_sim *sim, eo_solver *sv, int n, const double *x0, double *x,
+                      const bench_ref *ref, const double *xstar, const double *wM, rec_buf *w, rec_buf *rep,
+                      bench_step_res *res, double budget)
 {
     eo_ctx *ctx = r->ctx;
-    int n = obj->n;
     double de = fabs(ref->g0 - ref->gstar);
     if (!(de > 0)) de = fmax(fabs(ref->gstar), 1e-300);
     double pe0 = mnorm_diff(n, wM, x0, xstar);
@@ -974,8 +975,7 @@ static int run_curves(run_ctx *r, eo_solver *sv, eo_objective *obj, const double
         b->gbest = INFINITY;
         b->since_best = 0;
         b->reached = b->out_of_time = b->stagnated = 0;
-        memcpy(x, x0, (size_t)n * sizeof(double));
-        rc = eo_solver_minimize(sv, obj, x, curve_iter, b, &sr);
+        rc = eo_sim_trial(sim, sv, x0, x, curve_iter, b, NULL, &sr);
         if (rc < 0) return rc;
         if (q == 0) {
             res->reason = b->out_of_time ? EO_DIVERGED_TIME_BUDGET : sr.reason;
@@ -1095,18 +1095,22 @@ static int run_scene(run_ctx *r, int si)
     const bench_scene *b = s->sc + si;
     bench_scene_res *sr = r->out->res + si;
     eo_cfg *scfg = NULL, *ccfg = NULL;
-    eo_scene *sc = NULL;
-    eo_step *st = NULL;
-    eo_solver *ref = NULL, *sv = NULL;
+    eo_sim *sim = NULL;
+    eo_solver *sv = NULL;
     eo_afile *datf = NULL;
     double *mem = NULL;
-    int rc, ref_n = -1, sv_n = -1;
+    int rc;
     const int S = b->steps, NF = b->skip + b->steps; /* measured steps; steps of the whole scene */
     r->si = si;
     sr->tmin = INFINITY;
     progress(r, si, -1, "reference");
-    EO_TRY(rc = scene_open(ctx, b, &scfg, &sc));
-    EO_TRY(rc = eo_step_create(ctx, sc, &st));
+    EO_TRY(rc = scene_cfg(ctx, b, &scfg));
+    json_object_del(eo_cfg_root(scfg), "solver"); /* the suite's configurations define the solver */
+    rc = eo_sim_create(ctx, scfg, &sim);           /* takes scfg over */
+    scfg = NULL;
+    EO_TRY(rc);
+    const eo_scene *sc = eo_sim_scene(sim);
+    eo_step *st = eo_sim_step_problem(sim);
     r->repeats = run_repeats(r->ro, b->repeats);
     sr->repeats = r->repeats;
     const int nv = sc->mesh->nv, nf = 3 * nv, cap = b->max_iters + 2, R = r->repeats;
@@ -1145,7 +1149,11 @@ static int run_scene(run_ctx *r, int si)
     rso.tol = 1e-300;
     rso.max_iters = s->o.ref_max_iters;
     rso.time_budget = 0;
+    EO_TRY(rc = eo_sim_set_solver(sim, &rso, NULL));
+    ref_state rs;
+    eo_sim_set_iter_callback(sim, ref_iter, &rs);
     eo_objective *obj;
+    double *guess;
     eo_step_stats stats;
     EO_TRY(rc = eo_step_stats_compute(st, &stats));
     sr->start_minJ = stats.min_J;
@@ -1153,17 +1161,15 @@ static int run_scene(run_ctx *r, int si)
     sr->start_elastic = stats.elastic;
     for (int k = 0; k < NF; k++) {
         int m = k - b->skip; /* measured index, < 0 while skipping */
-        memcpy(fx + (size_t)k * nf, eo_step_x(st), (size_t)nf * sizeof(double));
-        memcpy(fv + (size_t)k * nf, eo_step_v(st), (size_t)nf * sizeof(double));
-        ft[k] = eo_step_time(st);
-        EO_TRY(rc = eo_step_begin(st, &obj));
-        EO_TRY(rc = solver_for(ctx, &rso, NULL, obj->n, &ref, &ref_n));
-        double *guess = eo_step_guess(st), g0;
+        eo_sim_get_state(sim, fx + (size_t)k * nf, fv + (size_t)k * nf, &ft[k], NULL);
+        EO_TRY(rc = eo_sim_prepare(sim, &obj, &guess));
+        const int n = obj->n;
+        double g0;
         EO_TRY(rc = eo_objective_value(obj, guess, &g0));
-        ref_state rs = {.tol = s->o.ref_tol * fmax(fabs(g0), 1e-300), .gscale = fmax(fabs(g0), 1e-300),
-                        .dec = NAN, .prev_g = INFINITY, .prev_dec = INFINITY};
-        eo_solve_result res;
-        EO_TRY(rc = eo_solver_minimize(ref, obj, guess, ref_iter, &rs, &res));
+        rs = (ref_state){.tol = s->o.ref_tol * fmax(fabs(g0), 1e-300), .gscale = fmax(fabs(g0), 1e-300),
+                         .dec = NAN, .prev_g = INFINITY, .prev_dec = INFINITY};
+        eo_sim_step_result res;
+        EO_TRY(rc = eo_sim_step(sim, &res));
         if (m >= 0) {
             bench_ref *q = sr->ref + m;
             q->t = ft[k] + sc->time.dt;
@@ -1175,24 +1181,23 @@ static int run_scene(run_ctx *r, int si)
             q->reason = rs.stopped ? EO_CONVERGED_DECREMENT : res.reason;
             q->converged = rs.stopped || res.reason > 0;
             q->rounding = rs.rounding;
-            q->n = obj->n;
+            q->n = n;
             q->floor = 2.2e-16 * fmax(fabs(g0), fabs(res.g)) / fmax(fabs(g0 - res.g), 1e-300);
-            memcpy(xs + (size_t)m * nf, guess, (size_t)obj->n * sizeof(double));
+            /* x*: the free coordinates of the accepted state */
+            const double *xa = eo_step_x(st);
+            for (int i = 0; i < n; i++) xs[(size_t)m * nf + i] = xa[eo_step_free_to_full(st, i)];
             if (!q->converged) r->out->sum->ref_failures++;
         } else if (!(rs.stopped || res.reason > 0)) {
             r->out->sum->ref_failures++;
         }
-        EO_TRY(rc = eo_step_end(st, guess));
     }
-    memcpy(fx + (size_t)NF * nf, eo_step_x(st), (size_t)nf * sizeof(double));
-    memcpy(fv + (size_t)NF * nf, eo_step_v(st), (size_t)nf * sizeof(double));
-    ft[NF] = eo_step_time(st);
+    eo_sim_set_iter_callback(sim, NULL, NULL);
+    eo_sim_get_state(sim, fx + (size_t)NF * nf, fv + (size_t)NF * nf, &ft[NF], NULL);
     sr->ref_disp = rms_dist(nv, vmass, fx + (size_t)NF * nf, fx);
     EO_TRY(rc = eo_step_stats_compute(st, &stats));
     sr->end_minJ = stats.min_J;
     sr->end_inverted = stats.inverted;
     sr->end_elastic = stats.elastic;
-    eo_solver_destroy(&ref);
     r->units_done += (double)b->nt * (b->steps + b->skip);
 
     /* ---- plot data */
@@ -1224,50 +1229,47 @@ static int run_scene(run_ctx *r, int si)
         /* a configuration's own solver.time_budget wins over the scene's */
         const double budget = so.time_budget > 0 ? so.time_budget : b->time_budget;
         progress(r, si, ci, "curves");
+        EO_TRY(rc = eo_solver_create(ctx, &cso, ccfg, &sv));
         for (int k = 0; k < S; k++) {
             const size_t fr = (size_t)(b->skip + k) * nf;
-            EO_TRY(rc = eo_step_set_state(st, fx + fr, fv + fr, ft[b->skip + k]));
-            EO_TRY(rc = eo_step_begin(st, &obj));
-            EO_TRY(rc = solver_for(ctx, &cso, ccfg, obj->n, &sv, &sv_n));
+            EO_TRY(rc = eo_sim_set_state(sim, fx + fr, fv + fr, ft[b->skip + k], b->skip + k));
+            EO_TRY(rc = eo_sim_prepare(sim, &obj, &guess));
             int n = obj->n;
-            memcpy(x0, eo_step_guess(st), (size_t)n * sizeof(double));
+            memcpy(x0, guess, (size_t)n * sizeof(double));
             for (int i = 0; i < n; i++) wM[i] = vmass[eo_step_free_to_full(st, i) / 3];
-            EO_TRY(rc = run_curves(r, sv, obj, x0, x, sr->ref + k, xs + (size_t)k * nf, wM, &w, rep, p->st + k,
+            EO_TRY(rc = run_curves(r, sim, sv, n, x0, x, sr->ref + k, xs + (size_t)k * nf, wM, &w, rep, p->st + k,
                                    budget));
             write_curve(r, eo_afile_fp(datf), b, c, k, rep, R, p->st + k, tmp);
             r->units_done += (double)b->nt * (R + 1);
             progress(r, si, ci, "curves");
         }
         eo_solver_destroy(&sv);
-        sv_n = -1;
         /* trajectory with the configuration's own stopping rule, from the scene's initial
          * state over all its steps, up to the first step the rule does not meet */
         if (s->o.trajectory) {
             progress(r, si, ci, "trajectory");
             eo_solver_opts tso = so;
             tso.time_budget = budget;
-            EO_TRY(rc = eo_step_set_state(st, fx, fv, ft[0]));
+            EO_TRY(rc = eo_sim_set_solver(sim, &tso, ccfg));
+            EO_TRY(rc = eo_sim_set_state(sim, fx, fv, ft[0], 0));
             for (int k = 0; k < NF; k++) {
-                EO_TRY(rc = eo_step_begin(st, &obj));
-                EO_TRY(rc = solver_for(ctx, &tso, ccfg, obj->n, &sv, &sv_n));
-                double *gx = eo_step_guess(st);
-                eo_solve_result res;
-                EO_TRY(rc = eo_solver_minimize(sv, obj, gx, NULL, NULL, &res));
+                eo_sim_step_result res;
+                EO_TRY(rc = eo_sim_step(sim, &res));
+                /* a step whose new state was not finite is undone by the sim */
+                const int rejected = eo_sim_index(sim) == k;
                 bench_traj_res *t = p->tr + k;
                 t->iters = res.iterations;
                 t->reason = res.reason;
                 t->time = res.time;
                 t->g = res.g;
-                t->nan = !all_finite(obj->n, gx) || isnan(res.g);
+                t->nan = rejected || isnan(res.g);
                 t->nonfinite = t->nan || res.reason == EO_DIVERGED_NONFINITE;
-                if (!all_finite(obj->n, gx)) {
+                p->traj_done = k + 1;
+                if (rejected) {
                     t->dist = NAN;
-                    p->traj_done = k + 1;
                     break;
                 }
-                EO_TRY(rc = eo_step_end(st, gx));
                 t->dist = rms_dist(nv, vmass, eo_step_x(st), fx + (size_t)(k + 1) * nf);
-                p->traj_done = k + 1;
                 fprintf(r->traj, "%s,%s,%d,%.6g,%d,%s", b->name, c->name, k + 1, ft[k + 1], t->iters,
                         eo_reason_name(t->reason));
                 csv_num(r->traj, t->time);
@@ -1277,8 +1279,6 @@ static int run_scene(run_ctx *r, int si)
                 fputc('\n', r->traj);
                 if (!(t->reason > 0)) break;
             }
-            eo_solver_destroy(&sv);
-            sv_n = -1;
             r->units_done += (double)b->nt * NF;
         }
         eo_cfg_destroy(ctx, &ccfg);
@@ -1296,11 +1296,9 @@ static int run_scene(run_ctx *r, int si)
 fail:
     eo_afile_abort(ctx, &datf);
     if (rc < 0 && !strstr(eo_ctx_message(ctx), b->name)) rc = wrap_err(ctx, rc, s->path, "scene", b->name);
-    eo_solver_destroy(&ref);
     eo_solver_destroy(&sv);
     eo_cfg_destroy(ctx, &ccfg);
-    eo_step_destroy(&st);
-    eo_scene_destroy(ctx, &sc);
+    eo_sim_destroy(&sim);
     eo_cfg_destroy(ctx, &scfg);
     eo_free(ctx, mem);
     return rc;

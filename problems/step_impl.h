@@ -1,0 +1,73 @@
+/* Private to the step engine (problems/step*.c and problems/sim.c): struct eo_step and
+ * the helpers its files share. The files, by job:
+ *   step.c            create / destroy, accessors, parallel switch
+ *   step_bc.c         boundary conditions: active sets, prescribed motion, free map and
+ *                     Hessian pattern
+ *   step_objective.c  the step objective's ops, eo_step_begin / eo_step_end
+ *   step_initial.c    initial state (eo_step_reset) and eo_step_set_state
+ *   step_explicit.c   explicit integrators: the ODE, consistent mass solve, advance
+ *   step_stats.c      diagnostics (eo_step_stats) and per-tet fields */
+#ifndef ELASTOPT_STEP_IMPL_H
+#define ELASTOPT_STEP_IMPL_H
+
+#include "elastopt/linsolve.h"
+#include "elastopt/step.h"
+#include "pd_matrix.h"
+#include "term.h"
+
+
+enum { MAX_TERMS = 8, BLOCK = 1024, PARALLEL_MIN_TETS = 2048 };
+
+struct eo_step {
+    eo_ctx *ctx;
+    const eo_scene *sc;
+    const eo_integrator_type *integ;
+    eo_sys sys;
+    int nv, nt, n_full;
+    double h;
+    /* rest data */
+    double *Dminv, *vol, *rho, *vmass;
+    double *psi_rest;     /* nt: ψ(I) of each tet's material (reported energies are relative to it) */
+    const eo_material_type **tet_type;
+    const eo_material_coef **tet_coef;
+    /* state */
+    double *x, *v, *x0, t;
+    int index;
+    /* work */
+    double *xw, *gfull, *vnew, *guess;
+    /* terms */
+    eo_term *terms[MAX_TERMS];
+    int nterms;
+    eo_term *inertia, *elastic, *gravity, *linear, *spring, *collision;
+    /* constraints and pattern */
+    int *vbc, *vbc_new;   /* nv: active boundary entry per vertex, -1 free */
+    int have_pattern;
+    int *full2free, *free2full, nfree;
+    int *tet_dofs;
+    eo_assembler *as;
+    eo_objective obj;
+    unsigned long pattern_id;   /* bumped by build_pattern */
+    /* explicit integrators (eo_step_advance) */
+    double *ework, *xe, *ve;    /* work_vectors·n_full; trial state */
+    int erestart;               /* next explicit step restarts (leapfrog) */
+    eo_linsolve *mls;           /* consistent mass: M_ff factored (eo_step_set_mass_solver) */
+    int enonfinite;             /* a stage of this explicit step met a non-finite force */
+    eo_csc *Mc;                 /* its values (a copy of the pattern) */
+    eo_pd_matrix pd;            /* constant_hessian cache (pd_matrix.c) */
+};
+
+/* step_bc.c */
+/* Active boundary entry per vertex at time t (-1 free) into vbc (nv). */
+void eo_stepi_active_set(const eo_step *st, double t, int *vbc);
+/* Prescribed position and velocity of vertex v under entry bc at time t. */
+void eo_stepi_bc_motion(const eo_step *st, const eo_bc *bc, int v, double t, double p[3], double vel[3]);
+/* Set the constrained set at time t; rebuild the free map and the pattern if it changed
+ * (or none exists). *changed (may be NULL): 1 if it was rebuilt. */
+int eo_stepi_update_constraints(eo_step *st, double t, int *changed);
+/* step_objective.c */
+void eo_stepi_scatter_free(eo_step *st, const double *x);
+extern const eo_objective_ops eo_stepi_ops;
+/* step_stats.c */
+double eo_stepi_tet_J(const eo_step *st, const double *x, int k);
+
+#endif

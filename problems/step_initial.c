@@ -1,0 +1,84 @@
+/* Initial state of the step engine (eo_step_reset: the scene's `initial` transform,
+ * velocity and ball of random points, constrained vertices at their prescribed state)
+ * and eo_step_set_state. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "step_impl.h"
+
+/* ---------------------------------------------------------------- state */
+
+/* splitmix64 → uniform [0,1) */
+static double rnd(unsigned long long *s)
+{
+    unsigned long long z = (*s += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    z ^= z >> 31;
+    return (double)(z >> 11) * (1.0 / 9007199254740992.0);
+}
+
+int eo_step_reset(eo_step *st)
+{
+    const eo_scene *sc = st->sc;
+    const double *X = sc->mesh->X;
+    double c[3] = {0, 0, 0}, mt = 0;
+    for (int v = 0; v < st->nv; v++) {
+        for (int k = 0; k < 3; k++) c[k] += st->vmass[v] * X[3 * v + k];
+        mt += st->vmass[v];
+    }
+    for (int k = 0; k < 3; k++) c[k] /= mt > 0 ? mt : 1;
+    unsigned long long seed = (unsigned long long)sc->ball.seed * 0x2545F4914F6CDD1DULL + 1;
+    for (int v = 0; v < st->nv; v++) {
+        double *p = st->x + 3 * v;
+        for (int k = 0; k < 3; k++) p[k] = c[k] + sc->initial.scale[k] * (X[3 * v + k] - c[k]);
+        if (sc->has_reflect) {
+            const double *n = sc->reflect.normal, *q = sc->reflect.point;
+            double d = (p[0] - q[0]) * n[0] + (p[1] - q[1]) * n[1] + (p[2] - q[2]) * n[2];
+            for (int k = 0; k < 3; k++) p[k] -= 2 * d * n[k];
+        }
+        if (sc->has_ball) {
+            double u[3], r2;
+            do {
+                for (int k = 0; k < 3; k++) u[k] = 2 * rnd(&seed) - 1;
+                r2 = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+            } while (r2 > 1);
+            for (int k = 0; k < 3; k++) p[k] = c[k] + sc->ball.radius * u[k];
+        }
+        for (int k = 0; k < 3; k++) st->v[3 * v + k] = sc->initial.velocity[k];
+    }
+    memcpy(st->x0, st->x, (size_t)st->n_full * sizeof(double));
+    st->t = 0;
+    st->index = 0;
+    /* constrained vertices start at their prescribed state */
+    eo_stepi_active_set(st, 0, st->vbc_new);
+    for (int v = 0; v < st->nv; v++) {
+        if (st->vbc_new[v] < 0) continue;
+        double p[3], vel[3];
+        eo_stepi_bc_motion(st, st->sc->bc + st->vbc_new[v], v, 0, p, vel);
+        for (int k = 0; k < 3; k++) {
+            st->x[3 * v + k] = p[k];
+            st->v[3 * v + k] = st->integ->inertia ? vel[k] : 0;
+        }
+    }
+    if (!st->integ->inertia) memset(st->v, 0, (size_t)st->n_full * sizeof(double));
+    st->erestart = 1;
+    return EO_OK;
+}
+
+int eo_step_set_state(eo_step *st, const double *x, const double *v, double t)
+{
+    memcpy(st->x, x, (size_t)st->n_full * sizeof(double));
+    memcpy(st->v, v, (size_t)st->n_full * sizeof(double));
+    st->t = t;
+    st->erestart = 1;
+    return EO_OK;
+}
+
+
+int eo_step_set_index(eo_step *st, int index)
+{
+    st->index = index;
+    return EO_OK;
+}

@@ -1,0 +1,172 @@
+/* The step objective (step.h): one implicit time step as min over the FREE coordinates
+ * of
+ *
+ *     g(x) = ½‖x − x̃‖²_M + w·(E_el(x) − f_gᵀx − cᵀx) [+ springs]
+ *
+ * (w, x̃, c per integrator). Before every evaluation the free values are scattered into
+ * a full work vector whose constrained entries already hold their prescribed positions
+ * at tₙ₊₁, the terms (term.h) evaluate on the full vector, and the gradient is gathered
+ * back to the free coordinates; assembly scatters through the precomputed maps with no
+ * search, sort or allocation. Also eo_step_begin (objective and starting guess of the
+ * next step) and eo_step_end (accept xₙ₊₁). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "step_impl.h"
+
+/* ---------------------------------------------------------------- objective ops */
+
+void eo_stepi_scatter_free(eo_step *st, const double *x)
+{
+    for (int i = 0; i < st->nfree; i++) st->xw[st->free2full[i]] = x[i];
+}
+
+static double sum_energy(eo_step *st, const double *xfull)
+{
+    double e = 0;
+    for (int i = 0; i < st->nterms; i++) e += st->terms[i]->ops->energy(st->terms[i], &st->sys, xfull);
+    return isnan(e) ? INFINITY : e;
+}
+
+static int op_value(void *data, const double *x, double *g)
+{
+    eo_step *st = data;
+    eo_stepi_scatter_free(st, x);
+    *g = sum_energy(st, st->xw);
+    return EO_OK;
+}
+
+static int op_gradient(void *data, const double *x, double *g, double *grad)
+{
+    eo_step *st = data;
+    eo_stepi_scatter_free(st, x);
+    memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
+    double e = 0;
+    for (int i = 0; i < st->nterms; i++) {
+        e += st->terms[i]->ops->gradient(st->terms[i], &st->sys, st->xw, st->gfull);
+        if (!(e < INFINITY)) break;
+    }
+    *g = isfinite(e) ? e : INFINITY;
+    for (int i = 0; i < st->nfree; i++) grad[i] = st->gfull[st->free2full[i]];
+    return EO_OK;
+}
+
+static int op_hessian(void *data, const double *x, eo_proj proj, eo_csc **H)
+{
+    eo_step *st = data;
+    eo_stepi_scatter_free(st, x);
+    eo_assembler_zero(st->as);
+    for (int i = 0; i < st->nterms; i++) {
+        int rc = st->terms[i]->ops->hessian(st->terms[i], &st->sys, st->xw, proj);
+        if (rc < 0) return rc;
+    }
+    *H = eo_assembler_matrix(st->as);
+    return EO_OK;
+}
+
+static int op_metric_diag(void *data, double *d)
+{
+    eo_step *st = data;
+    for (int i = 0; i < st->nfree; i++) d[i] = st->vmass[st->free2full[i] / 3];
+    return EO_OK;
+}
+
+static int op_inverted_count(void *data, const double *x)
+{
+    eo_step *st = data;
+    eo_stepi_scatter_free(st, x);
+    int n = 0;
+    for (int k = 0; k < st->nt; k++) n += eo_stepi_tet_J(st, st->xw, k) <= 0;
+    return n;
+}
+
+static int op_constant_hessian(void *data, eo_csc **L, unsigned long *version)
+{
+    eo_step *st = data;
+    return eo_pd_matrix_get(&st->pd, &st->sys, st->terms, st->nterms, st->pattern_id,
+                            st->integ->weight ? st->integ->weight(st->h) : 1.0, L, version);
+}
+
+const eo_objective_ops eo_stepi_ops = {
+    .value = op_value,
+    .gradient = op_gradient,
+    .hessian = op_hessian,
+    .metric_diag = op_metric_diag,
+    .inverted_count = op_inverted_count,
+    .constant_hessian = op_constant_hessian,
+};
+
+
+/* ---------------------------------------------------------------- one step */
+
+int eo_step_begin(eo_step *st, eo_objective **obj)
+{
+    const double h = st->h, t1 = st->t + h;
+    int rc;
+    /* constrained set at tₙ₊₁; rebuild the pattern if it changed */
+    if ((rc = eo_stepi_update_constraints(st, t1, NULL)) < 0) return rc;
+    const double w = st->integ->weight ? st->integ->weight(h) : 1.0; /* explicit: E(x) */
+    for (int i = 0; i < st->nterms; i++) st->terms[i]->weight = w;
+    if (st->inertia) {
+        st->inertia->weight = 1;
+        st->integ->predict(st->n_full, h, st->x, st->v, st->inertia->vec);
+    }
+    if (st->linear) {
+        /* c = fₙ = −∇(E_el + gravity potential)(xₙ) */
+        memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
+        eo_term *forces[4] = {st->elastic, st->spring, st->gravity, st->collision};
+        for (int i = 0; i < 4; i++) {
+            if (!forces[i]) continue;
+            double wsave = forces[i]->weight;
+            forces[i]->weight = 1;
+            forces[i]->ops->gradient(forces[i], &st->sys, st->x, st->gfull);
+            forces[i]->weight = wsave;
+        }
+        for (int j = 0; j < st->n_full; j++) st->linear->vec[j] = -st->gfull[j];
+    }
+    /* full work vector: xₙ with prescribed positions at tₙ₊₁ */
+    memcpy(st->xw, st->x, (size_t)st->n_full * sizeof(double));
+    for (int v = 0; v < st->nv; v++) {
+        if (st->vbc[v] < 0) continue;
+        double p[3], vel[3];
+        eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
+        for (int k = 0; k < 3; k++) st->xw[3 * v + k] = p[k];
+    }
+    /* starting guess: the lower of g(xₙ) and g(x̃) */
+    for (int i = 0; i < st->nfree; i++) st->guess[i] = st->x[st->free2full[i]];
+    if (st->inertia) {
+        double g0, g1;
+        op_value(st, st->guess, &g0);
+        for (int i = 0; i < st->nfree; i++) st->vnew[i] = st->inertia->vec[st->free2full[i]];
+        op_value(st, st->vnew, &g1);
+        if (g1 < g0) memcpy(st->guess, st->vnew, (size_t)st->nfree * sizeof(double));
+    }
+    st->obj.n = st->nfree;
+    st->obj.n_value = st->obj.n_gradient = st->obj.n_hessian = 0;
+    *obj = &st->obj;
+    return EO_OK;
+}
+
+double *eo_step_guess(eo_step *st) { return st->guess; }
+
+int eo_step_end(eo_step *st, const double *x)
+{
+    if (st->integ->explicit_step)
+        return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "integrator %s is explicit: advance with eo_step_advance",
+                        st->integ->info.name);
+    const double h = st->h, t1 = st->t + h;
+    eo_stepi_scatter_free(st, x);
+    st->integ->velocity(st->n_full, h, st->x, st->v, st->xw, st->vnew);
+    for (int v = 0; v < st->nv; v++) {
+        if (st->vbc[v] < 0) continue;
+        double p[3], vel[3];
+        eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
+        for (int k = 0; k < 3; k++) st->vnew[3 * v + k] = st->integ->inertia ? vel[k] : 0;
+    }
+    memcpy(st->x, st->xw, (size_t)st->n_full * sizeof(double));
+    memcpy(st->v, st->vnew, (size_t)st->n_full * sizeof(double));
+    st->t = t1;
+    st->index++;
+    return EO_OK;
+}
