@@ -8,6 +8,10 @@
 ///   solver.linesearch  backtracking, wolfe, exact, none         (eo_linesearch_type)
 ///   solver.stop        newton_decrement, gradient               (eo_stop_type)
 ///   solver.linear      cholmod, cholmod_ldlt, ...               (eo_linsolve_type)
+/// solver.linesearch is one explicit choice (default backtracking, for newton); lbfgs and
+/// ncg are meant to run with `solver.linesearch = wolfe`, whose curvature constant c2 then
+/// defaults to the optimizer's preference (0.9 lbfgs, 0.1 ncg; eo_ls_extra.c2) and which
+/// hands back ∇g of the accepted point (one value+gradient call per trial).
 /// plus solver.tol, solver.max_iters, solver.time_budget (eo_solver_opts), and each
 /// method's parameters live in config section `solver.<method name>` (e.g.
 /// `solver.backtracking.c1`, `solver.shift.shift_init`, `solver.lbfgs.history`). Sections
@@ -239,7 +243,8 @@ typedef struct eo_solve_result {
     long n_value, n_gradient, n_hessian, n_factor;  ///< calls during this minimization
     int status;           ///< eo_status of the last library call (0 unless an error)
     long n_fallback;      ///< directions replaced by the (scaled) steepest descent one
-                          ///< (newton + hessian_fix none; lbfgs memory resets)
+                          ///< (newton + hessian_fix none; lbfgs memory resets; ncg
+                          ///< restarts because p was not a descent direction)
     long n_shifted;       ///< newton iterations whose direction needed a shift c > 0
                           ///< (the fix for `shift`, the safeguard for clamp/abs)
 } eo_solve_result;

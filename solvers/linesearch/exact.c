@@ -22,7 +22,9 @@
  * relative (φ is flat there), which could not reproduce exact-line-search iterates
  * (002 Example 2) to 1e-10; the sign of φ' keeps the bracket correct to rounding.
  * After max_evals trials the best point is returned with EO_WARN_NOT_CONVERGED (x
- * itself, α = 0, if nothing was better). A non-finite φ is never accepted. */
+ * itself, α = 0, if nothing was better). A non-finite φ is never accepted.
+ * ∇g at the returned point is handed back through eo_ls_extra (copied when lo moves), so
+ * the caller needs no further gradient call. */
 #include <float.h>
 #include <math.h>
 #include <stddef.h>

@@ -34,6 +34,8 @@
  * Decrement   λ²/2 = −∇gᵀp/2 = ∇gᵀL⁻¹∇g/2 (m = 0): L is SPD, so this is a proper
  *             metric of ∇g; the newton_decrement rule stops on it. It estimates
  *             g − g* only as well as L approximates ∇²g.
+ * The matrix handling (copy, analyze, factor once, shift) is eo_pd_factor (pd_factor.c),
+ * shared with lbfgs h0 = pd and ncg precond = pd.
  * Memory      workspace (2m + 4 vectors of n) in setup; the copy of L (and the linear
  *             solver's analysis) once per new pattern; nothing inside iterations. */
 #include <stddef.h>
