@@ -17,30 +17,23 @@ layer_of() {
     lib_*) echo 0 ;; materials_*) echo 1 ;; solvers_*) echo 2 ;; problems_*) echo 3 ;; *) echo 9 ;;
   esac
 }
-names=(lib materials solvers problems)
-for o in "$objdir"/*.o; do
-  l=$(layer_of "$o")
-  [ "$l" = 9 ] && continue
-  nm --defined-only "$o" | awk '$2 ~ /[TDRBC]/ {print $3}' | sed "s|\$| $l|" >> "$tmp/defs"
-done
-sort -u "$tmp/defs" > "$tmp/defs.s"
+# all objects in one nm call each: "file: ... type symbol" lines; layer from the object name
+lay='function lay(f) { sub(/.*\//, "", f); if (f ~ /^lib_/) return 0; if (f ~ /^materials_/) return 1;
+  if (f ~ /^solvers_/) return 2; if (f ~ /^problems_/) return 3; return 9 }'
+nm -A --defined-only "$objdir"/*.o | awk "$lay"' { split($1, a, ":"); l = lay(a[1]); if (l < 9 && $(NF-1) ~ /[TDRBC]/) print $NF, l }' |
+  sort -u > "$tmp/defs.s"
+nm -A -u "$objdir"/*.o | awk "$lay"' { split($1, a, ":"); l = lay(a[1]); f = a[1]; sub(/.*\//, "", f); if (l < 9) print $NF, f, l }' > "$tmp/uses"
 fail=0
-pass=0
-for o in "$objdir"/*.o; do
-  l=$(layer_of "$o")
-  [ "$l" = 9 ] && continue
-  while read -r sym; do
-    dl=$(awk -v s="$sym" '$1 == s {print $2; exit}' "$tmp/defs.s")
-    if [ -n "$dl" ] && [ "$dl" -gt "$l" ]; then
-      echo "FAIL: $(basename "$o") (${names[$l]}/) uses $sym defined in ${names[$dl]}/"; fail=$((fail + 1))
-    fi
-  done < <(nm -u "$o" | awk '{print $2}')
-  pass=$((pass + 1))
-  for f in system popen fork execv execvp execl execlp posix_spawn; do
-    if nm -u "$o" | awk '{print $2}' | grep -qx "$f"; then
-      echo "FAIL: $(basename "$o") calls $f (the library never spawns a process)"; fail=$((fail + 1))
-    fi
-  done
-done
+pass=$(cut -d' ' -f2 "$tmp/uses" | sort -u | wc -l)
+# one pass: a use of a symbol defined in a higher layer, or a process-spawning call
+out=$(awk -v names="lib materials solvers problems" '
+  BEGIN { split(names, nm, " ") }
+  NR == FNR { def[$1] = $2; next }
+  ($1 in def) && def[$1] > $3 { printf "FAIL: %s (%s/) uses %s defined in %s/\n", $2, nm[$3 + 1], $1, nm[def[$1] + 1] }
+  $1 ~ /^(system|popen|fork|execv|execvp|execl|execlp|posix_spawn)$/ { printf "FAIL: %s calls %s (the library never spawns a process)\n", $2, $1 }
+' "$tmp/defs.s" "$tmp/uses")
+if [ -n "$out" ]; then echo "$out"; fail=$(printf '%s\n' "$out" | wc -l); fi
+lower=$(awk 'NR == FNR { def[$1] = $2; next } ($1 in def) && def[$1] < $3' "$tmp/defs.s" "$tmp/uses" | wc -l)
+[ "$lower" -gt 100 ] || { echo "FAIL: only $lower downward references found: the check matches nothing"; fail=$((fail + 1)); }
 echo "layers: $pass passed, $fail failed"
 [ $fail -eq 0 ]
