@@ -1,6 +1,13 @@
 /* Every solver configuration reaches the same minimizer of the same step problem
- * (suite 'engine'): Newton with every registered Hessian fix, and every registered
- * line search with newton, gradient_descent and lbfgs.
+ * (suite 'engine'): Newton with every registered Hessian fix, every registered line
+ * search with newton, gradient_descent and lbfgs, and ncg (PR+, FR, HZ; lumped-mass and
+ * PD preconditioners) and lbfgs with each initial matrix h0, with the wolfe search.
+ * Then the first step of every built-in scene: lbfgs + wolfe and ncg + wolfe reach
+ * ‖∇g‖ ≤ 1e-8·‖∇g₀‖ (gradient rule) — except cantilever_static, whose gradient has a
+ * rounding floor near 1e-7 relative (Newton stagnates at 7.6e-7; lbfgs/ncg + wolfe stagnate
+ * near 3e-6 since the rest-relative stable neo-Hookean energy): there 1e-5 — with one
+ * value+gradient call per line-search trial and none after acceptance
+ * (n_value = 0, n_gradient = 1 + Σ trials).
  *
  * The step: a 0.2 m cube (3×3×3 cells, stable Neo-Hookean, E = 1e5) clamped at its
  * bottom face, starting stretched 20% along x and squeezed 10% along y, one backward
@@ -43,7 +50,8 @@ static int solve(const char *const *ov, double *x, int *n, int *iters, int *reas
 static double *xref;
 static int nref;
 
-static void compare(const char *opt, const char *fix, const char *ls, const char *stop, double tol, int max_iters)
+static void compare_x(const char *opt, const char *fix, const char *ls, const char *stop, double tol,
+                      int max_iters, const char *extra)
 {
     char o[64], f[64], l[64], st[64], t[64], m[64];
     snprintf(o, sizeof o, "solver.optimizer=%s", opt);
@@ -52,18 +60,65 @@ static void compare(const char *opt, const char *fix, const char *ls, const char
     snprintf(st, sizeof st, "solver.stop=%s", stop);
     snprintf(t, sizeof t, "solver.tol=%g", tol);
     snprintf(m, sizeof m, "solver.max_iters=%d", max_iters);
-    const char *ov[] = {o, f, l, st, t, m, NULL};
+    const char *ov[] = {o, f, l, st, t, m, extra, NULL};
     double *x = malloc((size_t)nref * sizeof(double));
     int n = 0, iters = 0, reason = 0;
     int rc = solve(ov, x, &n, &iters, &reason);
     double err = 0;
     for (int i = 0; i < n && i < nref; i++) err = fmax(err, fabs(x[i] - xref[i]));
-    printf("  %-17s %-6s %-13s %-17s %5d iterations  %-22s max |x - x*| = %.2e\n", opt, fix, ls, stop, iters,
-           eo_reason_name(reason), err);
+    printf("  %-17s %-6s %-13s %-17s %5d iterations  %-22s max |x - x*| = %.2e %s\n", opt, fix, ls, stop,
+           iters, eo_reason_name(reason), err, extra ? extra : "");
     CHECK(rc == 0 && n == nref, "%s/%s/%s: rc %d", opt, fix, ls, rc);
     CHECK(eo_reason_is_converged(reason), "%s/%s/%s: %s", opt, fix, ls, eo_reason_name(reason));
     CHECK(err < 1e-7, "%s/%s/%s: distance to the reference minimizer %g m", opt, fix, ls, err);
     free(x);
+}
+
+static void compare(const char *opt, const char *fix, const char *ls, const char *stop, double tol, int max_iters)
+{
+    compare_x(opt, fix, ls, stop, tol, max_iters, NULL);
+}
+
+typedef struct evcount {
+    long trials;
+    int records;
+} evcount;
+
+static int count_trials(const eo_iter_info *info, void *user)
+{
+    evcount *c = user;
+    c->trials += info->ls_evals;
+    c->records++;
+    return 0;
+}
+
+/* First step of a built-in scene with optimizer opt + wolfe to a relative gradient tol. */
+static void scene_first_step(const char *scene_name, const char *opt, double tol)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    char o[64], t[64];
+    snprintf(o, sizeof o, "solver.optimizer=%s", opt);
+    snprintf(t, sizeof t, "solver.tol=%g", tol);
+    const char *ov[] = {o, "solver.linesearch=wolfe", "solver.stop=gradient", t, "solver.max_iters=20000", NULL};
+    eo_sim *s = NULL;
+    int rc = eo_test_sim_open(&s, ctx, scene_name, NULL, ov);
+    CHECK(rc == 0, "%s: open", scene_name);
+    if (rc == 0) {
+        eo_solve_result r;
+        evcount c = {0, 0};
+        double *x = eo_test_sim_guess(s);
+        rc = eo_solver_minimize(eo_sim_solver(s), eo_test_sim_obj(s), x, count_trials, &c, &r);
+        CHECK(rc == 0, "%s/%s: minimize", scene_name, opt);
+        printf("  %-18s %-6s %5d iterations  %-20s |grad| %.2e  value calls %ld, gradient calls %ld = 1 + %ld "
+               "trials\n", scene_name, opt, r.iterations, eo_reason_name(r.reason), r.grad_norm, r.n_value,
+               r.n_gradient, c.trials);
+        CHECK(r.reason == EO_CONVERGED_GRADIENT, "%s/%s: %s", scene_name, opt, eo_reason_name(r.reason));
+        CHECK(r.n_value == 0 && r.n_gradient == 1 + c.trials,
+              "%s/%s: %ld value and %ld gradient calls for %ld trials", scene_name, opt, r.n_value,
+              r.n_gradient, c.trials);
+    }
+    eo_sim_destroy(&s);
+    eo_test_ctx_done(&ctx);
 }
 
 int main(void)
@@ -84,6 +139,21 @@ int main(void)
         if (strcmp(ls, "none") != 0) /* unit steps of steepest descent need not converge */
             compare("gradient_descent", "clamp", ls, "gradient", 1e-10, 20000);
     }
+    compare("ncg", "clamp", "wolfe", "gradient", 1e-10, 5000);
+    compare_x("ncg", "clamp", "wolfe", "gradient", 1e-10, 5000, "solver.ncg.beta=fr");
+    compare_x("ncg", "clamp", "wolfe", "gradient", 1e-10, 5000, "solver.ncg.beta=hz");
+    compare_x("ncg", "clamp", "wolfe", "gradient", 1e-10, 5000, "solver.ncg.precond=pd");
+    compare_x("ncg", "clamp", "wolfe", "gradient", 1e-10, 5000, "solver.ncg.precond=none");
+    compare_x("lbfgs", "clamp", "wolfe", "gradient", 1e-10, 5000, "solver.lbfgs.h0=pd");
+    compare_x("lbfgs", "clamp", "wolfe", "gradient", 1e-10, 5000, "solver.lbfgs.h0=scaled_identity");
     free(xref);
+
+    printf("built-in scenes, first step, wolfe line search, gradient rule:\n");
+    const char *scenes[] = {"cantilever", "twist", "stretch", "inverted", "drop", "freefall", "cantilever_static"};
+    for (int i = 0; i < 7; i++) {
+        double tol = strcmp(scenes[i], "cantilever_static") == 0 ? 1e-5 : 1e-8;
+        scene_first_step(scenes[i], "lbfgs", tol);
+        scene_first_step(scenes[i], "ncg", tol);
+    }
     return eo_test_finish("test_engine_solvers");
 }

@@ -154,7 +154,9 @@ static void test_solvers(void)
         int newton_like = strcmp(name, "newton") == 0;
         const char *ov[] = {o1, newton_like ? "solver.stop=newton_decrement" : "solver.stop=gradient",
                             newton_like ? "solver.tol=1e-22" : "solver.tol=1e-13",
-                            strcmp(name, "gradient_descent") == 0 ? "solver.linesearch=exact" : "solver.linesearch=backtracking",
+                            strcmp(name, "gradient_descent") == 0 ? "solver.linesearch=exact"
+                            : strcmp(name, "ncg") == 0            ? "solver.linesearch=wolfe"
+                                                                  : "solver.linesearch=backtracking",
                             "solver.max_iters=100000", "solver.nlopt.algorithm=tnewton", NULL};
         /* (nlopt: its L-BFGS ends with NLOPT_FTOL_REACHED near 3e-8 from the solution even
          * with ftol_rel = 0; the preconditioned truncated Newton reaches 1e-10 gradients) */

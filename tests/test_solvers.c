@@ -79,10 +79,12 @@ static int run(eo_ctx *ctx, tprob *p, const run_cfg *rc, double *x, tlog *L, eo_
 }
 
 /* ---- the sweep ----------------------------------------------------------------------- */
-static const char *const optimizers[] = {"newton", "gradient_descent", "lbfgs"};
+static const char *const optimizers[] = {"newton", "gradient_descent", "lbfgs", "ncg"};
+#define N_OPT 4
 static const char *hessfixes[32]; /* every registered Hessian fix (main fills it) */
 static size_t n_hessfixes;
-static const char *const linesearches[] = {"backtracking", "exact", "none"};
+static const char *const linesearches[] = {"backtracking", "exact", "none", "wolfe"};
+#define N_LS 4
 static const char *const stops[] = {"newton_decrement", "gradient"};
 
 /* 1 if the combination must reach the minimizer (else it must only end with a reason). */
@@ -90,7 +92,9 @@ static int must_converge(int prob, const char *opt, const char *hf, const char *
 {
     int nonconvex = prob == P_ROSEN || prob == P_DWELL;
     if (strcmp(ls, "none") == 0) /* full steps: only where they provably work */
-        return (prob == P_QUAD || prob == P_ILL) && strcmp(opt, "lbfgs") != 0;
+        return (prob == P_QUAD || prob == P_ILL) && strcmp(opt, "lbfgs") != 0 && strcmp(opt, "ncg") != 0;
+    if (strcmp(opt, "ncg") == 0) /* CG needs a (near-)exact search: Armijo alone may stall */
+        return strcmp(ls, "backtracking") != 0;
     if (strcmp(opt, "newton") == 0) return !(nonconvex && strcmp(hf, "none") == 0);
     if (strcmp(opt, "gradient_descent") == 0) return prob != P_ROSEN;
     return 1;
@@ -104,15 +108,15 @@ static void test_sweep(void)
     for (int pk = 0; pk < P_COUNT; pk++) {
         tprob p;
         prob_init(ctx, &p, pk);
-        for (size_t oi = 0; oi < 3; oi++)
+        for (size_t oi = 0; oi < N_OPT; oi++)
             for (size_t hi = 0; hi < n_hessfixes; hi++) {
                 int newton = oi == 0;
                 if (!newton && strcmp(hessfixes[hi], "clamp") != 0) continue; /* only newton's */
-                for (size_t li = 0; li < 3; li++)
+                for (size_t li = 0; li < N_LS; li++)
                     for (size_t si = 0; si < 2; si++) {
                         run_cfg rc = {.opt = optimizers[oi], .hf = hessfixes[hi], .ls = linesearches[li],
                                       .stop = stops[si], .tol = si == 0 ? 1e-16 : 1e-10,
-                                      .max_iters = newton ? 100 : oi == 1 ? 5000 : 1000};
+                                      .max_iters = newton ? 100 : oi == 1 || oi == 3 ? 5000 : 1000};
                         double x[NMAX];
                         eo_solve_result res;
                         p.n_inf = 0;
@@ -159,7 +163,7 @@ static void test_barrier_infinite_trials(void)
     static tlog L;
     tprob p;
     prob_init(ctx, &p, P_BARRIER);
-    for (size_t li = 0; li < 3; li++) {
+    for (size_t li = 0; li < N_LS; li++) {
         run_cfg rc = {.opt = "newton", .hf = "shift", .ls = linesearches[li], .tol = 1e-16};
         double x[NMAX];
         eo_solve_result res;
@@ -301,7 +305,7 @@ static void test_max_iters_and_stops(void)
         tprob q;
         prob_init(ctx, &q, P_BARRIER);
         q.x0[2] = -1;
-        for (size_t oi = 0; oi < 3; oi++) {
+        for (size_t oi = 0; oi < N_OPT; oi++) {
             run_cfg r1 = {.opt = optimizers[oi]};
             run(ctx, &q, &r1, x, &L, &res);
             CHECK(res.reason == EO_DIVERGED_NONFINITE && res.iterations == 0 && L.count == 1,
@@ -379,8 +383,8 @@ static void test_no_alloc(void)
     for (int pk = 0; pk < P_COUNT; pk++) {
         tprob p;
         prob_init(ctx, &p, pk);
-        for (size_t oi = 0; oi < 3; oi++)
-            for (size_t li = 0; li < 3; li++) {
+        for (size_t oi = 0; oi < N_OPT; oi++)
+            for (size_t li = 0; li < N_LS; li++) {
                 eo_solver_opts o;
                 eo_solver_opts_default(&o);
                 snprintf(o.optimizer, sizeof o.optimizer, "%s", optimizers[oi]);
@@ -434,7 +438,7 @@ static void test_config(void)
     eo_solver *s = NULL;
     CHECK(eo_solver_create(ctx, &o, cfg, &s) == EO_OK, "%s", eo_ctx_message(ctx));
     CHECK(eo_cfg_finish(ctx, cfg) == EO_OK, "unselected sections consumed: %s", eo_ctx_message(ctx));
-    CHECK(s && eo_solver_get_linsolve(s) == NULL, "no linear solver for lbfgs");
+    CHECK(s && eo_solver_get_linsolve(s) != NULL, "lbfgs has a linear solver (used with h0 = pd)");
     if (s) {
         json_t *j = eo_solver_to_json(s);
         json_t *h = json_object_get(json_object_get(j, "lbfgs"), "history");
@@ -468,9 +472,9 @@ static void test_config(void)
     }
     /* names set in C, not from a config */
     eo_solver_opts_default(&o);
-    snprintf(o.linesearch, sizeof o.linesearch, "wolfe");
+    snprintf(o.linesearch, sizeof o.linesearch, "wolf");
     CHECK(eo_solver_create(ctx, &o, NULL, &s) == EO_ERR_UNKNOWN_NAME &&
-              strstr(eo_ctx_message(ctx), "backtracking, exact, none"),
+              strstr(eo_ctx_message(ctx), "backtracking, wolfe, exact, none"),
           "unknown line search message: %s", eo_ctx_message(ctx));
     CHECK(s == NULL, "no object on failure");
     /* no two solver-section methods with parameters share a name across kinds */
@@ -510,6 +514,118 @@ static void test_proj2(void)
     proj2(A, EO_PROJ_ABS);
     CHECK(fabs(K[0] - 1.5) + fabs(K[1] - 1.5) + fabs(K[2] - 1.5) + fabs(K[3] - 1.5) < 1e-14, "clamp");
     CHECK(fabs(A[0] - 2) + fabs(A[1] - 1) + fabs(A[2] - 1) + fabs(A[3] - 2) < 1e-14, "abs");
+}
+
+/* ---- wolfe on the test functions of Moré & Thuente (1994), Table 1-3 --------------------
+ * φ(α) as a 1-variable objective g(x) = φ(x), searched from x = 0 along p = 1. */
+typedef struct mt_fun {
+    int which;
+    double beta;
+} mt_fun;
+
+static double mt_phi(const mt_fun *f, double a, double *d)
+{
+    double b = f->beta;
+    switch (f->which) {
+    case 1: { /* φ = −α/(α² + β) */
+        double q = a * a + b;
+        *d = (a * a - b) / (q * q);
+        return -a / q;
+    }
+    case 2: { /* φ = (α + β)⁵ − 2(α + β)⁴ */
+        double t = a + b;
+        *d = 5 * pow(t, 4) - 8 * pow(t, 3);
+        return pow(t, 5) - 2 * pow(t, 4);
+    }
+    default: { /* φ = φ₀(α) + 2(1 − β)/(lπ) sin(lπα/2), l = 39, β = 0.01 */
+        const double l = 39, pi = 3.14159265358979323846;
+        double p0, d0;
+        if (a <= 1 - b) p0 = 1 - a, d0 = -1;
+        else if (a >= 1 + b) p0 = a - 1, d0 = 1;
+        else p0 = (a - 1) * (a - 1) / (2 * b) + b / 2, d0 = (a - 1) / b;
+        *d = d0 + (1 - b) * cos(l * pi * a / 2);
+        return p0 + 2 * (1 - b) / (l * pi) * sin(l * pi * a / 2);
+    }
+    }
+}
+
+static int mt_value(void *data, const double *x, double *g)
+{
+    double d;
+    *g = mt_phi(data, x[0], &d);
+    return EO_OK;
+}
+static int mt_gradient(void *data, const double *x, double *g, double *grad)
+{
+    *g = mt_phi(data, x[0], grad);
+    return EO_OK;
+}
+static const eo_objective_ops mt_ops = {.value = mt_value, .gradient = mt_gradient};
+
+static void test_wolfe_more_thuente(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    /* Moré–Thuente's parameters: functions 1, 2 with c1 = 1e-3, c2 = 0.1; function 3 with
+     * c1 = c2 = 0.1; starts 1e-3, 1e-1, 1e1, 1e3 */
+    const mt_fun funs[3] = {{1, 2}, {2, 0.004}, {3, 0.01}};
+    const double c1s[3] = {1e-3, 1e-3, 0.1}, c2s[3] = {0.1, 0.1, 0.1};
+    const double starts[4] = {1e-3, 1e-1, 1e1, 1e3};
+    int accepted = 0;
+    for (int fi = 0; fi < 3; fi++)
+        for (int si = 0; si < 4; si++) {
+            mt_fun f = funs[fi];
+            eo_objective obj = {.n = 1, .ops = &mt_ops, .data = &f};
+            double x = 0, p = 1, d0, g0 = mt_phi(&f, 0, &d0), xnew, gnew = NAN, alpha = 0, work, gradnew = NAN;
+            int nev = 0;
+            eo_wolfe_params wp = {.c1 = c1s[fi], .c2 = c2s[fi], .max_evals = 40, .noise = 1e-10};
+            eo_ls_extra ex = {.grad_new = &gradnew, .have_grad = 0, .c2 = 0};
+            int rc = eo_linesearch_wolfe.search(&wp, &obj, &x, &p, g0, d0, starts[si], &xnew, &gnew, &alpha,
+                                                &nev, &work, ctx, &ex);
+            double d, fa = mt_phi(&f, alpha, &d);
+            printf("  More-Thuente %d from %-6g: alpha %-12.6g phi' %-11.3g evals %2d %s\n", fi + 1, starts[si],
+                   alpha, d, nev, rc == EO_OK ? "ok" : "not converged");
+            CHECK(rc == EO_OK, "MT%d from %g: rc %d", fi + 1, starts[si], rc);
+            CHECK(nev == (int)obj.n_gradient && obj.n_value == 0, "MT%d: %d trials, %ld gradient and %ld value calls",
+                  fi + 1, nev, obj.n_gradient, obj.n_value);
+            if (rc != EO_OK) continue;
+            accepted++;
+            CHECK(xnew == alpha && gnew == fa, "MT%d from %g: returned point/value", fi + 1, starts[si]);
+            CHECK(fa <= g0 + wp.c1 * alpha * d0, "MT%d from %g: sufficient decrease %g > %g", fi + 1, starts[si],
+                  fa, g0 + wp.c1 * alpha * d0);
+            CHECK(fabs(d) <= wp.c2 * fabs(d0), "MT%d from %g: |phi'| = %g > c2|phi'(0)| = %g", fi + 1, starts[si],
+                  fabs(d), wp.c2 * fabs(d0));
+            CHECK(ex.have_grad == 1 && gradnew == d, "MT%d from %g: returned gradient %g, exact %g", fi + 1,
+                  starts[si], gradnew, d);
+        }
+    CHECK(accepted == 12, "%d of 12 searches accepted", accepted);
+    eo_test_ctx_done(&ctx);
+}
+
+/* lbfgs and ncg with wolfe: one gradient call per trial plus the start, no value call. */
+static void test_wolfe_evaluations(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    static tlog L;
+    const char *opts[2] = {"lbfgs", "ncg"};
+    for (int pk = 0; pk < P_COUNT; pk++) {
+        tprob p;
+        prob_init(ctx, &p, pk);
+        for (int oi = 0; oi < 2; oi++) {
+            run_cfg rc = {.opt = opts[oi], .ls = "wolfe", .stop = "gradient", .tol = 1e-8, .max_iters = 5000};
+            double x[NMAX];
+            eo_solve_result res;
+            run(ctx, &p, &rc, x, &L, &res);
+            long trials = 0;
+            for (int k = 0; k < L.count && k < LOGMAX; k++) trials += L.rec[k].ls_evals;
+            CHECK(res.reason == EO_CONVERGED_GRADIENT && res.grad_norm <= 1e-8 * L.rec[0].grad_norm,
+                  "%s/%s: %s, |grad| %g", p.name, rc.opt, eo_reason_name(res.reason), res.grad_norm);
+            CHECK(res.n_value == 0 && res.n_gradient == 1 + trials,
+                  "%s/%s: %ld value, %ld gradient calls for %ld trials", p.name, rc.opt, res.n_value,
+                  res.n_gradient, trials);
+        }
+        prob_done(ctx, &p);
+    }
+    eo_test_ctx_done(&ctx);
 }
 
 /* A solver is created without the problem size: it sizes its workspace at the first
@@ -565,6 +681,8 @@ int main(void)
 {
     for (const void *const *t = eo_registry_list(EO_KIND_HESSFIX); *t && n_hessfixes < 32; t++)
         hessfixes[n_hessfixes++] = eo_method_info_of(*t)->name;
+    test_wolfe_more_thuente();
+    test_wolfe_evaluations();
     test_lazy_size();
     test_proj2();
     test_config();

@@ -156,7 +156,7 @@ static int hb_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
         double gnew = NAN, alpha = 0;
         int nev = 0;
         rc = sc->linesearch->search(sc->linesearch_params, obj, x, st->v, g, dg, alpha0, st->x_new, &gnew, &alpha,
-                                    &nev, st->work, sc->ctx);
+                                    &nev, st->work, sc->ctx, NULL);
         if (rc < 0) return rc;
         info.ls_evals = nev;
         if (!isfinite(gnew) || !(gnew < g) || !(alpha > 0)) {

@@ -2,13 +2,17 @@
 /// Optimizers, Hessian fixes, line searches and stopping rules, each chosen by name.
 ///
 /// The solver of one step problem is assembled from four pluggable pieces:
-///   solver.optimizer   newton, gradient_descent, lbfgs,
+///   solver.optimizer   newton, gradient_descent, lbfgs, ncg,
 ///                      projective_dynamics                      (eo_optimizer_type)
 ///   solver.hessian_fix none, shift, clamp, abs, project_on_demand,
 ///                      progressive, trust_region_filter         (eo_hessfix_type)
-///   solver.linesearch  backtracking, exact, none                (eo_linesearch_type)
+///   solver.linesearch  backtracking, wolfe, exact, none         (eo_linesearch_type)
 ///   solver.stop        newton_decrement, gradient               (eo_stop_type)
 ///   solver.linear      cholmod, cholmod_ldlt, ...               (eo_linsolve_type)
+/// solver.linesearch is one explicit choice (default backtracking, for newton); lbfgs and
+/// ncg are meant to run with `solver.linesearch = wolfe`, whose curvature constant c2 then
+/// defaults to the optimizer's preference (0.9 lbfgs, 0.1 ncg; eo_ls_extra.c2) and which
+/// hands back ∇g of the accepted point (one value+gradient call per trial).
 /// plus solver.tol, solver.max_iters, solver.time_budget (eo_solver_opts), and each
 /// method's parameters live in config section `solver.<method name>` (e.g.
 /// `solver.backtracking.c1`, `solver.shift.shift_init`, `solver.lbfgs.history`). Sections
@@ -98,18 +102,31 @@ typedef struct eo_stop_type {
     int needs_direction;  ///< 1 if the rule needs the decrement (newton_decrement)
 } eo_stop_type;
 
+/// Optional inputs and outputs of one line search call (the `extra` argument of
+/// eo_linesearch_type.search; NULL = none of them).
+typedef struct eo_ls_extra {
+    double *grad_new;    ///< in: n doubles for ∇g(xnew), or NULL if the caller does not want it
+    int have_grad;       ///< out: 1 if grad_new holds ∇g at the returned xnew (exactly the
+                         ///< gradient call that produced *gnew), 0 if the caller must evaluate it
+    double c2;           ///< in: curvature constant the optimizer prefers (0 = no preference);
+                         ///< used by wolfe when its own c2 is 0 (auto): 0.9 quasi-Newton, 0.1 CG
+} eo_ls_extra;
+
 typedef struct eo_linesearch_type {
     eo_method_info info;
     /// Find α along p from x (g0 = g(x), dg0 = ∇g(x)ᵀp < 0). Writes the accepted point
     /// to xnew and g(xnew) to *gnew, the step to *alpha, objective evaluations (value
     /// or gradient calls) to *nevals. `work` is caller scratch of n doubles.
     /// A trial with non-finite g is never accepted. `alpha0` is the first trial.
+    /// `extra` (may be NULL): searches that evaluate gradients (wolfe, exact) fill
+    /// extra->grad_new with ∇g(xnew) and set extra->have_grad = 1, so the caller needs no
+    /// further evaluation at the accepted point; the others set have_grad = 0.
     /// Returns EO_OK, a positive warning EO_WARN_NOT_CONVERGED when no acceptable step
     /// was found (then xnew/gnew hold the best point found, possibly x with *alpha = 0),
     /// or a negative status from the objective.
     int (*search)(const void *params, eo_objective *obj, const double *x, const double *p,
                   double g0, double dg0, double alpha0, double *xnew, double *gnew,
-                  double *alpha, int *nevals, double *work, eo_ctx *ctx);
+                  double *alpha, int *nevals, double *work, eo_ctx *ctx, eo_ls_extra *extra);
 } eo_linesearch_type;
 
 /// Hessian fix: how an optimizer that factors a Hessian (newton, projective_dynamics)
@@ -268,8 +285,31 @@ typedef struct eo_gradient_descent_params {
 /// L-BFGS (config `solver.lbfgs.*`).
 typedef struct eo_lbfgs_params {
     int history;         ///< stored pairs m (default 8)
-    int scaled;          ///< initial inverse Hessian γ·D⁻¹ with D = metric (true)
+    char h0[16];         ///< initial inverse Hessian: "scaled_identity" (γI), "lumped_mass"
+                         ///< (γD⁻¹, D = objective metric) or "pd" (L⁻¹, L the objective's
+                         ///< constant_hessian factored once with solver.linear) (lumped_mass)
 } eo_lbfgs_params;
+
+/// Nonlinear conjugate gradients (config `solver.ncg.*`).
+typedef struct eo_ncg_params {
+    char beta[16];       ///< "pr_plus" (Polak–Ribière+), "fr" (Fletcher–Reeves), "hz"
+                         ///< (Hager–Zhang) (default pr_plus)
+    char precond[16];    ///< "none", "lumped_mass" (D⁻¹) or "pd" (L⁻¹) (default lumped_mass)
+    int restart;         ///< restart with p = −P⁻¹∇g every `restart` iterations, 0 = every
+                         ///< n (number of variables) (default 0)
+    double powell;       ///< restart when |∇gₖᵀP⁻¹∇gₖ₋₁| ≥ powell·∇gₖᵀP⁻¹∇gₖ, 0 = never (0.2)
+} eo_ncg_params;
+
+/// Wolfe line search (config `solver.wolfe.*`).
+typedef struct eo_wolfe_params {
+    double c1;           ///< sufficient decrease constant (1e-4)
+    double c2;           ///< curvature constant |φ'(α)| ≤ c2|φ'(0)|, c1 < c2 < 1; 0 = the
+                         ///< optimizer's preference (lbfgs 0.9, ncg 0.1), else 0.9 (0)
+    int max_evals;       ///< trials (value+gradient each) before giving up (40)
+    double noise;        ///< relative resolution of g: values within noise·|g(x)| of each
+                         ///< other are equal and the approximate Wolfe test (Hager–Zhang)
+                         ///< on φ' decides (1e-10)
+} eo_wolfe_params;
 
 /// Projective dynamics / its quasi-Newton form (config `solver.projective_dynamics.*`).
 typedef struct eo_projective_dynamics_params {
@@ -328,7 +368,8 @@ typedef struct eo_solve_result {
     long n_value, n_gradient, n_hessian, n_factor;  ///< calls during this minimization
     int status;           ///< eo_status of the last library call (0 unless an error)
     long n_fallback;      ///< directions replaced by the (scaled) steepest descent one
-                          ///< (newton + hessian_fix none; lbfgs memory resets)
+                          ///< (newton + hessian_fix none; lbfgs memory resets; ncg
+                          ///< restarts because p was not a descent direction)
     long n_shifted;       ///< newton iterations whose direction needed a shift c > 0
                           ///< (the fix for `shift`, the safeguard for clamp/abs)
     double projected;     ///< mean over the directions of this minimization of the
@@ -352,12 +393,12 @@ typedef struct eo_optimizer_type {
 } eo_optimizer_type;
 
 EO_API extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_gradient_descent,
-    eo_optimizer_lbfgs, eo_optimizer_projective_dynamics;
+    eo_optimizer_lbfgs, eo_optimizer_ncg, eo_optimizer_projective_dynamics;
 EO_API extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfix_clamp,
     eo_hessfix_abs, eo_hessfix_project_on_demand, eo_hessfix_progressive,
     eo_hessfix_trust_region_filter;
-EO_API extern const eo_linesearch_type eo_linesearch_backtracking, eo_linesearch_exact,
-    eo_linesearch_none;
+EO_API extern const eo_linesearch_type eo_linesearch_backtracking, eo_linesearch_wolfe,
+    eo_linesearch_exact, eo_linesearch_none;
 EO_API extern const eo_stop_type eo_stop_newton_decrement, eo_stop_gradient;
 
 /// Shared helper for optimizers: report an iteration (fills time = now − t0, calls

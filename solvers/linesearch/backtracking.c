@@ -29,11 +29,13 @@ static const eo_param_desc bt_desc[] = {
 
 static int bt_search(const void *params, eo_objective *obj, const double *x, const double *p,
                      double g0, double dg0, double alpha0, double *xnew, double *gnew,
-                     double *alpha, int *nevals, double *work, eo_ctx *ctx)
+                     double *alpha, int *nevals, double *work, eo_ctx *ctx,
+                     eo_ls_extra *extra)
 {
     eo_backtracking_params def;
     const eo_backtracking_params *bp = params;
     (void)work, (void)ctx;
+    if (extra) extra->have_grad = 0; /* values only */
     if (!bp) {
         eo_params_default(bt_desc, &def);
         bp = &def;

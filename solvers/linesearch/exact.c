@@ -22,10 +22,13 @@
  * relative (φ is flat there), which could not reproduce exact-line-search iterates
  * (002 Example 2) to 1e-10; the sign of φ' keeps the bracket correct to rounding.
  * After max_evals trials the best point is returned with EO_WARN_NOT_CONVERGED (x
- * itself, α = 0, if nothing was better). A non-finite φ is never accepted. */
+ * itself, α = 0, if nothing was better). A non-finite φ is never accepted.
+ * ∇g at the returned point is handed back through eo_ls_extra (copied when lo moves), so
+ * the caller needs no further gradient call. */
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "trial.h"
 
@@ -88,12 +91,14 @@ static double interpolate(const pt *lo, const pt *hi)
 
 static int exact_search(const void *params, eo_objective *obj, const double *x, const double *p,
                         double g0, double dg0, double alpha0, double *xnew, double *gnew,
-                        double *alpha, int *nevals, double *work, eo_ctx *ctx)
+                        double *alpha, int *nevals, double *work, eo_ctx *ctx,
+                     eo_ls_extra *extra)
 {
     eo_exact_params def;
     const eo_exact_params *ep = params;
     const int n = obj->n;
     (void)ctx;
+    if (extra) extra->have_grad = 0;
     if (!ep) {
         eo_params_default(exact_desc, &def);
         ep = &def;
@@ -102,6 +107,13 @@ static int exact_search(const void *params, eo_objective *obj, const double *x, 
     const double noise = 4 * DBL_EPSILON * fabs(g0); /* values closer than this tie */
     pt lo = {0, g0, dg0}, hi = {NAN, NAN, NAN}, t;
     int have_hi = 0, converged = 0, rc;
+    /* ∇g at lo is kept in extra->grad_new (when given): copied from work when lo moves */
+    double *glo = extra ? extra->grad_new : NULL;
+#define SET_LO(v)                                                                        \
+    do {                                                                                 \
+        lo = (v);                                                                        \
+        if (glo) memcpy(glo, work, (size_t)n * sizeof(double));                          \
+    } while (0)
     double a = eo_ls_first_step(alpha0);
     *nevals = 0;
 
@@ -114,17 +126,17 @@ static int exact_search(const void *params, eo_objective *obj, const double *x, 
             break;
         }
         if (fabs(t.d) <= dtol) {
-            lo = t;
+            SET_LO(t);
             converged = 1;
             break;
         }
         if (t.d > 0) {
             hi = lo;
-            lo = t;
+            SET_LO(t);
             have_hi = 1;
             break;
         }
-        lo = t;
+        SET_LO(t);
         a *= 2;
         if (!isfinite(a)) break;
     }
@@ -149,12 +161,12 @@ static int exact_search(const void *params, eo_objective *obj, const double *x, 
             hi = t;
         } else {
             if (fabs(t.d) <= dtol) {
-                lo = t;
+                SET_LO(t);
                 converged = 1;
                 break;
             }
             if (t.d * (hi.a - lo.a) >= 0) hi = lo;
-            lo = t;
+            SET_LO(t);
         }
         double wn = fabs(hi.a - lo.a);
         if (wn > 0.5 * width_ref) {
@@ -171,8 +183,10 @@ static int exact_search(const void *params, eo_objective *obj, const double *x, 
 
     if (!(lo.a > 0)) return eo_ls_give_up(n, x, g0, xnew, gnew, alpha);
     eo_ls_point(n, x, p, lo.a, xnew);
+#undef SET_LO
     *gnew = lo.f;
     *alpha = lo.a;
+    if (glo) extra->have_grad = 1;
     return converged ? EO_OK : EO_WARN_NOT_CONVERGED;
 }
 

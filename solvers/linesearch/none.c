@@ -11,9 +11,11 @@
 
 static int none_search(const void *params, eo_objective *obj, const double *x, const double *p,
                        double g0, double dg0, double alpha0, double *xnew, double *gnew,
-                       double *alpha, int *nevals, double *work, eo_ctx *ctx)
+                       double *alpha, int *nevals, double *work, eo_ctx *ctx,
+                     eo_ls_extra *extra)
 {
     (void)params, (void)dg0, (void)work, (void)ctx;
+    if (extra) extra->have_grad = 0; /* values only */
     double a = eo_ls_first_step(alpha0);
     *nevals = 0;
     for (int k = 0; k <= 60; k++) {

@@ -1,4 +1,5 @@
-/* The line-search descent loop shared by newton, gradient_descent and lbfgs.
+/* The line-search descent loop shared by newton, gradient_descent, lbfgs, ncg and
+ * projective_dynamics.
  *
  * At iterate x_k (k = 0, 1, ...):
  *   g_k = g(x_k), ∇g_k                                  (one gradient call)
@@ -9,7 +10,8 @@
  *   ∇g_kᵀp_k ≥ 0 or non-finite            → EO_DIVERGED_NOT_DESCENT
  *   λ_k²/2 = −α₀∇g_kᵀp_k/2;  stop rule with direction → e.g. EO_CONVERGED_DECREMENT
  *   k = max_iters                         → EO_DIVERGED_MAX_ITERS
- *   line search from x_k along p_k, first trial α₀ → x_{k+1}
+ *   line search from x_k along p_k, first trial α₀ → x_{k+1} and, from searches that
+ *     evaluate gradients (wolfe, exact), ∇g(x_{k+1}) (else one more gradient call)
  *     accepted when the search returns EO_OK, or a warning but g(x_{k+1}) < g_k;
  *     else                                → EO_DIVERGED_LINESEARCH (x stays x_k)
  *   record k is reported (callback non-zero → EO_DIVERGED_EXTERNAL, x stays x_k)
@@ -20,11 +22,11 @@
  *   would spend its whole iteration budget (and ~35 evaluations per iteration) at the
  *   rounding floor.
  *   Likewise EO_DESCENT_WEAK_LIMIT accepted steps in a row without SIGNIFICANT progress
- *   (g decreasing by more than 1e-13·|g|, or ‖∇g‖ below 0.9 times its best significant
+ *   (g decreasing by more than 1e-15·|g|, or ‖∇g‖ below 0.9 times its best significant
  *   value) → EO_DIVERGED_STAGNATED: at the floor g and ‖∇g‖ wander at the rounding
  *   level and set new "records" by noise now and then, which the rule above counts as
  *   progress (measured: Newton on the twist with a relative gradient tolerance of 1e-18
- *   ran 182 iterations at the floor before it).
+ *   ran 182 iterations at the floor before it; with this rule 20-80).
  * The last record carries the reason. Converged reasons are checked before the
  * iteration cap, so a run that converges exactly at k = max_iters says so.
  * Nothing here allocates. */
@@ -146,8 +148,9 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         }
         double gnew = NAN, alpha = 0;
         int nev = 0;
+        eo_ls_extra ex = {.grad_new = grad_new, .have_grad = 0, .c2 = ops->ls_c2};
         rc = sc->linesearch->search(sc->linesearch_params, obj, x, p, g, dg, alpha0, w->x_new,
-                                    &gnew, &alpha, &nev, w->work, sc->ctx);
+                                    &gnew, &alpha, &nev, w->work, sc->ctx, &ex);
         info.ls_evals = nev;
         if (rc < 0) goto done;
         if (!isfinite(gnew) || !(rc == EO_OK || gnew < g) || !(alpha > 0)) {
@@ -164,10 +167,12 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
             reason = EO_DIVERGED_EXTERNAL;
             break;
         }
-        /* accept */
-        double gchk;
-        rc = eo_objective_gradient(obj, w->x_new, &gchk, grad_new);
-        if (rc < 0) goto done;
+        /* accept: the gradient at x_{k+1} from the line search if it has it, else one call */
+        double gchk = gnew;
+        if (!ex.have_grad) {
+            rc = eo_objective_gradient(obj, w->x_new, &gchk, grad_new);
+            if (rc < 0) goto done;
+        }
         if (ops->accepted) ops->accepted(st, params, x, w->x_new, grad, grad_new, p, alpha);
         double s2 = 0;
         for (int i = 0; i < n; i++) {
@@ -184,7 +189,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
         last_dec = NAN;
         stalled = (g < g_prev || gn < gn_best) ? 0 : stalled + 1;
-        if (g < g_prev - 1e-13 * fabs(g_prev) || gn < 0.9 * gn_sig) {
+        if (g < g_prev - 1e-15 * fabs(g_prev) || gn < 0.9 * gn_sig) {
             weak = 0;
             if (gn < gn_sig) gn_sig = gn;
         } else {

@@ -38,6 +38,9 @@ typedef struct eo_descent_ops {
     /* The step x → x_new (length alpha along p) was accepted. May be NULL. */
     void (*accepted)(void *st, const void *params, const double *x, const double *x_new,
                      const double *grad, const double *grad_new, const double *p, double alpha);
+    /* Curvature constant this optimizer prefers from a Wolfe line search (eo_ls_extra.c2;
+     * 0 = no preference): 0.9 quasi-Newton, 0.1 nonlinear CG. */
+    double ls_c2;
 } eo_descent_ops;
 
 int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,

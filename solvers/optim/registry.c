@@ -14,6 +14,7 @@ const void *const eo_registry_optimizer[] = {
     &eo_optimizer_newton,
     &eo_optimizer_gradient_descent,
     &eo_optimizer_lbfgs,
+    &eo_optimizer_ncg,
     &eo_optimizer_projective_dynamics,
 #if EO_HAVE_NLOPT
     &eo_optimizer_nlopt,
