@@ -25,7 +25,7 @@ typedef struct cholmod_params {
     int openmp;        /* CHOLMOD's internal OpenMP loops; default false */
 } cholmod_params;
 
-static const char *const orderings[] = {"auto", "amd", "natural", NULL};
+static const char *const orderings[] = EO_CHM_ORDERINGS;
 
 static const eo_param_desc cholmod_desc[] = {
     {.key = "ordering", .kind = EO_PARAM_CHOICE, .offset = offsetof(cholmod_params, ordering),

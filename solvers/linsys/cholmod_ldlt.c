@@ -26,7 +26,7 @@ typedef struct ldlt_params {
     int openmp;           /* CHOLMOD's internal OpenMP loops; default false */
 } ldlt_params;
 
-static const char *const orderings[] = {"auto", "amd", "natural", NULL};
+static const char *const orderings[] = EO_CHM_ORDERINGS;
 
 static const eo_param_desc ldlt_desc[] = {
     {.key = "ordering", .kind = EO_PARAM_CHOICE, .offset = offsetof(ldlt_params, ordering),
