@@ -22,7 +22,7 @@
  *   newton    PCG+AMG, PCG+IC(0), PCG+cholmod_reuse and CHOLMOD (default ordering) on
  *             the nsys systems, rtol 1e-8: setup (analyze + factor: AMG hierarchy, IC(0),
  *             CHOLMOD numeric factor) and solve time per system, PCG iterations;
- *             methods interleaved inside each repeat; median and spread of the
+ *             pcg+amg-r0 is AMG without the rigid-body modes; methods interleaved inside each repeat; median and spread of the
  *             per-repeat totals. cholmod_reuse factors H_0 and reuses it for H_1, ...
  *
  *   bench_linsolve [case ...]     cases: grid10 (3 000 dofs), grid20 (24 000 dofs),
@@ -404,6 +404,7 @@ static void bench_newton(const bar_case *bc, const bar_systems *S)
     const nt_method ms[] = {
 #if EO_HAVE_HYPRE
         {"pcg+amg", "pcg", "amg"},
+        {"pcg+amg-r0", "pcg", "amg"}, /* without the rigid-body modes */
 #endif
         {"pcg+ic0", "pcg", "ic0"},
         {"pcg+reuse", "pcg", "cholmod_reuse"},
@@ -428,6 +429,8 @@ static void bench_newton(const bar_case *bc, const bar_systems *S)
                 const eo_param_desc *d = eo_params_find(t->info.params, "preconditioner");
                 snprintf((char *)params + d->offset, d->size, "%s", ms[m].precond);
                 *(double *)((char *)params + eo_params_find(t->info.params, "tol")->offset) = 1e-8;
+                if (strstr(ms[m].label, "-r0"))
+                    *(int *)((char *)params + eo_params_find(t->info.params, "amg_rbm")->offset) = 0;
             }
             eo_linsolve *ls = NULL;
             int rc = eo_linsolve_create(ctx, t, params, &ls);

@@ -9,8 +9,21 @@
  * EO_WARN_NOT_PD with the original column of the failing pivot (Perm[L->minor]).
  * A is passed to CHOLMOD as a header over our upper CSC (stype = +1), not copied.
  *
+ * Default ordering chosen by measurement (bench/bench_linsolve, bar cases: clamp-projected
+ * Newton Hessians of the generated twist bar, numeric supernodal factorization, one BLAS
+ * thread, 3-5 interleaved repeats, loaded 2-core machine): AMD needs the fewest flops on
+ * every bar and the shortest median time, METIS / NESDIS are no faster and cost 5x more
+ * to analyze:
+ *     tets     AMD flops / nnz(L) / factor   METIS               NESDIS              auto
+ *     5 000    2.2e7 / 2.4e5 / 0.026 s       5.3e7 / 3.4e5 1.03x 5.2e7 / 3.3e5 1.07x (AMD)
+ *     50 000   2.8e9 / 6.3e6 / 0.64 s        3.6e9 / 6.7e6 1.36x 3.5e9 / 6.6e6 1.30x (AMD)
+ *     108 160  1.5e10 / 2.0e7 / 3.20 s       1.6e10/ 1.9e7 1.07x 1.6e10/ 1.9e7 1.07x (METIS) 1.05x
+ * (ratios: median factor time / AMD's.) On these quasi-1D bars minimum degree is as
+ * good as dissection; issue 15 measured METIS 24-39% faster on a 108k-tet TetGen beam
+ * and a 119k-tet bunny, so for large unstructured meshes try ordering = "metis".
+ *
  * Parameters (solver.cholmod.<key>):
- *   ordering    "auto" | "amd" | "natural"        default "amd"
+ *   ordering    "auto" | "amd" | "metis" | "nesdis" | "natural"       default "amd"
  *   supernodal  true: supernodal LLᵀ (BLAS-3), false: simplicial LLᵀ   default true
  *   openmp      let CHOLMOD's own OpenMP loops run on 4 threads         default false
  *               (the BLAS threads are not affected; see eo_chm_factorize)
@@ -30,7 +43,11 @@ static const char *const orderings[] = EO_CHM_ORDERINGS;
 static const eo_param_desc cholmod_desc[] = {
     {.key = "ordering", .kind = EO_PARAM_CHOICE, .offset = offsetof(cholmod_params, ordering),
      .size = sizeof(((cholmod_params *)0)->ordering), .def.s = "amd", .choices = orderings,
-     .help = "fill-reducing ordering: auto (CHOLMOD's choice), amd, natural"},
+     .help = "fill-reducing ordering: auto (CHOLMOD's choice), amd, metis, nesdis (CHOLMOD nested "
+             "dissection), natural. Default amd by measurement on the generated twist bars: fewest flops "
+             "and fastest median factorization at 5k/50k/108k tets (METIS 1.03x/1.36x/1.07x and NESDIS "
+             "1.07x/1.30x/1.07x the AMD time, 2.4/1.3/1.06x its flops; bench_linsolve); on large "
+             "unstructured meshes metis can be faster"},
     {.key = "supernodal", .kind = EO_PARAM_BOOL, .offset = offsetof(cholmod_params, supernodal),
      .def.i = 1, .help = "supernodal LL' (true) or simplicial LL' (false)"},
     {.key = "openmp", .kind = EO_PARAM_BOOL, .offset = offsetof(cholmod_params, openmp), .def.i = 0,
