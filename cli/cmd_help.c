@@ -3,22 +3,142 @@
  *   elastopt help                 every config section and method parameter table
  *   elastopt help solver          one section (prefix match on the dotted path)
  *   elastopt help newton          a method's parameters (solver.newton.*)
- *   elastopt help optimizer       the registered methods of a kind */
+ *   elastopt help optimizer       the registered methods of a kind
+ *   elastopt help bench           the keys of a benchmark suite
+ *   elastopt help --schema scene|suite   the JSON Schema of a scene or suite document */
+#include <jansson.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
+#include "elastopt/bench.h"
 #include "elastopt/registry.h"
 #include "elastopt/scene.h"
 
 extern const eo_cli_command eo_cmd_help;
 
 /* Sections of the scene config documented by the modules that own them. */
+/* A key the loader reads itself: its value's JSON Schema. */
+static void print_raw(const eo_cfg_raw_doc *d)
+{
+    printf("%s — %s\n", d->path, d->summary);
+    if (d->schema) printf("  %-34s %-8s %s\n", d->path, "json", d->schema);
+    printf("\n");
+}
+
 static void print_section(const eo_cfg_doc *d)
 {
     printf("%s — %s\n", *d->path ? d->path : "(top level)", d->summary);
     eo_params_help(stdout, d->params, d->path);
     printf("\n");
+}
+
+#define VEC_NUM "{\"type\": \"array\", \"items\": {\"type\": \"number\", \"exclusiveMinimum\": 0}, \"maxItems\": 16}"
+#define SET_OBJ "{\"type\": \"object\", \"description\": \"dotted config keys and their JSON values\"}"
+#define NAMES "{\"type\": \"array\", \"items\": {\"type\": \"string\"}}"
+
+/* The benchmark suite's documented sections (bench.h). */
+static const eo_cfg_doc suite_docs[] = {
+    {"", eo_bench_opts_desc, "top-level suite keys (also: thresholds, budgets, require_converged, scenes, configs, matrix)"},
+    {"scenes.N", eo_bench_scene_desc, "a benchmark scene: a built-in scene or a scene file, with overrides"},
+    {NULL, NULL, NULL},
+};
+static const eo_cfg_raw_doc suite_raw_docs[] = {
+    {"thresholds", VEC_NUM, "relative energy errors of the time table (default [1e-2, 1e-4, 1e-6, 1e-8])"},
+    {"budgets", VEC_NUM, "time budgets (s) of the 'error reached at' table (default [0.01, 0.1, 1])"},
+    {"require_converged", NAMES, "configuration names that must converge on every step of every scene (else exit 1)"},
+    {"scenes.N.set", SET_OBJ, "overrides of the scene config: {\"dotted.key\": value, ...}"},
+    {"scenes.N.vary", "{\"type\": \"array\", \"items\": {\"type\": \"object\", \"additionalProperties\": " SET_OBJ "}}",
+     "[{\"label\": {set}, ...}, ...]: the product expands the entry into scenes name-label-..."},
+    {"configs.N.name", "{\"type\": \"string\"}", "configuration name (unique)"},
+    {"configs.N.set", SET_OBJ, "solver.* overrides of this configuration"},
+    {"matrix.N.optimizer", NAMES, "optimizers of the product optimizer x hessian_fix x linesearch"},
+    {"matrix.N.hessian_fix", NAMES, "Hessian fixes of the product (ignored for optimizers without a Hessian)"},
+    {"matrix.N.linesearch", NAMES, "line searches of the product"},
+    {"matrix.N.set", SET_OBJ, "solver.* overrides common to the product's configurations"},
+    {NULL, NULL, NULL},
+};
+
+/* The JSON Schema of a list of documented sections (the same construction as the scene
+ * schema, eo_config_schema). */
+static json_t *node_path(json_t *root, const char *path);
+static void put(json_t *node, json_t *s, const char *summary);
+
+static json_t *docs_schema(const eo_cfg_doc *docs, const eo_cfg_raw_doc *raw, const char *title)
+{
+    json_t *root = json_pack("{s:s, s:s, s:s, s:{}, s:b}", "$schema", "https://json-schema.org/draft/2020-12/schema",
+                             "title", title, "type", "object", "properties", "additionalProperties", 0);
+    for (const eo_cfg_doc *d = docs; d->path; d++)
+        put(node_path(root, d->path), eo_params_schema(d->params, d->summary), d->summary);
+    for (const eo_cfg_raw_doc *d = raw; d->path; d++)
+        put(node_path(root, d->path), d->schema ? json_loads(d->schema, 0, NULL) : NULL, d->summary);
+    return root;
+}
+
+/* The schema node at a dotted path ("N" = list items), created as needed. */
+static json_t *node_path(json_t *root, const char *path)
+{
+    json_t *node = root;
+    char buf[128];
+    snprintf(buf, sizeof buf, "%s", path);
+    for (char *save = NULL, *c = strtok_r(buf, ".", &save); c; c = strtok_r(NULL, ".", &save)) {
+        if (strcmp(c, "N") == 0) {
+            json_object_set_new(node, "type", json_string("array"));
+            if (!json_object_get(node, "items"))
+                json_object_set_new(node, "items", json_pack("{s:s, s:{}, s:b}", "type", "object", "properties",
+                                                             "additionalProperties", 0));
+            node = json_object_get(node, "items");
+            continue;
+        }
+        json_t *props = json_object_get(node, "properties");
+        if (!props) {
+            json_object_set_new(node, "type", json_string("object"));
+            json_object_set_new(node, "properties", props = json_object());
+            json_object_set_new(node, "additionalProperties", json_false());
+        }
+        if (!json_object_get(props, c)) json_object_set_new(props, c, json_object());
+        node = json_object_get(props, c);
+    }
+    return node;
+}
+
+/* Merge schema s (consumed, may be NULL) into node. */
+static void put(json_t *node, json_t *s, const char *summary)
+{
+    if (s) {
+        const char *k;
+        json_t *v;
+        json_object_foreach(s, k, v) {
+            if (strcmp(k, "properties") == 0 && json_object_get(node, "properties"))
+                json_object_update(json_object_get(node, "properties"), v);
+            else
+                json_object_set(node, k, v);
+        }
+        json_decref(s);
+    }
+    if (!json_object_get(node, "description") && summary)
+        json_object_set_new(node, "description", json_string(summary));
+}
+
+static int print_schema(const char *what)
+{
+    json_t *j = NULL;
+    if (strcmp(what, "scene") == 0) j = eo_config_schema();
+    else if (strcmp(what, "suite") == 0) j = docs_schema(suite_docs, suite_raw_docs, "elastopt benchmark suite");
+    else {
+        fprintf(stderr, "elastopt help: --schema takes 'scene' or 'suite', not '%s'\n", what);
+        return EO_EXIT_BAD_INPUT;
+    }
+    char *text = j ? json_dumps(j, JSON_INDENT(2) | JSON_SORT_KEYS | JSON_REAL_PRECISION(17)) : NULL;
+    json_decref(j);
+    if (!text) {
+        fprintf(stderr, "elastopt help: out of memory\n");
+        return EO_EXIT_BAD_INPUT;
+    }
+    printf("%s\n", text);
+    free(text);
+    return EO_EXIT_OK;
 }
 
 static int matches(const char *path, const char *key)
@@ -30,12 +150,24 @@ static int matches(const char *path, const char *key)
 static int run(eo_ctx *ctx, int argc, char **argv)
 {
     (void)ctx;
-    if (argc > 2) return eo_cli_usage_error(&eo_cmd_help, "takes at most one KEY");
+    if (argc == 3 && strcmp(argv[1], "--schema") == 0) return print_schema(argv[2]);
+    if (argc > 2) return eo_cli_usage_error(&eo_cmd_help, "takes at most one KEY (or --schema scene|suite)");
     const char *key = argc == 2 ? argv[1] : NULL;
     int found = 0;
+    if (key && (strcmp(key, "bench") == 0 || strcmp(key, "suite") == 0)) {
+        printf("Benchmark suite keys (elastopt bench SUITE.json; bench/*.json are examples):\n\n");
+        for (const eo_cfg_doc *d = suite_docs; d->path; d++) print_section(d);
+        for (const eo_cfg_raw_doc *d = suite_raw_docs; d->path; d++) print_raw(d);
+        return EO_EXIT_OK;
+    }
     for (const eo_cfg_doc *d = eo_config_docs(); d && d->path; d++) {
         if (key && !matches(d->path, key) && !matches(key, d->path)) continue;
         print_section(d);
+        found = 1;
+    }
+    for (const eo_cfg_raw_doc *d = eo_config_raw_docs(); d && d->path; d++) {
+        if (key && !matches(d->path, key) && !matches(key, d->path)) continue;
+        print_raw(d);
         found = 1;
     }
     char path[160];
@@ -72,11 +204,14 @@ static int run(eo_ctx *ctx, int argc, char **argv)
 const eo_cli_command eo_cmd_help = {
     .name = "help",
     .summary = "document config keys and method parameters with their defaults",
-    .usage = "elastopt help [KEY]\n\n"
+    .usage = "elastopt help [KEY]\n"
+             "elastopt help --schema scene|suite\n\n"
              "Without KEY: every config section and every method's parameters (key, type,\n"
              "default, range, meaning). KEY may be a section path (solver, time, mesh.generate),\n"
              "a method name (newton, backtracking, cholmod) or a kind (optimizer, linesearch,\n"
-             "stop, hessian_fix, linear, material, integrator, scene) to list its methods.\n"
+             "stop, hessian_fix, linear, material, integrator, scene) to list its methods, or\n"
+             "`bench` for the keys of a benchmark suite. --schema prints the JSON Schema of a\n"
+             "scene or suite document (docs/scene.schema.json, docs/suite.schema.json).\n"
              "Any key can be set in the scene JSON or overridden with -o path.key=value.\n",
     .run = run,
 };

@@ -14,7 +14,7 @@ extern const eo_cli_command eo_cmd_material;
 extern const eo_cli_command eo_cmd_mesh, eo_cmd_convert;
 extern const eo_cli_command eo_cmd_run, eo_cmd_check;
 extern const eo_cli_command eo_cmd_bench;
-extern const eo_cli_command eo_cmd_poisson;
+extern const eo_cli_command eo_cmd_poisson, eo_cmd_stability;
 
 const eo_cli_command *const eo_cli_commands[] = {
     &eo_cmd_list,
@@ -23,7 +23,7 @@ const eo_cli_command *const eo_cli_commands[] = {
     &eo_cmd_mesh, &eo_cmd_convert,
     &eo_cmd_material,
     &eo_cmd_bench,
-    &eo_cmd_poisson,
+    &eo_cmd_poisson, &eo_cmd_stability,
     NULL,
 };
 

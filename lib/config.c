@@ -117,27 +117,40 @@ static int is_index(const char *s)
 
 int eo_cfg_override(eo_ctx *ctx, eo_cfg *cfg, const char *assignment)
 {
+    long bad = eo_utf8_invalid_at(assignment);
+    if (bad >= 0)
+        return eo_error(ctx, EO_ERR_INVALID, "command line -o: invalid UTF-8 at byte %ld of '%.*s...'", bad + 1,
+                        (int)(bad < 64 ? bad : 64), assignment);
     const char *eq = strchr(assignment, '=');
     if (!eq || eq == assignment)
         return eo_error(ctx, EO_ERR_INVALID, "override '%s': expected key=value", assignment);
     size_t klen = (size_t)(eq - assignment);
     if (klen >= PATH_MAX_LEN)
-        return eo_error(ctx, EO_ERR_INVALID, "override '%s': key too long", assignment);
+        return eo_error(ctx, EO_ERR_INVALID, "override '%.40s...': key too long (%zu bytes, at most %d)",
+                        assignment, klen, PATH_MAX_LEN - 1);
     char key[PATH_MAX_LEN];
     memcpy(key, assignment, klen);
     key[klen] = 0;
+    /* every dotted component must be non-empty: "time..dt", ".dt", "time.dt." are errors */
+    for (size_t i = 0; i <= klen; i++)
+        if ((i == klen || key[i] == '.') && (i == 0 || key[i - 1] == '.'))
+            return eo_error(ctx, EO_ERR_INVALID, "command line -o %s: empty key component (%s)", key,
+                            i == 0 ? "leading '.'" : i == klen ? "trailing '.'" : "'..'");
     json_t *value = eo_json_from_override(eq + 1);
     if (!value) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
 
-    /* walk/create the containers */
+    /* walk/create the containers; the key has no empty component */
     json_t *node = cfg->root;
-    char *save = NULL, work[PATH_MAX_LEN];
+    char work[PATH_MAX_LEN];
     memcpy(work, key, klen + 1);
-    char *part = strtok_r(work, ".", &save);
-    char prefix[PATH_MAX_LEN] = "";
-    while (part) {
-        char *next = strtok_r(NULL, ".", &save);
-        if (!*part) break;
+    char prefix[PATH_MAX_LEN + 8] = ""; /* a prefix of the key: never truncated */
+    for (char *part = work;;) {
+        char *dot = strchr(part, '.');
+        char *next = NULL;
+        if (dot) {
+            *dot = 0;
+            next = dot + 1;
+        }
         if (json_is_array(node)) {
             if (!is_index(part) || (size_t)atol(part) >= json_array_size(node)) {
                 json_decref(value);
@@ -147,19 +160,25 @@ int eo_cfg_override(eo_ctx *ctx, eo_cfg *cfg, const char *assignment)
             }
             size_t i = (size_t)atol(part);
             if (!next) {
-                json_array_set_new(node, i, value);
+                if (json_array_set_new(node, i, value) < 0)
+                    return eo_error(ctx, EO_ERR_NOMEM, "command line -o %s: cannot set the item", key);
                 goto done;
             }
             node = json_array_get(node, i);
         } else if (json_is_object(node)) {
             if (!next) {
-                json_object_set_new(node, part, value);
+                /* json_object_set_new consumes value even when it fails */
+                if (json_object_set_new(node, part, value) < 0)
+                    return eo_error(ctx, EO_ERR_INVALID, "command line -o %s: key '%s' rejected", key, part);
                 goto done;
             }
             json_t *child = json_object_get(node, part);
             if (!child) {
                 child = json_object();
-                json_object_set_new(node, part, child);
+                if (!child || json_object_set_new(node, part, child) < 0) {
+                    json_decref(value);
+                    return eo_error(ctx, EO_ERR_INVALID, "command line -o %s: key '%s' rejected", key, part);
+                }
             }
             node = child;
         } else {
@@ -167,12 +186,13 @@ int eo_cfg_override(eo_ctx *ctx, eo_cfg *cfg, const char *assignment)
             return eo_error(ctx, EO_ERR_TYPE, "command line -o %s: '%s' is a %s, not a section", key,
                             prefix, eo_json_type_name(node));
         }
-        size_t pl = strlen(prefix);
-        snprintf(prefix + pl, sizeof prefix - pl, "%s%s", pl ? "." : "", part);
+        size_t pl = strlen(prefix), ql = strlen(part);
+        if (pl + ql + 2 < sizeof prefix) {
+            if (pl) prefix[pl++] = '.';
+            memcpy(prefix + pl, part, ql + 1);
+        }
         part = next;
     }
-    json_decref(value);
-    return eo_error(ctx, EO_ERR_INVALID, "override '%s': empty key component", assignment);
 done: {
     size_t need = cfg->overridden_len + klen + 2;
     char *o = eo_realloc(ctx, cfg->overridden, need);

@@ -369,6 +369,87 @@ void eo_params_help(FILE *f, const eo_param_desc *d, const char *prefix)
     }
 }
 
+/* JSON Schema (draft 2020-12) of one parameter. */
+static json_t *param_schema(const eo_param_desc *p)
+{
+    json_t *o = json_object();
+    switch (p->kind) {
+    case EO_PARAM_INT: json_object_set_new(o, "type", json_string("integer")); break;
+    case EO_PARAM_DOUBLE: json_object_set_new(o, "type", json_string("number")); break;
+    case EO_PARAM_BOOL: json_object_set_new(o, "type", json_string("boolean")); break;
+    case EO_PARAM_STRING: json_object_set_new(o, "type", json_string("string")); break;
+    case EO_PARAM_CHOICE:
+    case EO_PARAM_METHOD: {
+        json_object_set_new(o, "type", json_string("string"));
+        json_t *e = json_array();
+        if (p->kind == EO_PARAM_CHOICE)
+            for (const char *const *c = p->choices; c && *c; c++) json_array_append_new(e, json_string(*c));
+        else
+            for (const void *const *t = eo_registry_types(p->registry); t && *t; t++)
+                json_array_append_new(e, json_string(eo_method_info_of(*t)->name));
+        json_object_set_new(o, "enum", e);
+        break;
+    }
+    case EO_PARAM_VEC3:
+        json_object_set_new(o, "type", json_string("array"));
+        json_object_set_new(o, "items", json_pack("{s:s}", "type", "number"));
+        json_object_set_new(o, "minItems", json_integer(3));
+        json_object_set_new(o, "maxItems", json_integer(3));
+        break;
+    default: break;
+    }
+    if (p->kind == EO_PARAM_INT || p->kind == EO_PARAM_DOUBLE) {
+        if (p->range & EO_RANGE_MIN) json_object_set_new(o, "minimum", json_real(p->min));
+        if (p->range & EO_RANGE_MIN_OPEN) json_object_set_new(o, "exclusiveMinimum", json_real(p->min));
+        if (p->range & EO_RANGE_MAX) json_object_set_new(o, "maximum", json_real(p->max));
+        if (p->range & EO_RANGE_MAX_OPEN) json_object_set_new(o, "exclusiveMaximum", json_real(p->max));
+    }
+    switch (p->kind) {
+    case EO_PARAM_INT: json_object_set_new(o, "default", json_integer(p->def.i)); break;
+    case EO_PARAM_BOOL: json_object_set_new(o, "default", json_boolean(p->def.i)); break;
+    case EO_PARAM_DOUBLE: json_object_set_new(o, "default", json_real(p->def.d)); break;
+    case EO_PARAM_VEC3:
+        json_object_set_new(o, "default", json_pack("[fff]", p->def.v[0], p->def.v[1], p->def.v[2]));
+        break;
+    default: json_object_set_new(o, "default", json_string(p->def.s ? p->def.s : "")); break;
+    }
+    if (p->help) json_object_set_new(o, "description", json_string(p->help));
+    return o;
+}
+
+json_t *eo_params_schema(const eo_param_desc *d, const char *description)
+{
+    json_t *o = json_object(), *props = json_object();
+    json_object_set_new(o, "type", json_string("object"));
+    if (description) json_object_set_new(o, "description", json_string(description));
+    for (const eo_param_desc *p = d; p && p->kind != EO_PARAM_END; p++)
+        json_object_set_new(props, p->key, param_schema(p));
+    json_object_set_new(o, "properties", props);
+    json_object_set_new(o, "additionalProperties", json_false());
+    return o;
+}
+
+long eo_utf8_invalid_at(const char *s)
+{
+    const unsigned char *p = (const unsigned char *)s, *b = p;
+    while (*p) {
+        unsigned c = *p;
+        int len = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+        if (!len) return (long)(p - b);
+        unsigned cp = len == 1 ? c : len == 2 ? c & 0x1f : len == 3 ? c & 0x0f : c & 0x07;
+        for (int i = 1; i < len; i++) {
+            if ((p[i] & 0xc0) != 0x80) return (long)(p - b);
+            cp = (cp << 6) | (p[i] & 0x3f);
+        }
+        /* overlong forms, surrogates, beyond U+10FFFF */
+        if ((len == 2 && cp < 0x80) || (len == 3 && cp < 0x800) || (len == 4 && cp < 0x10000) ||
+            (cp >= 0xd800 && cp <= 0xdfff) || cp > 0x10ffff)
+            return (long)(p - b);
+        p += len;
+    }
+    return -1;
+}
+
 json_t *eo_json_from_override(const char *text)
 {
     json_error_t err;

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "elastopt/io.h"
+#include "elastopt/trimesh.h"
 #include "mesh_io.h"
 
 /* ---- little-endian output -------------------------------------------------------- */
@@ -131,6 +132,68 @@ int eo_vtu_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const eo_vtu_f
     }
     put_u64(f, types.n);
     for (size_t t = 0; t < nt; t++) fputc(10, f);
+    fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
+    return eo_afile_commit(ctx, &af);
+}
+
+/* Triangles (trimesh.h): Points Float64 ×3 with z = 0, cells of type 5, one optional
+ * Float64 point field. Same appended-raw layout as the tet frames. */
+int eo_vtu_write_tri(eo_ctx *ctx, const char *path, int nv, const double *xy, int nt, const int *tri,
+                     const char *field, const double *values)
+{
+    if (nv < 0 || nt < 0) return eo_error(ctx, EO_ERR_INVALID, "vtu: nv = %d, nt = %d", nv, nt);
+    const size_t n = (size_t)nv, m = (size_t)nt;
+    varray pts = {"Points", A_F64, 3, 3 * n, NULL};
+    varray conn = {"connectivity", A_I64, 1, 3 * m, NULL};
+    varray offs = {"offsets", A_I64, 1, m, NULL};
+    varray types = {"types", A_U8, 1, m, NULL};
+    varray pd = {field ? field : "u", A_F64, 1, n, values};
+    eo_afile *af = NULL;
+    int rc = eo_afile_open(ctx, path, &af);
+    if (rc < 0) return rc;
+    FILE *f = eo_afile_fp(af);
+    uint64_t off = 0;
+    fprintf(f, "<?xml version=\"1.0\"?>\n"
+               "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+               "header_type=\"UInt64\">\n"
+               "  <UnstructuredGrid>\n"
+               "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n",
+            n, m);
+    if (values) {
+        fprintf(f, "      <PointData Scalars=\"");
+        fputs(pd.name, f);
+        fprintf(f, "\">\n");
+        header_array(f, &pd, &off);
+        fprintf(f, "      </PointData>\n");
+    }
+    fprintf(f, "      <Points>\n");
+    header_array(f, &pts, &off);
+    fprintf(f, "      </Points>\n      <Cells>\n");
+    header_array(f, &conn, &off);
+    header_array(f, &offs, &off);
+    header_array(f, &types, &off);
+    fprintf(f, "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _");
+    if (values) {
+        put_u64(f, n * 8);
+        put_le(f, values, 8, n);
+    }
+    put_u64(f, pts.n * 8);
+    for (size_t i = 0; i < n; i++) {
+        double p[3] = {xy[2 * i], xy[2 * i + 1], 0};
+        put_le(f, p, 8, 3);
+    }
+    put_u64(f, conn.n * 8);
+    for (size_t i = 0; i < 3 * m; i++) {
+        int64_t v = tri[i];
+        put_le(f, &v, 8, 1);
+    }
+    put_u64(f, offs.n * 8);
+    for (size_t t = 0; t < m; t++) {
+        int64_t v = (int64_t)(3 * (t + 1));
+        put_le(f, &v, 8, 1);
+    }
+    put_u64(f, types.n);
+    for (size_t t = 0; t < m; t++) fputc(5, f);
     fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
     return eo_afile_commit(ctx, &af);
 }

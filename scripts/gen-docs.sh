@@ -27,3 +27,5 @@ exe=${1:-build/cli/elastopt}
   "$exe" list
   echo '```'
 } > docs/methods.md.tmp && mv docs/methods.md.tmp docs/methods.md
+"$exe" help --schema scene > docs/scene.schema.json.tmp && mv docs/scene.schema.json.tmp docs/scene.schema.json
+"$exe" help --schema suite > docs/suite.schema.json.tmp && mv docs/suite.schema.json.tmp docs/suite.schema.json

@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 pkgs=(meson ninja-build pkg-config gcc liblapacke-dev libopenblas-dev libsuitesparse-dev
-      libnlopt-dev coinor-libipopt-dev libhypre-dev libjansson-dev gnuplot-nox valgrind)
+      libnlopt-dev coinor-libipopt-dev libhypre-dev libjansson-dev gnuplot-nox valgrind python3-jsonschema)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -58,12 +58,20 @@ EO_API json_t *eo_cfg_root(eo_cfg *cfg);
 /// File name the config came from ("<builtin>" if none).
 EO_API const char *eo_cfg_file(const eo_cfg *cfg);
 
-/// A documented config section: its dotted path, descriptor table and one-line summary.
+/// A documented config section: its dotted path ("N" stands for a list index), descriptor
+/// table and one-line summary.
 typedef struct eo_cfg_doc {
     const char *path;
     const eo_param_desc *params;
     const char *summary;
 } eo_cfg_doc;
+/// A documented key whose value is not a params section (a list of points, a box): its
+/// dotted path, the JSON Schema of its value as JSON text (NULL: documented only), help.
+typedef struct eo_cfg_raw_doc {
+    const char *path;
+    const char *schema;
+    const char *summary;
+} eo_cfg_raw_doc;
 
 #ifdef __cplusplus
 }

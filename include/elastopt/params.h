@@ -101,6 +101,10 @@ EO_API int eo_params_set_json(eo_ctx *ctx, const eo_param_desc *p, void *obj, co
                        const eo_param_src *src);
 /// Echo the effective values as a new JSON object (caller owns the reference).
 EO_API json_t *eo_params_to_json(const eo_param_desc *d, const void *obj);
+/// JSON Schema (draft 2020-12) of a params table: an object with one property per key
+/// (type, enum of choices or registered names, range, default, description) and
+/// additionalProperties false. New reference.
+EO_API json_t *eo_params_schema(const eo_param_desc *d, const char *description);
 /// Print `--help` lines: "  prefix.key  type  default  range — help".
 EO_API void eo_params_help(FILE *f, const eo_param_desc *d, const char *prefix);
 /// Format the valid keys of a table, comma-separated, into buf.
@@ -109,6 +113,9 @@ EO_API void eo_params_keys(const eo_param_desc *d, const char *const *extra, cha
 /// Parse the value text of `-o key=value`: JSON if it parses as JSON (numbers, true,
 /// false, arrays, quoted strings, objects), else a plain string. New reference.
 EO_API json_t *eo_json_from_override(const char *text);
+/// Byte offset of the first byte of `s` (NUL-terminated) that is not valid UTF-8
+/// (overlong forms, surrogates and code points beyond U+10FFFF are invalid), or -1.
+EO_API long eo_utf8_invalid_at(const char *s);
 /// Find the 1-based line and column of a dotted key path ("solver.newton.c1",
 /// list items as "boundary.2") in JSON text. Returns 0 if found, -1 if not.
 EO_API int eo_json_locate(const char *text, const char *path, long *line, long *col);

@@ -174,6 +174,11 @@ EO_API extern const eo_cfg_doc eo_scene_docs[];
 /// Every fixed section of a scene configuration: the scene's, `material` and `solver`,
 /// terminated by a {NULL} entry (method parameter sections come from the registries).
 EO_API const eo_cfg_doc *eo_config_docs(void);
+/// The keys of a scene the loader reads itself (not params sections), {NULL}-terminated.
+EO_API const eo_cfg_raw_doc *eo_config_raw_docs(void);
+/// JSON Schema (draft 2020-12) of a scene document, generated from eo_config_docs and
+/// the registries (docs/scene.schema.json is its output). New reference.
+EO_API json_t *eo_config_schema(void);
 
 typedef enum eo_bc_select { EO_BC_BOX, EO_BC_PLANE, EO_BC_MARKER } eo_bc_select;
 typedef enum eo_bc_motion { EO_BC_FIXED, EO_BC_TRANSLATE, EO_BC_ROTATE } eo_bc_motion;

@@ -457,3 +457,179 @@ const eo_optimizer_type eo_optimizer_ipopt = {
     .minimize = ip_minimize,
     .destroy = ip_destroy,
 };
+
+/* ---- constrained minimization (ipopt.h) ----------------------------------------------
+ * min g(x) s.t. lower ≤ c(x) ≤ upper through Ipopt's full NLP interface. Ipopt's own
+ * termination decides (tol, max_iter); the Lagrangian Hessian σ∇²g + Σλᵢ∇²cᵢ is a dense
+ * lower triangle: the objective's upper CSC (row i ≤ col j) goes to lower (j, i), the
+ * constraint callback's dense n×n lower triangle is added. Workspace is allocated once
+ * per call, before Ipopt starts; the callbacks allocate nothing. */
+#include "elastopt/ipopt.h"
+
+typedef struct ipc_state {
+    eo_ctx *ctx;
+    eo_objective *obj;
+    const eo_constraints *con;
+    int n, m, status, iters;
+    double *J;   /* m×n */
+    double *Hc;  /* n×n */
+} ipc_state;
+
+void eo_ipopt_constrained_opts_default(eo_ipopt_constrained_opts *o)
+{
+    o->tol = 1e-10;
+    o->max_iter = 200;
+    o->print_level = 0;
+}
+
+static Bool ipc_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr u)
+{
+    ipc_state *st = u;
+    (void)n, (void)new_x;
+    int rc = eo_objective_value(st->obj, x, f);
+    if (rc < 0) st->status = rc;
+    return rc >= 0 && isfinite(*f) ? TRUE : FALSE;
+}
+
+static Bool ipc_grad(Index n, Number *x, Bool new_x, Number *gr, UserDataPtr u)
+{
+    ipc_state *st = u;
+    (void)n, (void)new_x;
+    double g;
+    int rc = eo_objective_gradient(st->obj, x, &g, gr);
+    if (rc < 0) st->status = rc;
+    return rc >= 0 && isfinite(g) ? TRUE : FALSE;
+}
+
+static Bool ipc_g(Index n, Number *x, Bool new_x, Index m, Number *c, UserDataPtr u)
+{
+    ipc_state *st = u;
+    (void)n, (void)new_x, (void)m;
+    int rc = st->con->value(st->con->data, x, c);
+    if (rc < 0) st->status = rc;
+    return rc >= 0 ? TRUE : FALSE;
+}
+
+static Bool ipc_jac(Index n, Number *x, Bool new_x, Index m, Index nele, Index *iRow, Index *jCol, Number *values,
+                    UserDataPtr u)
+{
+    ipc_state *st = u;
+    (void)new_x, (void)nele;
+    if (!values) {
+        for (Index i = 0, q = 0; i < m; i++)
+            for (Index j = 0; j < n; j++, q++) iRow[q] = i, jCol[q] = j;
+        return TRUE;
+    }
+    int rc = st->con->jacobian(st->con->data, x, values);
+    if (rc < 0) st->status = rc;
+    return rc >= 0 ? TRUE : FALSE;
+}
+
+static Bool ipc_h(Index n, Number *x, Bool new_x, Number sigma, Index m, Number *lambda, Bool new_lambda, Index nele,
+                  Index *iRow, Index *jCol, Number *values, UserDataPtr u)
+{
+    ipc_state *st = u;
+    (void)new_x, (void)m, (void)new_lambda, (void)nele;
+    if (!values) {
+        for (Index i = 0, q = 0; i < n; i++)
+            for (Index j = 0; j <= i; j++, q++) iRow[q] = i, jCol[q] = j;
+        return TRUE;
+    }
+    for (Index q = 0; q < n * (n + 1) / 2; q++) values[q] = 0;
+    eo_csc *H = NULL;
+    int rc = eo_objective_hessian(st->obj, x, EO_PROJ_NONE, &H);
+    if (rc < 0 || !H || H->n != n) {
+        st->status = rc < 0 ? rc : eo_error(st->ctx, EO_ERR_INVALID, "ipopt: objective Hessian missing or not n x n");
+        return FALSE;
+    }
+    for (Index j = 0; j < n; j++)
+        for (int q = H->colptr[j]; q < H->colptr[j + 1]; q++) {
+            int i = H->rowind[q]; /* i ≤ j: lower entry (j, i) */
+            values[j * (j + 1) / 2 + i] += sigma * H->val[q];
+        }
+    if (st->con->hessian && st->m > 0) {
+        if ((rc = st->con->hessian(st->con->data, x, lambda, st->Hc)) < 0) {
+            st->status = rc;
+            return FALSE;
+        }
+        for (Index i = 0; i < n; i++)
+            for (Index j = 0; j <= i; j++) values[i * (i + 1) / 2 + j] += st->Hc[(size_t)i * n + j];
+    }
+    for (Index q = 0; q < n * (n + 1) / 2; q++)
+        if (!isfinite(values[q])) return FALSE;
+    return TRUE;
+}
+
+static Bool ipc_iter(Index alg_mod, Index iter_count, Number obj_value, Number inf_pr, Number inf_du, Number mu,
+                     Number d_norm, Number regularization_size, Number alpha_du, Number alpha_pr, Index ls_trials,
+                     UserDataPtr u)
+{
+    ipc_state *st = u;
+    (void)alg_mod, (void)obj_value, (void)inf_pr, (void)inf_du, (void)mu, (void)d_norm, (void)regularization_size;
+    (void)alpha_du, (void)alpha_pr, (void)ls_trials;
+    st->iters = iter_count;
+    return TRUE;
+}
+
+int eo_ipopt_minimize_constrained(eo_ctx *ctx, eo_objective *obj, const eo_constraints *con,
+                                  const eo_ipopt_constrained_opts *opts, double *x, double *lambda,
+                                  eo_solve_result *res)
+{
+    eo_ipopt_constrained_opts def;
+    if (!opts) {
+        eo_ipopt_constrained_opts_default(&def);
+        opts = &def;
+    }
+    memset(res, 0, sizeof *res);
+    res->decrement = NAN;
+    const int n = obj->n, m = con ? con->m : 0;
+    const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
+    const double t0 = eo_wtime();
+    if (!con || m < 0 || n < 1 || (m > 0 && (!con->value || !con->jacobian || !con->lower || !con->upper)))
+        return eo_error(ctx, EO_ERR_INVALID, "ipopt: constrained problem needs n >= 1, m >= 0 and the value and "
+                        "jacobian callbacks with bounds (n = %d, m = %d)", n, m);
+    if ((double)n * n > 1e8 || (double)m * n > 1e8)
+        return eo_error(ctx, EO_ERR_INVALID, "ipopt: constrained path is dense; n = %d, m = %d is too large", n, m);
+    ipc_state st = {.ctx = ctx, .obj = obj, .con = con, .n = n, .m = m};
+    size_t nw = 2 * (size_t)n + (size_t)n * n + (size_t)(m ? m : 1) * n + 2 * (size_t)(m ? m : 1);
+    double *w = eo_calloc(ctx, nw, sizeof(double));
+    if (!w) return eo_error(ctx, EO_ERR_NOMEM, "ipopt: out of memory (n = %d, m = %d)", n, m);
+    double *xl = w, *xu = w + n, *gl = w + 2 * n + (size_t)n * n + (size_t)(m ? m : 1) * n, *gu = gl + (m ? m : 1);
+    st.Hc = w + 2 * n;
+    st.J = st.Hc + (size_t)n * n;
+    for (int i = 0; i < n; i++) xl[i] = -1e19, xu[i] = 1e19;
+    for (int i = 0; i < m; i++) gl[i] = con->lower[i], gu[i] = con->upper[i];
+    IpoptProblem prob = CreateIpoptProblem(n, xl, xu, m, gl, gu, m * n, n * (n + 1) / 2, 0, ipc_f, ipc_g, ipc_grad,
+                                           ipc_jac, ipc_h);
+    int rc = EO_OK, reason = EO_DIVERGED_EXTERNAL;
+    if (!prob) {
+        rc = eo_error(ctx, EO_ERR_INTERNAL, "ipopt: CreateIpoptProblem failed (n = %d, m = %d)", n, m);
+        goto done;
+    }
+    if (!(AddIpoptStrOption(prob, "sb", "yes") && AddIpoptStrOption(prob, "option_file_name", "") &&
+          AddIpoptIntOption(prob, "print_level", opts->print_level) && AddIpoptNumOption(prob, "tol", opts->tol) &&
+          AddIpoptIntOption(prob, "max_iter", opts->max_iter) && SetIntermediateCallback(prob, ipc_iter))) {
+        rc = eo_error(ctx, EO_ERR_INVALID, "ipopt: an option was rejected (tol %g, max_iter %d)", opts->tol,
+                      opts->max_iter);
+        goto done;
+    }
+    Number fval = NAN;
+    enum ApplicationReturnStatus s = IpoptSolve(prob, x, NULL, &fval, lambda, NULL, NULL, &st);
+    if (st.status < 0) {
+        rc = st.status;
+        goto done;
+    }
+    ip_state tmp = {.ctx = ctx};
+    reason = ip_reason(&tmp, s, &rc);
+    if (rc < 0) goto done;
+    res->iterations = st.iters;
+    double *grad = w; /* xl is no longer needed */
+    rc = eo_objective_gradient(obj, x, &res->g, grad);
+    if (rc >= 0) res->grad_norm = eo_norm2(n, grad);
+done:
+    if (prob) FreeIpoptProblem(prob);
+    eo_free(ctx, w);
+    res->reason = reason;
+    eo_solve_result_finish(res, obj, nv0, ng0, nh0, t0, rc);
+    return rc < 0 ? rc : EO_OK;
+}
