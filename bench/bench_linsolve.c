@@ -429,8 +429,9 @@ static void bench_newton(const bar_case *bc, const bar_systems *S)
                 const eo_param_desc *d = eo_params_find(t->info.params, "preconditioner");
                 snprintf((char *)params + d->offset, d->size, "%s", ms[m].precond);
                 *(double *)((char *)params + eo_params_find(t->info.params, "tol")->offset) = 1e-8;
-                if (strstr(ms[m].label, "-r0"))
-                    *(int *)((char *)params + eo_params_find(t->info.params, "amg_rbm")->offset) = 0;
+                if (!strcmp(ms[m].precond, "amg")) /* explicit: rigid-body modes on / off */
+                    *(int *)((char *)params + eo_params_find(t->info.params, "amg_rbm")->offset) =
+                        strstr(ms[m].label, "-r0") == NULL;
             }
             eo_linsolve *ls = NULL;
             int rc = eo_linsolve_create(ctx, t, params, &ls);
