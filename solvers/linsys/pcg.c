@@ -30,9 +30,8 @@
  *   amg            hypre BoomerAMG, one V-cycle (amg.h): systems AMG with 3 unknowns
  *                  per node and nodal coarsening, plus the rigid-body rotations when
  *                  eo_linsolve_set_coordinates gave the node positions. Set up at every
- *                  factor. Only when built with hypre (-Dhypre); otherwise the choice is
- *                  not offered and a config asking for it is rejected with the list of
- *                  valid choices.
+ *                  factor. Only when built with hypre (-Dhypre); otherwise creating a
+ *                  pcg with it fails with EO_ERR_UNSUPPORTED and a message saying so.
  * The iteration, stopping, curvature check and warm start are cg_iter.h's (shared
  * with cg.c): non-positive curvature pᵀAp <= 0 is reported (EO_WARN_NOT_PD, value in
  * stats.curvature) and the direction is never used. eo_linsolve_set_rtol overrides
@@ -72,11 +71,9 @@ typedef struct pcg_params {
     int amg_rbm;             /* default false (measured) */
 } pcg_params;
 
-static const char *const preconds[] = {"jacobi", "ic0", "ichol0", "cholmod_reuse",
-#if EO_HAVE_HYPRE
-                                       "amg",
-#endif
-                                       NULL};
+/* "amg" is always a valid name (so configs and docs do not depend on the build); a build
+ * without hypre refuses it at create with EO_ERR_UNSUPPORTED and says how to get it. */
+static const char *const preconds[] = {"jacobi", "ic0", "ichol0", "cholmod_reuse", "amg", NULL};
 
 static const eo_param_desc pcg_desc[] = {
     {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(pcg_params, tol), .def.d = 1e-10,
@@ -86,8 +83,8 @@ static const eo_param_desc pcg_desc[] = {
     {.key = "preconditioner", .kind = EO_PARAM_CHOICE, .offset = offsetof(pcg_params, preconditioner),
      .size = sizeof(((pcg_params *)0)->preconditioner), .def.s = "jacobi", .choices = preconds,
      .help = "jacobi (diagonal), ic0 = ichol0 (zero-fill incomplete Cholesky), cholmod_reuse (an "
-             "earlier CHOLMOD factor, refactored per refactor_iters), amg (hypre BoomerAMG; only in "
-             "builds with hypre)"},
+             "earlier CHOLMOD factor, refactored per refactor_iters), amg (hypre BoomerAMG; builds "
+             "without hypre refuse it at create)"},
     {.key = "warm_start", .kind = EO_PARAM_BOOL, .offset = offsetof(pcg_params, warm_start),
      .def.i = 0, .help = "start from the x passed in (else from 0)"},
     {.key = "refactor_iters", .kind = EO_PARAM_INT, .offset = offsetof(pcg_params, refactor_iters), .def.i = 20,
@@ -138,6 +135,12 @@ static int pcg_setup(void *st, const void *params, eo_ctx *ctx)
             : !strcmp(pc, "cholmod_reuse")              ? PC_REUSE
             : !strcmp(pc, "amg")                        ? PC_AMG
                                                         : PC_JACOBI;
+#if !EO_HAVE_HYPRE
+    if (s->pc == PC_AMG)
+        return eo_error(ctx, EO_ERR_UNSUPPORTED,
+                        "pcg: preconditioner \"amg\" (hypre BoomerAMG) is not in this build: install "
+                        "libhypre-dev and configure with -Dhypre=enabled (or auto)");
+#endif
     if (s->pc == PC_REUSE) {
         eo_chm_start(&s->chm);
         eo_chm_ordering(&s->chm, EO_CHM_DEFAULT_ORDERING);
