@@ -108,7 +108,12 @@ EO_API int eo_linsolve_set_rtol(eo_linsolve *ls, double rtol);
 /// `xyz` (3 nv doubles, copied) are the positions of the nv nodes whose unknowns are
 /// rows 3i, 3i+1, 3i+2 of the matrix (the step engine: its free vertices, in free
 /// order, at rest or at the current iterate). Call before analyze, and again whenever
-/// the free set changes. Methods without use for it ignore it (EO_OK).
+/// the free set changes. Methods without use for it ignore it (EO_OK). Where: whoever
+/// holds both the step and the solver (the eo_sim driver / CLI run loop), after
+/// eo_step_begin of the first step and after a release rebuilds the pattern:
+/// xyz[i] = eo_step_x0(st)[eo_step_free_to_full(st, i)], nv = obj->n / 3, passed to
+/// eo_linsolve_set_coordinates(eo_solver_get_linsolve(solver), nv, xyz) (as
+/// bench/bench_linsolve.c does).
 /// Returns EO_OK, EO_ERR_INVALID (nv < 0 or xyz NULL with nv > 0), EO_ERR_NOMEM.
 EO_API int eo_linsolve_set_coordinates(eo_linsolve *ls, int nv, const double *xyz);
 EO_API const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls);
