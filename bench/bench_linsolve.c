@@ -9,17 +9,39 @@
  * iterations, relative residual, status, and the ratio of factor+solve to CHOLMOD's
  * factor+solve measured in the same run.
  *
- *   bench_linsolve [case ...]     cases: grid10 (3 000 dofs), grid20 (24 000 dofs);
- *                                 default: all
+ * Newton systems of a generated bar (the built-in `twist` scene, stable neo-Hookean,
+ * E = 1e6, Newmark h = 0.01, with mesh.generate.cells set for the size: bar5k = 40×5×5
+ * cells × 5 tets = 5 000 tets, bar50k = 100×10×10 → 50 000, bar100k = 128×13×13 →
+ * 108 160 tets), assembled by the step engine: the clamp-projected Hessians H_k and
+ * gradients at the first `nsys` iterates of Newton on step 0 (x_{k+1} = x_k + α p_k,
+ * p_k from CHOLMOD, α halved until g decreases). Two tables per bar:
+ *   ordering  CHOLMOD supernodal numeric factorization of H_0 with AMD, METIS, NESDIS
+ *             and CHOLMOD's own choice (auto): flops (common->fl), nnz(L) (common->lnz),
+ *             analyze time, numeric factorization time (median and min–max over the
+ *             repeats; orderings interleaved inside each repeat);
+ *   newton    PCG+AMG, PCG+IC(0), PCG+cholmod_reuse and CHOLMOD (default ordering) on
+ *             the nsys systems, rtol 1e-8: setup (analyze + factor: AMG hierarchy, IC(0),
+ *             CHOLMOD numeric factor) and solve time per system, PCG iterations;
+ *             pcg+amg-r0 is AMG without the rigid-body modes; methods interleaved inside each repeat; median and spread of the
+ *             per-repeat totals. cholmod_reuse factors H_0 and reuses it for H_1, ...
+ *
+ *   bench_linsolve [case ...]     cases: grid10 (3 000 dofs), grid20 (24 000 dofs),
+ *                                 bar5k, bar50k, bar100k; default: grid10 grid20 bar5k
+ *                                 bar50k (bar100k on request: minutes)
  */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "eo_build_config.h"
+#include "elastopt/config.h"
 #include "elastopt/linsolve.h"
 #include "elastopt/machine.h"
+#include "elastopt/scene.h"
 #include "elastopt/sparse.h"
+#include "elastopt/step.h"
+#include "solvers/linsys/cholmod_util.h"
 
 typedef struct bench_case {
     const char *name;
@@ -202,6 +224,288 @@ static void run_case(const bench_case *bc)
     eo_ctx_destroy(&ctx);
 }
 
+/* ------------------------------------------------------ Newton systems of a bar ---------- */
+
+typedef struct bar_case {
+    const char *name;
+    int cx, cy, cz;
+    int reps, nsys;
+} bar_case;
+
+static const bar_case bars[] = {
+    {"bar5k", 40, 5, 5, 5, 3},
+    {"bar50k", 100, 10, 10, 3, 3},
+    {"bar100k", 128, 13, 13, 3, 2},
+};
+
+typedef struct bar_systems {
+    int n, nsys, nv;
+    eo_csc *H[8];
+    double *b[8];
+    double *xyz; /* free vertices' rest positions, 3 per node, free order */
+    int ntets;
+} bar_systems;
+
+static double nrm(int n, const double *v)
+{
+    double s = 0;
+    for (int i = 0; i < n; i++) s += v[i] * v[i];
+    return sqrt(s);
+}
+
+static int bar_build(eo_ctx *ctx, const bar_case *bc, bar_systems *S)
+{
+    memset(S, 0, sizeof *S);
+    eo_cfg *cfg = NULL;
+    eo_scene *sc = NULL;
+    eo_step *st = NULL;
+    eo_linsolve *ls = NULL;
+    double *x = NULL, *g = NULL, *p = NULL, *xt = NULL;
+    char ov[128];
+    int rc = eo_scene_cfg_load(ctx, NULL, "twist", &cfg);
+    snprintf(ov, sizeof ov, "mesh.generate.cells=[%d,%d,%d]", bc->cx, bc->cy, bc->cz);
+    if (rc >= 0) rc = eo_cfg_override(ctx, cfg, ov);
+    if (rc >= 0) rc = eo_scene_load(ctx, cfg, &sc);
+    if (rc >= 0) rc = eo_step_create(ctx, sc, &st);
+    eo_objective *obj = NULL;
+    if (rc >= 0) rc = eo_step_begin(st, &obj);
+    if (rc < 0) goto done;
+    const int n = obj->n;
+    S->n = n;
+    S->ntets = eo_step_mesh(st)->nt;
+    x = malloc((size_t)n * sizeof(double));
+    g = malloc((size_t)n * sizeof(double));
+    p = malloc((size_t)n * sizeof(double));
+    xt = malloc((size_t)n * sizeof(double));
+    memcpy(x, eo_step_guess(st), (size_t)n * sizeof(double));
+    /* rest positions of the free vertices (free dofs come in vertex triples) */
+    S->nv = n / 3;
+    S->xyz = malloc((size_t)n * sizeof(double));
+    const double *x0 = eo_step_x0(st);
+    for (int i = 0; i < n; i++) S->xyz[i] = x0[eo_step_free_to_full(st, i)];
+    const eo_linsolve_type *lt = NULL;
+    eo_linsolve_find(ctx, "cholmod", &lt);
+    rc = eo_linsolve_create(ctx, lt, NULL, &ls);
+    for (int k = 0; rc >= 0 && k < bc->nsys; k++) {
+        double gv;
+        eo_csc *H = NULL;
+        rc = eo_objective_gradient(obj, x, &gv, g);
+        if (rc >= 0) rc = eo_objective_hessian(obj, x, EO_PROJ_CLAMP, &H);
+        if (rc < 0) break;
+        if (k == 0) rc = eo_linsolve_analyze(ls, H);
+        if (rc >= 0) rc = eo_linsolve_factor(ls, H);
+        if (rc >= 0) rc = eo_csc_clone(ctx, H, &S->H[k]);
+        if (rc < 0) break;
+        S->b[k] = malloc((size_t)n * sizeof(double));
+        for (int i = 0; i < n; i++) S->b[k][i] = -g[i];
+        S->nsys = k + 1;
+        rc = eo_linsolve_solve(ls, S->b[k], p);
+        double a = 1, gt = INFINITY;
+        for (int t = 0; t < 30; t++, a *= 0.5) {
+            for (int i = 0; i < n; i++) xt[i] = x[i] + a * p[i];
+            eo_objective_value(obj, xt, &gt);
+            if (gt < gv) break;
+        }
+        printf("  Newton iterate %d: g = %.6e, |grad| = %.3e, step %g\n", k, gv, nrm(n, g), a);
+        memcpy(x, xt, (size_t)n * sizeof(double));
+    }
+done:
+    if (rc < 0) printf("cannot build %s: %s\n", bc->name, eo_ctx_message(ctx));
+    eo_linsolve_destroy(&ls);
+    eo_step_destroy(&st);
+    eo_scene_destroy(ctx, &sc);
+    eo_cfg_destroy(ctx, &cfg);
+    free(x);
+    free(g);
+    free(p);
+    free(xt);
+    return rc < 0 ? rc : EO_OK;
+}
+
+static void bar_free(eo_ctx *ctx, bar_systems *S)
+{
+    for (int k = 0; k < S->nsys; k++) {
+        eo_csc_destroy(ctx, &S->H[k]);
+        free(S->b[k]);
+    }
+    free(S->xyz);
+}
+
+static void med_spread(double *v, int m, double *med, double *lo, double *hi)
+{
+    qsort(v, (size_t)m, sizeof(double), cmp_d);
+    *med = v[m / 2];
+    *lo = v[0];
+    *hi = v[m - 1];
+}
+
+static void bench_orderings(const bar_case *bc, const bar_systems *S)
+{
+    enum { NORD = 4, MAXR = 16 };
+    const char *ords[NORD] = {"amd", "metis", "nesdis", "auto"};
+    eo_chm chm[NORD];
+    double ta[NORD], tf[NORD][MAXR], fl[NORD], lnz[NORD];
+    int ok[NORD];
+    eo_ctx *ctx = NULL;
+    eo_ctx_create(NULL, &ctx);
+    const eo_csc *A = S->H[0];
+    for (int o = 0; o < NORD; o++) {
+        memset(&chm[o], 0, sizeof chm[o]);
+        eo_chm_start(&chm[o]);
+        eo_chm_ordering(&chm[o], ords[o]);
+        chm[o].c.supernodal = CHOLMOD_SUPERNODAL;
+        chm[o].c.final_ll = 1;
+        double t0 = eo_wtime();
+        ok[o] = eo_chm_analyze(&chm[o], A, "bench", ctx) >= 0;
+        ta[o] = eo_wtime() - t0;
+    }
+    cholmod_sparse M = eo_chm_view(A);
+    for (int r = 0; r < bc->reps; r++)
+        for (int o = 0; o < NORD; o++) {
+            if (!ok[o]) continue;
+            double t0 = eo_wtime();
+            ok[o] = eo_chm_factorize(&chm[o], &M, 0) && chm[o].c.status == CHOLMOD_OK;
+            tf[o][r] = eo_wtime() - t0;
+            fl[o] = chm[o].c.fl;
+            lnz[o] = chm[o].c.lnz;
+        }
+    printf("ordering (CHOLMOD supernodal LL' of H_0, n = %d, nnz(upper) = %d, %d interleaved repeats)\n", A->n, A->nnz,
+           bc->reps);
+    printf("  %-8s %12s %12s %10s %12s %19s %9s\n", "ordering", "flops", "nnz(L)", "analyze s", "factor s (med)",
+           "min-max", "vs amd");
+    double ref = 0;
+    for (int o = 0; o < NORD; o++) {
+        if (!ok[o]) {
+            printf("  %-8s failed (CHOLMOD status %d)\n", ords[o], chm[o].c.status);
+            continue;
+        }
+        double med, lo, hi;
+        med_spread(tf[o], bc->reps, &med, &lo, &hi);
+        if (o == 0) ref = med;
+        const char *sel = "";
+        if (!strcmp(ords[o], "auto"))
+            sel = chm[o].c.method[chm[o].c.selected].ordering == CHOLMOD_METIS    ? " (chose metis)"
+                  : chm[o].c.method[chm[o].c.selected].ordering == CHOLMOD_AMD    ? " (chose amd)"
+                  : chm[o].c.method[chm[o].c.selected].ordering == CHOLMOD_NESDIS ? " (chose nesdis)"
+                                                                                  : " (chose other)";
+        printf("  %-8s %12.4g %12.4g %10.3f %12.4f   [%.4f, %.4f] %8.2fx%s\n", ords[o], fl[o], lnz[o], ta[o], med, lo,
+               hi, ref > 0 ? med / ref : 0, sel);
+    }
+    for (int o = 0; o < NORD; o++) eo_chm_finish(&chm[o]);
+    eo_ctx_destroy(&ctx);
+}
+
+typedef struct nt_method {
+    const char *label, *solver, *precond;
+} nt_method;
+
+static void bench_newton(const bar_case *bc, const bar_systems *S)
+{
+    const nt_method ms[] = {
+#if EO_HAVE_HYPRE
+        {"pcg+amg", "pcg", "amg"},
+        {"pcg+amg-r0", "pcg", "amg"}, /* without the rigid-body modes */
+#endif
+        {"pcg+ic0", "pcg", "ic0"},
+        {"pcg+reuse", "pcg", "cholmod_reuse"},
+        {"cholmod", "cholmod", NULL},
+    };
+    enum { NM = sizeof ms / sizeof ms[0], MAXR = 16 };
+    double tset[NM][MAXR], tsol[NM][MAXR];
+    int its[NM][8], rcs[NM];
+    double res[NM];
+    eo_ctx *ctx = NULL;
+    eo_ctx_create(NULL, &ctx);
+    const int n = S->n;
+    double *x = malloc((size_t)n * sizeof(double));
+    memset(rcs, 0, sizeof rcs);
+    for (int r = 0; r < bc->reps; r++)
+        for (int m = 0; m < NM; m++) {
+            const eo_linsolve_type *t = NULL;
+            eo_linsolve_find(ctx, ms[m].solver, &t);
+            double params[64];
+            eo_params_default(t->info.params, params);
+            if (ms[m].precond) {
+                const eo_param_desc *d = eo_params_find(t->info.params, "preconditioner");
+                snprintf((char *)params + d->offset, d->size, "%s", ms[m].precond);
+                *(double *)((char *)params + eo_params_find(t->info.params, "tol")->offset) = 1e-8;
+                if (!strcmp(ms[m].precond, "amg")) /* explicit: rigid-body modes on / off */
+                    *(int *)((char *)params + eo_params_find(t->info.params, "amg_rbm")->offset) =
+                        strstr(ms[m].label, "-r0") == NULL;
+            }
+            eo_linsolve *ls = NULL;
+            int rc = eo_linsolve_create(ctx, t, params, &ls);
+            if (rc >= 0) rc = eo_linsolve_set_coordinates(ls, S->nv, S->xyz);
+            double ts = 0, tv = 0, rmax = 0;
+            for (int k = 0; rc >= 0 && k < S->nsys; k++) {
+                double t0 = eo_wtime();
+                if (k == 0) rc = eo_linsolve_analyze(ls, S->H[0]);
+                if (rc >= 0) rc = eo_linsolve_factor(ls, S->H[k]);
+                ts += eo_wtime() - t0;
+                t0 = eo_wtime();
+                if (rc == EO_OK) rc = eo_linsolve_solve(ls, S->b[k], x);
+                tv += eo_wtime() - t0;
+                its[m][k] = eo_linsolve_get_stats(ls)->iterations;
+                double *y = malloc((size_t)n * sizeof(double)), rr = 0;
+                eo_csc_symv(S->H[k], x, y);
+                for (int i = 0; i < n; i++) rr += (S->b[k][i] - y[i]) * (S->b[k][i] - y[i]);
+                free(y);
+                rmax = fmax(rmax, sqrt(rr) / nrm(n, S->b[k]));
+            }
+            if (rc != EO_OK) {
+                rcs[m] = rc;
+                printf("  %s: %s: %s\n", ms[m].label, eo_status_name(rc), eo_ctx_message(ctx));
+            }
+            tset[m][r] = ts;
+            tsol[m][r] = tv;
+            res[m] = rmax;
+            eo_linsolve_destroy(&ls);
+        }
+    printf("newton systems (%d tets, n = %d, %d systems H_0..H_%d, rtol 1e-8 for PCG, %d interleaved repeats)\n",
+           S->ntets, n, S->nsys, S->nsys - 1, bc->reps);
+    printf("  %-10s %14s %19s %14s %19s %12s %10s  %s\n", "method", "setup s/sys", "min-max", "solve s/sys",
+           "min-max", "total/chol", "max res", "PCG iterations per system");
+    double ref = 0;
+    for (int m = 0; m < NM; m++) {
+        double tot[MAXR];
+        for (int r = 0; r < bc->reps; r++) tot[r] = tset[m][r] + tsol[m][r];
+        qsort(tot, (size_t)bc->reps, sizeof(double), cmp_d);
+        if (!strcmp(ms[m].label, "cholmod")) ref = tot[bc->reps / 2];
+    }
+    for (int m = 0; m < NM; m++) {
+        double sm, sl, sh, vm, vl, vh, tot[MAXR];
+        for (int r = 0; r < bc->reps; r++) tot[r] = tset[m][r] + tsol[m][r];
+        qsort(tot, (size_t)bc->reps, sizeof(double), cmp_d);
+        med_spread(tset[m], bc->reps, &sm, &sl, &sh);
+        med_spread(tsol[m], bc->reps, &vm, &vl, &vh);
+        const double q = 1.0 / S->nsys;
+        char itb[64] = "", *w = itb;
+        for (int k = 0; k < S->nsys; k++) w += snprintf(w, sizeof itb - (size_t)(w - itb), "%d ", its[m][k]);
+        printf("  %-10s %14.4f   [%.4f, %.4f] %14.4f   [%.4f, %.4f] %12.2f %10.2e  %s%s\n", ms[m].label, sm * q,
+               sl * q, sh * q, vm * q, vl * q, vh * q, ref > 0 ? tot[bc->reps / 2] / ref : 0, res[m], itb,
+               rcs[m] ? eo_status_name(rcs[m]) : "");
+    }
+    free(x);
+    eo_ctx_destroy(&ctx);
+}
+
+static void run_bar(const bar_case *bc)
+{
+    eo_ctx *ctx = NULL;
+    eo_ctx_create(NULL, &ctx);
+    bar_systems S;
+    printf("\ncase %s: twist bar, %d x %d x %d cells x 5 tets\n", bc->name, bc->cx, bc->cy, bc->cz);
+    double t0 = eo_wtime();
+    if (bar_build(ctx, bc, &S) == EO_OK) {
+        printf("  %d tets, n = %d free dofs, nnz(upper H) = %d; systems built in %.2f s\n", S.ntets, S.n,
+               S.H[0]->nnz, eo_wtime() - t0);
+        bench_orderings(bc, &S);
+        bench_newton(bc, &S);
+    }
+    bar_free(ctx, &S);
+    eo_ctx_destroy(&ctx);
+}
+
 int main(int argc, char **argv)
 {
     char machine[512];
@@ -211,6 +515,14 @@ int main(int argc, char **argv)
     printf("OPENBLAS_NUM_THREADS=%s; times are medians of the factor+solve repetitions; stationary\n"
            "methods are capped at 2000 iterations (default tol 1e-10)\n", thr ? thr : "(unset)");
     int ran = 0;
+    for (size_t c = 0; c < sizeof bars / sizeof bars[0]; c++) {
+        int pick = argc <= 1 && strcmp(bars[c].name, "bar100k");
+        for (int a = 1; a < argc; a++) pick |= strcmp(argv[a], bars[c].name) == 0;
+        if (pick) {
+            run_bar(&bars[c]);
+            ran++;
+        }
+    }
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         int pick = argc <= 1;
         for (int a = 1; a < argc; a++) pick |= strcmp(argv[a], cases[c].name) == 0;
@@ -222,6 +534,7 @@ int main(int argc, char **argv)
     if (!ran) {
         fprintf(stderr, "unknown case; valid:");
         for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) fprintf(stderr, " %s", cases[c].name);
+        for (size_t c = 0; c < sizeof bars / sizeof bars[0]; c++) fprintf(stderr, " %s", bars[c].name);
         fprintf(stderr, "\n");
         return 1;
     }

@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 pkgs=(meson ninja-build pkg-config gcc liblapacke-dev libopenblas-dev libsuitesparse-dev
-      libnlopt-dev coinor-libipopt-dev libjansson-dev gnuplot-nox valgrind python3-jsonschema
+      libnlopt-dev coinor-libipopt-dev libhypre-dev libjansson-dev gnuplot-nox valgrind python3-jsonschema
       g++ libtet1.5-dev)  # g++ + libtet1.5-dev: TetGen for surface meshes (-Dtetgen)
 missing=()
 for p in "${pkgs[@]}"; do

@@ -24,6 +24,7 @@
 #include <omp.h>
 #endif
 
+#include "eo_build_config.h"
 #include "elastopt/linsolve.h"
 #include "elastopt/sparse.h"
 #include "testutil.h"
@@ -406,6 +407,15 @@ static const variant variants[] = {
     {"cholmod", "ordering", "\"auto\""},  {"cholmod_ldlt", "ordering", "\"auto\""},
     {"pcg", "preconditioner", "\"ichol0\""}, {"sor", "omega", "1.2"},
     {"cholmod", "openmp", "true"},        {"cholmod_ldlt", "openmp", "true"},
+    {"cholmod", "ordering", "\"metis\""},  {"cholmod", "ordering", "\"nesdis\""},
+    {"cholmod", "ordering", "\"amd\""},    {"cholmod_ldlt", "ordering", "\"metis\""},
+    {"pcg", "preconditioner", "\"ic0\""},  {"pcg", "preconditioner", "\"cholmod_reuse\""},
+#if EO_HAVE_HYPRE
+    {"pcg", "preconditioner", "\"amg\""},
+#endif
+    {"gmres", "preconditioner", "\"ic0\""}, {"gmres", "preconditioner", "\"none\""},
+    {"gmres", "restart", "5"},             {"umfpack", "ordering", "\"metis\""},
+    {"lapack_ldlt", "allow_indefinite", "true"},
 };
 
 typedef struct solver_cfg {
@@ -536,16 +546,43 @@ static void contract_one(solver_cfg *c)
     int info = dense_solve(A, b, ref, 0);
     CHECK(info == 0, "dgesv reference");
     rc = run(ctx, ls, A, b, x, 0, &frc);
-    const int want_col = !strcmp(name, "cholmod") || !strcmp(name, "lapack") || !strcmp(name, "cholmod_ldlt");
+    const int ldlt_indef = !strcmp(name, "lapack_ldlt") && strstr(L, "allow_indefinite");
+    const int reuse = strstr(L, "cholmod_reuse") != NULL, amg = strstr(L, "amg") != NULL;
+    const int want_col = !strcmp(name, "cholmod") || !strcmp(name, "lapack") || !strcmp(name, "cholmod_ldlt") ||
+                         (!strcmp(name, "lapack_ldlt") && !ldlt_indef) || (reuse && frc == EO_WARN_NOT_PD);
+    if (!strcmp(name, "lapack_ldlt")) { /* inertia vs the dense eigenvalues (dsyev) */
+        double *D = dense_of(A), *ev = malloc((size_t)n * sizeof(double));
+        LAPACKE_dsyev(LAPACK_ROW_MAJOR, 'N', 'U', n, D, n, ev);
+        int neg = 0;
+        for (int i = 0; i < n; i++) neg += ev[i] < 0;
+        st = eo_linsolve_get_stats(ls);
+        CHECK(neg > 0 && st->n_negative == neg && st->n_zero == 0, "%s: inertia %d negative (dsyev: %d), %d zero", L,
+              st->n_negative, neg, st->n_zero);
+        free(D);
+        free(ev);
+    }
     if (want_col) {
         st = eo_linsolve_get_stats(ls);
         CHECK(frc == EO_WARN_NOT_PD, "%s: indefinite factor rc %d", L, frc);
         CHECK(st->not_pd_column >= 0 && st->not_pd_column < n, "%s: column %d", L, st->not_pd_column);
         CHECK(strstr(eo_ctx_message(ctx), "column") != NULL, "%s: message '%s'", L, eo_ctx_message(ctx));
         CHECK(eo_linsolve_solve(ls, b, x) == EO_ERR_INVALID, "%s: no solve after a failed factor", L);
-    } else if (!strcmp(name, "cg") || !strcmp(name, "pcg")) {
+    } else if (!strcmp(name, "cg") || (!strcmp(name, "pcg") && !amg)) {
         CHECK(frc == EO_OK && rc == EO_WARN_NOT_PD, "%s: indefinite: factor %d solve %d", L, frc, rc);
-    } else if (!strcmp(name, "spqr")) {
+        st = eo_linsolve_get_stats(ls);
+        CHECK(st->curvature < 0, "%s: negative curvature reported in stats: %g", L, st->curvature);
+        CHECK(strstr(eo_ctx_message(ctx), "curvature") != NULL, "%s: message '%s'", L, eo_ctx_message(ctx));
+    } else if (!strcmp(name, "gmres")) {
+        /* restarted GMRES(m) may stagnate on indefinite systems (it always does for small
+         * m): converge, or say so with the true residual (full-length GMRES: test_gmres_indefinite) */
+        st = eo_linsolve_get_stats(ls);
+        if (rc == EO_OK)
+            CHECK(rel_err(n, x, ref) < 1e-8, "%s: indefinite err %g", L, rel_err(n, x, ref));
+        else
+            CHECK(rc == EO_WARN_NOT_CONVERGED && st->residual > 1e-12 &&
+                      fabs(rel_res(A, b, x) - st->residual) <= 1e-6 * st->residual + 1e-15,
+                  "%s: indefinite: rc %d, reported residual %g, true %g", L, rc, st->residual, rel_res(A, b, x));
+    } else if (!strcmp(name, "spqr") || !strcmp(name, "umfpack") || !strcmp(name, "lapack_lu") || ldlt_indef) {
         CHECK(rc == EO_OK && rel_err(n, x, ref) < 1e-8, "%s: indefinite solve rc %d err %g", L, rc,
               rel_err(n, x, ref));
     } else {
@@ -627,7 +664,7 @@ static void test_contract(void)
             printf("contract %-28s %.3f s\n", c.label, eo_wtime() - t0);
         }
     }
-    CHECK(count == 9, "registered linear solvers: %d", count);
+    CHECK(count == 13, "registered linear solvers: %d", count);
     eo_test_ctx_done(&ctx);
 }
 
@@ -669,6 +706,215 @@ static void test_api(void)
     eo_linsolve_destroy(&ls);
     eo_assembler_destroy(ctx, &T.as);
     eo_assembler_destroy(ctx, &T2.as);
+    eo_test_ctx_done(&ctx);
+}
+
+/* GMRES with a Krylov space as large as needed (restart 300 on n = 900) solves the
+ * indefinite L − 2.05 I to 1e-10 (Jacobi |diag| and IC(0)-falling-back-to-Jacobi) */
+static void test_gmres_indefinite(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    const eo_linsolve_type *t = NULL;
+    CHECK(eo_linsolve_find(ctx, "gmres", &t) == EO_OK, "gmres registered");
+    testmat T;
+    testmat_create(ctx, 10, 10, 9, 150, &T);
+    testmat_fill(&T, -2.05, 0.0, 4);
+    eo_csc *A = eo_assembler_matrix(T.as);
+    const int n = A->n;
+    double *b = malloc((size_t)n * sizeof(double)), *x = malloc((size_t)n * sizeof(double));
+    double *ref = malloc((size_t)n * sizeof(double));
+    eo_test_seed(99);
+    for (int i = 0; i < n; i++) b[i] = eo_test_rand(-1, 1);
+    dense_solve(A, b, ref, 0);
+    const char *pcs[] = {"\"jacobi\"", "\"ic0\""};
+    for (int k = 0; k < 2; k++) {
+        solver_cfg c;
+        cfg_init(ctx, &c, t);
+        set_param(ctx, &c, "restart", "300");
+        set_param(ctx, &c, "tol", "1e-10");
+        set_param(ctx, &c, "preconditioner", pcs[k]);
+        eo_linsolve *ls = NULL;
+        int frc = 0;
+        CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_OK, "create");
+        int rc = run(ctx, ls, A, b, x, 1, &frc);
+        const eo_linsolve_stats *st = eo_linsolve_get_stats(ls);
+        CHECK(rc == EO_OK && rel_res(A, b, x) <= 1e-10 && rel_err(n, x, ref) < 1e-7,
+              "gmres(300) %s indefinite: rc %d its %d res %g err %g", pcs[k], rc, st->iterations, rel_res(A, b, x),
+              rel_err(n, x, ref));
+        eo_linsolve_destroy(&ls);
+    }
+    free(b);
+    free(x);
+    free(ref);
+    eo_assembler_destroy(ctx, &T.as);
+    eo_test_ctx_done(&ctx);
+}
+
+/* eo_linsolve_set_rtol: an inexact solve stops at the requested residual, 0 restores
+ * tol, >= 1 is refused; direct solvers accept and ignore it */
+static void test_rtol(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    testmat T;
+    testmat_create(ctx, 10, 10, 9, 150, &T);
+    testmat_fill(&T, 0.5, 1.0, 2);
+    eo_csc *A = eo_assembler_matrix(T.as);
+    const int n = A->n;
+    double *b = malloc((size_t)n * sizeof(double)), *x = malloc((size_t)n * sizeof(double));
+    for (int i = 0; i < n; i++) b[i] = cos(i);
+    const char *names[] = {"cg", "pcg", "gmres", "cholmod"};
+    for (int k = 0; k < 4; k++) {
+        const eo_linsolve_type *t = NULL;
+        eo_linsolve_find(ctx, names[k], &t);
+        eo_linsolve *ls = NULL;
+        int frc = 0;
+        CHECK(eo_linsolve_create(ctx, t, NULL, &ls) == EO_OK, "create %s", names[k]);
+        CHECK(eo_linsolve_set_rtol(ls, 1.5) == EO_ERR_RANGE && eo_linsolve_set_rtol(ls, NAN) == EO_ERR_RANGE,
+              "%s: rtol >= 1 refused", names[k]);
+        CHECK(eo_linsolve_set_rtol(ls, 1e-3) == EO_OK, "%s: set_rtol", names[k]);
+        int rc = run(ctx, ls, A, b, x, 1, &frc);
+        double r1 = rel_res(A, b, x);
+        int it1 = eo_linsolve_get_stats(ls)->iterations;
+        CHECK(eo_linsolve_set_rtol(ls, 0) == EO_OK, "%s: restore", names[k]);
+        rc |= eo_linsolve_solve(ls, b, x);
+        double r2 = rel_res(A, b, x);
+        int it2 = eo_linsolve_get_stats(ls)->iterations;
+        if (k < 3)
+            CHECK(rc == EO_OK && r1 <= 1e-3 && r1 > 1e-8 && r2 <= 1e-10 * 1.001 && it1 < it2,
+                  "%s: rtol 1e-3 -> res %g in %d its; tol 1e-10 -> res %g in %d its", names[k], r1, it1, r2, it2);
+        else
+            CHECK(rc == EO_OK && r1 < 1e-12 && r2 < 1e-12, "cholmod ignores rtol: %g %g", r1, r2);
+        eo_linsolve_destroy(&ls);
+    }
+    free(b);
+    free(x);
+    eo_assembler_destroy(ctx, &T.as);
+    eo_test_ctx_done(&ctx);
+}
+
+/* pcg cholmod_reuse: when it refactors (pcg.c: rules 1-3) */
+static void test_cholmod_reuse(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    const eo_linsolve_type *t = NULL;
+    eo_linsolve_find(ctx, "pcg", &t);
+    solver_cfg c;
+    cfg_init(ctx, &c, t);
+    set_param(ctx, &c, "preconditioner", "\"cholmod_reuse\"");
+    set_param(ctx, &c, "tol", "1e-10");
+    set_param(ctx, &c, "refactor_iters", "10");
+    testmat T;
+    testmat_create(ctx, 10, 10, 9, 150, &T);
+    eo_csc *A = eo_assembler_matrix(T.as);
+    const int n = A->n;
+    double *b = malloc((size_t)n * sizeof(double)), *x = malloc((size_t)n * sizeof(double));
+    double *ref = malloc((size_t)n * sizeof(double));
+    for (int i = 0; i < n; i++) b[i] = sin(0.3 * i);
+    eo_linsolve *ls = NULL;
+    int frc = 0, rc;
+    CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_OK, "create");
+    const eo_linsolve_stats *st = eo_linsolve_get_stats(ls);
+    /* 1: first factor after analyze refactors; the exact factor converges at once */
+    testmat_fill(&T, 1.0, 1.0, 2);
+    dense_solve(A, b, ref, 1);
+    rc = run(ctx, ls, A, b, x, 1, &frc);
+    CHECK(rc == EO_OK && st->n_refactor == 1 && st->iterations <= 2 && rel_err(n, x, ref) < 1e-8,
+          "fresh factor: rc %d refactors %ld its %d", rc, st->n_refactor, st->iterations);
+    /* a nearby matrix (shift 1.0 -> 1.02): the old factor preconditions, no refactor */
+    testmat_fill(&T, 1.02, 1.0, 2);
+    dense_solve(A, b, ref, 1);
+    rc = run(ctx, ls, A, b, x, 0, &frc);
+    int its_near = st->iterations;
+    CHECK(rc == EO_OK && st->n_refactor == 1 && its_near > 2 && its_near <= 10 && rel_err(n, x, ref) < 1e-8,
+          "reused factor: rc %d refactors %ld its %d err %g", rc, st->n_refactor, its_near, rel_err(n, x, ref));
+    /* an analyze of the same pattern keeps the factor */
+    rc = run(ctx, ls, A, b, x, 1, &frc);
+    CHECK(rc == EO_OK && st->n_refactor == 1 && st->iterations == its_near, "same-pattern analyze keeps the factor");
+    /* 2: a far matrix (other random blocks) needs > 10 iterations: solved, and the next
+     * factor refactors */
+    testmat_fill(&T, 0.3, 1.0, 7);
+    dense_solve(A, b, ref, 1);
+    rc = run(ctx, ls, A, b, x, 0, &frc);
+    int its_far = st->iterations;
+    CHECK(rc == EO_OK && st->n_refactor == 1 && its_far > 10 && rel_err(n, x, ref) < 1e-8,
+          "far matrix with the old factor: rc %d its %d refactors %ld", rc, its_far, st->n_refactor);
+    rc = run(ctx, ls, A, b, x, 0, &frc);
+    CHECK(rc == EO_OK && st->n_refactor == 2 && st->iterations <= 2, "refactored after %d > 10 its: %ld, its %d",
+          its_far, st->n_refactor, st->iterations);
+    eo_linsolve_destroy(&ls);
+    /* 3: a solve that hits max_iters with a reused factor refactors at once */
+    set_param(ctx, &c, "max_iters", "3");
+    CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_OK, "create");
+    st = eo_linsolve_get_stats(ls);
+    testmat_fill(&T, 1.0, 1.0, 2);
+    rc = run(ctx, ls, A, b, x, 1, &frc);
+    testmat_fill(&T, 0.3, 1.0, 7);
+    dense_solve(A, b, ref, 1);
+    rc = run(ctx, ls, A, b, x, 0, &frc);
+    CHECK(rc == EO_OK && st->n_refactor == 2 && rel_err(n, x, ref) < 1e-8,
+          "max_iters with the old factor: refactor inside solve (rc %d, refactors %ld, err %g)", rc, st->n_refactor,
+          rel_err(n, x, ref));
+    eo_linsolve_destroy(&ls);
+    free(b);
+    free(x);
+    free(ref);
+    eo_assembler_destroy(ctx, &T.as);
+    eo_test_ctx_done(&ctx);
+}
+
+/* set_coordinates: argument checks; amg (if built) with rigid-body modes still solves */
+static void test_coordinates(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    const eo_linsolve_type *t = NULL;
+    eo_linsolve_find(ctx, "pcg", &t);
+    testmat T;
+    testmat_create(ctx, 10, 10, 9, 150, &T);
+    testmat_fill(&T, 0.5, 1.0, 2);
+    eo_csc *A = eo_assembler_matrix(T.as);
+    const int n = A->n, nv = n / 3;
+    double *b = malloc((size_t)n * sizeof(double)), *x = malloc((size_t)n * sizeof(double));
+    double *ref = malloc((size_t)n * sizeof(double)), *xyz = malloc((size_t)n * sizeof(double));
+    for (int i = 0; i < n; i++) b[i] = cos(i), xyz[i] = eo_test_rand(0, 1);
+    dense_solve(A, b, ref, 1);
+    eo_linsolve *ls = NULL;
+    CHECK(eo_linsolve_create(ctx, t, NULL, &ls) == EO_OK, "create");
+    CHECK(eo_linsolve_set_coordinates(ls, -1, xyz) == EO_ERR_INVALID, "nv < 0");
+    CHECK(eo_linsolve_set_coordinates(ls, 3, NULL) == EO_ERR_INVALID, "NULL xyz");
+    CHECK(eo_linsolve_set_coordinates(ls, nv, xyz) == EO_OK, "jacobi ignores coordinates");
+    eo_linsolve_destroy(&ls);
+#if EO_HAVE_HYPRE
+    solver_cfg c;
+    for (int rbm = 0; rbm < 2; rbm++) {
+        cfg_init(ctx, &c, t);
+        set_param(ctx, &c, "preconditioner", "\"amg\"");
+        set_param(ctx, &c, "amg_rbm", rbm ? "true" : "false");
+        set_param(ctx, &c, "tol", "1e-10");
+        int frc = 0;
+        CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_OK, "create amg");
+        CHECK(eo_linsolve_set_coordinates(ls, nv, xyz) == EO_OK, "amg coordinates");
+        int rc = run(ctx, ls, A, b, x, 1, &frc);
+        CHECK(rc == EO_OK && rel_err(n, x, ref) < 1e-8, "amg rbm=%d: rc %d its %d err %g", rbm, rc,
+              eo_linsolve_get_stats(ls)->iterations, rel_err(n, x, ref));
+        /* coordinates after analyze are used by the next factor */
+        CHECK(eo_linsolve_set_coordinates(ls, nv, xyz) == EO_OK, "again");
+        rc = run(ctx, ls, A, b, x, 0, &frc);
+        CHECK(rc == EO_OK && rel_err(n, x, ref) < 1e-8, "amg refactor: rc %d", rc);
+        eo_linsolve_destroy(&ls);
+    }
+#else
+    /* without hypre the name is valid but creating the solver says it is not built */
+    solver_cfg c;
+    cfg_init(ctx, &c, t);
+    CHECK(set_param(ctx, &c, "preconditioner", "\"amg\"") == EO_OK, "amg is a known name");
+    CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_ERR_UNSUPPORTED && !ls, "amg refused without hypre");
+    CHECK(strstr(eo_ctx_message(ctx), "hypre") != NULL, "message says why: %s", eo_ctx_message(ctx));
+#endif
+    free(b);
+    free(x);
+    free(ref);
+    free(xyz);
+    eo_assembler_destroy(ctx, &T.as);
     eo_test_ctx_done(&ctx);
 }
 
@@ -715,5 +961,9 @@ int main(void)
     test_api();
     test_linsolve_fail();
     test_contract();
+    test_gmres_indefinite();
+    test_rtol();
+    test_cholmod_reuse();
+    test_coordinates();
     return eo_test_finish("test_linsolve");
 }

@@ -18,8 +18,16 @@
 /// Registered methods (config `solver.linear = "<name>"`, parameters
 /// `solver.<name>.<key>`; `elastopt list` / `--help` show keys and defaults):
 ///   cholmod (supernodal LLᵀ), cholmod_ldlt (simplicial LDLᵀ), spqr (sparse QR of the
-///   full matrix), lapack (dense Cholesky, small n), cg, pcg (Jacobi or IC(0)),
-///   jacobi, gauss_seidel, sor.
+///   full matrix), umfpack (sparse LU of the full matrix), lapack (dense Cholesky, small
+///   n), lapack_lu (dense LU), lapack_ldlt (dense Bunch–Kaufman LDLᵀ with inertia), cg,
+///   pcg (Jacobi, IC(0), reused CHOLMOD factor, BoomerAMG when built with hypre),
+///   gmres (restarted GMRES(m) for indefinite systems), jacobi, gauss_seidel, sor.
+///
+/// Optional ops (a method that lacks one accepts the call and ignores it):
+///   eo_linsolve_set_rtol        inner tolerance of an inexact Newton (Eisenstat–Walker
+///                               forcing term η_k); iterative methods only
+///   eo_linsolve_set_coordinates node coordinates, for the rigid-body near-null space of
+///                               algebraic multigrid (pcg with preconditioner amg)
 ///
 /// ```c
 /// eo_linsolve *ls; eo_linsolve_create(ctx, type, params, &ls);
@@ -49,6 +57,14 @@ typedef struct eo_linsolve_stats {
     int not_pd_column;   ///< column where positive definiteness failed, -1 if none
     double t_analyze, t_factor, t_solve;  ///< accumulated seconds
     long n_factor, n_solve;
+    /// cg/pcg/gmres: the curvature pᵀAp <= 0 met in the last solve (EO_WARN_NOT_PD),
+    /// 0 if none. The direction is never used: x is the last iterate before it.
+    double curvature;
+    /// lapack_ldlt (and other inertia-revealing factorizations): number of negative and
+    /// zero eigenvalues of A at the last factor; -1 if the method does not know.
+    int n_negative, n_zero;
+    /// pcg with a reused factor (cholmod_reuse): numeric refactorizations done so far.
+    long n_refactor;
 } eo_linsolve_stats;
 
 typedef struct eo_linsolve_type {
@@ -59,6 +75,10 @@ typedef struct eo_linsolve_type {
     int (*factor)(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ctx *ctx);
     int (*solve)(void *st, const double *b, double *x, eo_linsolve_stats *stats, eo_ctx *ctx);
     void (*destroy)(void *st, eo_ctx *ctx);                              ///< may be NULL
+    /// Optional: relative residual target of the next solves (overrides `tol`).
+    void (*set_rtol)(void *st, double rtol);
+    /// Optional: coordinates of the nv nodes whose dofs are 3i, 3i+1, 3i+2 (copied).
+    int (*set_coordinates)(void *st, int nv, const double *xyz, eo_ctx *ctx);
 } eo_linsolve_type;
 
 typedef struct eo_linsolve eo_linsolve;
@@ -77,8 +97,25 @@ EO_API int eo_linsolve_analyze(eo_linsolve *ls, const eo_csc *A);
 /// Numeric phase for A (same pattern as at analyze). EO_OK, EO_WARN_NOT_PD (column in
 /// stats.not_pd_column), EO_ERR_INVALID (pattern changed / not analyzed), EO_ERR_*.
 EO_API int eo_linsolve_factor(eo_linsolve *ls, const eo_csc *A);
-/// x = A⁻¹ b. EO_OK, EO_WARN_NOT_CONVERGED, EO_WARN_NOT_PD (cg/pcg), EO_ERR_*.
+/// x = A⁻¹ b. EO_OK, EO_WARN_NOT_CONVERGED, EO_WARN_NOT_PD (cg/pcg; stats.curvature),
+/// EO_ERR_*.
 EO_API int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x);
+/// Inexact Newton: make the next solves stop at ‖b − Ax‖ <= rtol ‖b‖ (0 < rtol < 1;
+/// rtol <= 0 restores the method's own `tol`). Direct solvers ignore it (EO_OK).
+/// Returns EO_OK or EO_ERR_RANGE (rtol >= 1 or not finite).
+EO_API int eo_linsolve_set_rtol(eo_linsolve *ls, double rtol);
+/// Node coordinates for methods that use the geometry (BoomerAMG's rigid-body modes):
+/// `xyz` (3 nv doubles, copied) are the positions of the nv nodes whose unknowns are
+/// rows 3i, 3i+1, 3i+2 of the matrix (the step engine: its free vertices, in free
+/// order, at rest or at the current iterate). Call before analyze, and again whenever
+/// the free set changes. Methods without use for it ignore it (EO_OK). Where: whoever
+/// holds both the step and the solver (the eo_sim driver / CLI run loop), after
+/// eo_step_begin of the first step and after a release rebuilds the pattern:
+/// xyz[i] = eo_step_x0(st)[eo_step_free_to_full(st, i)], nv = obj->n / 3, passed to
+/// eo_linsolve_set_coordinates(eo_solver_get_linsolve(solver), nv, xyz) (as
+/// bench/bench_linsolve.c does).
+/// Returns EO_OK, EO_ERR_INVALID (nv < 0 or xyz NULL with nv > 0), EO_ERR_NOMEM.
+EO_API int eo_linsolve_set_coordinates(eo_linsolve *ls, int nv, const double *xyz);
 EO_API const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls);
 EO_API const eo_linsolve_type *eo_linsolve_get_type(const eo_linsolve *ls);
 /// The solver's params struct (the copy it uses; borrowed).

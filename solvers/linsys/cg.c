@@ -65,6 +65,8 @@ static int cg_solve(void *st, const double *b, double *x, eo_linsolve_stats *sta
     return eo_cg_solve(st, NULL, NULL, b, x, stats, ctx);
 }
 
+static void cg_set_rtol(void *st, double rtol) { eo_cg_set_rtol(st, rtol); }
+
 const eo_linsolve_type eo_linsolve_cg = {
     .info = {.name = "cg",
              .summary = "conjugate gradients (unpreconditioned; detects non-positive curvature)",
@@ -76,4 +78,5 @@ const eo_linsolve_type eo_linsolve_cg = {
     .factor = cg_factor,
     .solve = cg_solve,
     .destroy = cg_destroy,
+    .set_rtol = cg_set_rtol,
 };

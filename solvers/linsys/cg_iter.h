@@ -12,7 +12,9 @@
  * non-finite values (EO_WARN_NOT_CONVERGED), or when a direction has non-positive
  * curvature p_kᵀA p_k ≤ 0 (EO_WARN_NOT_PD: A is not positive definite). In that case
  * x holds the last iterate, or z₀ = M⁻¹ b if it happens at k = 0 without warm start
- * (the preconditioned steepest-descent direction, as truncated Newton–CG does).
+ * (the preconditioned steepest-descent direction, as truncated Newton–CG does); the
+ * negative-curvature direction itself is never added to x, and its curvature pᵀAp is
+ * returned in stats->curvature so the caller can fall back to the projected system.
  * x₀ = 0 unless warm_start, which uses the x passed in. Workspace is allocated in
  * eo_cg_analyze; eo_cg_solve does not allocate. A is borrowed from factor on.
  */
@@ -38,6 +40,7 @@ typedef struct eo_cg {
     eo_cg_opts o;
     int n;
     const eo_csc *A; /* borrowed at factor */
+    double rtol;     /* eo_linsolve_set_rtol: > 0 overrides o.tol */
     double *r, *d, *Ad;
     double *z;       /* M⁻¹ r; NULL without preconditioner (then z is r itself) */
 } eo_cg;
@@ -75,6 +78,8 @@ static inline double eo_cg_dot(int n, const double *a, const double *b)
     return s;
 }
 
+static inline void eo_cg_set_rtol(eo_cg *s, double rtol) { s->rtol = rtol > 0 ? rtol : 0; }
+
 /* Solve A x = b; M == NULL: no preconditioner (pc unused). */
 static inline int eo_cg_solve(eo_cg *s, eo_cg_precond_fn M, const void *pc, const double *b,
                               double *x, eo_linsolve_stats *stats, eo_ctx *ctx)
@@ -96,7 +101,8 @@ static inline int eo_cg_solve(eo_cg *s, eo_cg_precond_fn M, const void *pc, cons
     memcpy(d, z, (size_t)n * sizeof(double));
     double rz = eo_cg_dot(n, r, z);
     double rnorm = M ? sqrt(eo_cg_dot(n, r, r)) : sqrt(rz);
-    const double stop = s->o.tol * bnorm;
+    const double tol = s->rtol > 0 ? s->rtol : s->o.tol;
+    const double stop = tol * bnorm;
     int k = 0;
     while (rnorm > stop) {
         if (k >= s->o.max_iters || !isfinite(rnorm) || !isfinite(rz)) {
@@ -105,7 +111,7 @@ static inline int eo_cg_solve(eo_cg *s, eo_cg_precond_fn M, const void *pc, cons
             return eo_error(ctx, EO_WARN_NOT_CONVERGED,
                             "%s: %s after %d iterations, relative residual %.3g (tol %.3g)",
                             s->o.name, isfinite(rnorm) ? "not converged" : "non-finite residual", k,
-                            stats->residual, s->o.tol);
+                            stats->residual, tol);
         }
         eo_csc_symv(s->A, d, Ad);
         double dAd = eo_cg_dot(n, d, Ad);
@@ -113,6 +119,7 @@ static inline int eo_cg_solve(eo_cg *s, eo_cg_precond_fn M, const void *pc, cons
             if (k == 0 && !s->o.warm_start) memcpy(x, z, (size_t)n * sizeof(double));
             stats->iterations = k;
             stats->residual = rnorm / bnorm;
+            stats->curvature = dAd;
             return eo_error(ctx, EO_WARN_NOT_PD,
                             "%s: non-positive curvature p'Ap = %.3g at iteration %d: matrix not "
                             "positive definite",

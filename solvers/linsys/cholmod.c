@@ -9,8 +9,22 @@
  * EO_WARN_NOT_PD with the original column of the failing pivot (Perm[L->minor]).
  * A is passed to CHOLMOD as a header over our upper CSC (stype = +1), not copied.
  *
+ * Default ordering chosen by measurement (bench/bench_linsolve bar cases, results in
+ * bench/results/linsolve-bars-amd-epyc-2cpu.txt: clamp-projected Newton Hessians of the
+ * generated twist bar, numeric supernodal factorization, one BLAS thread, 3-5
+ * interleaved repeats, loaded 2-core machine). AMD needs the fewest flops on every bar
+ * and has the shortest or an equal median time; METIS / NESDIS cost 5x more to analyze:
+ *     tets     AMD flops / nnz(L) / factor    METIS flops / time   NESDIS flops / time   auto
+ *     5 000    2.2e7 / 2.4e5 / 0.0154 s       5.3e7 / 0.97x        5.2e7 / 1.27x         AMD
+ *     50 000   2.8e9 / 6.3e6 / 0.274 s        3.6e9 / 1.23x        3.5e9 / 1.92x         AMD
+ *     108 160  1.5e10 / 2.0e7 / 1.64 s        1.6e10 / 1.14x       1.6e10 / 1.07x        METIS
+ * (time ratios: median numeric factorization time / AMD's.) On these quasi-1D bars
+ * minimum degree is as good as dissection; issue 15 measured METIS 24-39% faster on a
+ * 108k-tet TetGen beam and a 119k-tet bunny, so for large unstructured meshes measure
+ * ordering = "metis" (bench_linsolve prints both).
+ *
  * Parameters (solver.cholmod.<key>):
- *   ordering    "auto" | "amd" | "natural"        default "amd"
+ *   ordering    "auto" | "amd" | "metis" | "nesdis" | "natural"       default "amd"
  *   supernodal  true: supernodal LLᵀ (BLAS-3), false: simplicial LLᵀ   default true
  *   openmp      let CHOLMOD's own OpenMP loops run on 4 threads         default false
  *               (the BLAS threads are not affected; see eo_chm_factorize)
@@ -25,12 +39,16 @@ typedef struct cholmod_params {
     int openmp;        /* CHOLMOD's internal OpenMP loops; default false */
 } cholmod_params;
 
-static const char *const orderings[] = {"auto", "amd", "natural", NULL};
+static const char *const orderings[] = EO_CHM_ORDERINGS;
 
 static const eo_param_desc cholmod_desc[] = {
     {.key = "ordering", .kind = EO_PARAM_CHOICE, .offset = offsetof(cholmod_params, ordering),
      .size = sizeof(((cholmod_params *)0)->ordering), .def.s = "amd", .choices = orderings,
-     .help = "fill-reducing ordering: auto (CHOLMOD's choice), amd, natural"},
+     .help = "fill-reducing ordering: auto (CHOLMOD's choice), amd, metis, nesdis (CHOLMOD nested "
+             "dissection), natural. Default amd by measurement on the generated twist bars at 5k/50k/108k "
+             "tets: fewest flops (METIS 2.4/1.28/1.06x, NESDIS 2.3/1.24/1.04x AMD's) and numeric "
+             "factorization time METIS 0.97/1.23/1.14x, NESDIS 1.27/1.92/1.07x AMD's (bench_linsolve, "
+             "loaded machine); on large unstructured meshes metis can be faster"},
     {.key = "supernodal", .kind = EO_PARAM_BOOL, .offset = offsetof(cholmod_params, supernodal),
      .def.i = 1, .help = "supernodal LL' (true) or simplicial LL' (false)"},
     {.key = "openmp", .kind = EO_PARAM_BOOL, .offset = offsetof(cholmod_params, openmp), .def.i = 0,

@@ -11,7 +11,7 @@
  * for saddle-point or comparison runs, not for Newton descent directions).
  *
  * Parameters (solver.cholmod_ldlt.<key>):
- *   ordering          "auto" | "amd" | "natural"                    default "amd"
+ *   ordering          "auto" | "amd" | "metis" | "nesdis" | "natural"  default "amd"
  *   allow_indefinite  accept d_k < 0 (still refuse d_k = 0)           default false
  *   openmp            let CHOLMOD's own OpenMP loops run on 4 threads    default false
  */
@@ -26,12 +26,12 @@ typedef struct ldlt_params {
     int openmp;           /* CHOLMOD's internal OpenMP loops; default false */
 } ldlt_params;
 
-static const char *const orderings[] = {"auto", "amd", "natural", NULL};
+static const char *const orderings[] = EO_CHM_ORDERINGS;
 
 static const eo_param_desc ldlt_desc[] = {
     {.key = "ordering", .kind = EO_PARAM_CHOICE, .offset = offsetof(ldlt_params, ordering),
      .size = sizeof(((ldlt_params *)0)->ordering), .def.s = "amd", .choices = orderings,
-     .help = "fill-reducing ordering: auto (CHOLMOD's choice), amd, natural"},
+     .help = "fill-reducing ordering: auto (CHOLMOD's choice), amd, metis, nesdis, natural"},
     {.key = "allow_indefinite", .kind = EO_PARAM_BOOL,
      .offset = offsetof(ldlt_params, allow_indefinite), .def.i = 0,
      .help = "accept negative pivots (indefinite but non-singular matrices)"},

@@ -66,13 +66,21 @@ static inline void eo_chm_finish(eo_chm *s)
     s->started = 0;
 }
 
+/* The orderings the CHOLMOD-based solvers offer, and the default of solver.cholmod
+ * (chosen by measurement, see cholmod.c) that pcg's cholmod_reuse uses too. */
+#define EO_CHM_ORDERINGS {"auto", "amd", "metis", "nesdis", "natural", NULL}
+#define EO_CHM_DEFAULT_ORDERING "amd"
+
 /* Ordering choice -> CHOLMOD method list. "auto": CHOLMOD's default strategy (AMD, and
- * METIS/NESDIS when built in and AMD's fill is high); "amd"; "natural" (no permutation). */
+ * METIS when built in and AMD's fill is high: flops/lnz >= 500 and lnz/nnz(A) >= 5);
+ * "amd"; "metis" (METIS_NodeND on A + Aᵀ); "nesdis" (CHOLMOD's nested dissection:
+ * METIS node separators + constrained minimum degree, CAMD/CCOLAMD); "natural" (no
+ * permutation). */
 static inline void eo_chm_ordering(eo_chm *s, const char *ordering)
 {
-    if (strcmp(ordering, "amd") == 0) {
+    if (strcmp(ordering, "amd") == 0 || strcmp(ordering, "metis") == 0 || strcmp(ordering, "nesdis") == 0) {
         s->c.nmethods = 1;
-        s->c.method[0].ordering = CHOLMOD_AMD;
+        s->c.method[0].ordering = ordering[0] == 'a' ? CHOLMOD_AMD : ordering[0] == 'm' ? CHOLMOD_METIS : CHOLMOD_NESDIS;
         s->c.postorder = 1;
     } else if (strcmp(ordering, "natural") == 0) {
         s->c.nmethods = 1;

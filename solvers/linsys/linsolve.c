@@ -4,6 +4,7 @@
 #include "elastopt/linsolve.h"
 #include "../solver_registry.h"
 
+#include <math.h>
 #include <stdalign.h>
 #include <stddef.h>
 #include <stdio.h>
@@ -46,6 +47,7 @@ int eo_linsolve_create(eo_ctx *ctx, const eo_linsolve_type *type, const void *pa
     ls->params = (char *)ls + hs;
     ls->state = (char *)ls + hs + ps;
     ls->stats.not_pd_column = -1;
+    ls->stats.n_negative = ls->stats.n_zero = -1;
     if (type->info.params_size) {
         if (params) memcpy(ls->params, params, type->info.params_size);
         else eo_params_default(type->info.params, ls->params);
@@ -109,6 +111,7 @@ int eo_linsolve_factor(eo_linsolve *ls, const eo_csc *A)
                         name, A ? A->n : -1, A ? A->nnz : -1, ls->n, ls->nnz);
     ls->factored = 0;
     ls->stats.not_pd_column = -1;
+    ls->stats.n_negative = ls->stats.n_zero = -1;
     double t = eo_wtime();
     int rc = ls->type->factor(ls->state, A, &ls->stats, ls->ctx);
     ls->stats.t_factor += eo_wtime() - t;
@@ -124,11 +127,29 @@ int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x)
                         "linear solver %s: solve without a successful factor", ls->type->info.name);
     ls->stats.iterations = 0;
     ls->stats.residual = -1;
+    ls->stats.curvature = 0;
     double t = eo_wtime();
     int rc = ls->type->solve(ls->state, b, x, &ls->stats, ls->ctx);
     ls->stats.t_solve += eo_wtime() - t;
     ls->stats.n_solve++;
     return rc;
+}
+
+int eo_linsolve_set_rtol(eo_linsolve *ls, double rtol)
+{
+    if (!(rtol < 1) || !isfinite(rtol))
+        return eo_error(ls->ctx, EO_ERR_RANGE, "linear solver %s: rtol %g must be < 1", ls->type->info.name,
+                        rtol);
+    if (ls->type->set_rtol) ls->type->set_rtol(ls->state, rtol);
+    return EO_OK;
+}
+
+int eo_linsolve_set_coordinates(eo_linsolve *ls, int nv, const double *xyz)
+{
+    if (nv < 0 || (nv > 0 && !xyz))
+        return eo_error(ls->ctx, EO_ERR_INVALID, "linear solver %s: set_coordinates: nv %d, xyz %p",
+                        ls->type->info.name, nv, (const void *)xyz);
+    return ls->type->set_coordinates ? ls->type->set_coordinates(ls->state, nv, xyz, ls->ctx) : EO_OK;
 }
 
 const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls) { return &ls->stats; }

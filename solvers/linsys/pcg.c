@@ -4,40 +4,76 @@
  *   α_k = r_kᵀz_k / p_kᵀA p_k,   x_{k+1} = x_k + α_k p_k,   r_{k+1} = r_k − α_k A p_k
  *   z_{k+1} = M⁻¹ r_{k+1},   β_k = r_{k+1}ᵀz_{k+1} / r_kᵀz_k,   p_{k+1} = z_{k+1} + β_k p_k
  *
- * Preconditioners M (built in `factor`):
- *   jacobi  M = diag(A). A non-positive diagonal entry proves A is not positive
- *           definite: factor returns EO_WARN_NOT_PD with that column.
- *   ichol0  zero-fill incomplete Cholesky M = L Lᵀ on the pattern of A:
- *             l_jk = (a_jk − Σ_{m<k} l_jm l_km) / l_kk   for (j,k) in the pattern,
- *             l_jj = sqrt(a_jj − Σ_{m<j} l_jm²),
- *           (Meijerink & van der Vorst 1977). IC(0) can break down (l_jj² ≤ 0) for SPD
- *           matrices that are not M-matrices; then it is recomputed for A + σ diag(A)
- *           with σ = 1e-3, 4e-3, ... (Manteuffel's shift) up to 8 times, else the
- *           Jacobi preconditioner is used (logged). The rows of L are the columns of
- *           our upper CSC, so L shares A's pattern.
+ * Preconditioners M (solver.pcg.preconditioner; built in `factor`):
+ *   jacobi         M = diag(A). A non-positive diagonal entry proves A is not positive
+ *                  definite: factor returns EO_WARN_NOT_PD with that column (all
+ *                  preconditioners run this check).
+ *   ic0 (ichol0)   zero-fill incomplete Cholesky M = L Lᵀ on the pattern of A
+ *                  (Meijerink & van der Vorst 1977) with Manteuffel's shift on
+ *                  breakdown, Jacobi if every shift fails (ic0.h).
+ *   cholmod_reuse  M = L Lᵀ, a CHOLMOD supernodal Cholesky factor of an EARLIER matrix
+ *                  of the same pattern, kept across Newton iterations and time steps.
+ *                  Exactly when it refactors (numeric cholmod_factorize of the matrix
+ *                  passed to that factor call):
+ *                    1. at the first factor after an analyze of a new pattern (an
+ *                       analyze of an identical pattern keeps the factor);
+ *                    2. at the factor call following a solve that took more than
+ *                       `refactor_iters` iterations;
+ *                    3. inside a solve that hits max_iters (or a non-finite residual)
+ *                       with a reused factor: the current matrix is factored at once and
+ *                       the solve restarts (it then takes 1–2 iterations);
+ *                    4. after the previous refactorization failed (not PD).
+ *                  A refactorization of a matrix that is not positive definite returns
+ *                  EO_WARN_NOT_PD with the column, as cholmod does. stats.n_refactor
+ *                  counts the refactorizations; with a fresh factor PCG converges in one
+ *                  or two iterations (the factor is exact up to rounding).
+ *   amg            hypre BoomerAMG, one V-cycle (amg.h): systems AMG with 3 unknowns
+ *                  per node and nodal coarsening, plus the rigid-body rotations when
+ *                  eo_linsolve_set_coordinates gave the node positions. Set up at every
+ *                  factor. Only when built with hypre (-Dhypre); otherwise creating a
+ *                  pcg with it fails with EO_ERR_UNSUPPORTED and a message saying so.
  * The iteration, stopping, curvature check and warm start are cg_iter.h's (shared
- * with cg.c). No allocation in solve.
+ * with cg.c): non-positive curvature pᵀAp <= 0 is reported (EO_WARN_NOT_PD, value in
+ * stats.curvature) and the direction is never used. eo_linsolve_set_rtol overrides
+ * `tol` (inexact Newton). No allocation by pcg in solve (CHOLMOD's and hypre's set-up
+ * use their own allocators in factor).
  *
  * Parameters (solver.pcg.<key>):
- *   tol             relative residual ‖b − Ax‖/‖b‖ to reach           default 1e-10
- *   max_iters       iteration cap                                     default 10000
- *   preconditioner  "jacobi" | "ichol0"                               default "jacobi"
- *   warm_start      start from the x passed to solve instead of 0     default false
+ *   tol                   relative residual ‖b − Ax‖/‖b‖ to reach      default 1e-10
+ *   max_iters             iteration cap                                default 10000
+ *   preconditioner        jacobi | ic0 | ichol0 | cholmod_reuse | amg  default "jacobi"
+ *   warm_start            start from the x passed to solve             default false
+ *   refactor_iters        cholmod_reuse: refactor after a solve needing more
+ *                         iterations than this                         default 20
+ *   amg_strong_threshold  BoomerAMG strength threshold                 default 0.5
+ *   amg_rbm               amg: rigid-body modes from the coordinates   default false
+ *                         (measured: 10 instead of 20 iterations, but 3.7x the setup time
+ *                         on the 108k-tet bar; off is 2.4x faster per Newton system)
  */
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
 
 #include "cg_iter.h"
+#include "cholmod_util.h"
+#include "ic0.h"
+#if EO_HAVE_HYPRE
+#include "amg.h"
+#endif
 
 typedef struct pcg_params {
     double tol;              /* relative residual; default 1e-10 */
     int max_iters;           /* default 10000 */
-    char preconditioner[16]; /* "jacobi" (default) or "ichol0" */
+    char preconditioner[16]; /* default "jacobi" */
     int warm_start;          /* default false */
+    int refactor_iters;      /* cholmod_reuse; default 20 */
+    double amg_strong_threshold; /* default 0.5 */
+    int amg_rbm;             /* default false (measured) */
 } pcg_params;
 
-static const char *const preconds[] = {"jacobi", "ichol0", NULL};
+/* "amg" is always a valid name (so configs and docs do not depend on the build); a build
+ * without hypre refuses it at create with EO_ERR_UNSUPPORTED and says how to get it. */
+static const char *const preconds[] = {"jacobi", "ic0", "ichol0", "cholmod_reuse", "amg", NULL};
 
 static const eo_param_desc pcg_desc[] = {
     {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(pcg_params, tol), .def.d = 1e-10,
@@ -46,88 +82,178 @@ static const eo_param_desc pcg_desc[] = {
      .def.i = 10000, .min = 1, .range = EO_RANGE_MIN, .help = "iteration cap"},
     {.key = "preconditioner", .kind = EO_PARAM_CHOICE, .offset = offsetof(pcg_params, preconditioner),
      .size = sizeof(((pcg_params *)0)->preconditioner), .def.s = "jacobi", .choices = preconds,
-     .help = "jacobi (diagonal) or ichol0 (zero-fill incomplete Cholesky)"},
+     .help = "jacobi (diagonal), ic0 = ichol0 (zero-fill incomplete Cholesky), cholmod_reuse (an "
+             "earlier CHOLMOD factor, refactored per refactor_iters), amg (hypre BoomerAMG; builds "
+             "without hypre refuse it at create)"},
     {.key = "warm_start", .kind = EO_PARAM_BOOL, .offset = offsetof(pcg_params, warm_start),
      .def.i = 0, .help = "start from the x passed in (else from 0)"},
+    {.key = "refactor_iters", .kind = EO_PARAM_INT, .offset = offsetof(pcg_params, refactor_iters), .def.i = 20,
+     .min = 1, .range = EO_RANGE_MIN,
+     .help = "cholmod_reuse: a solve that needs more PCG iterations than this makes the next factor "
+             "refactor the current matrix (a solve that hits max_iters refactors at once)"},
+    {.key = "amg_strong_threshold", .kind = EO_PARAM_DOUBLE,
+     .offset = offsetof(pcg_params, amg_strong_threshold), .def.d = 0.5, .min = 0, .max = 1,
+     .range = EO_RANGE_OPEN, .help = "amg: BoomerAMG strength threshold (0.5 for 3D elasticity)"},
+    {.key = "amg_rbm", .kind = EO_PARAM_BOOL, .offset = offsetof(pcg_params, amg_rbm), .def.i = 0,
+     .help = "amg: add the rigid-body rotations to the interpolation when node coordinates are set "
+             "(halves the PCG iterations on the twist bars but triples the setup: 2.4x slower in total "
+             "at 108k tets, bench_linsolve; default off)"},
     {0},
 };
 
+enum { PC_JACOBI, PC_IC0, PC_REUSE, PC_AMG };
+
 typedef struct pcg_state {
     eo_cg cg;        /* iteration workspace and borrowed A (cg_iter.h) */
-    int ichol0;      /* preconditioner "ichol0" requested (else "jacobi") */
+    pcg_params p;
+    int pc;          /* requested preconditioner */
     int ic;          /* IC(0) factor in use (else Jacobi) */
     double *dinv;
-    double *L;       /* ichol0: values of L on A's pattern (row j of L = column j of A) */
-    double *w;       /* ichol0: dense row scratch, all zero between uses */
+    double *L;       /* ic0: values of L on A's pattern (row j of L = column j of A) */
+    double *w;       /* ic0: dense row scratch, all zero between uses */
+    /* cholmod_reuse */
+    eo_chm chm;
+    int have_factor, need_refactor, fresh; /* fresh: factor is of the current A */
+    int *pat;        /* copy of colptr and rowind of the analyzed pattern */
+    int pat_n, pat_nnz;
+#if EO_HAVE_HYPRE
+    eo_amg *amg;
+#endif
+    double *xyz;     /* set_coordinates copy (3 nv), for amg */
+    int nv;
 } pcg_state;
 
 static int pcg_setup(void *st, const void *params, eo_ctx *ctx)
 {
     (void)ctx;
-    const pcg_params *p = params;
     pcg_state *s = st;
+    s->p = *(const pcg_params *)params;
     s->cg.o = (eo_cg_opts){
-        .tol = p->tol, .max_iters = p->max_iters, .warm_start = p->warm_start, .name = "pcg"};
-    s->ichol0 = strcmp(p->preconditioner, "ichol0") == 0;
+        .tol = s->p.tol, .max_iters = s->p.max_iters, .warm_start = s->p.warm_start, .name = "pcg"};
+    const char *pc = s->p.preconditioner;
+    s->pc = !strcmp(pc, "ic0") || !strcmp(pc, "ichol0") ? PC_IC0
+            : !strcmp(pc, "cholmod_reuse")              ? PC_REUSE
+            : !strcmp(pc, "amg")                        ? PC_AMG
+                                                        : PC_JACOBI;
+#if !EO_HAVE_HYPRE
+    if (s->pc == PC_AMG)
+        return eo_error(ctx, EO_ERR_UNSUPPORTED,
+                        "pcg: preconditioner \"amg\" (hypre BoomerAMG) is not in this build: install "
+                        "libhypre-dev and configure with -Dhypre=enabled (or auto)");
+#endif
+    if (s->pc == PC_REUSE) {
+        eo_chm_start(&s->chm);
+        eo_chm_ordering(&s->chm, EO_CHM_DEFAULT_ORDERING);
+        s->chm.c.supernodal = CHOLMOD_SUPERNODAL;
+        s->chm.c.final_ll = 1;
+    }
     return EO_OK;
 }
 
-static void pcg_destroy(void *st, eo_ctx *ctx)
+/* everything sized by analyze (the CHOLMOD factor only if `all`) */
+static void free_pattern_data(pcg_state *s, eo_ctx *ctx, int all)
 {
-    pcg_state *s = st;
     eo_cg_destroy(&s->cg, ctx);
     double **arr[] = {&s->dinv, &s->L, &s->w};
     for (size_t i = 0; i < sizeof arr / sizeof arr[0]; i++) {
         eo_free(ctx, *arr[i]);
         *arr[i] = NULL;
     }
+#if EO_HAVE_HYPRE
+    eo_amg_destroy(ctx, &s->amg);
+#endif
+    if (all) {
+        eo_chm_free_factor(&s->chm);
+        s->have_factor = s->fresh = 0;
+        eo_free(ctx, s->pat);
+        s->pat = NULL;
+    }
+}
+
+static void pcg_destroy(void *st, eo_ctx *ctx)
+{
+    pcg_state *s = st;
+    free_pattern_data(s, ctx, 1);
+    eo_chm_finish(&s->chm);
+    eo_free(ctx, s->xyz);
+    s->xyz = NULL;
+}
+
+static int same_pattern(const pcg_state *s, const eo_csc *A)
+{
+    return s->pat && s->pat_n == A->n && s->pat_nnz == A->nnz &&
+           !memcmp(s->pat, A->colptr, (size_t)(A->n + 1) * sizeof(int)) &&
+           !memcmp(s->pat + A->n + 1, A->rowind, (size_t)A->nnz * sizeof(int));
 }
 
 static int pcg_analyze(void *st, const eo_csc *A, eo_ctx *ctx)
 {
     pcg_state *s = st;
-    pcg_destroy(s, ctx);
+    const int keep = s->pc == PC_REUSE && same_pattern(s, A);
+    free_pattern_data(s, ctx, !keep);
     int rc = eo_cg_analyze(&s->cg, A, 1, ctx);
     if (rc < 0) return rc;
     s->dinv = eo_malloc(ctx, (size_t)(A->n ? A->n : 1) * sizeof(double));
     int ok = s->dinv != NULL;
-    if (ok && s->ichol0) {
+    if (ok && s->pc == PC_IC0) {
         s->L = eo_malloc(ctx, (size_t)(A->nnz ? A->nnz : 1) * sizeof(double));
         s->w = eo_calloc(ctx, (size_t)(A->n ? A->n : 1), sizeof(double));
         ok = s->L && s->w;
     }
+    if (ok && s->pc == PC_REUSE && !keep) {
+        s->pat = eo_malloc(ctx, (size_t)(A->n + 1 + A->nnz) * sizeof(int));
+        ok = s->pat != NULL;
+        if (ok) {
+            memcpy(s->pat, A->colptr, (size_t)(A->n + 1) * sizeof(int));
+            memcpy(s->pat + A->n + 1, A->rowind, (size_t)A->nnz * sizeof(int));
+            s->pat_n = A->n;
+            s->pat_nnz = A->nnz;
+        }
+    }
     if (!ok) {
-        pcg_destroy(s, ctx);
+        free_pattern_data(s, ctx, 1);
         return eo_error(ctx, EO_ERR_NOMEM, "pcg: out of memory (n=%d)", A->n);
     }
+    if (s->pc == PC_REUSE && !keep) {
+        rc = eo_chm_analyze(&s->chm, A, "pcg cholmod_reuse", ctx);
+        if (rc < 0) {
+            free_pattern_data(s, ctx, 1);
+            return rc;
+        }
+    }
+#if EO_HAVE_HYPRE
+    if (s->pc == PC_AMG) {
+        eo_amg_opts o = {.strong_threshold = s->p.amg_strong_threshold, .rbm = s->p.amg_rbm};
+        rc = eo_amg_create(ctx, A, &o, &s->amg);
+        if (rc < 0) {
+            free_pattern_data(s, ctx, 1);
+            return rc;
+        }
+        if (s->nv > 0) eo_amg_set_coordinates(s->amg, s->nv, s->xyz);
+    }
+#endif
     return EO_OK;
 }
 
-/* IC(0) of A + sigma·diag(A), row by row (row j of L = column j of the upper CSC, rows
- * sorted, diagonal last). Returns -1 on success, else the failing row. */
-static int ichol0(pcg_state *s, const eo_csc *A, double sigma)
+static int refactor(pcg_state *s, const eo_csc *A, eo_linsolve_stats *stats, eo_ctx *ctx)
 {
-    const int *cp = A->colptr, *ri = A->rowind;
-    double *L = s->L, *w = s->w;
-    for (int j = 0; j < A->n; j++) {
-        int end = cp[j + 1] - 1; /* diagonal position */
-        for (int p = cp[j]; p < end; p++) {
-            int k = ri[p];
-            double v = A->val[p];
-            for (int q = cp[k]; q < cp[k + 1] - 1; q++) v -= L[q] * w[ri[q]];
-            v /= L[cp[k + 1] - 1];
-            L[p] = v;
-            w[k] = v;
-        }
-        double djj = A->val[end] * (1 + sigma);
-        for (int p = cp[j]; p < end; p++) {
-            djj -= L[p] * L[p];
-            w[ri[p]] = 0;
-        }
-        if (!(djj > 0) || !isfinite(djj)) return j;
-        L[end] = sqrt(djj);
+    cholmod_sparse S = eo_chm_view(A);
+    int ok = eo_chm_factorize(&s->chm, &S, 0);
+    int status = s->chm.c.status;
+    s->have_factor = s->fresh = 0;
+    stats->n_refactor++;
+    if (status == CHOLMOD_NOT_POSDEF || (ok && s->chm.L->minor < (size_t)A->n)) {
+        int k = (int)s->chm.L->minor, col = eo_chm_orig(&s->chm, k);
+        stats->not_pd_column = col;
+        return eo_error_at(ctx, EO_WARN_NOT_PD, EO_ERRLOC_ITEM(NULL, -1, "column", col),
+                           "pcg cholmod_reuse: matrix not positive definite (pivot %d of %d)", k, A->n);
     }
-    return -1;
+    if (!ok || status < CHOLMOD_OK)
+        return eo_error(ctx, status == CHOLMOD_OUT_OF_MEMORY ? EO_ERR_NOMEM : EO_ERR_LINSOLVE,
+                        "pcg cholmod_reuse: cholmod_factorize failed (CHOLMOD status %d)", status);
+    s->have_factor = s->fresh = 1;
+    s->need_refactor = 0;
+    return EO_OK;
 }
 
 static int pcg_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ctx *ctx)
@@ -144,55 +270,95 @@ static int pcg_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ct
         s->dinv[j] = 1 / a;
     }
     s->ic = 0;
-    if (s->L) {
-        double sigma = 0;
-        for (int t = 0; t <= 8; t++) {
-            int bad = ichol0(s, A, sigma);
-            if (bad < 0) {
-                s->ic = 1;
-                break;
-            }
-            for (int i = 0; i < A->n; i++) s->w[i] = 0; /* scratch may be dirty at failure */
-            eo_log(ctx, EO_LOG_DEBUG, "pcg: IC(0) breakdown at row %d with shift %g", bad, sigma);
-            sigma = sigma == 0 ? 1e-3 : 4 * sigma;
-        }
-        if (!s->ic) eo_log(ctx, EO_LOG_INFO, "pcg: IC(0) failed with every shift; using Jacobi");
+    switch (s->pc) {
+    case PC_IC0: s->ic = eo_ic0_factor(A, s->L, s->w, "pcg", ctx); break;
+    case PC_REUSE:
+        s->fresh = 0;
+        if (!s->have_factor || s->need_refactor) return refactor(s, A, stats, ctx);
+        break;
+    case PC_AMG:
+#if EO_HAVE_HYPRE
+        return eo_amg_setup(s->amg, A, ctx);
+#endif
+        break;
+    default: break;
     }
     return EO_OK;
 }
 
-/* z = M⁻¹ r (an eo_cg_precond_fn) */
+/* z = M⁻¹ r (eo_cg_precond_fn) */
 static void precond(const void *pc, const double *r, double *z)
 {
     const pcg_state *s = pc;
     const int n = s->cg.n;
-    if (!s->ic) {
+    if (s->ic) eo_ic0_apply(s->cg.A, s->L, r, z);
+    else
         for (int i = 0; i < n; i++) z[i] = r[i] * s->dinv[i];
-        return;
-    }
-    const int *cp = s->cg.A->colptr, *ri = s->cg.A->rowind;
-    const double *L = s->L;
-    for (int j = 0; j < n; j++) { /* L y = r, rows of L */
-        double v = r[j];
-        for (int p = cp[j]; p < cp[j + 1] - 1; p++) v -= L[p] * z[ri[p]];
-        z[j] = v / L[cp[j + 1] - 1];
-    }
-    for (int j = n - 1; j >= 0; j--) { /* Lᵀ z = y, columns of Lᵀ = rows of L */
-        z[j] /= L[cp[j + 1] - 1];
-        double zj = z[j];
-        for (int p = cp[j]; p < cp[j + 1] - 1; p++) z[ri[p]] -= L[p] * zj;
-    }
+}
+
+/* z = (L Lᵀ)⁻¹ r with the kept CHOLMOD factor (solve2 workspaces reused, no allocation
+ * after the first call); Jacobi if CHOLMOD fails (it cannot with a valid factor). */
+static void precond_chol(const void *pc, const double *r, double *z)
+{
+    pcg_state *s = (pcg_state *)(uintptr_t)pc;
+    const int n = s->cg.n;
+    cholmod_dense B;
+    memset(&B, 0, sizeof B);
+    B.nrow = B.nzmax = B.d = (size_t)n;
+    B.ncol = 1;
+    B.x = (void *)(uintptr_t)r;
+    B.xtype = CHOLMOD_REAL;
+    B.dtype = CHOLMOD_DOUBLE;
+    if (cholmod_solve2(CHOLMOD_A, s->chm.L, &B, NULL, &s->chm.X, NULL, &s->chm.Y, &s->chm.E, &s->chm.c))
+        memcpy(z, s->chm.X->x, (size_t)n * sizeof(double));
+    else
+        for (int i = 0; i < n; i++) z[i] = r[i] * s->dinv[i];
 }
 
 static int pcg_solve(void *st, const double *b, double *x, eo_linsolve_stats *stats, eo_ctx *ctx)
 {
     pcg_state *s = st;
-    return eo_cg_solve(&s->cg, precond, s, b, x, stats, ctx);
+    switch (s->pc) {
+    case PC_REUSE: {
+        int rc = eo_cg_solve(&s->cg, precond_chol, s, b, x, stats, ctx);
+        if (s->fresh) return rc;
+        if (stats->iterations > s->p.refactor_iters || rc == EO_WARN_NOT_CONVERGED) s->need_refactor = 1;
+        if (rc != EO_WARN_NOT_CONVERGED) return rc;
+        int frc = refactor(s, s->cg.A, stats, ctx);
+        if (frc != EO_OK) return frc;
+        return eo_cg_solve(&s->cg, precond_chol, s, b, x, stats, ctx);
+    }
+#if EO_HAVE_HYPRE
+    case PC_AMG: return eo_cg_solve(&s->cg, eo_amg_apply, s->amg, b, x, stats, ctx);
+#endif
+    default: return eo_cg_solve(&s->cg, precond, s, b, x, stats, ctx);
+    }
+}
+
+static void pcg_set_rtol(void *st, double rtol) { eo_cg_set_rtol(&((pcg_state *)st)->cg, rtol); }
+
+static int pcg_set_coordinates(void *st, int nv, const double *xyz, eo_ctx *ctx)
+{
+    pcg_state *s = st;
+    if (s->pc != PC_AMG) return EO_OK;
+    eo_free(ctx, s->xyz);
+    s->xyz = NULL;
+    s->nv = 0;
+    if (nv == 0) return EO_OK;
+    s->xyz = eo_malloc(ctx, (size_t)3 * nv * sizeof(double));
+    if (!s->xyz) return eo_error(ctx, EO_ERR_NOMEM, "pcg: out of memory for %d coordinates", nv);
+    memcpy(s->xyz, xyz, (size_t)3 * nv * sizeof(double));
+    s->nv = nv;
+#if EO_HAVE_HYPRE
+    if (s->amg) eo_amg_set_coordinates(s->amg, nv, xyz);
+#endif
+    return EO_OK;
 }
 
 const eo_linsolve_type eo_linsolve_pcg = {
     .info = {.name = "pcg",
-             .summary = "preconditioned conjugate gradients (Jacobi or IC(0))",
+             .summary = "preconditioned conjugate gradients (Jacobi, IC(0), reused CHOLMOD factor, "
+                        "BoomerAMG)",
              .params = pcg_desc,
              .params_size = sizeof(pcg_params)},
     .state_size = sizeof(pcg_state),
@@ -201,4 +367,6 @@ const eo_linsolve_type eo_linsolve_pcg = {
     .factor = pcg_factor,
     .solve = pcg_solve,
     .destroy = pcg_destroy,
+    .set_rtol = pcg_set_rtol,
+    .set_coordinates = pcg_set_coordinates,
 };

@@ -6,6 +6,10 @@ extern const eo_linsolve_type eo_linsolve_cholmod;
 extern const eo_linsolve_type eo_linsolve_cholmod_ldlt;
 extern const eo_linsolve_type eo_linsolve_spqr;
 extern const eo_linsolve_type eo_linsolve_lapack;
+extern const eo_linsolve_type eo_linsolve_lapack_lu;
+extern const eo_linsolve_type eo_linsolve_lapack_ldlt;
+extern const eo_linsolve_type eo_linsolve_umfpack;
+extern const eo_linsolve_type eo_linsolve_gmres;
 extern const eo_linsolve_type eo_linsolve_cg;
 extern const eo_linsolve_type eo_linsolve_pcg;
 extern const eo_linsolve_type eo_linsolve_jacobi;
@@ -17,8 +21,12 @@ const void *const eo_registry_linsolve[] = {
     &eo_linsolve_cholmod_ldlt,
     &eo_linsolve_spqr,
     &eo_linsolve_lapack,
+    &eo_linsolve_lapack_lu,
+    &eo_linsolve_lapack_ldlt,
+    &eo_linsolve_umfpack,
     &eo_linsolve_cg,
     &eo_linsolve_pcg,
+    &eo_linsolve_gmres,
     &eo_linsolve_jacobi,
     &eo_linsolve_gauss_seidel,
     &eo_linsolve_sor,

@@ -1,0 +1,43 @@
+/* Internal: Eisenstat–Walker forcing terms for inexact Newton (not a public header).
+ *
+ * Inexact Newton solves H_k p = −∇g_k only to ‖H_k p + ∇g_k‖ <= η_k ‖∇g_k‖ (with an
+ * iterative linear solver: eo_linsolve_set_rtol(ls, η_k)). Eisenstat & Walker 1996,
+ * "Choosing the forcing terms in an inexact Newton method", SIAM J. Sci. Comput. 17,
+ * choice 2:
+ *
+ *   η_0 = eta0,   η_k = γ (‖∇g_k‖ / ‖∇g_{k−1}‖)^α          (k >= 1)
+ *
+ * with the safeguards of the paper and of Kelley (1995, §6.3):
+ *   (a) no sudden drop: if γ η_{k−1}^α > 0.1, η_k = max(η_k, γ η_{k−1}^α)
+ *       (the forcing term may shrink only as fast as the convergence allows);
+ *   (b) η_k = min(η_k, eta_max);
+ *   (c) no oversolving at the end: η_k = max(η_k, 0.5 gtol / ‖∇g_k‖) when gtol > 0
+ *       (gtol: the absolute gradient tolerance of the stopping test);
+ *   (d) η_k = max(η_k, eta_min).
+ * With γ ∈ (0, 1] and α ∈ (1, 2] the local convergence is of order α (Theorem 2.2).
+ * Defaults: γ = 0.9, α = 2, η_0 = 0.5, eta_max = 0.9, eta_min = 0, gtol = 0.
+ * Non-finite or non-positive norms give eta_max (a safe, loose solve). */
+#ifndef EO_OPTIM_FORCING_H
+#define EO_OPTIM_FORCING_H
+
+#include "elastopt/params.h"
+
+typedef struct eo_forcing_params {
+    double gamma;   /* γ, default 0.9 */
+    double alpha;   /* α, default 2 */
+    double eta0;    /* η_0, default 0.5 */
+    double eta_max; /* default 0.9 */
+    double eta_min; /* default 0 */
+    double gtol;    /* absolute gradient tolerance for safeguard (c); 0: off (default) */
+} eo_forcing_params;
+
+/* Descriptor table of eo_forcing_params (keys = field names), for a caller's params. */
+extern const eo_param_desc eo_forcing_desc[];
+
+void eo_forcing_params_default(eo_forcing_params *p);
+
+/* η_k for iteration k (k = 0: eta0, the norms are then ignored) from ‖∇g_k‖,
+ * ‖∇g_{k−1}‖ and η_{k−1}. */
+double eo_forcing_eta(const eo_forcing_params *p, int k, double gnorm, double gnorm_prev, double eta_prev);
+
+#endif
