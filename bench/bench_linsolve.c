@@ -90,7 +90,7 @@ static int build_matrix(eo_ctx *ctx, const bench_case *bc, eo_assembler **out, d
     if (h >= 0) rc = eo_assembler_finalize(ctx, as);
     free(dofs);
     if (h < 0 || rc < 0) {
-        eo_assembler_destroy(ctx, &as);
+        eo_assembler_destroy(&as);
         return h < 0 ? h : rc;
     }
     eo_assembler_zero(as);
@@ -220,7 +220,7 @@ static void run_case(const bench_case *bc)
     }
     free(b);
     free(x);
-    eo_assembler_destroy(ctx, &as);
+    eo_assembler_destroy(&as);
     eo_ctx_destroy(&ctx);
 }
 
@@ -313,8 +313,8 @@ done:
     if (rc < 0) printf("cannot build %s: %s\n", bc->name, eo_ctx_message(ctx));
     eo_linsolve_destroy(&ls);
     eo_step_destroy(&st);
-    eo_scene_destroy(ctx, &sc);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_scene_destroy(&sc);
+    eo_cfg_destroy(&cfg);
     free(x);
     free(g);
     free(p);
@@ -324,8 +324,9 @@ done:
 
 static void bar_free(eo_ctx *ctx, bar_systems *S)
 {
+    (void)ctx;
     for (int k = 0; k < S->nsys; k++) {
-        eo_csc_destroy(ctx, &S->H[k]);
+        eo_csc_destroy(&S->H[k]);
         free(S->b[k]);
     }
     free(S->xyz);

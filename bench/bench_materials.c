@@ -227,7 +227,7 @@ static void case_term(void)
         }
         free(x), free(g);
         eo_step_destroy(&st);
-        if (ctx) eo_scene_destroy(ctx, &sc), eo_cfg_destroy(ctx, &cfg);
+        if (ctx) eo_scene_destroy(&sc), eo_cfg_destroy(&cfg);
         eo_ctx_destroy(&ctx);
     }
 }

@@ -93,7 +93,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_bench_summary sum;
     rc = eo_bench_run(ctx, s, &o, &sum);
     if (!quiet && ps.tty) fprintf(stderr, "\n");
-    eo_bench_suite_destroy(ctx, &s);
+    eo_bench_suite_destroy(&s);
     if (rc < 0) return eo_cli_fail(ctx, rc);
     int bad = sum.ref_failures || sum.nan || sum.required_failures;
     if (!quiet)

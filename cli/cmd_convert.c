@@ -40,11 +40,11 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     if (rc < 0) return eo_cli_fail(ctx, rc);
     rc = eo_mesh_write(ctx, m, out, fmt);
     if (rc < 0) {
-        eo_mesh_destroy(ctx, &m);
+        eo_mesh_destroy(&m);
         return eo_cli_fail(ctx, rc);
     }
     printf("wrote %s (%s): %d vertices, %d tets\n", out, eo_mesh_format_name(fmt), m->nv, m->nt);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     return EO_EXIT_OK;
 }
 

@@ -131,7 +131,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     free(s);
     ret = EO_EXIT_OK;
 done:
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
     return ret;
 }
 

@@ -43,7 +43,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     rc = eo_mesh_boundary_faces(ctx, m, &faces, &nf);
     eo_free(ctx, faces);
     if (rc < 0) {
-        eo_mesh_destroy(ctx, &m);
+        eo_mesh_destroy(&m);
         return eo_cli_fail(ctx, rc);
     }
     if (as_json) {
@@ -84,7 +84,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         printf("dropped         %d tets, %d vertices\n", m->dropped_tets, m->dropped_vertices);
         printf("load time       %.3f s\n", t_load);
     }
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     return EO_EXIT_OK;
 }
 

@@ -146,8 +146,8 @@ done:
     eo_free(ctx, u);
     eo_solver_destroy(&solver);
     eo_poisson_destroy(&p);
-    eo_trimesh_destroy(ctx, &mesh);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_trimesh_destroy(&mesh);
+    eo_cfg_destroy(&cfg);
     return rc;
 }
 

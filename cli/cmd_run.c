@@ -308,7 +308,7 @@ fail:
     rc = bad_input ? EO_EXIT_BAD_INPUT : EO_EXIT_NOT_CONVERGED;
 done:
     eo_afile_abort(ctx, &csv);
-    eo_pvd_destroy(ctx, &pvd);
+    eo_pvd_destroy(&pvd);
     eo_free(ctx, rec);
     eo_free(ctx, fbuf);
     eo_sim_destroy(&sim);

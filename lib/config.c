@@ -21,6 +21,7 @@ struct eo_cfg {
     char *text;      /* file text (eo_malloc'd), NULL for overrides-only */
     char *overridden;/* "\npath\n..." */
     size_t overridden_len;
+    eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 };
 
 #define PATH_MAX_LEN 512
@@ -29,6 +30,7 @@ int eo_cfg_create_empty(eo_ctx *ctx, eo_cfg **out)
 {
     *out = NULL;
     eo_cfg *c = eo_calloc(ctx, 1, sizeof *c);
+    if (c) c->ctx = ctx;
     if (!c) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
     c->root = json_object();
     c->marks = json_object();
@@ -36,7 +38,7 @@ int eo_cfg_create_empty(eo_ctx *ctx, eo_cfg **out)
     c->file = eo_strdup(ctx, "<builtin>");
     c->overridden = eo_strdup(ctx, "\n");
     if (!c->root || !c->marks || !c->valid || !c->file || !c->overridden) {
-        eo_cfg_destroy(ctx, &c);
+        eo_cfg_destroy(&c);
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
     }
     c->overridden_len = 1;
@@ -44,8 +46,9 @@ int eo_cfg_create_empty(eo_ctx *ctx, eo_cfg **out)
     return EO_OK;
 }
 
-void eo_cfg_destroy(eo_ctx *ctx, eo_cfg **cfg)
+void eo_cfg_destroy(eo_cfg **cfg)
 {
+    eo_ctx *ctx = cfg && *cfg ? (*cfg)->ctx : NULL;
     if (!cfg || !*cfg) return;
     eo_cfg *c = *cfg;
     json_decref(c->root);
@@ -103,7 +106,7 @@ int eo_cfg_load(eo_ctx *ctx, const char *path, const char *builtin_text, eo_cfg 
     *out = c;
     return EO_OK;
 fail:
-    eo_cfg_destroy(ctx, &c);
+    eo_cfg_destroy(&c);
     return rc;
 }
 

@@ -40,21 +40,23 @@ int eo_mesh_create(eo_ctx *ctx, int nv, int nt, eo_mesh **out)
     *out = NULL;
     if (nv < 0 || nt < 0) return eo_error(ctx, EO_ERR_INVALID, "negative mesh size %d, %d", nv, nt);
     eo_mesh *m = eo_calloc(ctx, 1, sizeof *m);
+    if (m) m->ctx = ctx;
     if (!m) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (mesh)");
     m->nv = nv;
     m->nt = nt;
     m->X = eo_malloc(ctx, (size_t)(nv ? nv : 1) * 3 * sizeof(double));
     m->tets = eo_malloc(ctx, (size_t)(nt ? nt : 1) * 4 * sizeof(int));
     if (!m->X || !m->tets) {
-        eo_mesh_destroy(ctx, &m);
+        eo_mesh_destroy(&m);
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory (mesh of %d vertices, %d tets)", nv, nt);
     }
     *out = m;
     return EO_OK;
 }
 
-void eo_mesh_destroy(eo_ctx *ctx, eo_mesh **pm)
+void eo_mesh_destroy(eo_mesh **pm)
 {
+    eo_ctx *ctx = pm && *pm ? (*pm)->ctx : NULL;
     if (!pm || !*pm) return;
     eo_mesh *m = *pm;
     eo_free(ctx, m->X);
@@ -203,7 +205,7 @@ static int finish_read(eo_ctx *ctx, int rc, eo_mesh **m, const eo_mesh_read_opts
     if (rc >= 0) rc = eo_mesh_validate_src(ctx, *m, opts, src);
     eo_mesh_src_free(ctx, src);
     if (rc < 0) {
-        eo_mesh_destroy(ctx, m);
+        eo_mesh_destroy(m);
         return rc;
     }
     *out = *m;

@@ -427,7 +427,7 @@ fail:
     }
     eo_free(ctx, r.ent_phys);
     eo_tagmap_deinit(ctx, &r.map);
-    if (rc < 0) eo_mesh_destroy(ctx, &r.m);
+    if (rc < 0) eo_mesh_destroy(&r.m);
     *out = r.m;
     return rc;
 }

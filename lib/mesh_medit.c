@@ -162,7 +162,7 @@ static int read_medit(eo_ctx *ctx, const char *text, size_t len, const char *fil
 fail:
     eo_free(ctx, tets);
     eo_free(ctx, attr);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     *out = NULL;
     return rc;
 }

@@ -153,7 +153,7 @@ int eo_tetgen_read_texts(eo_ctx *ctx, const char *node, size_t node_len, const c
         rc = read_ele(&s, m, src, base);
     }
     if (rc < 0) {
-        eo_mesh_destroy(ctx, &m);
+        eo_mesh_destroy(&m);
         return rc;
     }
     *out = m;
@@ -232,7 +232,7 @@ static int read_tetgen(eo_ctx *ctx, const char *path, eo_mesh **out, eo_mesh_src
         rc = eo_path_check(ctx, names + 2 * k, EO_PATH_READ);
         if (rc >= 0) rc = eo_read_file(ctx, names + 2 * k, &node, &nn);
         if (rc >= 0) rc = eo_tetgen_read_face(ctx, node, nn, names + 2 * k, *out, src);
-        if (rc < 0) eo_mesh_destroy(ctx, out);
+        if (rc < 0) eo_mesh_destroy(out);
     }
     eo_free(ctx, node);
     eo_free(ctx, ele);

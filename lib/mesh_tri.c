@@ -21,21 +21,23 @@ int eo_trimesh_create(eo_ctx *ctx, int nv, int nt, eo_trimesh **out)
     *out = NULL;
     if (nv < 0 || nt < 0) return eo_error(ctx, EO_ERR_INVALID, "trimesh: nv = %d, nt = %d", nv, nt);
     eo_trimesh *m = eo_calloc(ctx, 1, sizeof *m);
+    if (m) m->ctx = ctx;
     if (!m) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (trimesh)");
     m->nv = nv;
     m->nt = nt;
     m->xy = eo_malloc(ctx, 2 * (size_t)(nv ? nv : 1) * sizeof(double));
     m->tri = eo_malloc(ctx, 3 * (size_t)(nt ? nt : 1) * sizeof(int));
     if (!m->xy || !m->tri) {
-        eo_trimesh_destroy(ctx, &m);
+        eo_trimesh_destroy(&m);
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory (trimesh %d nodes, %d triangles)", nv, nt);
     }
     *out = m;
     return EO_OK;
 }
 
-void eo_trimesh_destroy(eo_ctx *ctx, eo_trimesh **mp)
+void eo_trimesh_destroy(eo_trimesh **mp)
 {
+    eo_ctx *ctx = mp && *mp ? (*mp)->ctx : NULL;
     if (!mp || !*mp) return;
     eo_free(ctx, (*mp)->xy);
     eo_free(ctx, (*mp)->tri);

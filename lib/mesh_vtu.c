@@ -461,7 +461,7 @@ fail:
     eo_free(ctx, offs);
     eo_free(ctx, types);
     eo_free(ctx, region);
-    if (rc < 0) eo_mesh_destroy(ctx, &m);
+    if (rc < 0) eo_mesh_destroy(&m);
     *out = m;
     return rc;
 }

@@ -22,6 +22,7 @@ int eo_csc_create(eo_ctx *ctx, int n, int nnz, eo_csc **out)
     *out = NULL;
     if (n < 0 || nnz < n) return eo_error(ctx, EO_ERR_INVALID, "csc: bad size n=%d nnz=%d", n, nnz);
     eo_csc *A = eo_calloc(ctx, 1, sizeof *A);
+    if (A) A->ctx = ctx;
     if (!A) goto fail;
     A->n = n;
     A->nnz = nnz;
@@ -32,7 +33,7 @@ int eo_csc_create(eo_ctx *ctx, int n, int nnz, eo_csc **out)
     *out = A;
     return EO_OK;
 fail:
-    eo_csc_destroy(ctx, &A);
+    eo_csc_destroy(&A);
     return eo_error(ctx, EO_ERR_NOMEM, "csc: out of memory (n=%d, nnz=%d)", n, nnz);
 }
 
@@ -46,8 +47,9 @@ int eo_csc_clone(eo_ctx *ctx, const eo_csc *A, eo_csc **out)
     return EO_OK;
 }
 
-void eo_csc_destroy(eo_ctx *ctx, eo_csc **A)
+void eo_csc_destroy(eo_csc **A)
 {
+    eo_ctx *ctx = A && *A ? (*A)->ctx : NULL;
     if (!A || !*A) return;
     eo_free(ctx, (*A)->colptr);
     eo_free(ctx, (*A)->rowind);
@@ -143,6 +145,7 @@ int eo_csc_full_create(eo_ctx *ctx, const eo_csc *A, eo_csc_full **out)
     const int n = A->n;
     int *next = NULL;
     eo_csc_full *F = eo_calloc(ctx, 1, sizeof *F);
+    if (F) F->ctx = ctx;
     if (!F) goto fail;
     F->n = n;
     F->nnz = 2 * A->nnz - n;
@@ -182,7 +185,7 @@ int eo_csc_full_create(eo_ctx *ctx, const eo_csc *A, eo_csc_full **out)
     return EO_OK;
 fail:
     eo_free(ctx, next);
-    eo_csc_full_destroy(ctx, &F);
+    eo_csc_full_destroy(&F);
     return eo_error(ctx, EO_ERR_NOMEM, "csc: out of memory expanding symmetric matrix (n=%d)", n);
 }
 
@@ -191,8 +194,9 @@ void eo_csc_full_fill(eo_csc_full *F, const eo_csc *A)
     for (int q = 0; q < F->nnz; q++) F->val[q] = A->val[F->src[q]];
 }
 
-void eo_csc_full_destroy(eo_ctx *ctx, eo_csc_full **F)
+void eo_csc_full_destroy(eo_csc_full **F)
 {
+    eo_ctx *ctx = F && *F ? (*F)->ctx : NULL;
     if (!F || !*F) return;
     eo_free(ctx, (*F)->colptr);
     eo_free(ctx, (*F)->rowind);
@@ -233,8 +237,9 @@ int eo_assembler_create(eo_ctx *ctx, int n, eo_assembler **out)
     return EO_OK;
 }
 
-void eo_assembler_destroy(eo_ctx *ctx, eo_assembler **as)
+void eo_assembler_destroy(eo_assembler **as)
 {
+    eo_ctx *ctx = as && *as ? (*as)->ctx : NULL;
     if (!as || !*as) return;
     eo_assembler *a = *as;
     for (int g = 0; g < a->ngroups; g++) {
@@ -242,7 +247,7 @@ void eo_assembler_destroy(eo_ctx *ctx, eo_assembler **as)
         eo_free(ctx, a->groups[g].map);
     }
     eo_free(ctx, a->groups);
-    eo_csc_destroy(ctx, &a->A);
+    eo_csc_destroy(&a->A);
     eo_free(ctx, a);
     *as = NULL;
 }
@@ -431,7 +436,7 @@ int eo_assembler_finalize(eo_ctx *ctx, eo_assembler *as)
     return EO_OK;
 nomem:
     free_work(ctx, incp, ince, mark, pos, inc);
-    eo_csc_destroy(ctx, &A);
+    eo_csc_destroy(&A);
     for (int g = 0; g < as->ngroups; g++) {
         eo_free(ctx, as->groups[g].map);
         as->groups[g].map = NULL;

@@ -211,12 +211,14 @@ struct eo_pvd {
     char *path;
     pvd_frame *frames;
     int n, cap;
+    eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 };
 
 int eo_pvd_create(eo_ctx *ctx, const char *pvd_path, eo_pvd **out)
 {
     *out = NULL;
     eo_pvd *p = eo_calloc(ctx, 1, sizeof *p);
+    if (p) p->ctx = ctx;
     if (!p || !(p->path = eo_strdup(ctx, pvd_path))) {
         eo_free(ctx, p);
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory (pvd)");
@@ -265,8 +267,9 @@ int eo_pvd_add(eo_ctx *ctx, eo_pvd *p, double t, const char *vtu_file)
     return eo_afile_commit(ctx, &af);
 }
 
-void eo_pvd_destroy(eo_ctx *ctx, eo_pvd **pp)
+void eo_pvd_destroy(eo_pvd **pp)
 {
+    eo_ctx *ctx = pp && *pp ? (*pp)->ctx : NULL;
     if (!pp || !*pp) return;
     eo_pvd *p = *pp;
     for (int i = 0; i < p->n; i++) eo_free(ctx, p->frames[i].file);

@@ -56,7 +56,8 @@ double eo_pd_tet_weight(const eo_material_type *mt, const eo_material_coef *c)
 
 void eo_pd_matrix_deinit(eo_ctx *ctx, eo_pd_matrix *pd)
 {
-    eo_csc_destroy(ctx, &pd->L);
+    (void)ctx;
+    eo_csc_destroy(&pd->L);
     pd->pattern_id = 0;
 }
 
@@ -71,7 +72,7 @@ int eo_pd_matrix_get(eo_pd_matrix *pd, eo_sys *s, eo_term *const *terms, int nte
         if (pd->L && pd->pattern_id == pattern_id) {
             memcpy(pd->L->val, H->val, (size_t)H->nnz * sizeof(double));
         } else {
-            eo_csc_destroy(s->ctx, &pd->L);
+            eo_csc_destroy(&pd->L);
             rc = eo_csc_clone(s->ctx, H, &pd->L); /* the pattern, and H's values saved */
             if (rc < 0) return rc;
         }
@@ -89,7 +90,7 @@ int eo_pd_matrix_get(eo_pd_matrix *pd, eo_sys *s, eo_term *const *terms, int nte
             pd->L->val[q] = tmp;
         }
         if (rc < 0) {
-            eo_csc_destroy(s->ctx, &pd->L);
+            eo_csc_destroy(&pd->L);
             return rc;
         }
         pd->pattern_id = pattern_id;

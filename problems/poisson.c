@@ -107,8 +107,8 @@ void eo_poisson_destroy(eo_poisson **pp)
 {
     if (!pp || !*pp) return;
     eo_poisson *p = *pp;
-    eo_assembler_destroy(p->ctx, &p->as);
-    eo_trimesh_destroy(p->ctx, &p->mesh);
+    eo_assembler_destroy(&p->as);
+    eo_trimesh_destroy(&p->mesh);
     eo_free(p->ctx, p->F);
     eo_free(p->ctx, p->Ku);
     eo_free(p->ctx, p->free_of);
@@ -224,7 +224,7 @@ static int create_common(eo_ctx *ctx, eo_trimesh *mesh, int n, const eo_poisson_
 {
     eo_poisson *p = eo_calloc(ctx, 1, sizeof *p);
     if (!p) {
-        eo_trimesh_destroy(ctx, &mesh);
+        eo_trimesh_destroy(&mesh);
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory (poisson)");
     }
     p->ctx = ctx;

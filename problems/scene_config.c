@@ -792,11 +792,12 @@ int eo_scene_cfg_load(eo_ctx *ctx, const char *path, const char *name, eo_cfg **
     return eo_cfg_load(ctx, NULL, t->json, out);
 }
 
-void eo_scene_destroy(eo_ctx *ctx, eo_scene **psc)
+void eo_scene_destroy(eo_scene **psc)
 {
+    eo_ctx *ctx = psc && *psc ? (*psc)->ctx : NULL;
     if (!psc || !*psc) return;
     eo_scene *sc = *psc;
-    eo_mesh_destroy(ctx, &sc->mesh);
+    eo_mesh_destroy(&sc->mesh);
     eo_free(ctx, sc->mat);
     eo_free(ctx, sc->tet_mat);
     for (int b = 0; b < sc->nbc; b++) eo_free(ctx, sc->bc[b].verts);
@@ -816,6 +817,7 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
                                       "point_masses", NULL};
     *out = NULL;
     eo_scene *sc = eo_calloc(ctx, 1, sizeof *sc);
+    if (sc) sc->ctx = ctx;
     if (!sc) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (scene)");
     eo_params_default(eo_scene_opts_desc, &sc->opts);
     eo_params_default(eo_scene_mesh_opts_desc, &sc->mesh_opts);
@@ -844,7 +846,7 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     *out = sc;
     return EO_OK;
 fail:
-    eo_scene_destroy(ctx, &sc);
+    eo_scene_destroy(&sc);
     return rc;
 }
 

@@ -60,7 +60,7 @@ int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
     if (!cfg) return eo_error(ctx, EO_ERR_INVALID, "sim: no config document");
     eo_sim *s = eo_calloc(ctx, 1, sizeof *s);
     if (!s) {
-        eo_cfg_destroy(ctx, &cfg);
+        eo_cfg_destroy(&cfg);
         return eo_error(ctx, EO_ERR_NOMEM, "sim: out of memory");
     }
     s->ctx = ctx;
@@ -104,7 +104,7 @@ int eo_sim_create_from(eo_ctx *ctx, const char *path, const char *builtin, const
     int rc = eo_scene_cfg_load(ctx, path, builtin, &cfg);
     for (const char *const *o = overrides; rc >= 0 && o && *o; o++) rc = eo_cfg_override(ctx, cfg, *o);
     if (rc < 0) {
-        eo_cfg_destroy(ctx, &cfg);
+        eo_cfg_destroy(&cfg);
         return rc;
     }
     return eo_sim_create(ctx, cfg, out);
@@ -119,8 +119,8 @@ void eo_sim_destroy(eo_sim **ps)
     eo_free(ctx, s->vb);
     eo_solver_destroy(&s->solver);
     eo_step_destroy(&s->st);
-    eo_scene_destroy(ctx, &s->sc);
-    eo_cfg_destroy(ctx, &s->cfg);
+    eo_scene_destroy(&s->sc);
+    eo_cfg_destroy(&s->cfg);
     eo_free(ctx, s);
     *ps = NULL;
 }

@@ -48,10 +48,10 @@ void eo_step_destroy(eo_step **pst)
     eo_step *st = *pst;
     eo_ctx *ctx = st->ctx;
     for (int i = 0; i < st->nterms; i++) eo_term_destroy(ctx, &st->terms[i]);
-    eo_assembler_destroy(ctx, &st->as);
+    eo_assembler_destroy(&st->as);
     eo_pd_matrix_deinit(ctx, &st->pd);
     eo_linsolve_destroy(&st->mls);
-    eo_csc_destroy(ctx, &st->Mc);
+    eo_csc_destroy(&st->Mc);
     eo_free(ctx, st->ework);
     eo_free(ctx, st->xe);
     eo_free(ctx, st->ve);

@@ -92,7 +92,7 @@ static int build_pattern(eo_step *st)
     for (int k = 0; k < st->nt; k++)
         for (int a = 0; a < 4; a++)
             for (int c = 0; c < 3; c++) st->tet_dofs[12 * k + 3 * a + c] = st->full2free[3 * tets[4 * k + a] + c];
-    eo_assembler_destroy(ctx, &st->as);
+    eo_assembler_destroy(&st->as);
     st->sys.as = NULL;
     int rc = eo_assembler_create(ctx, nfree, &st->as);
     if (rc < 0) return rc;

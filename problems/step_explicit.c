@@ -41,7 +41,7 @@ static int factor_mass(eo_step *st)
         int i = st->full2free[j];
         if (i >= 0 && st->sys.pmass) eo_assembler_add_diag(st->as, i, st->sys.pmass[j / 3]);
     }
-    eo_csc_destroy(ctx, &st->Mc);
+    eo_csc_destroy(&st->Mc);
     int rc = eo_csc_clone(ctx, eo_assembler_matrix(st->as), &st->Mc);
     if (rc < 0) return rc;
     eo_assembler_zero(st->as);
@@ -100,7 +100,7 @@ static int explicit_accel(void *data, double t, const double *x, const double *v
 int eo_step_set_mass_solver(eo_step *st, eo_linsolve *ls)
 {
     eo_linsolve_destroy(&st->mls);
-    eo_csc_destroy(st->ctx, &st->Mc); /* factored again at the next advance */
+    eo_csc_destroy(&st->Mc); /* factored again at the next advance */
     st->mls = ls;
     return EO_OK;
 }

@@ -23,7 +23,7 @@ static inline int eo_test_sim_open(eo_sim **s, eo_ctx *ctx, const char *name, co
         cfg = NULL;
     }
     if (rc >= 0) rc = eo_sim_prepare(*s, NULL, NULL);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
     if (rc < 0) fprintf(stderr, "eo_test_sim_open(%s): %s\n", name ? name : "json", eo_ctx_message(ctx));
     return rc;
 }

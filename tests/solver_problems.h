@@ -243,7 +243,11 @@ static inline void prob_init(eo_ctx *ctx, tprob *p, int kind)
     p->H = eo_assembler_matrix(p->as);
 }
 
-static inline void prob_done(eo_ctx *ctx, tprob *p) { eo_assembler_destroy(ctx, &p->as); }
+static inline void prob_done(eo_ctx *ctx, tprob *p)
+{
+    (void)ctx;
+    eo_assembler_destroy(&p->as);
+}
 
 static inline eo_objective prob_objective(tprob *p)
 {

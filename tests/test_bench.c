@@ -145,7 +145,7 @@ static void test_expansion(const char *dir)
               eo_bench_suite_config_name(s, 5));
         CHECK(!strcmp(eo_bench_suite_opts(s)->baseline, "newton-clamp-backtracking"), "baseline");
     }
-    eo_bench_suite_destroy(ctx, &s);
+    eo_bench_suite_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -200,7 +200,7 @@ static void test_run(const char *dir)
         if (f) fclose(f);
         CHECK(found, "report names the scene's 2 timed repeats");
     }
-    eo_bench_suite_destroy(ctx, &s);
+    eo_bench_suite_destroy(&s);
     eo_test_ctx_done(&ctx);
 }
 
@@ -230,7 +230,7 @@ static void test_shipped_suites(void)
             CHECK(eo_bench_suite_nconfigs(s) == want[i].configs, "%s: %d configurations, expected %d", want[i].file,
                   eo_bench_suite_nconfigs(s), want[i].configs);
         }
-        eo_bench_suite_destroy(ctx, &s);
+        eo_bench_suite_destroy(&s);
         eo_test_ctx_done(&ctx);
     }
 }

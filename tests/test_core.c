@@ -151,7 +151,7 @@ static void test_config(void)
     CHECK(strstr(eo_ctx_message(ctx), "c.json:3:3") && strstr(eo_ctx_message(ctx), "'extra'") &&
               strstr(eo_ctx_message(ctx), "valid keys here: s"),
           "msg '%s'", eo_ctx_message(ctx));
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
 
     /* overrides that are wrong are attributed to the command line */
     CHECK(eo_cfg_load(ctx, NULL, "{\"s\": {}}", &cfg) == EO_OK, "builtin");
@@ -164,7 +164,7 @@ static void test_config(void)
     eo_cfg_expect(cfg, "", top);
     rc = eo_cfg_finish(ctx, cfg);
     CHECK(rc == EO_ERR_UNKNOWN_KEY && strstr(eo_ctx_message(ctx), "-o s.bogus"), "msg '%s'", eo_ctx_message(ctx));
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
 
     /* malformed JSON gives line and column */
     f = fopen(path, "w");
@@ -181,7 +181,7 @@ static void test_config(void)
         eo_ctx_fail_after(ctx, n);
         rc = eo_cfg_load(ctx, NULL, "{\"s\": {\"c1\": 0.5}}", &cfg);
         eo_ctx_fail_after(ctx, 0);
-        if (rc == EO_OK) eo_cfg_destroy(ctx, &cfg);
+        if (rc == EO_OK) eo_cfg_destroy(&cfg);
         CHECK(rc == EO_OK || rc == EO_ERR_NOMEM, "rc %d", rc);
         CHECK(eo_ctx_live_bytes(ctx) == 0, "leak after failure %ld", n);
     }

@@ -257,8 +257,8 @@ static void test_examples(void)
         int rc = eo_scene_cfg_load(ctx, path, NULL, &cfg);
         if (rc >= 0) rc = eo_scene_load(ctx, cfg, &sc);
         CHECK(rc == 0, "%s: %s", path, eo_ctx_message(ctx));
-        eo_scene_destroy(ctx, &sc);
-        eo_cfg_destroy(ctx, &cfg);
+        eo_scene_destroy(&sc);
+        eo_cfg_destroy(&cfg);
         /* and the built-in runs one step */
         const char *ov[] = {"time.steps=1", NULL};
         CHECK(eo_test_sim_open(&s, ctx, sty->info.name, NULL, ov) == 0, "open %s", sty->info.name);
@@ -282,8 +282,8 @@ static void expect_error(const char *json, const char *override, int status, con
     if (rc >= 0) rc = eo_cfg_finish(ctx, cfg);
     CHECK(rc == status, "expected %s, got %s (%s)", eo_status_name(status), eo_status_name(rc), eo_ctx_message(ctx));
     CHECK(strstr(eo_ctx_message(ctx), needle) != NULL, "message '%s' lacks '%s'", eo_ctx_message(ctx), needle);
-    eo_scene_destroy(ctx, &sc);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_scene_destroy(&sc);
+    eo_cfg_destroy(&cfg);
     eo_test_ctx_done(&ctx);
 }
 

@@ -54,7 +54,7 @@ static int run(eo_ctx *ctx, tprob *p, const char *opt, const char *stop, double 
     eo_solver *s = NULL;
     int st = eo_solver_create(ctx, &o, cfg, &s);
     if (st == EO_OK) st = eo_cfg_finish(ctx, cfg);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
     CHECK(st == EO_OK, "create %s: %s", opt, eo_ctx_message(ctx));
     if (st < 0) {
         eo_solver_destroy(&s);
@@ -289,7 +289,7 @@ static void test_no_feasible_descent(void)
             if (eo_cfg_override(ctx, cfg, configs[c].overrides[i]) < 0) abort();
         eo_solver *s = NULL;
         int st = eo_solver_create(ctx, &o, cfg, &s);
-        eo_cfg_destroy(ctx, &cfg);
+        eo_cfg_destroy(&cfg);
         CHECK(st == EO_OK, "%s: create", configs[c].tag);
         if (st < 0) continue;
         eo_objective obj = {.n = 3, .ops = &edge_ops, .data = &e};
@@ -309,7 +309,7 @@ static void test_no_feasible_descent(void)
                    res.iterations, res.n_value, res.n_gradient);
         eo_solver_destroy(&s);
     }
-    eo_assembler_destroy(ctx, &e.as);
+    eo_assembler_destroy(&e.as);
     eo_test_ctx_done(&ctx);
 }
 
@@ -346,7 +346,7 @@ static void test_config(void)
             json_decref(j);
         }
         eo_solver_destroy(&s);
-        eo_cfg_destroy(ctx, &cfg);
+        eo_cfg_destroy(&cfg);
     }
     eo_test_ctx_done(&ctx);
 }

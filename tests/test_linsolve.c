@@ -223,9 +223,9 @@ static void test_assembler_tiny(void)
     const int bad[3] = {0, 3, 1};
     CHECK(eo_assembler_add_elements(ctx, as2, 1, 3, bad) == EO_ERR_INVALID, "id out of range");
     CHECK(strstr(eo_ctx_message(ctx), "element 0") != NULL, "message names the element: %s", eo_ctx_message(ctx));
-    eo_assembler_destroy(ctx, &as2);
-    eo_assembler_destroy(ctx, &as);
-    eo_assembler_destroy(ctx, &as);
+    eo_assembler_destroy(&as2);
+    eo_assembler_destroy(&as);
+    eo_assembler_destroy(&as);
     CHECK(as == NULL, "destroy sets NULL");
     eo_test_ctx_done(&ctx);
 }
@@ -310,15 +310,15 @@ static void test_assembler_random(void)
     CHECK(eo_csc_clone(ctx, A, &B) == EO_OK && B->nnz == A->nnz && B->val[B->nnz - 1] == A->val[A->nnz - 1], "clone");
     eo_csc_shift(B, 2.0);
     CHECK(B->val[B->colptr[1] - 1] == A->val[A->colptr[1] - 1] + 2.0, "shift");
-    eo_csc_destroy(ctx, &B);
-    eo_csc_full_destroy(ctx, &F);
+    eo_csc_destroy(&B);
+    eo_csc_full_destroy(&F);
     for (int g = 0; g < ng; g++) {
         free(dofs[g]);
         free(Ke[g]);
     }
     free(Dref);
     free(D);
-    eo_assembler_destroy(ctx, &as);
+    eo_assembler_destroy(&as);
     eo_test_ctx_done(&ctx);
 }
 
@@ -341,7 +341,7 @@ static void test_assembler_fail(void)
             fails++;
             CHECK(rc == EO_ERR_NOMEM, "injected failure %ld gives NOMEM, got %d", f, rc);
         }
-        eo_assembler_destroy(ctx, &as);
+        eo_assembler_destroy(&as);
         eo_ctx_fail_after(ctx, 0);
         CHECK(eo_ctx_live_bytes(ctx) == 0, "leak after failure at allocation %ld: %zu bytes", f,
               eo_ctx_live_bytes(ctx));
@@ -391,7 +391,7 @@ static void test_assembler_timing(void)
     /* a bottom (eliminated) vertex's dofs have only their diagonal */
     CHECK(A->colptr[1] - A->colptr[0] == 1 && A->val[0] == 0, "eliminated variable: diagonal only, zero");
     free(dofs);
-    eo_assembler_destroy(ctx, &as);
+    eo_assembler_destroy(&as);
     eo_test_ctx_done(&ctx);
 }
 
@@ -629,14 +629,14 @@ static void contract_one(solver_cfg *c)
             CHECK(rc == EO_OK && rel_err(400, x2, r2) < 1e-8, "%s: M2 rc %d err %g", L, rc, rel_err(400, x2, r2));
         }
         eo_linsolve_destroy(&ls);
-        eo_assembler_destroy(ctx, &as2);
+        eo_assembler_destroy(&as2);
         free(b2);
         free(x2);
         free(r2);
     }
 done:
     eo_linsolve_destroy(&ls);
-    eo_assembler_destroy(ctx, &T.as);
+    eo_assembler_destroy(&T.as);
     free(b);
     free(x);
     free(ref);
@@ -704,8 +704,8 @@ static void test_api(void)
     testmat_fill(&T2, 1, 0, 1);
     CHECK(eo_linsolve_factor(ls, eo_assembler_matrix(T2.as)) == EO_ERR_INVALID, "pattern change refused");
     eo_linsolve_destroy(&ls);
-    eo_assembler_destroy(ctx, &T.as);
-    eo_assembler_destroy(ctx, &T2.as);
+    eo_assembler_destroy(&T.as);
+    eo_assembler_destroy(&T2.as);
     eo_test_ctx_done(&ctx);
 }
 
@@ -746,7 +746,7 @@ static void test_gmres_indefinite(void)
     free(b);
     free(x);
     free(ref);
-    eo_assembler_destroy(ctx, &T.as);
+    eo_assembler_destroy(&T.as);
     eo_test_ctx_done(&ctx);
 }
 
@@ -788,7 +788,7 @@ static void test_rtol(void)
     }
     free(b);
     free(x);
-    eo_assembler_destroy(ctx, &T.as);
+    eo_assembler_destroy(&T.as);
     eo_test_ctx_done(&ctx);
 }
 
@@ -858,7 +858,7 @@ static void test_cholmod_reuse(void)
     free(b);
     free(x);
     free(ref);
-    eo_assembler_destroy(ctx, &T.as);
+    eo_assembler_destroy(&T.as);
     eo_test_ctx_done(&ctx);
 }
 
@@ -914,7 +914,7 @@ static void test_coordinates(void)
     free(x);
     free(ref);
     free(xyz);
-    eo_assembler_destroy(ctx, &T.as);
+    eo_assembler_destroy(&T.as);
     eo_test_ctx_done(&ctx);
 }
 
@@ -948,7 +948,7 @@ static void test_linsolve_fail(void)
         }
         CHECK(ok, "%s: eventually succeeds", type->info.name);
     }
-    eo_assembler_destroy(ctx, &T.as);
+    eo_assembler_destroy(&T.as);
     eo_test_ctx_done(&ctx);
 }
 

@@ -368,8 +368,8 @@ static void expect_error(const char *json, int status, const char *needle)
     CHECK(rc == status, "%s: status %d, expected %d (%s)", json, rc, status, eo_ctx_message(ctx));
     CHECK(strstr(eo_ctx_message(ctx), needle) != NULL, "message '%s' lacks '%s'", eo_ctx_message(ctx), needle);
     eo_step_destroy(&st);
-    eo_scene_destroy(ctx, &sc);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_scene_destroy(&sc);
+    eo_cfg_destroy(&cfg);
     eo_test_ctx_done(&ctx);
 }
 

@@ -172,7 +172,7 @@ static void test_generator(void)
         eo_mesh_stats_compute(m, &s);
         CHECK(s.bbox[0] == O[0] && s.bbox[5] == O[2] + L[2], "bbox %g %g", s.bbox[0], s.bbox[5]);
         CHECK(s.worst_quality > 0.3 && s.worst_quality <= 1, "quality %g", s.worst_quality);
-        eo_mesh_destroy(ctx, &m);
+        eo_mesh_destroy(&m);
     }
     /* spec parsing */
     eo_mesh_gen_opts g;
@@ -185,7 +185,7 @@ static void test_generator(void)
     expect_err(ctx, eo_mesh_gen_opts_parse(ctx, "gen:1,1,1:2,2,2:7", &g), EO_ERR_PARSE, "split 7", "expected", NULL);
     eo_mesh *m = NULL;
     CHECK(eo_mesh_load(ctx, "gen:1,1,1:2,2,2", NULL, &m) == EO_OK && m->nt == 48, "load gen");
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     eo_test_ctx_done(&ctx);
 }
 
@@ -218,7 +218,7 @@ static void round_trip(eo_ctx *ctx, const eo_mesh *m, const char *tag, int attrs
         if (!b) continue;
         same_mesh(m, b, label, attrs);
         /* and once more through the next format: read, write, read */
-        eo_mesh_destroy(ctx, &b);
+        eo_mesh_destroy(&b);
     }
     /* chain: msh -> node -> mesh -> msh gives the same mesh */
     eo_mesh *a = NULL, *b = NULL, *c = NULL;
@@ -232,9 +232,9 @@ static void round_trip(eo_ctx *ctx, const eo_mesh *m, const char *tag, int attrs
     CHECK(b && eo_mesh_write(ctx, b, tpath(n3), EO_MESH_AUTO) == EO_OK, "chain write mesh");
     CHECK(eo_mesh_read(ctx, tpath(n3), NULL, &c) == EO_OK, "chain read mesh");
     if (c) same_mesh(m, c, "chain", attrs);
-    eo_mesh_destroy(ctx, &a);
-    eo_mesh_destroy(ctx, &b);
-    eo_mesh_destroy(ctx, &c);
+    eo_mesh_destroy(&a);
+    eo_mesh_destroy(&b);
+    eo_mesh_destroy(&c);
 }
 
 static void test_round_trips(void)
@@ -251,13 +251,13 @@ static void test_round_trips(void)
     m->tet_attr = eo_malloc(ctx, sizeof(int) * (size_t)m->nt);
     for (int t = 0; t < m->nt; t++) m->tet_attr[t] = 1 + t / 7; /* runs of equal attributes */
     round_trip(ctx, m, "gen", 1);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
 
     eo_mesh_read_opts o = eo_mesh_read_opts_default();
     CHECK(eo_mesh_read(ctx, eo_test_shared_path("meshes/ipc_bar-2523.msh"), &o, &m) == EO_OK, "ipc read: %s",
           eo_ctx_message(ctx));
     if (m) round_trip(ctx, m, "ipc", 1);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     eo_test_ctx_done(&ctx);
 }
 
@@ -290,7 +290,7 @@ static void test_ipc(void)
         CHECK_CLOSE(area, 2 * (10 * 0.5 + 0.5 * 1 + 10 * 1), 1e-12);
         if (i == 0) CHECK(nf == 1618, "bar-2523 has 1618 surface triangles ($Surface), got %d", nf);
         eo_free(ctx, bf);
-        eo_mesh_destroy(ctx, &m);
+        eo_mesh_destroy(&m);
     }
     eo_test_ctx_done(&ctx);
 }
@@ -324,11 +324,11 @@ static void test_gmsh22(void)
         CHECK(m->ntri == 1 && m->tri_tag[0] == 5 && m->tris[0] == 0 && m->tris[1] == 1 && m->tris[2] == 2,
               "2.2 triangle kept with its physical tag 5 (ntri %d)", m->ntri);
     }
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     /* the same through the in-memory entry point */
     rc = eo_mesh_read_buffer(ctx, gmsh22, strlen(gmsh22), EO_MESH_GMSH, "mem.msh", NULL, &m);
     CHECK(rc == EO_OK && m && m->nt == 2, "buffer: %s", eo_ctx_message(ctx));
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     eo_test_ctx_done(&ctx);
 }
 
@@ -367,7 +367,7 @@ static void test_tetgen(void)
             CHECK(!m->vmarker && !m->tet_attr, "1-based without markers/attributes");
             CHECK(m->tets[0] == 0 && m->tets[3] == 3, "1-based indices shifted");
         }
-        eo_mesh_destroy(ctx, &m);
+        eo_mesh_destroy(&m);
     }
     /* in-memory: node text, NUL, ele text */
     size_t a = strlen(tg_node0), b = strlen(tg_ele0);
@@ -378,7 +378,7 @@ static void test_tetgen(void)
     eo_mesh *m = NULL;
     CHECK(eo_mesh_read_buffer(ctx, buf, a + b + 1, EO_MESH_TETGEN, "mem", NULL, &m) == EO_OK && m && m->nt == 2,
           "tetgen buffer: %s", eo_ctx_message(ctx));
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     free(buf);
     eo_test_ctx_done(&ctx);
 }
@@ -404,7 +404,7 @@ static void test_medit(void)
         CHECK(m->vmarker && m->vmarker[4] == 9, "vertex references");
         CHECK_CLOSE(eo_mesh_volume(m), 0.5, 1e-12);
     }
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     eo_test_ctx_done(&ctx);
 }
 
@@ -504,7 +504,7 @@ static void test_vtu(void)
         CHECK(s && strstr(s, "</VTKFile>"), "pvd complete");
         free(s);
     }
-    eo_pvd_destroy(ctx, &p);
+    eo_pvd_destroy(&p);
     CHECK(p == NULL, "destroy sets NULL");
     /* obj: closed surface, Euler characteristic 2 */
     CHECK(eo_obj_write(ctx, tpath("b.obj"), m, NULL) == EO_OK, "obj");
@@ -524,7 +524,7 @@ static void test_vtu(void)
     free(psi);
     free(J);
     free(inv);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     eo_test_ctx_done(&ctx);
 }
 
@@ -673,7 +673,7 @@ static void test_bad_input(void)
         b->tets[4 * 3 + 2] = 5;
         b->X[3 * 6 + 1] = NAN;
         expect_err(ctx, eo_mesh_validate(ctx, b, NULL, "api"), EO_ERR_NONFINITE, "api nan", "api: vertex 6", NULL);
-        eo_mesh_destroy(ctx, &b);
+        eo_mesh_destroy(&b);
     }
     put_file("dupnode.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n4\n1 0 0 0\n2 1 0 0\n2 0 1 0\n4 0 0 1\n"
                             "$EndNodes\n$Elements\n1\n1 4 0 1 2 3 4\n$EndElements\n");
@@ -688,7 +688,7 @@ static void test_bad_input(void)
     rc = read_file_status(ctx, "dup.ele", &drop, &m);
     CHECK(rc == EO_WARN_DROPPED && m && m->nt == 2 && m->dropped_tets == 1, "duplicate dropped: rc %d", rc);
     if (m) CHECK_CLOSE(eo_mesh_volume(m), 0.5, 1e-12);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
 
     /* zero-volume tet (coplanar points) */
     put_file("flat.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n"
@@ -698,7 +698,7 @@ static void test_bad_input(void)
     rc = read_file_status(ctx, "flat.msh", &drop, &m);
     CHECK(rc == EO_WARN_DROPPED && m && m->nt == 1 && m->nv == 4 && m->dropped_tets == 1 && m->dropped_vertices == 2,
           "zero-volume dropped (and its now unreferenced vertices): rc %d", rc);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
 
     /* unreferenced vertex: error, then dropped + renumbered */
     put_file("unref.mesh", "MeshVersionFormatted 1\nDimension 3\nVertices\n6\n0 0 0 0\n9 9 9 0\n1 0 0 0\n0 1 0 0\n"
@@ -713,7 +713,7 @@ static void test_bad_input(void)
         CHECK(m->tets[1] == 1 && m->tets[7] == 4 && m->vmarker[4] == 5, "renumbered with markers");
         CHECK_CLOSE(eo_mesh_volume(m), 0.5, 1e-12);
     }
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
 
     /* format-level problems */
     put_file("bin.msh", "$MeshFormat\n4.1 1 8\n$EndMeshFormat\n");
@@ -760,7 +760,7 @@ static void test_unwritable(void)
     expect_err(ctx, eo_mesh_write(ctx, m, tpath("out.xyz"), EO_MESH_AUTO), EO_ERR_UNSUPPORTED, "unknown ext",
                "out.xyz", NULL);
     CHECK(count_files(tmp, "out") == 0, "nothing written");
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     eo_test_ctx_done(&ctx);
 }
 
@@ -796,7 +796,7 @@ static int op_read(eo_ctx *ctx, void *arg)
     eo_mesh_read_opts o = eo_mesh_read_opts_default();
     o.drop_degenerate = o.drop_unreferenced = 1;
     int rc = eo_mesh_read(ctx, arg, &o, &m);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     return rc;
 }
 
@@ -805,7 +805,7 @@ static int op_write(eo_ctx *ctx, void *arg)
     eo_mesh *m = NULL;
     int rc = eo_mesh_load(ctx, "gen:1,1,1:2,2,2:5", NULL, &m);
     if (rc >= 0) rc = eo_mesh_write(ctx, m, arg, EO_MESH_AUTO);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     return rc;
 }
 
@@ -817,8 +817,8 @@ static int op_series(eo_ctx *ctx, void *arg)
     int rc = eo_mesh_load(ctx, "gen:1,1,1:1,1,1", NULL, &m);
     if (rc >= 0) rc = eo_pvd_create(ctx, tpath("inj.pvd"), &p);
     for (int k = 0; k < 3 && rc >= 0; k++) rc = eo_pvd_add(ctx, p, k, "frame.vtu");
-    eo_pvd_destroy(ctx, &p);
-    eo_mesh_destroy(ctx, &m);
+    eo_pvd_destroy(&p);
+    eo_mesh_destroy(&m);
     return rc;
 }
 
@@ -860,9 +860,9 @@ static void test_load_time(void)
         double dt = eo_wtime() - t0, dc = (double)(clock() - c0) / CLOCKS_PER_SEC;
         CHECK(rc == EO_OK && b && b->nt == m->nt, "read %s", names[i]);
         printf("load %-9s %d vertices %d tets: %.3f s wall, %.3f s cpu\n", names[i], m->nv, m->nt, dt, dc);
-        eo_mesh_destroy(ctx, &b);
+        eo_mesh_destroy(&b);
     }
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     eo_test_ctx_done(&ctx);
 }
 
@@ -908,7 +908,7 @@ static char *cube41(eo_ctx *ctx, int entities)
                               m->tets[4 * t + 2] + 1, m->tets[4 * t + 3] + 1);
     snprintf(buf + k, sizeof buf - k, "$EndElements\n");
     eo_free(ctx, f);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     return buf;
 }
 
@@ -941,26 +941,26 @@ static void test_tags(void)
         CHECK(read_file_status(ctx, "cube_t.mesh", NULL, &b) == EO_OK && b->ntri == 6 && count_tag(b, 13) == 2 &&
                   memcmp(b->tris, m->tris, sizeof(int) * 18) == 0,
               "medit Triangles round trip: %s", eo_ctx_message(ctx));
-        eo_mesh_destroy(ctx, &b);
+        eo_mesh_destroy(&b);
         CHECK(eo_mesh_write(ctx, m, tpath("cube_t.node"), EO_MESH_AUTO) == EO_OK, "write tetgen");
         CHECK(read_file_status(ctx, "cube_t", NULL, &b) == EO_OK && b->ntri == 6 && count_tag(b, 12) == 2 &&
                   memcmp(b->tris, m->tris, sizeof(int) * 18) == 0,
               "tetgen .face round trip: %s", eo_ctx_message(ctx));
-        eo_mesh_destroy(ctx, &b);
+        eo_mesh_destroy(&b);
     }
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     put_file("cube41n.msh", cube41(ctx, 0));
     rc = read_file_status(ctx, "cube41n.msh", NULL, &m);
     CHECK(rc == EO_OK && m->ntri == 4 && count_tag(m, 1) == 2 && count_tag(m, 2) == 2 && m->tet_attr[0] == 1,
           "4.1 without $Entities: entity tags (%s)", eo_ctx_message(ctx));
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     /* MEDIT Triangles; TetGen .face through the buffer entry point */
     const char *medit = "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n"
                         "Triangles\n2\n1 2 3 7\n1 2 4 8\nTetrahedra\n1\n1 2 3 4 1\nEnd\n";
     rc = eo_mesh_read_buffer(ctx, medit, strlen(medit), EO_MESH_MEDIT, "t.mesh", NULL, &m);
     CHECK(rc == EO_OK && m->ntri == 2 && m->tri_tag[0] == 7 && m->tri_tag[1] == 8 && m->tris[5] == 3,
           "medit triangles: %s", eo_ctx_message(ctx));
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     const char *bad = "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n"
                       "Triangles\n1\n1 2 9 7\nTetrahedra\n1\n1 2 3 4 1\nEnd\n";
     expect_err(ctx, eo_mesh_read_buffer(ctx, bad, strlen(bad), EO_MESH_MEDIT, "t.mesh", NULL, &m), EO_ERR_MESH,
@@ -971,7 +971,7 @@ static void test_tags(void)
     rc = eo_mesh_read_buffer(ctx, tg, sizeof tg - 1, EO_MESH_TETGEN, "t", NULL, &m);
     CHECK(rc == EO_OK && m->ntri == 2 && m->tri_tag[1] == 22 && m->tris[5] == 3 && m->vmarker[3] == 3,
           "tetgen .face (0-based) with markers: %s", eo_ctx_message(ctx));
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     static const char tgb[] = "4 3 0 1\n0 0 0 0 1\n1 1 0 0 2\n2 0 1 0 2\n3 0 0 1 3\n\0"
                               "1 4 0\n0 0 1 2 3\n\0"
                               "1 1\n0 0 2 7 21\n";
@@ -987,7 +987,7 @@ static eo_scene *load_scene(eo_ctx *ctx, const char *name, const char *json, int
     eo_scene *sc = NULL;
     *rc = eo_cfg_load(ctx, tpath(name), NULL, &cfg);
     if (*rc >= 0) *rc = eo_scene_load(ctx, cfg, &sc);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
     return sc;
 }
 
@@ -1033,7 +1033,7 @@ static void test_scene_selectors(void)
               "description:\n%s", text ? text : "(null)");
         eo_free(ctx, text);
     }
-    eo_scene_destroy(ctx, &sc);
+    eo_scene_destroy(&sc);
     sc = load_scene(ctx, "tag99.json",
                     "{\"mesh\": {\"file\": \"cube41.msh\"},\n \"boundary\": [\n  {\"tag\": 99, \"fixed\": true}]}\n", &rc);
     expect_err(ctx, rc, EO_ERR_INVALID, "absent tag", "tag99.json:3", "key 'boundary.0.tag'",
@@ -1073,13 +1073,13 @@ static void test_scene_selectors(void)
                   (!k || strstr(text, "looks z-up; set gravity [0, 0, -9.81]")),
               "pyramid description (gravity %s):\n%s", k ? "-y" : "-z", text);
         eo_free(ctx, text);
-        eo_scene_destroy(ctx, &sc);
+        eo_scene_destroy(&sc);
     }
     /* a box has no obvious up */
     sc = load_scene(ctx, "box.json", "{\"gravity\": [0, -9.81, 0]}\n", &rc);
     eo_scene_up up;
     CHECK(sc && eo_scene_up_guess(ctx, sc, &up) == EO_OK && up.axis == -1 && !up.warn, "box: no up, no warning");
-    eo_scene_destroy(ctx, &sc);
+    eo_scene_destroy(&sc);
     /* the IPC bunny is y-up: base -y, 26% support, 5.4x (when the shared meshes exist) */
     if (access(eo_test_shared_path("meshes/ipc_bunny.msh"), R_OK) == 0) {
         char js[600];
@@ -1089,7 +1089,7 @@ static void test_scene_selectors(void)
                   up.support > 0.25 && up.support < 0.27 && up.ratio > 5 && up.ratio < 6,
               "bunny: axis %d sign %d support %g ratio %g (%s)", up.axis, up.sign, up.support, up.ratio,
               eo_ctx_message(ctx));
-        eo_scene_destroy(ctx, &sc);
+        eo_scene_destroy(&sc);
     }
     eo_test_ctx_done(&ctx);
 }
@@ -1147,9 +1147,9 @@ static void test_vtu_read(void)
               "vtu round trip exact: %d %d", b->nv, b->nt);
         CHECK(b->tet_attr && memcmp(b->tet_attr, m->tet_attr, sizeof(int) * (size_t)m->nt) == 0, "region -> tet_attr");
     }
-    eo_mesh_destroy(ctx, &b);
+    eo_mesh_destroy(&b);
     eo_free(ctx, disp);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     /* ASCII: one tet, a triangle (tag from region), a vertex cell (skipped) */
     const char *ascii =
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\">\n<UnstructuredGrid>\n"
@@ -1165,7 +1165,7 @@ static void test_vtu_read(void)
     CHECK(rc == EO_OK && m->nv == 4 && m->nt == 1 && m->tet_attr[0] == 4 && m->ntri == 1 && m->tri_tag[0] == 9,
           "ascii vtu: %s", eo_ctx_message(ctx));
     if (m) CHECK_CLOSE(eo_mesh_volume(m), 2.0 / 6, 1e-15);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     /* inline binary (base64), header and data encoded together and apart; appended base64 */
     double X[12] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 3};
     int32_t conn[4] = {0, 1, 2, 3}, offs[1] = {4};
@@ -1189,7 +1189,7 @@ static void test_vtu_read(void)
         CHECK(rc == EO_OK && m->nt == 1 && memcmp(m->X, X, sizeof X) == 0, "binary vtu (joint %d): %s", joint,
               eo_ctx_message(ctx));
         if (m) CHECK_CLOSE(eo_mesh_volume(m), 0.5, 1e-15);
-        eo_mesh_destroy(ctx, &m);
+        eo_mesh_destroy(&m);
         /* the same as appended base64 */
         size_t lx = strlen(px), lc = strlen(pc), lo = strlen(po);
         snprintf(text, sizeof text,
@@ -1204,7 +1204,7 @@ static void test_vtu_read(void)
         rc = eo_mesh_read_buffer(ctx, text, strlen(text), EO_MESH_VTU, "c.vtu", NULL, &m);
         CHECK(rc == EO_OK && m->nt == 1 && memcmp(m->X, X, sizeof X) == 0, "appended base64 vtu (joint %d): %s", joint,
               eo_ctx_message(ctx));
-        eo_mesh_destroy(ctx, &m);
+        eo_mesh_destroy(&m);
     }
     /* errors */
     char t2[2048];
@@ -1290,7 +1290,7 @@ static void test_paths(void)
     CHECK(eo_mesh_write(ctx, m, tpath("pair2.ele"), EO_MESH_AUTO) == EO_OK, "overwrite pair: %s", eo_ctx_message(ctx));
     eo_mesh *b = NULL;
     CHECK(read_file_status(ctx, "pair2", NULL, &b) == EO_OK && b->nt == m->nt, "pair2 reads back");
-    eo_mesh_destroy(ctx, &b);
+    eo_mesh_destroy(&b);
     CHECK(count_files(tmp, ".tmp.") == 0 && count_files(tmp, ".bak.") == 0, "no temporaries or backups left");
     /* eo_rename_all: the second rename fails -> the first target is restored */
     put_file("ra.a", "A");
@@ -1302,7 +1302,7 @@ static void test_paths(void)
                NULL);
     CHECK(file_is(tpath("ra.a"), "A") && file_is(tpath("ra.b"), "B"), "both targets as before");
     CHECK(access(tpath("ra.a.new"), F_OK) != 0 && count_files(tmp, ".bak.") == 0, "temporary and backups removed");
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
     eo_test_ctx_done(&ctx);
 }
 

@@ -217,7 +217,7 @@ static void check_volume(eo_ctx *ctx, const char *name, const surf *s, double qu
     if (maxvol > 0) CHECK(m->nt > 20, "%s: refined to %d tets", name, m->nt);
     printf("%-10s q=%-3g a=%-6g %5d vertices %6d tets volume %.15f (enclosed %.15f) worst quality %.3f\n", name, quality,
            maxvol, m->nv, m->nt, st.volume, want, st.worst_quality);
-    eo_mesh_destroy(ctx, &m);
+    eo_mesh_destroy(&m);
 }
 
 static void expect_fail(eo_ctx *ctx, const char *name, const char *text, const char *want)

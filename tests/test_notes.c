@@ -165,7 +165,7 @@ static int minimize(eo_ctx *ctx, eo_objective *obj, const char *const *ov, doubl
     if (rc >= 0) rc = eo_solver_minimize(s, obj, x, tr ? record : NULL, tr, r);
     if (rc < 0) fprintf(stderr, "minimize: %s\n", eo_ctx_message(ctx));
     eo_solver_destroy(&s);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
     return rc;
 }
 
@@ -277,8 +277,8 @@ static void test_affine_invariance(eo_ctx *ctx)
               tb->g[k]);
     }
     printf("newton affine invariance: %d iterates, max |x_k - T y_k| / max(1,|x_k|) = %.2e\n", ta->k, worst);
-    eo_csc_destroy(ctx, &A->H);
-    eo_csc_destroy(ctx, &B->H);
+    eo_csc_destroy(&A->H);
+    eo_csc_destroy(&B->H);
     free(A);
     free(B);
     free(ta);
@@ -336,7 +336,7 @@ static void test_cg(eo_ctx *ctx)
         printf("cg n = %d: relative residual after n/2 = %d iterations %.3e, after n: %.3e\n", n, n / 2, rh, rn);
         CHECK(rn <= 1e-10, "n = %d: residual after n iterations %g", n, rn);
         CHECK(rh >= 1e-7, "n = %d: residual after n/2 iterations %g (not yet converged)", n, rh);
-        eo_csc_destroy(ctx, &K);
+        eo_csc_destroy(&K);
     }
 }
 
@@ -448,7 +448,7 @@ static void test_example1(eo_ctx *ctx)
     /* bad input */
     eo_constraints bad = {.m = 1, .lower = &one, .upper = &one};
     CHECK(eo_ipopt_minimize_constrained(ctx, &e->obj, &bad, NULL, x, NULL, &r) == EO_ERR_INVALID, "missing callbacks");
-    eo_csc_destroy(ctx, &e->H);
+    eo_csc_destroy(&e->H);
     free(e);
 }
 #endif

@@ -58,7 +58,7 @@ static int solve(eo_ctx *ctx, eo_poisson *p, const char *const *ov, double *u, i
     if (rc >= 0) rc = eo_solver_minimize(s, obj, u, NULL, NULL, &r);
     if (rc < 0) fprintf(stderr, "solve: %s\n", eo_ctx_message(ctx));
     eo_solver_destroy(&s);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
     if (iters) *iters = r.iterations;
     return rc < 0 ? 0 : r.reason;
 }
@@ -236,7 +236,7 @@ static void test_fig2(void)
     /* with Dirichlet on: every node of the two triangles is on the boundary */
     eo_poisson *p = NULL;
     CHECK(eo_poisson_create_mesh(ctx, m, NULL, &p) == EO_ERR_MESH && !p, "no free node rejected");
-    eo_trimesh_destroy(ctx, &m);
+    eo_trimesh_destroy(&m);
     eo_test_ctx_done(&ctx);
 }
 
@@ -468,7 +468,7 @@ static int solve_msh(eo_ctx *ctx, const char *path, const eo_poisson_problem *pr
     }
     eo_poisson_destroy(&p);
     if (keep) *keep = m;
-    else eo_trimesh_destroy(ctx, &m);
+    else eo_trimesh_destroy(&m);
     return rc;
 }
 
@@ -569,8 +569,8 @@ static void test_gmsh(void)
             eo_free(ctx, text);
         }
         free(u);
-        eo_trimesh_destroy(ctx, &a);
-        eo_trimesh_destroy(ctx, &b);
+        eo_trimesh_destroy(&a);
+        eo_trimesh_destroy(&b);
         eo_poisson_destroy(&ref);
     }
     /* perturbed unit square, both versions alternately */
@@ -599,7 +599,7 @@ static void test_gmsh(void)
             const double *a = m.xy + 2 * m.tri[3 * t], *b = m.xy + 2 * m.tri[3 * t + 1], *c = m.xy + 2 * m.tri[3 * t + 2];
             area += 0.5 * fabs((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1]));
         }
-        eo_trimesh tm = {m.nv, m.nt, m.xy, m.tri};
+        eo_trimesh tm = {m.nv, m.nt, m.xy, m.tri, NULL};
         unsigned char *fl = malloc((size_t)m.nv);
         CHECK(eo_trimesh_boundary(ctx, &tm, fl) == 0, "boundary");
         for (int v = 0; v < m.nv; v++) nb += fl[v];

@@ -105,7 +105,7 @@ static void test_register_every_kind(void)
         CHECK(rc == EO_OK && r.reason > 0, "variant %d: rc %d %s", v, rc, eo_ctx_message(ctx));
         if (rc == EO_OK) g[v] = r.g;
         eo_sim_destroy(&sim);
-        eo_cfg_destroy(ctx, &cfg);
+        eo_cfg_destroy(&cfg);
     }
     CHECK(g[0] == g[1], "registered copies give the built-ins' minimum: %.17g vs %.17g", g[0], g[1]);
 
@@ -122,7 +122,7 @@ static void test_register_every_kind(void)
         CHECK(rc == EO_ERR_RANGE && strstr(eo_ctx_message(ctx), "descent_eps"), "range of a plug-in key: %d %s", rc,
               eo_ctx_message(ctx));
         eo_solver_destroy(&s);
-        eo_cfg_destroy(ctx, &cfg);
+        eo_cfg_destroy(&cfg);
     }
 
     for (int i = 0; i < 8; i++) {
@@ -184,14 +184,14 @@ static void test_override_hygiene(void)
         CHECK(rc == EO_ERR_INVALID, "override %zu refused (rc %d)", i, rc);
         json_t *time = json_object_get(eo_cfg_root(cfg), "time");
         CHECK(!time || !json_object_get(time, "dt"), "override %zu left nothing behind", i);
-        eo_cfg_destroy(ctx, &cfg);
+        eo_cfg_destroy(&cfg);
     }
     eo_cfg *cfg = NULL;
     CHECK(eo_cfg_create_empty(ctx, &cfg) == EO_OK, "cfg");
     CHECK(eo_cfg_override(ctx, cfg, "time.dt=0.5") == EO_OK, "good override");
     CHECK(json_real_value(json_object_get(json_object_get(eo_cfg_root(cfg), "time"), "dt")) == 0.5, "dt set");
     CHECK(eo_cfg_override(ctx, cfg, "description=\xc3\xa9t\xc3\xa9") == EO_OK, "UTF-8 value accepted");
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
     eo_test_ctx_done(&ctx);
 }
 

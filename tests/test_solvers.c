@@ -68,7 +68,7 @@ static int run(eo_ctx *ctx, tprob *p, const run_cfg *rc, double *x, tlog *L, eo_
     CHECK(st == EO_OK, "create %s/%s/%s: %s", rc->opt, o.hessian_fix, o.linesearch, eo_ctx_message(ctx));
     if (st == EO_OK) st = eo_cfg_finish(ctx, cfg);
     CHECK(st == EO_OK, "cfg finish: %s", eo_ctx_message(ctx));
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
     if (!s) return st;
     memcpy(x, p->x0, sizeof(double) * p->n);
     eo_objective obj = prob_objective(p);
@@ -447,7 +447,7 @@ static void test_config(void)
         json_decref(j);
     }
     eo_solver_destroy(&s);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
 
     /* unknown sub-section, unknown key, wrong type, unknown names */
     const char *bad[] = {
@@ -468,7 +468,7 @@ static void test_config(void)
             eo_solver_destroy(&s);
         }
         CHECK(rc == want[i], "bad config %d: rc %d (%s)", i, rc, eo_ctx_message(ctx));
-        eo_cfg_destroy(ctx, &cfg);
+        eo_cfg_destroy(&cfg);
     }
     /* names set in C, not from a config */
     eo_solver_opts_default(&o);

@@ -578,7 +578,7 @@ static int check_config(eo_ctx *ctx, eo_bench_suite *s, bench_config *c)
 fail:
     if (rc < 0) rc = wrap_err(ctx, rc, s->path, "configuration", c->name);
     eo_solver_destroy(&sv);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
     return rc;
 }
 
@@ -601,13 +601,14 @@ static int check_scene(eo_ctx *ctx, eo_bench_suite *s, bench_scene *b)
     } else {
         rc = wrap_err(ctx, rc, s->path, "scene", b->name);
     }
-    eo_scene_destroy(ctx, &sc);
-    eo_cfg_destroy(ctx, &cfg);
+    eo_scene_destroy(&sc);
+    eo_cfg_destroy(&cfg);
     return rc;
 }
 
-void eo_bench_suite_destroy(eo_ctx *ctx, eo_bench_suite **ps)
+void eo_bench_suite_destroy(eo_bench_suite **ps)
 {
+    eo_ctx *ctx = ps && *ps ? (*ps)->ctx : NULL;
     if (!ps || !*ps) return;
     eo_bench_suite *s = *ps;
     for (int i = 0; i < s->nsc; i++) free_set(ctx, s->sc[i].set, s->sc[i].nset);
@@ -630,6 +631,7 @@ int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out)
     eo_cfg *cfg = NULL;
     int rc;
     eo_bench_suite *s = eo_calloc(ctx, 1, sizeof *s);
+    if (s) s->ctx = ctx;
     if (!s) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
     snprintf(s->path, sizeof s->path, "%s", path);
     const char *slash = strrchr(path, '/');
@@ -723,12 +725,12 @@ int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out)
     EO_TRY(rc = eo_cfg_finish(ctx, cfg));
     for (int i = 0; i < s->ncf; i++) EO_TRY(rc = check_config(ctx, s, s->cf + i));
     for (int i = 0; i < s->nsc; i++) EO_TRY(rc = check_scene(ctx, s, s->sc + i));
-    eo_cfg_destroy(ctx, &cfg);
+    eo_cfg_destroy(&cfg);
     *out = s;
     return EO_OK;
 fail:
-    eo_cfg_destroy(ctx, &cfg);
-    eo_bench_suite_destroy(ctx, &s);
+    eo_cfg_destroy(&cfg);
+    eo_bench_suite_destroy(&s);
     return rc;
 }
 
@@ -1281,7 +1283,7 @@ static int run_scene(run_ctx *r, int si)
             }
             r->units_done += (double)b->nt * NF;
         }
-        eo_cfg_destroy(ctx, &ccfg);
+        eo_cfg_destroy(&ccfg);
         aggregate(s, R, p, s->o.trajectory, sr->ref_disp);
         r->out->sum->runs++;
         if (p->nonfinite) r->out->sum->nonfinite++;
@@ -1297,9 +1299,9 @@ fail:
     eo_afile_abort(ctx, &datf);
     if (rc < 0 && !strstr(eo_ctx_message(ctx), b->name)) rc = wrap_err(ctx, rc, s->path, "scene", b->name);
     eo_solver_destroy(&sv);
-    eo_cfg_destroy(ctx, &ccfg);
+    eo_cfg_destroy(&ccfg);
     eo_sim_destroy(&sim);
-    eo_cfg_destroy(ctx, &scfg);
+    eo_cfg_destroy(&scfg);
     eo_free(ctx, mem);
     return rc;
 }

@@ -44,6 +44,7 @@ struct eo_bench_suite {
     int baseline;
     int *req;             /* required configurations (indices) */
     int nreq;
+    eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 };
 
 /* Per-step result of one configuration. */

@@ -45,7 +45,7 @@
 /// o.out_dir = "out/smoke"; o.progress = my_progress;
 /// eo_bench_summary sum;
 /// rc = eo_bench_run(ctx, s, &o, &sum);   // writes curves.csv, summary.csv, report.md, PNGs
-/// eo_bench_suite_destroy(ctx, &s);
+/// eo_bench_suite_destroy(&s);
 /// ```
 /// Ownership: the suite owns copies of everything it read; eo_bench_run borrows it.
 ///
@@ -124,7 +124,7 @@ typedef struct eo_bench_suite eo_bench_suite;
 /// (duplicate or missing names, baseline not a configuration, empty suite), each
 /// naming the suite file and the scene/configuration.
 EO_API int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out);
-EO_API void eo_bench_suite_destroy(eo_ctx *ctx, eo_bench_suite **s);
+EO_API void eo_bench_suite_destroy(eo_bench_suite **s);
 /// Scalar options (borrowed) and the expanded names.
 EO_API const eo_bench_opts *eo_bench_suite_opts(const eo_bench_suite *s);
 EO_API int eo_bench_suite_nscenes(const eo_bench_suite *s);

@@ -13,7 +13,7 @@
 /// rc = eo_cfg_section(ctx, cfg, "time", time_desc, &time_opts, NULL);
 /// json_t *b = eo_cfg_get(cfg, "boundary");            // borrowed, for list sections
 /// rc = eo_cfg_finish(ctx, cfg);                        // unknown keys?
-/// eo_cfg_destroy(ctx, &cfg);
+/// eo_cfg_destroy(&cfg);
 /// ```
 #ifndef ELASTOPT_CONFIG_H
 #define ELASTOPT_CONFIG_H
@@ -32,7 +32,7 @@ typedef struct eo_cfg eo_cfg;
 EO_API int eo_cfg_load(eo_ctx *ctx, const char *path, const char *builtin_text, eo_cfg **out);
 /// An empty document.
 EO_API int eo_cfg_create_empty(eo_ctx *ctx, eo_cfg **out);
-EO_API void eo_cfg_destroy(eo_ctx *ctx, eo_cfg **cfg);
+EO_API void eo_cfg_destroy(eo_cfg **cfg);
 /// Apply "a.b.c=value": value parsed as JSON if it is JSON, else a string; creates
 /// intermediate objects; list items by index ("boundary.0.fixed=true").
 /// EO_ERR_INVALID for a text without '=' or an empty key.

@@ -64,7 +64,7 @@ typedef struct eo_pvd eo_pvd;
 EO_API int eo_pvd_create(eo_ctx *ctx, const char *pvd_path, eo_pvd **out);
 /// Record frame `vtu_file` (relative to the pvd's folder) at time t and rewrite the .pvd.
 EO_API int eo_pvd_add(eo_ctx *ctx, eo_pvd *p, double t, const char *vtu_file);
-EO_API void eo_pvd_destroy(eo_ctx *ctx, eo_pvd **p);
+EO_API void eo_pvd_destroy(eo_pvd **p);
 
 /// Boundary surface as Wavefront OBJ at positions x (NULL: rest).
 EO_API int eo_obj_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const double *x);

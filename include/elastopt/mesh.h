@@ -29,7 +29,7 @@
 /// int rc = eo_mesh_read(ctx, "bar.msh", &o, &m);  // format from the extension
 /// if (rc < 0) { puts(eo_ctx_message(ctx)); }
 /// printf("%d tets, volume %g\n", m->nt, eo_mesh_volume(m));
-/// eo_mesh_destroy(ctx, &m);
+/// eo_mesh_destroy(&m);
 /// ```
 /// Ownership: the mesh owns its arrays (allocated through the context).
 /// Errors name the file, the line and the element or vertex index.
@@ -57,6 +57,7 @@ typedef struct eo_mesh {
     int reoriented;  ///< tets whose vertex order was flipped to make volume positive
     int dropped_tets;      ///< zero-volume or duplicate tets dropped (when allowed)
     int dropped_vertices;  ///< unreferenced vertices dropped (when allowed)
+    eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 } eo_mesh;
 
 typedef enum eo_mesh_format {
@@ -100,7 +101,7 @@ EO_API eo_mesh_gen_opts eo_mesh_gen_opts_default(void);
 
 /// Allocate an empty mesh with nv vertices and nt tets (arrays uninitialised).
 EO_API int eo_mesh_create(eo_ctx *ctx, int nv, int nt, eo_mesh **out);
-EO_API void eo_mesh_destroy(eo_ctx *ctx, eo_mesh **m);
+EO_API void eo_mesh_destroy(eo_mesh **m);
 /// Generate a box of hexahedral cells split into tets (conforming, positive).
 EO_API int eo_mesh_generate_box(eo_ctx *ctx, const eo_mesh_gen_opts *o, eo_mesh **out);
 /// Read a mesh file; validates (see eo_mesh_validate). opts may be NULL.

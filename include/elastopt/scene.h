@@ -10,7 +10,7 @@
 /// rc = eo_scene_load(ctx, cfg, &sc);      // every key but `solver`
 /// ... load the solver from cfg (solver.h), then eo_cfg_finish(ctx, cfg) ...
 /// printf("%d tets, %d steps of %g s\n", sc->mesh->nt, sc->time.steps, sc->time.dt);
-/// eo_scene_destroy(ctx, &sc); eo_cfg_destroy(ctx, &cfg);
+/// eo_scene_destroy(&sc); eo_cfg_destroy(&cfg);
 /// ```
 /// Ownership: the scene owns its mesh, material and boundary arrays; it borrows
 /// nothing from the cfg after eo_scene_load returns.
@@ -259,6 +259,7 @@ typedef struct eo_scene {
     double *collision_plane;           ///< owned, 6·ncollision: point, unit normal
     double *collision_k;               ///< owned, ncollision stiffnesses
     char file[512];                    ///< config file ("<builtin>" if none)
+    eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 } eo_scene;
 
 /// Load a configuration document: `path` if not NULL, else the built-in scene `name`
@@ -269,7 +270,7 @@ EO_API int eo_scene_cfg_load(eo_ctx *ctx, const char *path, const char *name, eo
 /// Errors name the file with the line of the key (or the -o override): unknown keys,
 /// wrong types, ranges, a boundary entry selecting no vertex, mesh problems.
 EO_API int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out);
-EO_API void eo_scene_destroy(eo_ctx *ctx, eo_scene **sc);
+EO_API void eo_scene_destroy(eo_scene **sc);
 /// The resolved options (every section with its defaults filled in) as a new JSON object.
 EO_API json_t *eo_scene_to_json(const eo_scene *sc);
 

@@ -43,6 +43,7 @@ typedef struct eo_csc {
     int *colptr;    ///< n+1
     int *rowind;    ///< nnz
     double *val;    ///< nnz
+    eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 } eo_csc;
 
 /// Allocate an n×n matrix with room for nnz entries (colptr zeroed, rowind/val
@@ -52,7 +53,7 @@ EO_API int eo_csc_create(eo_ctx *ctx, int n, int nnz, eo_csc **out);
 /// Deep copy (pattern and values).
 EO_API int eo_csc_clone(eo_ctx *ctx, const eo_csc *A, eo_csc **out);
 /// Free; sets *A = NULL; accepts NULL.
-EO_API void eo_csc_destroy(eo_ctx *ctx, eo_csc **A);
+EO_API void eo_csc_destroy(eo_csc **A);
 /// y = A x for the symmetric matrix stored by its upper triangle (y must not alias x).
 EO_API void eo_csc_symv(const eo_csc *A, const double *x, double *y);
 /// Position of entry (i,j) (either order) in val, or -1 if not in the pattern
@@ -78,18 +79,19 @@ typedef struct eo_csc_full {
     double *val;    ///< nnz
     int *src;       ///< nnz: position in the upper matrix's val of each full entry
     int *diag;      ///< n: position of (j,j) in val
+    eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 } eo_csc_full;
 EO_API int eo_csc_full_create(eo_ctx *ctx, const eo_csc *A, eo_csc_full **out);
 /// Copy the values of A (same pattern as at create) into F. No allocation.
 EO_API void eo_csc_full_fill(eo_csc_full *F, const eo_csc *A);
-EO_API void eo_csc_full_destroy(eo_ctx *ctx, eo_csc_full **F);
+EO_API void eo_csc_full_destroy(eo_csc_full **F);
 
 typedef struct eo_assembler eo_assembler;
 
 /// Assembler for an n×n symmetric matrix. Returns EO_OK, EO_ERR_INVALID, EO_ERR_NOMEM.
 EO_API int eo_assembler_create(eo_ctx *ctx, int n, eo_assembler **out);
 /// Free; sets *as = NULL; accepts NULL.
-EO_API void eo_assembler_destroy(eo_ctx *ctx, eo_assembler **as);
+EO_API void eo_assembler_destroy(eo_assembler **as);
 /// Register `ne` elements of `k` variables each; `dofs` (ne*k, copied) gives the global
 /// variable of each local one, -1 for eliminated variables. A global id may repeat
 /// inside an element (contributions are summed). Returns a group handle >= 0 or a

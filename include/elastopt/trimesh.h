@@ -6,7 +6,7 @@
 /// eo_trimesh *m; eo_trimesh_read_gmsh(ctx, "disk.msh", &m);  // .msh 2.2 or 4.1 ASCII
 /// unsigned char *b = ...;  eo_trimesh_boundary(ctx, m, b);     // nv flags
 /// eo_vtu_write_tri(ctx, "u.vtu", m->nv, m->xy, m->nt, m->tri, "u", u);
-/// eo_trimesh_destroy(ctx, &m);
+/// eo_trimesh_destroy(&m);
 /// ```
 /// Ownership: the mesh owns its arrays; eo_vtu_write_tri borrows its inputs.
 #ifndef ELASTOPT_TRIMESH_H
@@ -23,11 +23,12 @@ typedef struct eo_trimesh {
     int nv, nt;
     double *xy;  ///< 2·nv coordinates (x, y)
     int *tri;    ///< 3·nt 0-based node indices (either orientation)
+    eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 } eo_trimesh;
 
 /// Allocate a mesh of nv nodes and nt triangles (arrays uninitialized).
 EO_API int eo_trimesh_create(eo_ctx *ctx, int nv, int nt, eo_trimesh **out);
-EO_API void eo_trimesh_destroy(eo_ctx *ctx, eo_trimesh **m);
+EO_API void eo_trimesh_destroy(eo_trimesh **m);
 /// Read the 3-node triangles (element type 2) of a Gmsh ASCII .msh file, version 2.2 or
 /// 4.1; every other element type and section is skipped, z is ignored (the mesh lies in
 /// the xy-plane), nodes used by no triangle are kept. Errors: EO_ERR_IO, EO_ERR_PARSE /

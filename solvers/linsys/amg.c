@@ -63,7 +63,7 @@ void eo_amg_destroy(eo_ctx *ctx, eo_amg **amg)
     if (a->ix) HYPRE_IJVectorDestroy(a->ix);
     for (int k = 0; k < 3; k++)
         if (a->im[k]) HYPRE_IJVectorDestroy(a->im[k]);
-    eo_csc_full_destroy(ctx, &a->F);
+    eo_csc_full_destroy(&a->F);
     eo_free(ctx, a->rows);
     eo_free(ctx, a->ncols);
     eo_free(ctx, a->cols);

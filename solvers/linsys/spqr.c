@@ -75,7 +75,7 @@ static int ordering_code(const char *o)
 static void release(spqr_state *s, eo_ctx *ctx)
 {
     if (s->QR) SuiteSparseQR_C_free(&s->QR, &s->c);
-    eo_csc_full_destroy(ctx, &s->F);
+    eo_csc_full_destroy(&s->F);
     eo_free(ctx, s->Fp);
     eo_free(ctx, s->Fi);
     s->Fp = s->Fi = NULL;

@@ -49,7 +49,7 @@ typedef struct eo_stat {
 
 static inline void eo_stat_destroy(eo_stat *s, eo_ctx *ctx)
 {
-    eo_csc_full_destroy(ctx, &s->F);
+    eo_csc_full_destroy(&s->F);
     eo_free(ctx, s->r);
     eo_free(ctx, s->dinv);
     s->r = s->dinv = NULL;

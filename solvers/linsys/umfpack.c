@@ -69,7 +69,7 @@ static void umf_destroy(void *st, eo_ctx *ctx)
     umf_state *s = st;
     if (s->numeric) umfpack_di_free_numeric(&s->numeric);
     if (s->symbolic) umfpack_di_free_symbolic(&s->symbolic);
-    eo_csc_full_destroy(ctx, &s->F);
+    eo_csc_full_destroy(&s->F);
     eo_free(ctx, s->Wi);
     eo_free(ctx, s->W);
     s->Wi = NULL;

@@ -18,7 +18,7 @@ int eo_pd_factor_init(eo_ctx *ctx, int n, const char *who, eo_pd_factor *f)
 void eo_pd_factor_deinit(eo_ctx *ctx, eo_pd_factor *f)
 {
     eo_free(ctx, f->diag);
-    eo_csc_destroy(ctx, &f->A);
+    eo_csc_destroy(&f->A);
     memset(f, 0, sizeof *f);
 }
 
@@ -52,7 +52,7 @@ static int load_and_factor(eo_pd_factor *f, const eo_solver_ctx *sc, const eo_cs
                                 f->who, j);
         }
         f->analyzed = 0;
-        eo_csc_destroy(sc->ctx, &f->A);
+        eo_csc_destroy(&f->A);
         rc = eo_csc_clone(sc->ctx, src, &f->A);
         if (rc < 0) return rc;
         rc = eo_linsolve_analyze(sc->linear, f->A);

@@ -81,7 +81,7 @@ static void pd_free(pd_state *st, eo_ctx *ctx)
     eo_descent_ws_deinit(ctx, &st->w);
     eo_free(ctx, st->store);
     st->store = NULL;
-    eo_csc_destroy(ctx, &st->A);
+    eo_csc_destroy(&st->A);
 }
 
 static int pd_setup(void *vst, const void *params, int n, eo_ctx *ctx)
@@ -140,7 +140,7 @@ static int load(pd_state *st, const eo_solver_ctx *sc, const eo_csc *src, eo_sol
                             "projective_dynamics: matrix column %d has no stored diagonal", j);
     }
     st->analyzed = 0;
-    eo_csc_destroy(sc->ctx, &st->A);
+    eo_csc_destroy(&st->A);
     rc = eo_csc_clone(sc->ctx, src, &st->A);
     if (rc < 0) return rc;
     rc = eo_linsolve_analyze(sc->linear, st->A);

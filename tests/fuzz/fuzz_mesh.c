@@ -48,7 +48,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             check(m == NULL, "failure with a mesh");
             check(eo_ctx_message(ctx)[0] != 0, "failure without a message");
         }
-        eo_mesh_destroy(ctx, &m);
+        eo_mesh_destroy(&m);
         check(eo_ctx_live_bytes(ctx) == 0, "leak");
     }
     eo_ctx_destroy(&ctx);
