@@ -20,7 +20,7 @@
 /* Keys the scene loader reads itself (not through a params table). */
 static const eo_cfg_raw_doc raw_docs[] = {
     {"mesh.points", "{\"type\": \"array\", \"items\": " VEC3 ", \"minItems\": 1}",
-     "[[x,y,z], ...] vertices without tets: a pure mass-spring system (mass from point_mass, point_masses)"},
+     "[[x,y,z], ...] vertices without tets: a pure mass-spring model (mass from point_mass, point_masses)"},
     {"materials", NULL,
      "list of material regions; each entry selects tets by `attribute` (mesh tet attribute) or `box` (tet "
      "centroid inside [[lo],[hi]]) and sets any key of `material` (inherited otherwise); the last match wins"},
