@@ -1,6 +1,7 @@
 /* The projective-dynamics matrix factored once: see pd_factor.h. Moved out of
  * projective_dynamics.c so lbfgs (h0 = pd) and ncg (precond = pd) use the same code. */
 #include "pd_factor.h"
+#include "../hessfix/shift_loop.h"
 
 #include <math.h>
 #include <string.h>
@@ -10,14 +11,12 @@ int eo_pd_factor_init(eo_ctx *ctx, int n, const char *who, eo_pd_factor *f)
     memset(f, 0, sizeof *f);
     f->n = n;
     f->who = who;
-    f->diag = eo_calloc(ctx, (size_t)(n > 0 ? n : 1), sizeof(double));
-    if (!f->diag) return eo_error(ctx, EO_ERR_NOMEM, "%s: out of memory (n = %d)", who, n);
-    return EO_OK;
+    return eo_shift_ws_setup(&f->ws, n, ctx);
 }
 
 void eo_pd_factor_deinit(eo_ctx *ctx, eo_pd_factor *f)
 {
-    eo_free(ctx, f->diag);
+    eo_shift_ws_destroy(&f->ws, ctx);
     eo_csc_destroy(&f->A);
     memset(f, 0, sizeof *f);
 }
@@ -64,43 +63,20 @@ static int load_and_factor(eo_pd_factor *f, const eo_solver_ctx *sc, const eo_cs
         f->analyzed = 1;
         f->ls = sc->linear;
     }
-    eo_csc *A = f->A;
-    double s = 0;
-    for (int j = 0; j < n; j++) {
-        f->diag[j] = A->val[A->colptr[j + 1] - 1];
-        s += fabs(f->diag[j]);
-    }
-    if (!isfinite(s)) {
-        f->fail_reason = EO_DIVERGED_NONFINITE;
+    /* the shared c·I shift loop of the Hessian fixes (factors only, no direction) */
+    eo_hessfix_shift_params hp;
+    eo_shift_params_get(sc->hessfix_params, &hp);
+    eo_hessfix_env env = {.obj = sc->obj, .linear = sc->linear, .ctx = sc->ctx, .n = n, .want_direction = 0,
+                          .res = res};
+    eo_hessfix_out out = {0};
+    eo_shift_ws_begin(&f->ws);
+    rc = eo_shift_factor(&f->ws, &hp, 1, &env, f->A, NULL, &out);
+    if (rc < 0) return rc;
+    if (!rc) {
+        f->fail_reason = out.reason ? out.reason : EO_DIVERGED_NOT_PD;
         return EO_OK;
     }
-    s = n > 0 && s > 0 ? s / n : 1;
-    eo_hessfix_shift_params hp;
-    if (sc->hessfix_params) hp = *(const eo_hessfix_shift_params *)sc->hessfix_params;
-    else eo_params_default(eo_hessfix_shift_params_desc, &hp);
-    const double c_min = hp.shift_init * s, c_max = hp.shift_max * s;
-    double c = 0;
-    for (;;) {
-        for (int j = 0; j < n; j++) A->val[A->colptr[j + 1] - 1] = f->diag[j] + c;
-        rc = eo_linsolve_factor(sc->linear, A);
-        res->n_factor++;
-        if (rc < 0) {
-            res->status = rc;
-            f->fail_reason = EO_DIVERGED_LINSOLVE;
-            return EO_OK;
-        }
-        if (rc != EO_WARN_NOT_PD) break;
-        c = c * hp.shift_grow > c_min ? c * hp.shift_grow : c_min;
-        if (!(c <= c_max)) {
-            f->fail_reason = EO_DIVERGED_NOT_PD;
-            return EO_OK;
-        }
-    }
-    if (c > 0) {
-        res->n_shifted++;
-        eo_log(sc->ctx, EO_LOG_DEBUG, "%s: matrix shifted by %g to factor it", f->who, c);
-    }
-    f->shift = c;
+    f->shift = out.shift;
     f->factored = 1;
     return EO_OK;
 }

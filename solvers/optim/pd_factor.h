@@ -7,18 +7,18 @@
  * first iterate of each minimization. L is copied and factored with solver.linear ONCE:
  * the factors are reused by every later minimization while the objective, the matrix
  * pointer and its version are unchanged (one factorization per constrained set of a
- * scene). If L is not positive definite it is shifted, L + cI with c grown as Newton's
- * shift (solver.shift.* parameters: c_min = shift_init·s, ×shift_grow, give up above
- * shift_max·s, s = mean |L_ii|). Nothing is allocated in solve. */
+ * scene). If L is not positive definite it is shifted, L + cI, by the Hessian fixes'
+ * shared shift loop (solvers/hessfix/shift_loop.c; the selected fix's shift_* parameters). Nothing is allocated in solve. */
 #ifndef EO_OPTIM_PD_FACTOR_H
 #define EO_OPTIM_PD_FACTOR_H
 
 #include "elastopt/solver.h"
+#include "../hessfix/shift_loop.h"
 
 typedef struct eo_pd_factor {
     int n;
     const char *who;          /* optimizer name for messages */
-    double *diag;             /* n: the unshifted diagonal of A */
+    eo_shift_ws ws;           /* the shared shift loop's workspace (saved diagonal) */
     eo_csc *A;                /* own copy of L */
     const eo_objective *obj;  /* objective whose constant_hessian A is (NULL: none reusable) */
     const eo_csc *src;
