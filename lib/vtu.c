@@ -7,8 +7,12 @@
  *   Points: Float64 ×3; Cells: connectivity Int64, offsets Int64, types UInt8 (10 = tet)
  *   PointData: displacement, velocity (Float64 ×3); CellData: energy_density, J
  *   (Float64), inverted (UInt8), region (Int32, when the mesh has tet attributes).
+ * Non-finite values (e.g. the barrier energy density of an inverted tet) are never
+ * written: NaN and +Inf become +EO_VTU_NONFINITE (1e300), -Inf -EO_VTU_NONFINITE, and a
+ * UInt8 array "nonfinite" (point or cell data) marks every tuple that held one.
  * The .pvd index lists every frame so far and is rewritten atomically after each one.
  * The OBJ holds the outward boundary triangles and only the vertices they use. */
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -52,7 +56,7 @@ typedef struct {
     atype type;
     int ncomp;
     size_t n;          /* items (tuples * ncomp) */
-    const void *data;  /* NULL: generated (connectivity, offsets, types, rest X) */
+    const void *data;
 } varray;
 
 static void header_array(FILE *f, const varray *a, uint64_t *offset)
@@ -63,15 +67,146 @@ static void header_array(FILE *f, const varray *a, uint64_t *offset)
     *offset += 8 + a->n * atype_size[a->type];
 }
 
+/* A Float64 value as written: non-finite values become the finite sentinels
+ * +EO_VTU_NONFINITE (NaN, +Inf) and -EO_VTU_NONFINITE (-Inf). */
+static double finite_or_sentinel(double v)
+{
+    if (isfinite(v)) return v;
+    return (isinf(v) && v < 0) ? -EO_VTU_NONFINITE : EO_VTU_NONFINITE;
+}
+
+static void put_array(FILE *f, const varray *a)
+{
+    put_u64(f, a->n * atype_size[a->type]);
+    if (a->type != A_F64) {
+        put_le(f, a->data, atype_size[a->type], a->n);
+        return;
+    }
+    const double *d = a->data;
+    for (size_t i = 0; i < a->n; i++) {
+        double v = finite_or_sentinel(d[i]);
+        put_le(f, &v, 8, 1);
+    }
+}
+
+/* Mark in flag[] (tuples of `a`) every tuple holding a non-finite value; returns the
+ * count of tuples newly marked (flag may be NULL: count only). */
+static size_t mark_nonfinite(const varray *a, unsigned char *flag)
+{
+    if (a->type != A_F64) return 0;
+    const double *d = a->data;
+    size_t marked = 0;
+    for (size_t i = 0; i < a->n; i++) {
+        if (isfinite(d[i])) continue;
+        size_t t = i / (size_t)a->ncomp;
+        if (!flag) return 1;
+        if (!flag[t]) marked++;
+        flag[t] = 1;
+    }
+    return marked;
+}
+
+/* One unstructured grid of nc cells with npc nodes each (VTK type vtk_type); points are
+ * xyz (3 per vertex) or, when dim == 2, xy with z = 0. pd/cd: point and cell arrays
+ * (Float64 arrays are written with the sentinel policy and, if any value was not
+ * finite, a UInt8 array "nonfinite" of the same association marks the tuples). */
+static int write_grid(eo_ctx *ctx, const char *path, size_t nv, const double *pts, int dim, size_t nc, int npc,
+                      const int *conn, unsigned char vtk_type, varray *pd, int npd, varray *cd, int ncd,
+                      const char *scalars)
+{
+    unsigned char *flag_p = NULL, *flag_c = NULL;
+    int any_p = 0, any_c = 0;
+    for (int i = 0; i < npd; i++) any_p |= mark_nonfinite(&pd[i], NULL) > 0;
+    for (int i = 0; i < ncd; i++) any_c |= mark_nonfinite(&cd[i], NULL) > 0;
+    if (any_p && !(flag_p = eo_calloc(ctx, nv ? nv : 1, 1))) return eo_error(ctx, EO_ERR_NOMEM, "vtu %s: flags", path);
+    if (any_c && !(flag_c = eo_calloc(ctx, nc ? nc : 1, 1))) {
+        eo_free(ctx, flag_p);
+        return eo_error(ctx, EO_ERR_NOMEM, "vtu %s: flags", path);
+    }
+    varray pdx[8], cdx[8];
+    memcpy(pdx, pd, (size_t)npd * sizeof *pd);
+    memcpy(cdx, cd, (size_t)ncd * sizeof *cd);
+    if (any_p) {
+        for (int i = 0; i < npd; i++) mark_nonfinite(&pd[i], flag_p);
+        pdx[npd++] = (varray){"nonfinite", A_U8, 1, nv, flag_p};
+    }
+    if (any_c) {
+        for (int i = 0; i < ncd; i++) mark_nonfinite(&cd[i], flag_c);
+        cdx[ncd++] = (varray){"nonfinite", A_U8, 1, nc, flag_c};
+    }
+    varray ptsa = {"Points", A_F64, 3, 3 * nv, NULL};
+    varray conna = {"connectivity", A_I64, 1, (size_t)npc * nc, NULL};
+    varray offsa = {"offsets", A_I64, 1, nc, NULL};
+    varray typesa = {"types", A_U8, 1, nc, NULL};
+
+    eo_afile *af = NULL;
+    int rc = eo_afile_open(ctx, path, &af);
+    if (rc < 0) goto out;
+    FILE *f = eo_afile_fp(af);
+    uint64_t off = 0;
+    fprintf(f, "<?xml version=\"1.0\"?>\n"
+               "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
+               "header_type=\"UInt64\">\n"
+               "  <UnstructuredGrid>\n"
+               "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n",
+            nv, nc);
+    if (npd) {
+        fprintf(f, "      <PointData");
+        if (scalars) {
+            fputs(" Scalars=\"", f);
+            fputs(scalars, f);
+            fputc('"', f);
+        }
+        fprintf(f, ">\n");
+        for (int i = 0; i < npd; i++) header_array(f, &pdx[i], &off);
+        fprintf(f, "      </PointData>\n");
+    }
+    if (ncd) {
+        fprintf(f, "      <CellData>\n");
+        for (int i = 0; i < ncd; i++) header_array(f, &cdx[i], &off);
+        fprintf(f, "      </CellData>\n");
+    }
+    fprintf(f, "      <Points>\n");
+    header_array(f, &ptsa, &off);
+    fprintf(f, "      </Points>\n      <Cells>\n");
+    header_array(f, &conna, &off);
+    header_array(f, &offsa, &off);
+    header_array(f, &typesa, &off);
+    fprintf(f, "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _");
+    /* data in the same order as the headers */
+    for (int i = 0; i < npd; i++) put_array(f, &pdx[i]);
+    for (int i = 0; i < ncd; i++) put_array(f, &cdx[i]);
+    put_u64(f, ptsa.n * 8);
+    for (size_t i = 0; i < nv; i++) {
+        double p[3] = {pts[dim * i], pts[dim * i + 1], dim == 3 ? pts[3 * i + 2] : 0};
+        for (int k = 0; k < 3; k++) p[k] = finite_or_sentinel(p[k]);
+        put_le(f, p, 8, 3);
+    }
+    put_u64(f, conna.n * 8);
+    for (size_t i = 0; i < conna.n; i++) {
+        int64_t v = conn[i];
+        put_le(f, &v, 8, 1);
+    }
+    put_u64(f, offsa.n * 8);
+    for (size_t t = 0; t < nc; t++) {
+        int64_t v = (int64_t)((size_t)npc * (t + 1));
+        put_le(f, &v, 8, 1);
+    }
+    put_u64(f, typesa.n);
+    for (size_t t = 0; t < nc; t++) fputc(vtk_type, f);
+    fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
+    rc = eo_afile_commit(ctx, &af);
+out:
+    eo_free(ctx, flag_p);
+    eo_free(ctx, flag_c);
+    return rc;
+}
+
 int eo_vtu_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const eo_vtu_fields *fl)
 {
     eo_vtu_fields none = {0};
     if (!fl) fl = &none;
     const size_t nv = (size_t)m->nv, nt = (size_t)m->nt;
-    varray pts = {"Points", A_F64, 3, 3 * nv, fl->x ? fl->x : m->X};
-    varray conn = {"connectivity", A_I64, 1, 4 * nt, NULL};
-    varray offs = {"offsets", A_I64, 1, nt, NULL};
-    varray types = {"types", A_U8, 1, nt, NULL};
     varray pd[2], cd[4];
     int npd = 0, ncd = 0;
     if (fl->displacement) pd[npd++] = (varray){"displacement", A_F64, 3, 3 * nv, fl->displacement};
@@ -80,60 +215,7 @@ int eo_vtu_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const eo_vtu_f
     if (fl->J) cd[ncd++] = (varray){"J", A_F64, 1, nt, fl->J};
     if (fl->inverted) cd[ncd++] = (varray){"inverted", A_U8, 1, nt, fl->inverted};
     if (m->tet_attr) cd[ncd++] = (varray){"region", A_I32, 1, nt, m->tet_attr};
-
-    eo_afile *af = NULL;
-    int rc = eo_afile_open(ctx, path, &af);
-    if (rc < 0) return rc;
-    FILE *f = eo_afile_fp(af);
-    uint64_t off = 0;
-    fprintf(f, "<?xml version=\"1.0\"?>\n"
-               "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-               "header_type=\"UInt64\">\n"
-               "  <UnstructuredGrid>\n"
-               "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n",
-            nv, nt);
-    if (npd) {
-        fprintf(f, "      <PointData>\n");
-        for (int i = 0; i < npd; i++) header_array(f, &pd[i], &off);
-        fprintf(f, "      </PointData>\n");
-    }
-    if (ncd) {
-        fprintf(f, "      <CellData>\n");
-        for (int i = 0; i < ncd; i++) header_array(f, &cd[i], &off);
-        fprintf(f, "      </CellData>\n");
-    }
-    fprintf(f, "      <Points>\n");
-    header_array(f, &pts, &off);
-    fprintf(f, "      </Points>\n      <Cells>\n");
-    header_array(f, &conn, &off);
-    header_array(f, &offs, &off);
-    header_array(f, &types, &off);
-    fprintf(f, "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _");
-    /* data in the same order as the headers */
-    for (int i = 0; i < npd; i++) {
-        put_u64(f, pd[i].n * atype_size[pd[i].type]);
-        put_le(f, pd[i].data, atype_size[pd[i].type], pd[i].n);
-    }
-    for (int i = 0; i < ncd; i++) {
-        put_u64(f, cd[i].n * atype_size[cd[i].type]);
-        put_le(f, cd[i].data, atype_size[cd[i].type], cd[i].n);
-    }
-    put_u64(f, pts.n * 8);
-    put_le(f, pts.data, 8, pts.n);
-    put_u64(f, conn.n * 8);
-    for (size_t i = 0; i < 4 * nt; i++) {
-        int64_t v = m->tets[i];
-        put_le(f, &v, 8, 1);
-    }
-    put_u64(f, offs.n * 8);
-    for (size_t t = 0; t < nt; t++) {
-        int64_t v = (int64_t)(4 * (t + 1));
-        put_le(f, &v, 8, 1);
-    }
-    put_u64(f, types.n);
-    for (size_t t = 0; t < nt; t++) fputc(10, f);
-    fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
-    return eo_afile_commit(ctx, &af);
+    return write_grid(ctx, path, nv, fl->x ? fl->x : m->X, 3, nt, 4, m->tets, 10, pd, npd, cd, ncd, NULL);
 }
 
 /* Triangles (trimesh.h): Points Float64 ×3 with z = 0, cells of type 5, one optional
@@ -142,60 +224,10 @@ int eo_vtu_write_tri(eo_ctx *ctx, const char *path, int nv, const double *xy, in
                      const char *field, const double *values)
 {
     if (nv < 0 || nt < 0) return eo_error(ctx, EO_ERR_INVALID, "vtu: nv = %d, nt = %d", nv, nt);
-    const size_t n = (size_t)nv, m = (size_t)nt;
-    varray pts = {"Points", A_F64, 3, 3 * n, NULL};
-    varray conn = {"connectivity", A_I64, 1, 3 * m, NULL};
-    varray offs = {"offsets", A_I64, 1, m, NULL};
-    varray types = {"types", A_U8, 1, m, NULL};
-    varray pd = {field ? field : "u", A_F64, 1, n, values};
-    eo_afile *af = NULL;
-    int rc = eo_afile_open(ctx, path, &af);
-    if (rc < 0) return rc;
-    FILE *f = eo_afile_fp(af);
-    uint64_t off = 0;
-    fprintf(f, "<?xml version=\"1.0\"?>\n"
-               "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-               "header_type=\"UInt64\">\n"
-               "  <UnstructuredGrid>\n"
-               "    <Piece NumberOfPoints=\"%zu\" NumberOfCells=\"%zu\">\n",
-            n, m);
-    if (values) {
-        fprintf(f, "      <PointData Scalars=\"");
-        fputs(pd.name, f);
-        fprintf(f, "\">\n");
-        header_array(f, &pd, &off);
-        fprintf(f, "      </PointData>\n");
-    }
-    fprintf(f, "      <Points>\n");
-    header_array(f, &pts, &off);
-    fprintf(f, "      </Points>\n      <Cells>\n");
-    header_array(f, &conn, &off);
-    header_array(f, &offs, &off);
-    header_array(f, &types, &off);
-    fprintf(f, "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n  <AppendedData encoding=\"raw\">\n   _");
-    if (values) {
-        put_u64(f, n * 8);
-        put_le(f, values, 8, n);
-    }
-    put_u64(f, pts.n * 8);
-    for (size_t i = 0; i < n; i++) {
-        double p[3] = {xy[2 * i], xy[2 * i + 1], 0};
-        put_le(f, p, 8, 3);
-    }
-    put_u64(f, conn.n * 8);
-    for (size_t i = 0; i < 3 * m; i++) {
-        int64_t v = tri[i];
-        put_le(f, &v, 8, 1);
-    }
-    put_u64(f, offs.n * 8);
-    for (size_t t = 0; t < m; t++) {
-        int64_t v = (int64_t)(3 * (t + 1));
-        put_le(f, &v, 8, 1);
-    }
-    put_u64(f, types.n);
-    for (size_t t = 0; t < m; t++) fputc(5, f);
-    fprintf(f, "\n  </AppendedData>\n</VTKFile>\n");
-    return eo_afile_commit(ctx, &af);
+    const char *name = field ? field : "u";
+    varray pd = {name, A_F64, 1, (size_t)nv, values};
+    return write_grid(ctx, path, (size_t)nv, xy, 2, (size_t)nt, 3, tri, 5, &pd, values ? 1 : 0, NULL, 0,
+                      values ? name : NULL);
 }
 
 static int write_vtu_rest(eo_ctx *ctx, const eo_mesh *m, const char *path) { return eo_vtu_write(ctx, path, m, NULL); }

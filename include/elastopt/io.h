@@ -56,7 +56,12 @@ typedef struct eo_vtu_fields {
     const unsigned char *inverted; ///< nt (1 if J <= 0)
 } eo_vtu_fields;
 
-/// Write one VTU (XML, appended raw binary, little endian) frame.
+/// Sentinel written to VTU files in place of a non-finite value (NaN and +Inf: +1e300,
+/// -Inf: -1e300); a UInt8 array "nonfinite" then flags the affected points/cells.
+#define EO_VTU_NONFINITE 1e300
+
+/// Write one VTU (XML, appended raw binary, little endian) frame. No non-finite value is
+/// written (see EO_VTU_NONFINITE).
 EO_API int eo_vtu_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const eo_vtu_fields *f);
 
 /// A ParaView .pvd time series: add frames, write the index atomically each time.
