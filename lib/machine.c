@@ -39,6 +39,11 @@ void eo_machine_get(eo_machine *m)
 #else
     m->cores = -1;
 #endif
+    m->mem_bytes = 0;
+#if defined(_SC_PHYS_PAGES) && defined(_SC_PAGESIZE)
+    long pages = sysconf(_SC_PHYS_PAGES), psize = sysconf(_SC_PAGESIZE);
+    if (pages > 0 && psize > 0) m->mem_bytes = (double)pages * (double)psize;
+#endif
 #if defined(_OPENMP)
     m->omp_threads = omp_get_max_threads();
 #else

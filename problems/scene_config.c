@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "elastopt/machine.h"
 #include "elastopt/scene.h"
 #include "problem_registry.h"
 #include "elastopt/step.h"
@@ -319,7 +320,23 @@ static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
         }
         g.split = sc->gen.split;
         sc->generated = 1;
-        return eo_mesh_generate_box(ctx, &g, &sc->mesh);
+        /* a box that cannot be simulated here: name the key, not "out of memory" later */
+        double nt_d = (double)g.cells[0] * g.cells[1] * g.cells[2] * g.split;
+        eo_machine mach;
+        eo_machine_get(&mach);
+        if (mach.mem_bytes > 0 && nt_d * EO_SCENE_BYTES_PER_TET > mach.mem_bytes)
+            return cfg_err(ctx, cfg, "mesh.generate.cells", EO_ERR_RANGE,
+                           "[%d, %d, %d] cells make %.3g tets, which need about %.3g GB to simulate; this "
+                           "machine has %.3g GB",
+                           g.cells[0], g.cells[1], g.cells[2], nt_d, nt_d * EO_SCENE_BYTES_PER_TET / 1e9,
+                           mach.mem_bytes / 1e9);
+        rc = eo_mesh_generate_box(ctx, &g, &sc->mesh);
+        if (rc == EO_ERR_RANGE || rc == EO_ERR_NOMEM) {
+            char msg[512];
+            snprintf(msg, sizeof msg, "%s", eo_ctx_message(ctx));
+            return cfg_err(ctx, cfg, "mesh.generate.cells", rc, "%s", msg);
+        }
+        return rc;
     }
     /* a relative path is relative to the config file's folder */
     char path[1100];
@@ -1002,9 +1019,57 @@ static void tb_printf(textbuf *t, const char *fmt, ...)
     }
 }
 
+/* Two boundary entries prescribe the same motion (then a shared vertex is harmless). */
+static int same_motion(const eo_bc *a, const eo_bc *b)
+{
+    if (a->motion != b->motion || a->opts.release != b->opts.release) return 0;
+    if (a->motion == EO_BC_FIXED) return 1;
+    if (a->opts.until != b->opts.until) return 0;
+    if (a->motion == EO_BC_TRANSLATE) return memcmp(a->opts.translate, b->opts.translate, sizeof a->opts.translate) == 0;
+    return memcmp(a->rotate.axis, b->rotate.axis, sizeof a->rotate.axis) == 0 &&
+           memcmp(a->rotate.center, b->rotate.center, sizeof a->rotate.center) == 0 && a->rotate.rate == b->rotate.rate;
+}
+
+/* A warning line per pair of boundary entries that share vertices but prescribe
+ * different motions: the later entry wins on the shared vertices (eo_stepi_active_set). */
+static int describe_overlaps(eo_ctx *ctx, const eo_scene *sc, textbuf *t)
+{
+    int nb = sc->nbc, nv = sc->mesh->nv;
+    if (nb < 2) return EO_OK;
+    int *owner = eo_malloc(ctx, (size_t)nv * sizeof *owner);
+    int *cnt = eo_calloc(ctx, (size_t)nb * (size_t)nb, sizeof *cnt);
+    if (!owner || !cnt) {
+        eo_free(ctx, owner);
+        eo_free(ctx, cnt);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory (boundary overlaps)");
+    }
+    for (int v = 0; v < nv; v++) owner[v] = -1;
+    for (int b = 0; b < nb; b++) {
+        const eo_bc *bc = sc->bc + b;
+        for (int i = 0; i < bc->nverts; i++) {
+            int v = bc->verts[i], a = owner[v];
+            if (a >= 0 && a != b) cnt[a * nb + b]++;
+            owner[v] = b;
+        }
+    }
+    for (int a = 0; a < nb; a++)
+        for (int b = a + 1; b < nb; b++) {
+            int n = cnt[a * nb + b];
+            if (!n || same_motion(sc->bc + a, sc->bc + b)) continue;
+            tb_printf(t,
+                      "warning: boundary.%d and boundary.%d share %d vert%s but prescribe different motions; "
+                      "on %s, boundary.%d (the later entry) applies while it is active\n",
+                      a, b, n, n == 1 ? "ex" : "ices", n == 1 ? "it" : "them", b);
+        }
+    eo_free(ctx, owner);
+    eo_free(ctx, cnt);
+    return EO_OK;
+}
+
 int eo_scene_describe(eo_ctx *ctx, const eo_scene *sc, char **text)
 {
     *text = NULL;
+    int rc_overlap;
     const eo_mesh *m = sc->mesh;
     textbuf t = {.ctx = ctx};
     double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
@@ -1050,6 +1115,11 @@ int eo_scene_describe(eo_ctx *ctx, const eo_scene *sc, char **text)
         }
         }
         tb_printf(&t, "boundary.%d (%s; %s): %d vert%s\n", b, sel, mot[bc->motion], bc->nverts, bc->nverts == 1 ? "ex" : "ices");
+    }
+    rc_overlap = describe_overlaps(ctx, sc, &t);
+    if (rc_overlap < 0) {
+        eo_free(ctx, t.s);
+        return rc_overlap;
     }
     eo_scene_up up;
     int rc = eo_scene_up_guess(ctx, sc, &up);

@@ -2,6 +2,7 @@
  * velocity and ball of random points, constrained vertices at their prescribed state)
  * and eo_step_set_state. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -17,6 +18,40 @@ static double rnd(unsigned long long *s)
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
     z ^= z >> 31;
     return (double)(z >> 11) * (1.0 / 9007199254740992.0);
+}
+
+/* A barrier material (ψ = +∞ at J <= 0) cannot start from an inverted tet: the step
+ * problem would be infinite at its start and every optimizer would stop at once with a
+ * non-finite state. Refuse it here, naming the region, the first tet and the cause. */
+static int check_barrier_start(const eo_step *st)
+{
+    const eo_scene *sc = st->sc;
+    int count = 0, first = -1;
+    double Jfirst = 0;
+    for (int k = 0; k < st->nt; k++) {
+        if (!(st->tet_type[k]->flags & EO_MATERIAL_BARRIER)) continue;
+        double J = eo_stepi_tet_J(st, st->x, k);
+        if (!eo_tet_is_inverted(J)) continue;
+        if (count++ == 0) {
+            first = k;
+            Jfirst = J;
+        }
+    }
+    if (!count) return EO_OK;
+    int r = sc->tet_mat ? sc->tet_mat[first] : 0;
+    char where[32];
+    if (r == 0) snprintf(where, sizeof where, "material");
+    else snprintf(where, sizeof where, "materials.%d", r - 1);
+    const char *cause = sc->has_ball      ? " (initial.random_ball)"
+                        : sc->has_reflect ? " (initial.reflect)"
+                                          : (sc->initial.scale[0] * sc->initial.scale[1] * sc->initial.scale[2] <= 0
+                                                 ? " (initial.scale)"
+                                                 : "");
+    return eo_error(st->ctx, EO_ERR_RANGE,
+                    "%s: the initial state%s has %d inverted tet(s) (first: tet %d, J = %.3g) and %s (%s) is a "
+                    "barrier material, infinite at J <= 0; start from a non-inverted state or use a "
+                    "model without a barrier (elastopt list: materials)",
+                    sc->file, cause, count, first, Jfirst, where, st->tet_type[first]->info.name);
 }
 
 int eo_step_reset(eo_step *st)
@@ -64,7 +99,7 @@ int eo_step_reset(eo_step *st)
     }
     if (!st->integ->inertia) memset(st->v, 0, (size_t)st->n_full * sizeof(double));
     st->erestart = 1;
-    return EO_OK;
+    return check_barrier_start(st);
 }
 
 int eo_step_set_state(eo_step *st, const double *x, const double *v, double t)

@@ -30,6 +30,7 @@ typedef struct eo_machine {
     char cpu[128];          ///< CPU model name ("model name" of /proc/cpuinfo), or "unknown"
     long cores;             ///< processors online, -1 if unknown
     int omp_threads;        ///< omp_get_max_threads(), 1 in a build without OpenMP
+    double mem_bytes;       ///< physical memory in bytes, 0 if unknown
     const char *version;    ///< elastopt version (static)
     const char *build_type; ///< meson build type (static)
     const char *compiler;   ///< compiler id and version (static)

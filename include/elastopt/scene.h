@@ -262,6 +262,11 @@ typedef struct eo_scene {
     eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 } eo_scene;
 
+/// Memory an implicit simulation needs per tet, bytes (mesh, step engine, Hessian pattern
+/// and values, factor fill at moderate sizes): a lower estimate used to refuse generated
+/// boxes that cannot be simulated on this machine (key mesh.generate.cells).
+#define EO_SCENE_BYTES_PER_TET 1500.0
+
 /// Load a configuration document: `path` if not NULL, else the built-in scene `name`
 /// (NULL: "cantilever", the default). EO_ERR_UNKNOWN_NAME lists the built-in scenes.
 EO_API int eo_scene_cfg_load(eo_ctx *ctx, const char *path, const char *name, eo_cfg **out);
