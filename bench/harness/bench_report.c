@@ -15,6 +15,7 @@
  * The `png` terminal (libgd, 8-bit palette) is used rather than pngcairo: the plots are
  * committed and its files are 5x smaller. gnuplot (Debian package gnuplot-nox) is run as a separate process; without it the
  * report says so and everything else is written. */
+#include <jansson.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -186,9 +187,91 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
 
 /* ---------------------------------------------------------------- plots */
 
+/* Colour by optimizer family (the optimizer's name, in order of first appearance in the
+ * suite, so every plot of a report uses the same colour for it), dash type by line
+ * search, point type by Hessian fix; the baseline is black. */
 static const char *const palette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b",
-                                      "#e377c2", "#17becf", "#7f7f7f", "#bcbd22", "#000000", "#aec7e8"};
+                                      "#e377c2", "#17becf", "#bcbd22", "#7f7f7f"};
 #define NPAL ((int)(sizeof palette / sizeof palette[0]))
+#define MAX_HIGHLIGHT 8
+
+typedef struct cfg_style {
+    int family, ls, fix;      /* indices in order of first appearance */
+    char opt[64];             /* optimizer name */
+} cfg_style;
+
+static void resolved_name(const char *resolved, const char *key, char *buf, size_t n)
+{
+    snprintf(buf, n, "?");
+    json_t *j = resolved ? json_loads(resolved, 0, NULL) : NULL;
+    const char *v = j ? json_string_value(json_object_get(j, key)) : NULL;
+    if (v) snprintf(buf, n, "%s", v);
+    json_decref(j);
+}
+
+/* styles of every configuration (st: ncf entries) */
+static void cfg_styles(const eo_bench_suite *s, cfg_style *st)
+{
+    char names[3][64][64];
+    int nn[3] = {0, 0, 0};
+    static const char *const keys[3] = {"optimizer", "linesearch", "hessian_fix"};
+    for (int c = 0; c < s->ncf; c++) {
+        int idx[3];
+        for (int k = 0; k < 3; k++) {
+            char v[64];
+            resolved_name(s->cf[c].resolved, keys[k], v, sizeof v);
+            if (k == 2 && !s->cf[c].needs_hessian) snprintf(v, sizeof v, "-");
+            int i = 0;
+            while (i < nn[k] && strcmp(names[k][i], v) != 0) i++;
+            if (i == nn[k] && nn[k] < 64) snprintf(names[k][nn[k]++], 64, "%s", v);
+            idx[k] = i;
+            if (k == 0) snprintf(st[c].opt, sizeof st[c].opt, "%s", v);
+        }
+        st[c].family = idx[0];
+        st[c].ls = idx[1];
+        st[c].fix = idx[2];
+    }
+}
+
+static const char *style_colour(const eo_bench_suite *s, const cfg_style *st, int c)
+{
+    return c == s->baseline ? "#000000" : palette[st[c].family % NPAL];
+}
+
+/* The configurations drawn in colour on a scene's plot: the baseline, the fastest at the
+ * headline accuracy, and the best of each optimizer family (fastest to the headline, else
+ * to the loosest threshold it reached), at most MAX_HIGHLIGHT; the rest are thin grey. */
+static void pick_highlight(const bench_out *b, int si, int h, const cfg_style *st, int first, unsigned char *hl)
+{
+    const eo_bench_suite *s = b->s;
+    const bench_scene_res *sr = b->res + si;
+    memset(hl, 0, (size_t)s->ncf);
+    int n = 0;
+    hl[s->baseline] = 1;
+    n++;
+    if (first >= 0 && !hl[first]) hl[first] = 1, n++;
+    /* score: (threshold index reached, time): tighter thresholds first, then faster */
+    for (int pass = 0; pass < s->ncf && n < MAX_HIGHLIGHT; pass++) {
+        int best = -1, bestj = -1;
+        double bestt = INFINITY;
+        for (int c = 0; c < s->ncf; c++) {
+            if (hl[c]) continue;
+            int fam_done = 0;
+            for (int d = 0; d < s->ncf; d++)
+                if (hl[d] && d != s->baseline && st[d].family == st[c].family) fam_done = 1;
+            if (fam_done) continue;
+            int jr = -1;
+            for (int j = 0; j < s->nthr; j++)
+                if (isfinite(sr->pair[c].ttt_med[j])) jr = j;
+            double t = jr >= 0 ? sr->pair[c].ttt_med[jr < h ? jr : h] : INFINITY;
+            if (jr > h) jr = h;
+            if (best < 0 || jr > bestj || (jr == bestj && t < bestt)) best = c, bestj = jr, bestt = t;
+        }
+        if (best < 0) break;
+        hl[best] = 1;
+        n++;
+    }
+}
 
 static int run_gnuplot(eo_ctx *ctx, const char *dir, const char *name)
 {
@@ -234,7 +317,22 @@ int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si)
         snprintf(title, sizeof title, "fastest to %s: %s (the only one)", lab, s->cf[first].name);
     else
         snprintf(title, sizeof title, "no configuration reached %s", lab);
+    cfg_style *sty = eo_malloc(ctx, (size_t)s->ncf * sizeof *sty);
+    unsigned char *hl = eo_malloc(ctx, (size_t)s->ncf);
+    if (!sty || !hl) {
+        eo_free(ctx, sty);
+        eo_free(ctx, hl);
+        eo_afile_abort(ctx, &af);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory (plot styles)");
+    }
+    cfg_styles(s, sty);
+    pick_highlight(b, si, h, sty, first, hl);
+    int nother = 0;
+    for (int c = 0; c < s->ncf; c++) nother += !hl[c];
     fprintf(f, "# %s: relative energy error against solve time\n", bs->name);
+    fprintf(f, "# colour = optimizer family (baseline black), dash = line search, point = Hessian fix;\n"
+               "# in colour: the baseline, the fastest and the best of each family (at most %d)\n",
+            MAX_HIGHLIGHT);
     fprintf(f, "set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced\n");
     fprintf(f, "set output '%s.png'\n", name);
     fprintf(f, "set title \"%s: %d tets, %s E=%g nu=%g, %d step(s), median of %d\\n%s\"\n", bs->name, bs->nt, bs->model,
@@ -242,33 +340,49 @@ int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si)
     double left = isfinite(sr->tmin) ? pow(10, floor(log10(sr->tmin))) : 1e-4;
     fprintf(f, "left = %g  # the start point x0 (time 0) is drawn at the left edge\n", left);
     fprintf(f, "set xrange [left:*]\n");
-    fprintf(f, "set logscale xy\nset grid xtics ytics mxtics mytics lc rgb '#dddddd'\n");
+    fprintf(f, "set logscale xy\nset grid xtics ytics mxtics mytics lc rgb '#e5e5e5'\n");
     fprintf(f, "set format y '1e%%L'\nset format x '%%g'\n");
-    fprintf(f, "set xlabel 'solve time (s) of each step, median of the timed repeats'\n");
+    fprintf(f, "set xlabel 'solve time of the step (s), median of the timed repeats'\n");
     fprintf(f, "set ylabel 'relative energy error (g - g*) / |g0 - g*|'\n");
     fprintf(f, "set yrange [%g:3]\n", s->o.target / 10);
-    fprintf(f, "set key outside right top spacing 1.1\n");
-    for (int j = 0; j < s->nthr; j++)
+    fprintf(f, "set key inside left bottom opaque box spacing 1.05 font ',10'\n");
+    for (int j = 0; j < s->nthr; j++) {
         fprintf(f, "set arrow from graph 0, first %g to graph 1, first %g nohead lc rgb '#999999' dt 3\n", s->thr[j],
                 s->thr[j]);
-    fprintf(f, "plot \\\n");
-    int any = 0;
-    for (int c = 0; c < s->ncf; c++) {
-        const char *col = palette[c % NPAL];
-        int dt = 1 + (c / NPAL) % 4;
-        double lw = c == first ? 3.5 : (c == s->baseline ? 2.5 : 1.5);
-        for (int k = 0; k < bs->steps; k++) {
-            char t[300];
-            if (k == 0)
-                snprintf(t, sizeof t, "title '%s%s%s'", s->cf[c].name, c == s->baseline ? " (baseline)" : "",
-                         c == first ? " (fastest)" : "");
-            else
-                snprintf(t, sizeof t, "notitle");
-            fprintf(f, "%s  '%s.dat' index %d using ($1>0?$1:left):2 with linespoints lc rgb '%s' dt %d lw %.1f pt 7 ps 0.4 %s",
-                    any ? ", \\\n" : "", name, c * bs->steps + k, col, dt, lw, t);
-            any = 1;
-        }
+        fprintf(f, "set label '%.0e' at graph 1, first %g offset char 0.5,0 left font ',9' tc rgb '#777777'\n",
+                s->thr[j], s->thr[j]);
     }
+    fprintf(f, "set rmargin 8\n");
+    fprintf(f, "plot \\\n");
+    int any = 0, grey_titled = 0;
+    /* grey ones first (underneath), then the highlighted ones */
+    for (int pass = 0; pass < 2; pass++)
+        for (int c = 0; c < s->ncf; c++) {
+            if (hl[c] != pass) continue;
+            const char *col = hl[c] ? style_colour(s, sty, c) : "#c8c8c8";
+            int dt = hl[c] ? 1 + sty[c].ls % 5 : 1;
+            int pt = hl[c] ? (int[]){7, 5, 9, 11, 13, 15}[sty[c].fix % 6] : 7;
+            double lw = !hl[c] ? 0.8 : c == first ? 3.2 : c == s->baseline ? 2.4 : 1.8;
+            for (int k = 0; k < bs->steps; k++) {
+                char t[300];
+                if (k == 0 && hl[c])
+                    snprintf(t, sizeof t, "title '%s%s%s'", s->cf[c].name, c == s->baseline ? " (baseline)" : "",
+                             c == first ? " (fastest)" : "");
+                else if (k == 0 && !grey_titled) {
+                    snprintf(t, sizeof t, "title '%d other configuration%s'", nother, nother == 1 ? "" : "s");
+                    grey_titled = 1;
+                } else
+                    snprintf(t, sizeof t, "notitle");
+                fprintf(f, "%s  '%s.dat' index %d using ($1>0?$1:left):2 with linespoints lc rgb '%s' dt %d lw %.1f "
+                           "pt %d ps %.1f %s",
+                        any ? ", \\\n" : "", name, c * bs->steps + k, col, dt, lw, pt, hl[c] ? 0.6 : 0.2, t);
+                any = 1;
+            }
+        }
+    fprintf(f, "\nset terminal svg size 1400,850 font 'DejaVu Sans,11' noenhanced\n");
+    fprintf(f, "set output '%s.svg'\nreplot\n", name);
+    eo_free(ctx, sty);
+    eo_free(ctx, hl);
     fprintf(f, "\n");
     rc = eo_afile_commit(ctx, &af);
     if (rc < 0) return rc;
@@ -355,10 +469,11 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
     fprintf(f, "set title \"Speed against accuracy over %d scene(s), each configuration with its own stopping rule\\n"
                "lower left is better; the line joins the Pareto-optimal configurations\"\n", s->nsc);
     fprintf(f, "set logscale xy\nset grid lc rgb '#dddddd'\nset format y '1e%%L'\n");
-    fprintf(f, "set xlabel 'trajectory solve time per step / baseline (%s), geometric mean over scenes'\n",
+    fprintf(f, "set xlabel \"traj. time per step / baseline's (%s): the report's 'traj. time' column, own stopping "
+               "rule, geometric mean over scenes (not the headline's time to an accuracy)\"\n",
             s->cf[s->baseline].name);
-    fprintf(f, "set ylabel 'max distance to reference trajectory / reference displacement (geometric mean; "
-               "clipped at 100)'\n");
+    fprintf(f, "set ylabel \"traj. dist / reference displacement: the 'traj. dist' column (geometric mean; clipped "
+               "at 100)\"\n");
     fprintf(f, "set key top left box opaque\nset offsets graph 0.05, graph 0.1, graph 0.1, graph 0.05\n");
 
     fprintf(f, "plot 'pareto.dat' index 1 using 1:2 with lines lc rgb '#999999' lw 2 title 'Pareto front of the converged configurations', \\\n"
@@ -368,6 +483,7 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
                "title 'failed or stopped somewhere', \\\n"
                "  'pareto.dat' index 0 using 2:3:(sprintf('%%d', $1)) with labels offset char 0.9,0.5 left font ',9' "
                "notitle\n");
+    fprintf(f, "set terminal svg size 1500,950 font 'DejaVu Sans,11' noenhanced\nset output 'pareto.svg'\nreplot\n");
     rc = eo_afile_commit(ctx, &af);
     if (rc < 0) return rc;
     return run_gnuplot(ctx, b->dir, "pareto");
