@@ -125,6 +125,9 @@ def string_or(p):
 
 
 def _reason_value(r):
+    """A returned converged flag or reason -> eo_reason value (None: not converged)."""
+    if r is None:
+        return None
     if isinstance(r, bool):
         return REASONS["converged_external"] if r else None
     if isinstance(r, int):
