@@ -240,6 +240,20 @@ class Derivatives(unittest.TestCase):
         self.assertTrue(np.array_equal(sp.csc_matrix((data, indices, indptr), shape=(n, n)).toarray(),
                                        full.toarray()))
 
+    def test_hessian_without_scipy(self):
+        """Without SciPy hessian() gives the (indptr, indices, data) of the same matrix."""
+        import elastopt.objective as objmod
+        saved, objmod._sp = objmod._sp, None
+        try:
+            indptr, indices, data = self.P.hessian(self.x)
+        finally:
+            objmod._sp = saved
+        n = self.P.n
+        self.assertEqual(indptr.size, n + 1)
+        ref = self.P.hessian(self.x)
+        self.assertTrue(np.array_equal(sp.csc_matrix((data, indices, indptr), shape=(n, n)).toarray(),
+                                       ref.toarray()))
+
     def test_free_map_and_counts(self):
         P = self.P
         pos = self.sim.positions
