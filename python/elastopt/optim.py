@@ -228,7 +228,7 @@ class _Registration:
 
 
 def register_optimizer(name, minimize=None, direction=None, *, summary=None,
-                       needs_hessian=False, needs_linear=False):
+                       needs_hessian=False):
     """Register a Python optimizer under `name` (see the module text). Exactly one of
     `minimize` and `direction`. `needs_hessian`: it evaluates Hessians (a bench matrix
     then makes one configuration per Hessian fix). Returns the name. ElastoptError if
@@ -240,8 +240,7 @@ def register_optimizer(name, minimize=None, direction=None, *, summary=None,
         doc = (fn.__doc__ or "").strip().splitlines()
         summary = (doc[0] if doc else f"Python optimizer {getattr(fn, '__name__', name)}")
     summary = summary + " (Python)" if "python" not in summary.lower() else summary
-    _registered[name] = _Registration(name, minimize, direction, summary, needs_hessian,
-                                      needs_linear)
+    _registered[name] = _Registration(name, minimize, direction, summary, needs_hessian, False)
     return name
 
 

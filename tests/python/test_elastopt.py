@@ -6,6 +6,7 @@ layouts), EO_BUILD_ROOT (the build tree), EO_SOURCE_ROOT, EO_TMP (a scratch fold
 import math
 import os
 import subprocess
+import sys
 import unittest
 from pathlib import Path
 
@@ -100,6 +101,23 @@ class Layout(unittest.TestCase):
             self.assertEqual(got, int(v), f"{t} {f}: cffi {got}, C {v}")
             checked += 1
         self.assertGreater(checked, 60)
+
+
+class Loading(unittest.TestCase):
+    def _import(self, env):
+        e = {k: v for k, v in os.environ.items() if k not in ("ELASTOPT_LIB", "EO_BUILD_ROOT")}
+        e.update(env)
+        return subprocess.run([sys.executable, "-c", "import elastopt; print(elastopt.lib_path)"],
+                              env=e, capture_output=True, text=True)
+
+    def test_elastopt_lib_is_used_first(self):
+        r = self._import({"ELASTOPT_LIB": str(eo.lib_path)})
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(r.stdout.strip(), str(eo.lib_path))
+        r = self._import({"ELASTOPT_LIB": str(TMP / "no" / "libelastopt.so.0")})
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("ImportError: elastopt: libelastopt.so not found", r.stderr)
+        self.assertIn("ELASTOPT_LIB", r.stderr)
 
 
 class Stepping(unittest.TestCase):
