@@ -58,11 +58,13 @@ def check(rc):
     return rc
 
 
-def c_error(status, text):
-    """Record an error message in the context (from a callback) and return status."""
+def c_error(status, text, in_ctx=None):
+    """Record an error message in a context (default the package's; from a callback:
+    the one the C caller reads) and return status."""
     loc = ffi.new("eo_errloc *", {"file": ffi.NULL, "line": -1, "column": -1,
                                   "kind": ffi.NULL, "index": -1})
-    return lib.eo_error_at(ctx, status, loc[0], b"%s", ffi.new("char[]", text.encode()))
+    return lib.eo_error_at(ctx if in_ctx is None else in_ctx, status, loc[0], b"%s",
+                           ffi.new("char[]", text.encode()))
 
 
 def take_json(j):

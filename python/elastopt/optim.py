@@ -156,10 +156,10 @@ class _Registration:
         self._p = ffi.new("eo_callback_optimizer **")
         check(lib.eo_callback_optimizer_register(ctx, d, self._p))
 
-    def _fail(self, e):
+    def _fail(self, e, sc):
         set_pending(e)
         return c_error(EO_ERR_INVALID, f"python optimizer '{self.name}' raised "
-                                       f"{type(e).__name__}: {e}")
+                                       f"{type(e).__name__}: {e}", sc.ctx)
 
     def _c_minimize(self, user, sc, x, res):
         prob = SolveProblem(sc, self.name)
@@ -196,7 +196,7 @@ class _Registration:
             res.grad_norm = gn
             return 0
         except BaseException as e:
-            return self._fail(e)
+            return self._fail(e, sc)
         finally:
             prob._alive = False
 
@@ -218,7 +218,7 @@ class _Registration:
             alpha0[0] = float(a0)
             return 0
         except BaseException as e:
-            return self._fail(e)
+            return self._fail(e, sc)
         finally:
             prob._alive = False
 
