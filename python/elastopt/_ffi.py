@@ -32,7 +32,6 @@ typedef struct eo_linsolve eo_linsolve;
 typedef struct json_t json_t;
 typedef struct eo_param_desc eo_param_desc;
 typedef struct eo_hessfix_type eo_hessfix_type;
-typedef struct eo_linesearch_type eo_linesearch_type;
 typedef struct eo_mesh eo_mesh;
 typedef struct eo_bench_suite eo_bench_suite;
 typedef struct eo_callback_optimizer eo_callback_optimizer;
@@ -100,6 +99,13 @@ typedef struct eo_stop_type {
     int (*check)(const void *params, const eo_stop_info *si);
     int needs_direction;
 } eo_stop_type;
+typedef struct eo_ls_extra { double *grad_new; int have_grad; double c2; } eo_ls_extra;
+typedef struct eo_linesearch_type {
+    eo_method_info info;
+    int (*search)(const void *params, eo_objective *obj, const double *x, const double *p,
+                  double g0, double dg0, double alpha0, double *xnew, double *gnew,
+                  double *alpha, int *nevals, double *work, eo_ctx *ctx, eo_ls_extra *extra);
+} eo_linesearch_type;
 struct eo_optimizer_type;
 typedef struct eo_solver_ctx {
     eo_objective *obj; eo_ctx *ctx; eo_linsolve *linear;

@@ -6,8 +6,9 @@ bench suites (timed beside the built-in methods: the harness runs them in this p
 * minimize form, `register_optimizer(name, minimize=f)`: the whole minimization,
   ``f(problem, x0) -> (x, iterations, converged)`` (or ``(x, iterations, reason)`` with an
   eo_reason name). `problem` is a SolveProblem: value / gradient / hessian at any x, the
-  configured stopping rule (`problem.stop(...)`), tolerance, iteration cap and time
-  budget, and `problem.report(x, g, grad, ...)`, to be called after every accepted step:
+  configured stopping rule (`problem.stop(...)`) and line search
+  (`problem.line_search(x, p)`), tolerance, iteration cap and time budget, and
+  `problem.report(x, g, grad, ...)`, to be called after every accepted step:
   it records the iterate for logs and the benchmark's curves and returns True when the
   caller wants the run stopped (the benchmark stops at its target error, or the time
   budget ran out). The start x0 is reported by the package before f is called.
@@ -72,6 +73,32 @@ class SolveProblem(Objective):
             "step_norm": step_norm, "x_norm": x_norm, "tol": sc.tol})
         r = sc.stop.check(sc.stop_params, si)
         return reason_name(r) if r > 0 else None
+
+    def line_search(self, x, p, g=None, grad=None, alpha0=1.0, c2=0.0):
+        """The configured line search (solver.linesearch) from x along the descent
+        direction p, first trial alpha0: (x_new, g_new, alpha, evaluations, grad_new or
+        None, ok). ok is False when no acceptable step was found (x_new is then the best
+        point found, possibly x with alpha 0). g, grad: g(x) and ∇g(x) if known. c2: the
+        curvature constant preferred from a Wolfe search (0 = its own)."""
+        sc = self._sc
+        n = sc.obj.n
+        xa, px = as_c(x, n)
+        pa, pp = as_c(p, n, "p")
+        if g is None or grad is None:
+            g, grad = self.gradient(xa)
+        dg = float(np.dot(grad, pa))
+        if not dg < 0:
+            raise ValueError(f"line_search: p is not a descent direction (grad.p = {dg:g})")
+        xnew, gnew_buf, work = np.empty(n), np.empty(n), np.empty(n)
+        gnew, alpha, nev = ffi.new("double *"), ffi.new("double *"), ffi.new("int *")
+        ex = ffi.new("eo_ls_extra *", {"grad_new": ffi.from_buffer("double[]", gnew_buf),
+                                       "have_grad": 0, "c2": c2})
+        rc = sc.linesearch.search(sc.linesearch_params, sc.obj, px, pp, g, dg, alpha0,
+                                  ffi.from_buffer("double[]", xnew), gnew, alpha, nev,
+                                  ffi.from_buffer("double[]", work), sc.ctx, ex)
+        check(rc)
+        ok = rc == 0 or gnew[0] < g
+        return xnew, gnew[0], alpha[0], nev[0], (gnew_buf if ex.have_grad else None), ok
 
     def _record(self, rec, alpha, ls_evals, reason=0):
         x, g, gn, dec, inv = rec

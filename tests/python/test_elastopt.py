@@ -51,20 +51,19 @@ def py_newton_minimize(prob, x):
 
 
 def py_gradient_descent(prob, x):
-    """Mass-scaled gradient descent with backtracking (minimize form)"""
+    """Mass-scaled gradient descent with the configured line search (minimize form)"""
     g, grad = prob.g0, prob.grad0
     M = prob.metric()
     for k in range(prob.max_iters + 1):
         reason = prob.stop(g, np.linalg.norm(grad))
         if reason or k == prob.max_iters:
             return x, k, reason
-        p = -grad / M
-        a = 1.0
-        while prob.value(x + a * p) > g + 1e-4 * a * (grad @ p):
-            a /= 2
-        x = x + a * p
-        g, grad = prob.gradient(x)
-        if prob.report(x, g, grad, alpha=a):
+        # the configured line search (backtracking here)
+        x, g, a, nev, gnew, ok = prob.line_search(x, -grad / M, g, grad)
+        if not ok:
+            return x, k, "diverged_linesearch"
+        grad = prob.gradient(x)[1] if gnew is None else gnew
+        if prob.report(x, g, grad, alpha=a, ls_evals=nev):
             return x, k + 1, None
 
 
