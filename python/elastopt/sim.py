@@ -97,11 +97,15 @@ class Solver:
         return take_json(lib.eo_solver_to_json(self._p[0]))
 
     def close(self):
-        if self._p is not None and self._p[0] != ffi.NULL:
-            lib.eo_solver_destroy(self._p)
+        p = getattr(self, "_p", None)
+        if p is not None and p[0] != ffi.NULL:
+            lib.eo_solver_destroy(p)
 
     def __del__(self):
-        self.close()
+        try:
+            self.close()
+        except Exception:  # interpreter shutdown: the library may be gone already
+            pass
 
 
 class StepProblem(Objective):
@@ -168,7 +172,10 @@ class Sim:
             self._gen += 1
 
     def __del__(self):
-        self.close()
+        try:
+            self.close()
+        except Exception:  # interpreter shutdown: the library may be gone already
+            pass
 
     def __enter__(self):
         return self
