@@ -252,6 +252,7 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         .time_budget = s->opts.time_budget,
         .on_iter = on_iter,
         .user = user,
+        .optimizer = opt,
     };
     return opt->minimize(s->opt_state, s->params[SLOT_OPT], &sc, x, res);
 }

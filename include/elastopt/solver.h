@@ -357,6 +357,10 @@ typedef struct eo_solver_ctx {
     double time_budget;                 ///< seconds, 0 = none
     eo_iter_fn on_iter;
     void *user;
+    /// The running optimizer's own ops table (the one eo_solver_create resolved), so one
+    /// minimize function can serve several tables (callback.h: each table embedded in
+    /// an object with its callbacks). Appended last: earlier fields keep their offsets.
+    const struct eo_optimizer_type *optimizer;
 } eo_solver_ctx;
 
 /// Result of one minimization.
