@@ -903,10 +903,11 @@ static double scene_units(const eo_bench_suite *s, const bench_scene *b, int rep
            (double)b->nt * b->steps * s->ncf * (repeats + 1);
 }
 
-static void csv_num(FILE *f, double v)
+/* One CSV number with its leading comma; a non-finite value (not reached, not
+ * available, infinite) is an empty field: no output file holds a non-finite number. */
+void eo_bench_csv_num(FILE *f, double v)
 {
-    if (isnan(v)) fputs(",", f);
-    else if (isinf(v)) fputs(v > 0 ? ",inf" : ",-inf", f);
+    if (!isfinite(v)) fputs(",", f);
     else fprintf(f, ",%.6e", v);
 }
 
@@ -935,13 +936,13 @@ static void write_curve(run_ctx *r, FILE *dat, const bench_scene *b, const bench
         double pe = rep[0].pe && k < rep[0].n ? rep[0].pe[k] : NAN;
         if (!eo_bench_keep_row(k, nmax, r->s->o.curve_rows)) continue;
         fprintf(r->curves, "%s,%d,%s,%d", b->name, step + 1, c->name, k);
-        csv_num(r->curves, tmed);
-        csv_num(r->curves, tmin);
-        csv_num(r->curves, tmax);
-        csv_num(r->curves, rep[src].g[k]);
-        csv_num(r->curves, e);
-        csv_num(r->curves, pe);
-        csv_num(r->curves, rep[src].gn[k]);
+        eo_bench_csv_num(r->curves, tmed);
+        eo_bench_csv_num(r->curves, tmin);
+        eo_bench_csv_num(r->curves, tmax);
+        eo_bench_csv_num(r->curves, rep[src].g[k]);
+        eo_bench_csv_num(r->curves, e);
+        eo_bench_csv_num(r->curves, pe);
+        eo_bench_csv_num(r->curves, rep[src].gn[k]);
         fprintf(r->curves, ",%s\n", k == nmax - 1 ? curve_reason_name(res) : "");
         if (k > 0 && tmed > 0 && tmed < r->out->res[r->si].tmin) r->out->res[r->si].tmin = tmed;
         fprintf(dat, "%.6e %.6e\n", k > 0 ? tmed : 0.0, e > 1e-17 ? e : 1e-17);
@@ -1274,10 +1275,10 @@ static int run_scene(run_ctx *r, int si)
                 t->dist = rms_dist(nv, vmass, eo_step_x(st), fx + (size_t)(k + 1) * nf);
                 fprintf(r->traj, "%s,%s,%d,%.6g,%d,%s", b->name, c->name, k + 1, ft[k + 1], t->iters,
                         eo_reason_name(t->reason));
-                csv_num(r->traj, t->time);
-                csv_num(r->traj, t->g);
-                csv_num(r->traj, t->dist);
-                csv_num(r->traj, rms_dist(nv, vmass, fx + (size_t)(k + 1) * nf, fx));
+                eo_bench_csv_num(r->traj, t->time);
+                eo_bench_csv_num(r->traj, t->g);
+                eo_bench_csv_num(r->traj, t->dist);
+                eo_bench_csv_num(r->traj, rms_dist(nv, vmass, fx + (size_t)(k + 1) * nf, fx));
                 fputc('\n', r->traj);
                 if (!(t->reason > 0)) break;
             }

@@ -122,6 +122,7 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b);
 int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si);
 int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b);
 /* Keep row k of a curve of n iterates in the CSV / plot data. */
+void eo_bench_csv_num(FILE *f, double v);
 int eo_bench_keep_row(int k, int n, int full_rows);
 /* Base file name of a scene for the plots (letters, digits, - _ .). */
 void eo_bench_file_name(const char *name, char *buf, size_t n);

@@ -71,12 +71,6 @@ static void fmt_sci(double v, char *buf, size_t n)
     else snprintf(buf, n, "%.1e", v);
 }
 
-static void csv_d(FILE *f, double v)
-{
-    if (isnan(v)) fputs(",", f);
-    else if (isinf(v)) fputs(v > 0 ? ",inf" : ",-inf", f);
-    else fprintf(f, ",%.6e", v);
-}
 
 static int pair_iters(const bench_pair *p)
 {
@@ -146,20 +140,20 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
             fprintf(f, "%s,%s,%d,%d,%d,%s,\"%s\",%d,%d", s->sc[si].name, s->cf[c].name, c == s->baseline,
                     s->sc[si].nt, p->nsteps, p->status, p->reason, p->steps_reached, iters);
             for (int j = 0; j < s->nthr; j++) {
-                csv_d(f, p->ttt_med[j]);
-                csv_d(f, p->ttt_min[j]);
-                csv_d(f, p->ttt_max[j]);
+                eo_bench_csv_num(f, p->ttt_med[j]);
+                eo_bench_csv_num(f, p->ttt_min[j]);
+                eo_bench_csv_num(f, p->ttt_max[j]);
                 double ratio = isfinite(p->ttt_med[j]) && isfinite(base->ttt_med[j]) && base->ttt_med[j] > 0
                                    ? p->ttt_med[j] / base->ttt_med[j]
                                    : NAN;
-                csv_d(f, ratio);
+                eo_bench_csv_num(f, ratio);
             }
-            for (int j = 0; j < s->nbud; j++) csv_d(f, p->eab_med[j]);
-            csv_d(f, fe);
+            for (int j = 0; j < s->nbud; j++) eo_bench_csv_num(f, p->eab_med[j]);
+            eo_bench_csv_num(f, fe);
             fprintf(f, ",%d", p->traj_converged);
-            csv_d(f, s->o.trajectory ? p->traj_time : NAN);
-            csv_d(f, s->o.trajectory ? p->traj_max_dist : NAN);
-            csv_d(f, s->o.trajectory ? p->traj_final_dist : NAN);
+            eo_bench_csv_num(f, s->o.trajectory ? p->traj_time : NAN);
+            eo_bench_csv_num(f, s->o.trajectory ? p->traj_max_dist : NAN);
+            eo_bench_csv_num(f, s->o.trajectory ? p->traj_final_dist : NAN);
             fputc('\n', f);
         }
     }
@@ -176,10 +170,10 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
             const bench_ref *q = b->res[si].ref + k;
             fprintf(f, "%s,%d,%.6g,%d,%d,%s,%d,%d", s->sc[si].name, k + 1, q->t, q->n, q->iters,
                     eo_reason_name(q->reason), q->converged, q->rounding);
-            csv_d(f, q->time);
+            eo_bench_csv_num(f, q->time);
             fprintf(f, ",%.17g,%.17g", q->g0, q->gstar);
-            csv_d(f, q->dec);
-            csv_d(f, q->floor);
+            eo_bench_csv_num(f, q->dec);
+            eo_bench_csv_num(f, q->floor);
             fputc('\n', f);
         }
     return eo_afile_commit(ctx, &af);
