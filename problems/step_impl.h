@@ -54,6 +54,14 @@ struct eo_step {
     int enonfinite;             /* a stage of this explicit step met a non-finite force */
     eo_csc *Mc;                 /* its values (a copy of the pattern) */
     eo_pd_matrix pd;            /* constant_hessian cache (pd_matrix.c) */
+    /* multistep integrators (integ->history): xₙ₋₁, vₙ₋₁ and whether they are valid */
+    double *xp, *vp;
+    int hist_valid;
+    double w;                   /* integrator weight of the current objective */
+    /* objective op `inertia`: M over the free coordinates (per pattern), xₙ and x̃ gathered */
+    eo_csc *Mi;
+    unsigned long Mi_pattern;
+    double *fin;                /* 2·n_full: xₙ, x̃ of the free coordinates */
 };
 
 /* step_bc.c */
@@ -67,6 +75,11 @@ int eo_stepi_update_constraints(eo_step *st, double t, int *changed);
 /* step_objective.c */
 void eo_stepi_scatter_free(eo_step *st, const double *x);
 extern const eo_objective_ops eo_stepi_ops;
+/* Weight of the next step's E (history-aware) and velocity vₙ₊₁ of end positions x. */
+double eo_stepi_weight(const eo_step *st);
+void eo_stepi_velocity(const eo_step *st, const double *x, double *v);
+/* θ of the integrator's stage (1 unless it poses g in a stage, implicit_midpoint ½). */
+double eo_stepi_theta(const eo_step *st);
 /* step_stats.c */
 double eo_stepi_tet_J(const eo_step *st, const double *x, int k);
 
