@@ -172,6 +172,10 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     t = NULL;
     EO_TRY(rc = eo_term_collision_create(s, sc->ncollision, sc->collision_plane, sc->collision_k, &t));
     add_term(st, t, &st->collision);
+    t = NULL;
+    EO_TRY(rc = eo_term_damping_create(s, sc->lumped, sc->damping.viscous, sc->damping.rayleigh_alpha,
+                                       sc->damping.rayleigh_beta, &t));
+    add_term(st, t, &st->damping);
     if (sc->springs.damping > 0 && !st->integ->explicit_step) {
         rc = eo_error(ctx, EO_ERR_INVALID,
                       "springs.damping acts in explicit integrators only; %s is implicit (backward_euler "

@@ -16,7 +16,7 @@
 #include "term.h"
 
 
-enum { MAX_TERMS = 8, BLOCK = 1024, PARALLEL_MIN_TETS = 2048 };
+enum { MAX_TERMS = 12, BLOCK = 1024, PARALLEL_MIN_TETS = 2048 };
 
 struct eo_step {
     eo_ctx *ctx;
@@ -39,6 +39,7 @@ struct eo_step {
     eo_term *terms[MAX_TERMS];
     int nterms;
     eo_term *inertia, *elastic, *gravity, *linear, *spring, *collision;
+    eo_term *damping;           /* viscous + Rayleigh (term_damping.c), NULL if none */
     /* constraints and pattern */
     int *vbc, *vbc_new;   /* nv: active boundary entry per vertex, -1 free */
     int have_pattern;
@@ -80,6 +81,9 @@ double eo_stepi_weight(const eo_step *st);
 void eo_stepi_velocity(const eo_step *st, const double *x, double *v);
 /* θ of the integrator's stage (1 unless it poses g in a stage, implicit_midpoint ½). */
 double eo_stepi_theta(const eo_step *st);
+/* K₀ of Rayleigh damping: the clamped Hessian of the elastic terms at st->x (xₙ) into
+ * the damping term (no-op without β). */
+int eo_stepi_damping_stiffness(eo_step *st);
 /* step_stats.c */
 double eo_stepi_tet_J(const eo_step *st, const double *x, int k);
 

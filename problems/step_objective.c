@@ -179,6 +179,43 @@ void eo_stepi_velocity(const eo_step *st, const double *x, double *v)
         st->integ->velocity(st->n_full, st->h, st->x, st->v, x, v);
 }
 
+int eo_stepi_damping_stiffness(eo_step *st)
+{
+    if (!st->damping || !eo_term_damping_needs_stiffness(st->damping)) return EO_OK;
+    eo_assembler_zero(st->as);
+    eo_term *el[2] = {st->elastic, st->spring};
+    for (int i = 0; i < 2; i++) {
+        if (!el[i]) continue;
+        double wsave = el[i]->weight;
+        el[i]->weight = 1;
+        int rc = el[i]->ops->hessian(el[i], &st->sys, st->x, EO_PROJ_CLAMP);
+        el[i]->weight = wsave;
+        if (rc < 0) return rc;
+    }
+    eo_term_damping_set_stiffness(st->damping, eo_assembler_matrix(st->as));
+    eo_assembler_zero(st->as);
+    return EO_OK;
+}
+
+/* Damping of an implicit step: the stage velocity v_s = vₙ + θ(vₙ₊₁ − vₙ) as an affine
+ * function κ(z − xₙ) + b of the minimizer z (xₙ₊₁ = xₙ + (z − xₙ)/θ), read from two
+ * calls of the velocity op (affine with one slope for every coordinate). */
+static void damping_begin(eo_step *st)
+{
+    if (!st->inertia) { /* explicit (the E(x) objective) or static: no damping in g */
+        eo_term_damping_set_step(st->damping, &st->sys, st->x, 0, NULL);
+        return;
+    }
+    const double theta = eo_stepi_theta(st);
+    double *v0 = st->vnew, *tmp = st->gfull; /* full work vectors, free here */
+    eo_stepi_velocity(st, st->x, v0);
+    for (int j = 0; j < st->n_full; j++) tmp[j] = st->x[j] + 1.0 / theta;
+    eo_stepi_velocity(st, tmp, tmp);
+    const double kappa = st->n_full > 0 ? theta * (tmp[0] - v0[0]) : 0;
+    for (int j = 0; j < st->n_full; j++) v0[j] = st->v[j] + theta * (v0[j] - st->v[j]);
+    eo_term_damping_set_step(st->damping, &st->sys, st->x, kappa, v0);
+}
+
 int eo_step_begin(eo_step *st, eo_objective **obj)
 {
     const double h = st->h, t1 = st->t + h;
@@ -194,9 +231,14 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
         else
             st->integ->predict(st->n_full, h, st->x, st->v, st->inertia->vec);
     }
+    if (st->damping) {
+        if ((rc = eo_stepi_damping_stiffness(st)) < 0) return rc;
+        damping_begin(st);
+    }
     if (st->linear) {
-        /* c = fₙ = −∇(E_el + gravity potential)(xₙ) */
+        /* c = fₙ = −∇(E_el + gravity potential)(xₙ) − C vₙ (damping) */
         memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
+        if (st->damping) eo_term_damping_apply(st->damping, &st->sys, st->v, st->gfull);
         eo_term *forces[4] = {st->elastic, st->spring, st->gravity, st->collision};
         for (int i = 0; i < 4; i++) {
             if (!forces[i]) continue;
