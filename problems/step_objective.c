@@ -224,6 +224,8 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
     if ((rc = eo_stepi_update_constraints(st, t1, NULL)) < 0) return rc;
     const double w = st->w = eo_stepi_weight(st), theta = eo_stepi_theta(st);
     for (int i = 0; i < st->nterms; i++) st->terms[i]->weight = w;
+    if (st->gravity && st->sc->time.load_steps > 0) /* load stepping: λ = min(1, k/L) of gravity */
+        st->gravity->weight = w * fmin(1.0, (double)(st->index + 1) / st->sc->time.load_steps);
     if (st->inertia) {
         st->inertia->weight = 1;
         if (use_history(st) && st->integ->predict_history)
