@@ -178,8 +178,8 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     add_term(st, t, &st->damping);
     if (sc->springs.damping > 0 && !st->integ->explicit_step) {
         rc = eo_error(ctx, EO_ERR_INVALID,
-                      "springs.damping acts in explicit integrators only; %s is implicit (backward_euler "
-                      "dissipates by itself)", st->integ->info.name);
+                      "springs.damping acts in explicit integrators only; %s is implicit (use damping.viscous / "
+                      "damping.rayleigh_alpha / rayleigh_beta)", st->integ->info.name);
         goto fail;
     }
     if (sc->opts.gravity[0] != 0 || sc->opts.gravity[1] != 0 || sc->opts.gravity[2] != 0) {
