@@ -14,6 +14,9 @@ extern const eo_integrator_type eo_integrator_newmark, eo_integrator_backward_eu
     eo_integrator_static, eo_integrator_forward_euler, eo_integrator_symplectic_euler,
     eo_integrator_heun, eo_integrator_midpoint, eo_integrator_rk4, eo_integrator_verlet,
     eo_integrator_leapfrog;
+extern const eo_integrator_type eo_integrator_symplectic_euler_x;
+extern const eo_integrator_type eo_integrator_implicit_midpoint;
+extern const eo_integrator_type eo_integrator_bdf2;
 extern const eo_scene_type eo_scene_cantilever, eo_scene_cantilever_static, eo_scene_twist,
     eo_scene_stretch, eo_scene_freefall, eo_scene_inverted, eo_scene_drop;
 
@@ -28,6 +31,9 @@ const void *const eo_registry_integrator[] = {
     &eo_integrator_rk4,
     &eo_integrator_verlet,
     &eo_integrator_leapfrog,
+    &eo_integrator_symplectic_euler_x,
+    &eo_integrator_implicit_midpoint,
+    &eo_integrator_bdf2,
     NULL,
 };
 
@@ -49,6 +55,12 @@ static int check_integrator(eo_ctx *ctx, const void *type)
         return eo_error(ctx, EO_ERR_INVALID,
                         "register integrator '%s': explicit_step, or weight + predict + velocity, required",
                         t->info.name);
+    if (t->history != 0 && (t->history != 1 || !t->weight_history || !t->predict_history || !t->velocity_history))
+        return eo_error(ctx, EO_ERR_INVALID,
+                        "register integrator '%s': history must be 0, or 1 with weight/predict/velocity_history",
+                        t->info.name);
+    if (t->theta < 0 || t->theta > 1)
+        return eo_error(ctx, EO_ERR_INVALID, "register integrator '%s': theta outside [0, 1]", t->info.name);
     if (t->explicit_step && t->work_vectors < 0)
         return eo_error(ctx, EO_ERR_INVALID, "register integrator '%s': work_vectors < 0", t->info.name);
     return EO_OK;

@@ -102,6 +102,20 @@ const eo_param_desc eo_scene_time_opts_desc[] = {
      .min = 0, .range = EO_RANGE_POSITIVE, .help = "time step (s)"},
     {.key = "steps", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_time_opts, steps), .def.i = 30,
      .min = 1, .range = EO_RANGE_MIN, .help = "number of time steps"},
+    {.key = "load_steps", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_time_opts, load_steps), .def.i = 0,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "static only: ramp gravity and prescribed motions linearly over this many steps (0 = full load at once)"},
+    {0},
+};
+
+const eo_param_desc eo_scene_damping_opts_desc[] = {
+    {.key = "viscous", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_damping_opts, viscous), .def.d = 0,
+     .min = 0, .range = EO_RANGE_MIN, .help = "global viscous damping gamma (N s/m per vertex): a = (f - gamma v)/m"},
+    {.key = "rayleigh_alpha", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_damping_opts, rayleigh_alpha),
+     .def.d = 0, .min = 0, .range = EO_RANGE_MIN, .help = "Rayleigh mass-proportional damping alpha (1/s): C = alpha M"},
+    {.key = "rayleigh_beta", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_damping_opts, rayleigh_beta),
+     .def.d = 0, .min = 0, .range = EO_RANGE_MIN,
+     .help = "Rayleigh stiffness-proportional damping beta (s): C = beta K, K the clamped elastic Hessian at the start of the step"},
     {0},
 };
 
@@ -177,6 +191,7 @@ const eo_cfg_doc eo_scene_docs[] = {
     {"mesh.generate", eo_scene_generate_opts_desc, "generated box of hexahedral cells split into tets"},
     {"mesh.tetgen", eo_scene_tetgen_opts_desc, "tetrahedralization of a surface mesh file (.obj, .off, .stl, .ply) by TetGen"},
     {"time", eo_scene_time_opts_desc, "time stepping"},
+    {"damping", eo_scene_damping_opts_desc, "damping force -C v, C = viscous I + rayleigh_alpha M + rayleigh_beta K (explicit and implicit integrators)"},
     {"output", eo_scene_output_opts_desc, "what `elastopt run` writes"},
     {"initial", eo_scene_initial_opts_desc, "initial state (also initial.reflect {point, normal}, initial.random_ball)"},
     {"initial.reflect", eo_scene_plane_opts_desc, "reflect the rest shape through a plane (fully inverted start)"},
@@ -831,7 +846,7 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
 {
     static const char *const top[] = {"mesh", "material", "materials", "boundary", "initial",
                                       "time", "solver", "output", "springs", "collisions",
-                                      "point_masses", NULL};
+                                      "point_masses", "damping", NULL};
     *out = NULL;
     eo_scene *sc = eo_calloc(ctx, 1, sizeof *sc);
     if (sc) sc->ctx = ctx;
@@ -848,6 +863,20 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     sc->lumped = strcmp(sc->opts.mass, "lumped") == 0;
     EO_TRY(rc = eo_cfg_section(ctx, cfg, "time", eo_scene_time_opts_desc, &sc->time, NULL));
     EO_TRY(rc = eo_registry_find(ctx, EO_KIND_INTEGRATOR, sc->time.integrator, (const void **)&sc->integrator));
+    eo_params_default(eo_scene_damping_opts_desc, &sc->damping);
+    EO_TRY(rc = eo_cfg_section(ctx, cfg, "damping", eo_scene_damping_opts_desc, &sc->damping, NULL));
+    if ((sc->damping.viscous > 0 || sc->damping.rayleigh_alpha > 0 || sc->damping.rayleigh_beta > 0) &&
+        !sc->integrator->inertia) {
+        rc = cfg_err(ctx, cfg, "damping", EO_ERR_INVALID, "damping needs an integrator with a velocity; %s has none",
+                     sc->integrator->info.name);
+        goto fail;
+    }
+    if (sc->time.load_steps > 0 && sc->integrator->inertia) {
+        rc = cfg_err(ctx, cfg, "time.load_steps", EO_ERR_INVALID,
+                     "time.load_steps ramps the load of a quasi-static (static) run; %s is dynamic",
+                     sc->integrator->info.name);
+        goto fail;
+    }
     EO_TRY(rc = eo_cfg_section(ctx, cfg, "output", eo_scene_output_opts_desc, &sc->output, NULL));
     EO_TRY(rc = load_mesh(ctx, cfg, sc));
     if (sc->mesh->nt < 1 && !sc->points) {
@@ -919,6 +948,7 @@ json_t *eo_scene_to_json(const eo_scene *sc)
     }
     json_object_set_new(o, "collisions", cols);
     json_object_set_new(o, "time", eo_params_to_json(eo_scene_time_opts_desc, &sc->time));
+    json_object_set_new(o, "damping", eo_params_to_json(eo_scene_damping_opts_desc, &sc->damping));
     json_object_set_new(o, "output", eo_params_to_json(eo_scene_output_opts_desc, &sc->output));
     return o;
 }

@@ -232,6 +232,14 @@ int eo_sim_set_state(eo_sim *s, const double *x, const double *v, double t, int 
     return rc;
 }
 
+size_t eo_sim_history_len(const eo_sim *s) { return eo_step_history_len(s->st); }
+int eo_sim_get_history(const eo_sim *s, double *h) { return eo_step_get_history(s->st, h); }
+int eo_sim_set_history(eo_sim *s, const double *h)
+{
+    s->prepared = 0;
+    return eo_step_set_history(s->st, h);
+}
+
 const eo_scene *eo_sim_scene(const eo_sim *s) { return s->sc; }
 eo_step *eo_sim_step_problem(const eo_sim *s) { return s->st; }
 eo_solver *eo_sim_solver(const eo_sim *s) { return s->solver; }

@@ -14,7 +14,13 @@
  *                      the velocity sees: symplectic Euler 1 + z (bound −2), velocity
  *                      Verlet 1 + z + z²/2 (−2), leapfrog from a synchronized state
  *                      (1 + z/2)² (−4) — derived for this mapping, not in the notes.
- *   static             no velocity: real n/a; x_{n+1} = 0 on the spring: unconditional. */
+ *   static             no velocity: real n/a; x_{n+1} = 0 on the spring: unconditional.
+ *   symplectic_euler_x x first, then v with the old velocity: v' = λv gives 1 + z (−2);
+ *                      spring matrix [[1, h], [−hω², 1 − h²ω²]]: hω < 2.
+ *   implicit_midpoint  R = (1 + z/2)/(1 − z/2) (θ = ½: stepped in the midpoint, the
+ *                      damping force at v_{n+½}): unconditional.
+ *   bdf2               A-stable; a single step from (xₙ, vₙ) is its backward Euler start,
+ *                      which is what this one-step measurement sees. */
 #include <math.h>
 #include <string.h>
 
@@ -53,16 +59,21 @@ static int one_step(eo_ctx *ctx, const eo_integrator_type *it, double k, double 
         if (!it->weight || !it->predict || !it->velocity)
             return eo_error(ctx, EO_ERR_INVALID, "stability: integrator '%s' has neither explicit_step nor "
                             "weight/predict/velocity", it->info.name);
-        const double xn = *x, vn = *v, w = it->weight(h);
-        double xt, beta, v1, zero = 0, one = 1;
+        const double xn = *x, vn = *v, w = it->weight(h), th = it->theta > 0 ? it->theta : 1.0;
+        double xt, vs[2];
         it->predict(1, h, &xn, &vn, &xt);
-        it->velocity(1, h, &xn, &vn, &zero, &beta);
-        it->velocity(1, h, &xn, &vn, &one, &v1);
-        const double alpha = v1 - beta, in = it->inertia ? 1.0 : 0.0;
+        /* the damping force sees the stage velocity vₙ + θ(vₙ₊₁ − vₙ), affine in the
+         * minimizer z (the stage; xₙ₊₁ = xₙ + (z − xₙ)/θ) */
+        for (int j = 0; j < 2; j++) {
+            double x1 = xn + (j - xn) / th, v1;
+            it->velocity(1, h, &xn, &vn, &x1, &v1);
+            vs[j] = vn + th * (v1 - vn);
+        }
+        const double alpha = vs[1] - vs[0], beta = vs[0], in = it->inertia ? 1.0 : 0.0;
         const double cn = it->force_n ? -k * xn - c * vn : 0.0;
         const double den = in + w * (k + c * alpha);
         if (!(den > 0)) return EO_ERR_NONFINITE; /* g not strictly convex: no step */
-        double xs = (in * xt - w * (c * beta - cn)) / den;
+        double xs = xn + ((in * xt - w * (c * beta - cn)) / den - xn) / th;
         it->velocity(1, h, &xn, &vn, &xs, v);
         *x = xs;
     }
@@ -191,6 +202,9 @@ static const theory_row theory[] = {
     {"backward_euler", {UNC, UNC, 1}},
     {"newmark", {UNC, UNC, 1}},
     {"static", {NA, UNC, 0}},
+    {"symplectic_euler_x", {BND(-2), BND(2), 0}},
+    {"implicit_midpoint", {UNC, UNC, 1}},
+    {"bdf2", {UNC, UNC, 0}}, /* A-stable; one step from a state is its backward Euler start */
 };
 
 int eo_stability_theory(const char *name, eo_stability_result *t)

@@ -55,6 +55,10 @@ void eo_step_destroy(eo_step **pst)
     eo_free(ctx, st->ework);
     eo_free(ctx, st->xe);
     eo_free(ctx, st->ve);
+    eo_free(ctx, st->xp);
+    eo_csc_destroy(&st->Mi);
+    eo_free(ctx, st->fin);
+    eo_free(ctx, st->vp);
     void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
                       st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->vbc,
                       st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->sys.elem_g,
@@ -168,10 +172,14 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     t = NULL;
     EO_TRY(rc = eo_term_collision_create(s, sc->ncollision, sc->collision_plane, sc->collision_k, &t));
     add_term(st, t, &st->collision);
+    t = NULL;
+    EO_TRY(rc = eo_term_damping_create(s, sc->lumped, sc->damping.viscous, sc->damping.rayleigh_alpha,
+                                       sc->damping.rayleigh_beta, &t));
+    add_term(st, t, &st->damping);
     if (sc->springs.damping > 0 && !st->integ->explicit_step) {
         rc = eo_error(ctx, EO_ERR_INVALID,
-                      "springs.damping acts in explicit integrators only; %s is implicit (backward_euler "
-                      "dissipates by itself)", st->integ->info.name);
+                      "springs.damping acts in explicit integrators only; %s is implicit (use damping.viscous / "
+                      "damping.rayleigh_alpha / rayleigh_beta)", st->integ->info.name);
         goto fail;
     }
     if (sc->opts.gravity[0] != 0 || sc->opts.gravity[1] != 0 || sc->opts.gravity[2] != 0) {
@@ -192,8 +200,17 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
             goto fail;
         }
     }
+    if (st->integ->history) {
+        st->xp = eo_calloc(ctx, nf, sizeof(double));
+        st->vp = eo_calloc(ctx, nf, sizeof(double));
+        if (!st->xp || !st->vp) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (integrator history)");
+            goto fail;
+        }
+    }
     st->obj.ops = &eo_stepi_ops;
     st->obj.data = st;
+    st->w = eo_stepi_weight(st);
     EO_TRY(rc = eo_step_reset(st));
     *out = st;
     return EO_OK;
@@ -228,6 +245,31 @@ int eo_step_free_to_full(const eo_step *st, int i)
 {
     return i >= 0 && i < st->nfree ? st->free2full[i] : -1;
 }
+size_t eo_step_history_len(const eo_step *st) { return st->integ->history ? 2 * (size_t)st->n_full + 1 : 0; }
+
+int eo_step_get_history(const eo_step *st, double *h)
+{
+    if (!st->integ->history)
+        return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "integrator %s keeps no history", st->integ->info.name);
+    memcpy(h, st->xp, (size_t)st->n_full * sizeof(double));
+    memcpy(h + st->n_full, st->vp, (size_t)st->n_full * sizeof(double));
+    h[2 * st->n_full] = st->hist_valid;
+    return EO_OK;
+}
+
+int eo_step_set_history(eo_step *st, const double *h)
+{
+    if (!st->integ->history)
+        return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "integrator %s keeps no history", st->integ->info.name);
+    const double valid = h[2 * st->n_full];
+    if (valid != 0 && valid != 1)
+        return eo_error(st->ctx, EO_ERR_RANGE, "history: valid flag %g is neither 0 nor 1", valid);
+    memcpy(st->xp, h, (size_t)st->n_full * sizeof(double));
+    memcpy(st->vp, h + st->n_full, (size_t)st->n_full * sizeof(double));
+    st->hist_valid = valid == 1;
+    return EO_OK;
+}
+
 int eo_step_full_to_free(const eo_step *st, int j)
 {
     return st->have_pattern && j >= 0 && j < st->n_full ? st->full2free[j] : -1;

@@ -44,6 +44,8 @@ void eo_stepi_active_set(const eo_step *st, double t, int *vbc)
 void eo_stepi_bc_motion(const eo_step *st, const eo_bc *bc, int v, double t, double p[3], double vel[3])
 {
     const double *base = st->x0 + 3 * v;
+    if (st->sc->time.load_steps > 0) /* load stepping: the motions reach their value at L·dt and hold */
+        t = fmin(t, st->sc->time.load_steps * st->h);
     int moving = !(bc->opts.until >= 0 && t >= bc->opts.until);
     double tau = moving ? t : bc->opts.until;
     for (int c = 0; c < 3; c++) {

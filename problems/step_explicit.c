@@ -72,10 +72,12 @@ static int explicit_accel(void *data, double t, const double *x, const double *v
     memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
     double e = 0;
     for (int i = 0; i < st->nterms; i++) {
+        if (st->terms[i] == st->damping) continue; /* a force of v, below */
         st->terms[i]->weight = 1;
         e += st->terms[i]->ops->gradient(st->terms[i], &st->sys, st->xw, st->gfull);
     }
     if (st->spring) eo_term_spring_damping(st->spring, &st->sys, st->xw, v, st->gfull);
+    if (st->damping) eo_term_damping_apply(st->damping, &st->sys, v, st->gfull); /* f −= C v */
     int finite = isfinite(e);
     for (int j = 0; j < st->n_full && finite; j++) finite = isfinite(st->gfull[j]);
     if (!finite) { /* diverged: the step is rejected (eo_step_advance); no solve with it */
@@ -139,6 +141,7 @@ int eo_step_advance(eo_step *st, int *reason)
                                "acceleration", q);
     if (!st->sc->lumped && st->nt && (changed || !st->Mc || st->Mc->n != st->nfree) && (rc = factor_mass(st)) < 0)
         return rc;
+    if ((rc = eo_stepi_damping_stiffness(st)) < 0) return rc; /* Rayleigh β: K₀ at xₙ */
     memcpy(st->xe, st->x, (size_t)st->n_full * sizeof(double));
     memcpy(st->ve, st->v, (size_t)st->n_full * sizeof(double));
     eo_ode ode = {.n = st->n_full, .data = st, .accel = explicit_accel};

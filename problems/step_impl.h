@@ -16,7 +16,7 @@
 #include "term.h"
 
 
-enum { MAX_TERMS = 8, BLOCK = 1024, PARALLEL_MIN_TETS = 2048 };
+enum { MAX_TERMS = 12, BLOCK = 1024, PARALLEL_MIN_TETS = 2048 };
 
 struct eo_step {
     eo_ctx *ctx;
@@ -39,6 +39,7 @@ struct eo_step {
     eo_term *terms[MAX_TERMS];
     int nterms;
     eo_term *inertia, *elastic, *gravity, *linear, *spring, *collision;
+    eo_term *damping;           /* viscous + Rayleigh (term_damping.c), NULL if none */
     /* constraints and pattern */
     int *vbc, *vbc_new;   /* nv: active boundary entry per vertex, -1 free */
     int have_pattern;
@@ -54,6 +55,14 @@ struct eo_step {
     int enonfinite;             /* a stage of this explicit step met a non-finite force */
     eo_csc *Mc;                 /* its values (a copy of the pattern) */
     eo_pd_matrix pd;            /* constant_hessian cache (pd_matrix.c) */
+    /* multistep integrators (integ->history): xₙ₋₁, vₙ₋₁ and whether they are valid */
+    double *xp, *vp;
+    int hist_valid;
+    double w;                   /* integrator weight of the current objective */
+    /* objective op `inertia`: M over the free coordinates (per pattern), xₙ and x̃ gathered */
+    eo_csc *Mi;
+    unsigned long Mi_pattern;
+    double *fin;                /* 2·n_full: xₙ, x̃ of the free coordinates */
 };
 
 /* step_bc.c */
@@ -67,6 +76,14 @@ int eo_stepi_update_constraints(eo_step *st, double t, int *changed);
 /* step_objective.c */
 void eo_stepi_scatter_free(eo_step *st, const double *x);
 extern const eo_objective_ops eo_stepi_ops;
+/* Weight of the next step's E (history-aware) and velocity vₙ₊₁ of end positions x. */
+double eo_stepi_weight(const eo_step *st);
+void eo_stepi_velocity(const eo_step *st, const double *x, double *v);
+/* θ of the integrator's stage (1 unless it poses g in a stage, implicit_midpoint ½). */
+double eo_stepi_theta(const eo_step *st);
+/* K₀ of Rayleigh damping: the clamped Hessian of the elastic terms at st->x (xₙ) into
+ * the damping term (no-op without β). */
+int eo_stepi_damping_stiffness(eo_step *st);
 /* step_stats.c */
 double eo_stepi_tet_J(const eo_step *st, const double *x, int k);
 

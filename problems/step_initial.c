@@ -99,6 +99,7 @@ int eo_step_reset(eo_step *st)
     }
     if (!st->integ->inertia) memset(st->v, 0, (size_t)st->n_full * sizeof(double));
     st->erestart = 1;
+    st->hist_valid = 0;
     return check_barrier_start(st);
 }
 
@@ -108,6 +109,7 @@ int eo_step_set_state(eo_step *st, const double *x, const double *v, double t)
     memcpy(st->v, v, (size_t)st->n_full * sizeof(double));
     st->t = t;
     st->erestart = 1;
+    st->hist_valid = 0;
     return EO_OK;
 }
 

@@ -112,11 +112,41 @@ static int op_inverted_count(void *data, const double *x)
 static int op_constant_hessian(void *data, eo_csc **L, unsigned long *version)
 {
     eo_step *st = data;
-    return eo_pd_matrix_get(&st->pd, &st->sys, st->terms, st->nterms, st->pattern_id,
-                            st->integ->weight ? st->integ->weight(st->h) : 1.0, L, version);
+    return eo_pd_matrix_get(&st->pd, &st->sys, st->terms, st->nterms, st->pattern_id, st->w, L, version);
+}
+
+static int op_inertia(void *data, eo_objective_inertia *out)
+{
+    eo_step *st = data;
+    if (!st->inertia)
+        return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "integrator %s has no inertia term (no mass matrix in g)",
+                        st->integ->info.name);
+    if (!st->Mi || st->Mi_pattern != st->pattern_id) { /* once per pattern */
+        eo_assembler_zero(st->as);
+        int rc = st->inertia->ops->hessian(st->inertia, &st->sys, st->xw, EO_PROJ_NONE);
+        if (rc < 0) return rc;
+        eo_csc_destroy(&st->Mi);
+        if ((rc = eo_csc_clone(st->ctx, eo_assembler_matrix(st->as), &st->Mi)) < 0) return rc;
+        eo_assembler_zero(st->as);
+        st->Mi_pattern = st->pattern_id;
+    }
+    if (!st->fin && !(st->fin = eo_malloc(st->ctx, 2 * (size_t)(st->n_full > 0 ? st->n_full : 1) * sizeof(double))))
+        return eo_error(st->ctx, EO_ERR_NOMEM, "out of memory (inertia data)");
+    double *xn = st->fin, *xt = st->fin + st->nfree;
+    for (int i = 0; i < st->nfree; i++) {
+        xn[i] = st->x[st->free2full[i]];
+        xt[i] = st->inertia->vec[st->free2full[i]];
+    }
+    out->M = st->Mi;
+    out->version = st->pattern_id;
+    out->x_prev = xn;
+    out->x_pred = xt;
+    out->w = st->w;
+    return EO_OK;
 }
 
 const eo_objective_ops eo_stepi_ops = {
+    .inertia = op_inertia,
     .value = op_value,
     .gradient = op_gradient,
     .hessian = op_hessian,
@@ -131,21 +161,86 @@ const eo_objective_ops eo_stepi_ops = {
 
 /* ---------------------------------------------------------------- one step */
 
+static int use_history(const eo_step *st) { return st->integ->history && st->hist_valid; }
+
+double eo_stepi_weight(const eo_step *st)
+{
+    if (!st->integ->weight) return 1.0; /* explicit: E(x) */
+    return use_history(st) && st->integ->weight_history ? st->integ->weight_history(st->h) : st->integ->weight(st->h);
+}
+
+double eo_stepi_theta(const eo_step *st) { return st->integ->theta > 0 ? st->integ->theta : 1.0; }
+
+void eo_stepi_velocity(const eo_step *st, const double *x, double *v)
+{
+    if (use_history(st) && st->integ->velocity_history)
+        st->integ->velocity_history(st->n_full, st->h, st->x, st->xp, x, v);
+    else
+        st->integ->velocity(st->n_full, st->h, st->x, st->v, x, v);
+}
+
+int eo_stepi_damping_stiffness(eo_step *st)
+{
+    if (!st->damping || !eo_term_damping_needs_stiffness(st->damping)) return EO_OK;
+    eo_assembler_zero(st->as);
+    eo_term *el[2] = {st->elastic, st->spring};
+    for (int i = 0; i < 2; i++) {
+        if (!el[i]) continue;
+        double wsave = el[i]->weight;
+        el[i]->weight = 1;
+        int rc = el[i]->ops->hessian(el[i], &st->sys, st->x, EO_PROJ_CLAMP);
+        el[i]->weight = wsave;
+        if (rc < 0) return rc;
+    }
+    eo_term_damping_set_stiffness(st->damping, eo_assembler_matrix(st->as));
+    eo_assembler_zero(st->as);
+    return EO_OK;
+}
+
+/* Damping of an implicit step: the stage velocity v_s = vₙ + θ(vₙ₊₁ − vₙ) as an affine
+ * function κ(z − xₙ) + b of the minimizer z (xₙ₊₁ = xₙ + (z − xₙ)/θ), read from two
+ * calls of the velocity op (affine with one slope for every coordinate). */
+static void damping_begin(eo_step *st)
+{
+    if (!st->inertia) { /* explicit (the E(x) objective) or static: no damping in g */
+        eo_term_damping_set_step(st->damping, &st->sys, st->x, 0, NULL);
+        return;
+    }
+    const double theta = eo_stepi_theta(st);
+    double *v0 = st->vnew, *tmp = st->gfull; /* full work vectors, free here */
+    eo_stepi_velocity(st, st->x, v0);
+    for (int j = 0; j < st->n_full; j++) tmp[j] = st->x[j] + 1.0 / theta;
+    eo_stepi_velocity(st, tmp, tmp);
+    const double kappa = st->n_full > 0 ? theta * (tmp[0] - v0[0]) : 0;
+    for (int j = 0; j < st->n_full; j++) v0[j] = st->v[j] + theta * (v0[j] - st->v[j]);
+    eo_term_damping_set_step(st->damping, &st->sys, st->x, kappa, v0);
+}
+
 int eo_step_begin(eo_step *st, eo_objective **obj)
 {
     const double h = st->h, t1 = st->t + h;
     int rc;
     /* constrained set at tₙ₊₁; rebuild the pattern if it changed */
     if ((rc = eo_stepi_update_constraints(st, t1, NULL)) < 0) return rc;
-    const double w = st->integ->weight ? st->integ->weight(h) : 1.0; /* explicit: E(x) */
+    const double w = st->w = eo_stepi_weight(st), theta = eo_stepi_theta(st);
     for (int i = 0; i < st->nterms; i++) st->terms[i]->weight = w;
+    if (st->gravity && st->sc->time.load_steps > 0) /* load stepping: λ = min(1, k/L) of gravity */
+        st->gravity->weight = w * fmin(1.0, (double)(st->index + 1) / st->sc->time.load_steps);
     if (st->inertia) {
         st->inertia->weight = 1;
-        st->integ->predict(st->n_full, h, st->x, st->v, st->inertia->vec);
+        if (use_history(st) && st->integ->predict_history)
+            st->integ->predict_history(st->n_full, h, st->x, st->v, st->xp, st->vp, st->inertia->vec);
+        else
+            st->integ->predict(st->n_full, h, st->x, st->v, st->inertia->vec);
+    }
+    if (st->damping) {
+        if ((rc = eo_stepi_damping_stiffness(st)) < 0) return rc;
+        damping_begin(st);
     }
     if (st->linear) {
-        /* c = fₙ = −∇(E_el + gravity potential)(xₙ) */
+        /* c = fₙ = −∇(E_el + gravity potential)(xₙ) − C vₙ (damping) */
         memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
+        if (st->damping) eo_term_damping_apply(st->damping, &st->sys, st->v, st->gfull);
         eo_term *forces[4] = {st->elastic, st->spring, st->gravity, st->collision};
         for (int i = 0; i < 4; i++) {
             if (!forces[i]) continue;
@@ -156,13 +251,13 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
         }
         for (int j = 0; j < st->n_full; j++) st->linear->vec[j] = -st->gfull[j];
     }
-    /* full work vector: xₙ with prescribed positions at tₙ₊₁ */
+    /* full work vector: xₙ with prescribed positions at tₙ₊₁ (in the stage: xₙ + θ(p − xₙ)) */
     memcpy(st->xw, st->x, (size_t)st->n_full * sizeof(double));
     for (int v = 0; v < st->nv; v++) {
         if (st->vbc[v] < 0) continue;
         double p[3], vel[3];
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
-        for (int k = 0; k < 3; k++) st->xw[3 * v + k] = p[k];
+        for (int k = 0; k < 3; k++) st->xw[3 * v + k] = st->x[3 * v + k] + theta * (p[k] - st->x[3 * v + k]);
     }
     /* starting guess: the lower of g(xₙ) and g(x̃) */
     for (int i = 0; i < st->nfree; i++) st->guess[i] = st->x[st->free2full[i]];
@@ -186,14 +281,27 @@ int eo_step_end(eo_step *st, const double *x)
     if (st->integ->explicit_step)
         return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "integrator %s is explicit: advance with eo_step_advance",
                         st->integ->info.name);
-    const double h = st->h, t1 = st->t + h;
+    const double h = st->h, t1 = st->t + h, theta = eo_stepi_theta(st);
     eo_stepi_scatter_free(st, x);
-    st->integ->velocity(st->n_full, h, st->x, st->v, st->xw, st->vnew);
+    if (theta != 1) /* the minimizer is the stage z: xₙ₊₁ = xₙ + (z − xₙ)/θ */
+        for (int j = 0; j < st->n_full; j++) st->xw[j] = st->x[j] + (st->xw[j] - st->x[j]) / theta;
+    for (int v = 0; v < st->nv; v++) { /* prescribed positions exactly */
+        if (st->vbc[v] < 0) continue;
+        double p[3], vel[3];
+        eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
+        for (int k = 0; k < 3; k++) st->xw[3 * v + k] = p[k];
+    }
+    eo_stepi_velocity(st, st->xw, st->vnew);
     for (int v = 0; v < st->nv; v++) {
         if (st->vbc[v] < 0) continue;
         double p[3], vel[3];
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
         for (int k = 0; k < 3; k++) st->vnew[3 * v + k] = st->integ->inertia ? vel[k] : 0;
+    }
+    if (st->integ->history) {
+        memcpy(st->xp, st->x, (size_t)st->n_full * sizeof(double));
+        memcpy(st->vp, st->v, (size_t)st->n_full * sizeof(double));
+        st->hist_valid = 1;
     }
     memcpy(st->x, st->xw, (size_t)st->n_full * sizeof(double));
     memcpy(st->v, st->vnew, (size_t)st->n_full * sizeof(double));

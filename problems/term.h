@@ -94,6 +94,16 @@ void eo_term_spring_damping(eo_term *t, const eo_sys *s, const double *x, const 
 /* Penalty half-space obstacles (term_collision.c): nplanes planes, 6 numbers each
  * (point, unit normal), stiffness k[i]. */
 int eo_term_collision_create(eo_sys *s, int nplanes, const double *planes, const double *k, eo_term **out);
+/* Viscous + Rayleigh damping C = γI + αM + βK₀ (term_damping.c); EO_OK with *out NULL
+ * when all three are 0. Per step: set_step (xₙ, κ, b of the stage velocity
+ * v_s = κ(x − xₙ) + b; b NULL = 0) and, when needs_stiffness, set_stiffness (K₀ in the
+ * current pattern, values copied). apply: out += C u (full vectors; explicit
+ * integrators' damping force is −C v). */
+int eo_term_damping_create(eo_sys *s, int lumped, double gamma, double alpha, double beta, eo_term **out);
+void eo_term_damping_set_step(eo_term *t, const eo_sys *s, const double *xn, double kappa, const double *b);
+int eo_term_damping_needs_stiffness(const eo_term *t);
+void eo_term_damping_set_stiffness(eo_term *t, const eo_csc *K);
+void eo_term_damping_apply(eo_term *t, const eo_sys *s, const double *u, double *out);
 void eo_term_destroy(eo_ctx *ctx, eo_term **t);
 
 /* Shared helper: allocate a term with a full-length vector if `with_vec`. */

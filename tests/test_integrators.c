@@ -67,6 +67,7 @@ static const struct {
 } table[] = {
     {"forward_euler", 1, 400}, {"symplectic_euler", 1, 400}, {"heun", 2, 100}, {"midpoint", 2, 100},
     {"rk4", 4, 10},            {"verlet", 2, 100},          {"leapfrog", 2, 100},
+    {"symplectic_euler_x", 1, 400},
 };
 enum { NT = sizeof table / sizeof table[0] };
 
@@ -119,8 +120,8 @@ static void test_stability(void)
     const struct {
         const char *name;
         double bound;
-    } sym[] = {{"symplectic_euler", 0.11}, {"verlet", 0.003}, {"leapfrog", 0.003}};
-    for (int i = 0; i < 3; i++) {
+    } sym[] = {{"symplectic_euler", 0.11}, {"verlet", 0.003}, {"leapfrog", 0.003}, {"symplectic_euler_x", 0.11}};
+    for (int i = 0; i < 4; i++) {
         osc o = {.w2 = 1};
         double h = 0.1, x = 1, v = 0, dev;
         integrate(find(sym[i].name), &o, h, 10000, &x, &v, &dev);
@@ -128,6 +129,22 @@ static void test_stability(void)
         printf("  %-17s max |E - E0|/E0 over 1e4 steps (h w = 0.1): %.3e, final %.3e\n", sym[i].name, dev,
                fabs(e - 0.5) / 0.5);
         CHECK(dev < sym[i].bound, "%s energy deviation %g", sym[i].name, dev);
+        /* bounded, not drifting: the largest deviation over the last 1000 of 10⁴ steps
+         * equals that over the first 1000 (within 1%) */
+        {
+            const eo_integrator_type *it = find(sym[i].name);
+            double work[16] = {0}, xs = 1, vs = 0, d_first = 0, d_last = 0;
+            osc o3 = {.w2 = 1};
+            eo_ode ode = {.n = 1, .data = &o3, .accel = accel};
+            for (long k = 0; k < 10000; k++) {
+                it->explicit_step(&ode, k * h, h, &xs, &vs, work, k == 0);
+                double d = fabs(0.5 * (vs * vs + xs * xs) - 0.5) / 0.5;
+                if (k < 1000 && d > d_first) d_first = d;
+                if (k >= 9000 && d > d_last) d_last = d;
+            }
+            printf("  %-17s max deviation steps 0-999 %.6e, 9000-9999 %.6e\n", sym[i].name, d_first, d_last);
+            CHECK(d_last <= 1.01 * d_first, "%s drifts: first %g, last %g", sym[i].name, d_first, d_last);
+        }
     }
     /* the non-symplectic second-order methods drift for comparison (Heun gains) */
     {

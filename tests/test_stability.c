@@ -17,7 +17,7 @@ static double complex R_of(const char *name, double complex z)
     if (!strcmp(name, "heun") || !strcmp(name, "midpoint")) return 1 + z + z * z / 2;
     if (!strcmp(name, "rk4")) return 1 + z + z * z / 2 + z * z * z / 6 + z * z * z * z / 24;
     if (!strcmp(name, "backward_euler")) return 1 / (1 - z);
-    if (!strcmp(name, "newmark")) return (1 + z / 2) / (1 - z / 2);
+    if (!strcmp(name, "newmark") || !strcmp(name, "implicit_midpoint")) return (1 + z / 2) / (1 - z / 2);
     return NAN;
 }
 

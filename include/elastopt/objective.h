@@ -32,6 +32,17 @@
 extern "C" {
 #endif
 
+/// The inertia part of a step objective g(x) = ½‖x − x̃‖²_M + w·E(x) (ops->inertia).
+/// Everything over the free variables and borrowed from the objective.
+typedef struct eo_objective_inertia {
+    const eo_csc *M;          ///< constant SPD mass matrix (upper-triangle CSC, sparse.h);
+                              ///< values unchanged while `version` is
+    unsigned long version;    ///< changes when M does (a release rebuilt the pattern)
+    const double *x_prev;     ///< xₙ: positions at the start of the step (n)
+    const double *x_pred;     ///< x̃: the integrator's predictor (n)
+    double w;                 ///< weight of E (backward Euler h², Newmark h²/4)
+} eo_objective_inertia;
+
 typedef struct eo_objective_ops {
     /// g(x). Return EO_OK; set *g = +INFINITY where undefined (never NaN).
     int (*value)(void *data, const double *x, double *g);
@@ -68,6 +79,13 @@ typedef struct eo_objective_ops {
     /// v at that node's free coordinates (v: n entries, e.g. ∇g; constrained coordinates
     /// count as 0), E entries. Locates the residual on the elements.
     int (*element_residual)(void *data, const double *v, double *r);
+    /// Optional (step objectives with an inertia term): M, xₙ, x̃ and w of
+    /// g = ½‖x − x̃‖²_M + w·E (see eo_objective_inertia), for methods that need the mass
+    /// matrix apart from ∇E (fixed_point: x ← x − M⁻¹∇g(x) = x̃ − w M⁻¹∇E(x)). May
+    /// reassemble through the objective's Hessian storage: a matrix borrowed from
+    /// `hessian` is invalid afterwards. EO_ERR_UNSUPPORTED where there is no inertia term
+    /// (the static integrator).
+    int (*inertia)(void *data, eo_objective_inertia *out);
 } eo_objective_ops;
 
 typedef struct eo_objective {
@@ -116,6 +134,12 @@ static inline int eo_objective_hessian_masked(eo_objective *o, const double *x,
     if (!o->ops->hessian_masked) return EO_ERR_UNSUPPORTED;
     o->n_hessian++;
     return o->ops->hessian_masked(o->data, x, proj_of, H);
+}
+/// The inertia part of a step objective (ops->inertia); EO_ERR_UNSUPPORTED if none.
+static inline int eo_objective_inertia_get(eo_objective *o, eo_objective_inertia *out)
+{
+    if (!o->ops->inertia) return EO_ERR_UNSUPPORTED;
+    return o->ops->inertia(o->data, out);
 }
 /// Per-element residual r (see ops->element_residual); EO_ERR_UNSUPPORTED if none.
 static inline int eo_objective_element_residual(eo_objective *o, const double *v, double *r)

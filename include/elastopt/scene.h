@@ -69,7 +69,9 @@
 ///                       "reflect": {"point", "normal"}, "random_ball": {"radius", "seed"}}
 ///                      applied to the rest positions in the order scale, reflect,
 ///                      random_ball; velocity is the uniform initial velocity
-///   time.integrator, time.dt, time.steps
+///   damping.{viscous, rayleigh_alpha, rayleigh_beta}
+///                      damping force −C v, C = γI + αM + βK₀ (eo_scene_damping_opts)
+///   time.integrator, time.dt, time.steps, time.load_steps
 ///   output.dir, output.every, output.vtu
 ///   solver.*           the solver's section (solver.h), loaded by the caller
 #ifndef ELASTOPT_SCENE_H
@@ -134,7 +136,20 @@ typedef struct eo_scene_time_opts {
     char integrator[32];    ///< newmark | backward_euler | static. Default "newmark".
     double dt;              ///< step, s; > 0. Default 0.01.
     int steps;              ///< number of steps, >= 1. Default 30.
+    int load_steps;         ///< static only: gravity and prescribed motions ramp linearly over
+                            ///< this many steps (step k applies k/load_steps of the load; then
+                            ///< the full load), 0 = full load from the first step. Default 0.
 } eo_scene_time_opts;
+
+/// `damping` section (001 §2.1–2.2): damping force −C v with
+/// C = viscous·I + rayleigh_alpha·M + rayleigh_beta·K₀ (K₀: the clamped elastic Hessian
+/// at the start of each step). Explicit integrators: a = M⁻¹(f − C v); implicit ones: a
+/// term of the step problem (problems/term_damping.c). Not with `static` (no velocity).
+typedef struct eo_scene_damping_opts {
+    double viscous;         ///< γ, N·s/m on every vertex coordinate (a = (f − γv)/m), >= 0. Default 0.
+    double rayleigh_alpha;  ///< α, 1/s: mass-proportional part, >= 0. Default 0.
+    double rayleigh_beta;   ///< β, s: stiffness-proportional part, >= 0. Default 0.
+} eo_scene_damping_opts;
 
 /// `output` section.
 typedef struct eo_scene_output_opts {
@@ -193,6 +208,7 @@ EO_API extern const eo_param_desc eo_scene_bc_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_rotate_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_springs_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_collision_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_damping_opts_desc[];
 /// The scene's documented sections ({NULL} terminated), for `elastopt help`.
 EO_API extern const eo_cfg_doc eo_scene_docs[];
 /// Every fixed section of a scene configuration: the scene's, `material` and `solver`,
@@ -258,6 +274,7 @@ typedef struct eo_scene {
     int ncollision;
     double *collision_plane;           ///< owned, 6·ncollision: point, unit normal
     double *collision_k;               ///< owned, ncollision stiffnesses
+    eo_scene_damping_opts damping;     ///< `damping` section
     char file[512];                    ///< config file ("<builtin>" if none)
     eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 } eo_scene;

@@ -99,6 +99,16 @@ EO_API void eo_sim_get_state(const eo_sim *s, double *x, double *v, double *t, i
 /// Set the state (copied); the constrained sets follow from t at the next step.
 EO_API int eo_sim_set_state(eo_sim *s, const double *x, const double *v, double t, int index);
 
+/// Restart data of a multistep integrator (bdf2: the previous state xₙ₋₁, vₙ₋₁ and a
+/// valid flag, see eo_step_history_len); 0 for integrators without history.
+EO_API size_t eo_sim_history_len(const eo_sim *s);
+/// Copy the history out (h: eo_sim_history_len doubles). EO_ERR_UNSUPPORTED if none.
+EO_API int eo_sim_get_history(const eo_sim *s, double *h);
+/// Set the history (copied). eo_sim_set_state clears it (the next step is then the
+/// integrator's one-step start), so restore the state first, then the history.
+/// EO_ERR_UNSUPPORTED if the integrator has none, EO_ERR_RANGE for a bad valid flag.
+EO_API int eo_sim_set_history(eo_sim *s, const double *h);
+
 /// Accessors (borrowed).
 EO_API const eo_scene *eo_sim_scene(const eo_sim *s);
 EO_API eo_step *eo_sim_step_problem(const eo_sim *s);

@@ -300,6 +300,14 @@ typedef struct eo_ncg_params {
     double powell;       ///< restart when |∇gₖᵀP⁻¹∇gₖ₋₁| ≥ powell·∇gₖᵀP⁻¹∇gₖ, 0 = never (0.2)
 } eo_ncg_params;
 
+/// Fixed-point iteration of the implicit step (config `solver.fixed_point.*`).
+typedef struct eo_fixed_point_params {
+    char init[16];       ///< first iterate: "previous" (xₙ), "predictor" (x̃ = xₙ + h vₙ, the
+                         ///< explicit Euler position) or "guess" (the x passed in) (previous)
+    int window;          ///< contraction ratio ρ = (‖Δₖ‖/‖Δₖ₋ₘ‖)^(1/m) over m = window
+                         ///< updates; ρ ≥ 1 → EO_DIVERGED_NOT_CONTRACTING (default 3)
+} eo_fixed_point_params;
+
 /// Wolfe line search (config `solver.wolfe.*`).
 typedef struct eo_wolfe_params {
     double c1;           ///< sufficient decrease constant (1e-4)

@@ -38,6 +38,10 @@
 ///    (x = (inertia·x̃ − w(cβ − cₙ)) / (inertia + w(k + cα))): the step engine's
 ///    solver is not run; this measures the integrator's ops, not a scene.
 ///    An integrator without inertia (static) has no velocity state: real axis n/a.
+///    An integrator with a stage θ ≠ 1 (implicit_midpoint, θ = ½) is minimized in the
+///    stage z, mapped back with xₙ₊₁ = xₙ + (z − xₙ)/θ, its damping force taken at the
+///    stage velocity vₙ + θ(vₙ₊₁ − vₙ). A multistep integrator (bdf2) is measured by its
+///    one-step start (backward Euler): one step from a state has no history.
 ///
 /// ```c
 /// eo_stability_result r, t;

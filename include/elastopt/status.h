@@ -61,7 +61,8 @@ extern "C" {
     X(EO_DIVERGED_NOT_PD, -6, "hessian not positive definite")                   \
     X(EO_DIVERGED_TIME_BUDGET, -7, "time budget exhausted")                      \
     X(EO_DIVERGED_EXTERNAL, -8, "external solver failed")                       \
-    X(EO_DIVERGED_STAGNATED, -9, "g stopped decreasing (tolerance below rounding level?)")
+    X(EO_DIVERGED_STAGNATED, -9, "g stopped decreasing (tolerance below rounding level?)") \
+    X(EO_DIVERGED_NOT_CONTRACTING, -10, "fixed-point iteration not contracting (its update grows)")
 
 #define EO_X_ENUM(name, value, str) name = value,
 typedef enum eo_status { EO_STATUS_LIST(EO_X_ENUM) } eo_status;

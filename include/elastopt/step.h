@@ -12,8 +12,16 @@
 ///   newmark (β = ¼, γ = ½)  w = h²/4, x̃ = xₙ + h vₙ, c = fₙ = −∇E(xₙ),
 ///                           vₙ₊₁ = 2(xₙ₊₁ − xₙ)/h − vₙ       (energy conserving)
 ///   backward_euler          w = h², x̃ = xₙ + h vₙ, c = 0, vₙ₊₁ = (xₙ₊₁ − xₙ)/h
-///   static                  no inertia term, w = 1, c = 0, v = 0   (equilibrium)
-///   forward_euler, symplectic_euler, heun, midpoint, rk4, verlet, leapfrog
+///   static                  no inertia term, w = 1, c = 0, v = 0   (equilibrium); with
+///                           time.load_steps = L > 0: gravity and prescribed motions
+///                           ramped linearly over L increments (quasi-static loading)
+///   implicit_midpoint       w = h²/4 in the midpoint z = (xₙ + xₙ₊₁)/2, x̃ = xₙ + (h/2)vₙ,
+///                           xₙ₊₁ = 2z − xₙ, vₙ₊₁ = 2(xₙ₊₁ − xₙ)/h − vₙ  (θ = ½)
+///   bdf2                    w = 4h²/9, x̃ = (4xₙ − xₙ₋₁)/3 + (2h/9)(4vₙ − vₙ₋₁),
+///                           vₙ₊₁ = (3xₙ₊₁ − 4xₙ + xₙ₋₁)/(2h); backward Euler on the
+///                           first step (history: eo_step_get_history)
+///   forward_euler, symplectic_euler, symplectic_euler_x, heun, midpoint, rk4, verlet,
+///   leapfrog
 ///                           explicit (001 §2.5): no optimization problem, see
 ///                           eo_integrator_type.explicit_step and eo_step_advance
 ///
@@ -40,6 +48,8 @@
 /// No allocation happens inside objective evaluations.
 #ifndef ELASTOPT_STEP_H
 #define ELASTOPT_STEP_H
+
+#include <stddef.h>
 
 #include "export.h"
 #include "linsolve.h"
@@ -87,6 +97,22 @@ typedef struct eo_integrator_type {
     int (*explicit_step)(const eo_ode *ode, double t, double h, double *x, double *v,
                          double *work, int restart);
     int work_vectors;   ///< scratch n-vectors explicit_step needs
+    /// Implicit, optional: the minimizer z of g is the stage z = xₙ + θ(xₙ₊₁ − xₙ), not
+    /// xₙ₊₁ itself (implicit_midpoint: θ = ½, g posed in the midpoint). 0 means 1. The
+    /// engine prescribes constrained coordinates as xₙ + θ(p(tₙ₊₁) − xₙ), maps the
+    /// minimizer back with xₙ₊₁ = xₙ + (z − xₙ)/θ and gives `velocity` xₙ₊₁.
+    double theta;
+    /// Implicit multistep, optional: 1 if the previous state (xₙ₋₁, vₙ₋₁) is used (bdf2),
+    /// 0 = none (the only values). While the engine has no valid previous state (first step, after a
+    /// reset, a set_state or a rejected step) it uses weight/predict/velocity (the
+    /// one-step start, e.g. backward Euler); afterwards the *_history ops below.
+    int history;
+    double (*weight_history)(double h);
+    /// Predictor x̃ from xₙ, vₙ and the previous state xp = xₙ₋₁, vp = vₙ₋₁.
+    void (*predict_history)(int n, double h, const double *xn, const double *vn, const double *xp,
+                            const double *vp, double *xt);
+    /// Velocity vₙ₊₁ from xₙ, xp = xₙ₋₁ and the solution x.
+    void (*velocity_history)(int n, double h, const double *xn, const double *xp, const double *x, double *v);
 } eo_integrator_type;
 
 typedef struct eo_step eo_step;
@@ -118,6 +144,17 @@ EO_API int eo_step_set_parallel(eo_step *st, int on);
 /// Accept the free coordinates x as xₙ₊₁: update positions, velocities, time, index.
 /// EO_ERR_UNSUPPORTED for an explicit integrator (use eo_step_advance).
 EO_API int eo_step_end(eo_step *st, const double *x);
+
+/// The previous state of a multistep integrator (eo_integrator_type.history = 1; bdf2),
+/// for restarts: 2·3·nv + 1 doubles laid out as xₙ₋₁ (3·nv), vₙ₋₁ (3·nv), then 1 if
+/// they are valid, 0 if not (right after a reset, set_state or rejected step: the next
+/// step is the one-step start). 0 for integrators without history.
+EO_API size_t eo_step_history_len(const eo_step *st);
+/// Copy the history out (h: eo_step_history_len doubles). EO_ERR_UNSUPPORTED if none.
+EO_API int eo_step_get_history(const eo_step *st, double *h);
+/// Set the history (copied; after eo_step_set_state, which clears it). EO_ERR_UNSUPPORTED
+/// if the integrator has none, EO_ERR_RANGE if the last entry is neither 0 nor 1.
+EO_API int eo_step_set_history(eo_step *st, const double *h);
 
 /// 1 if the scene's integrator is explicit (eo_integrator_type.explicit_step set). For
 /// those, eo_step_begin builds the potential-energy objective E(x) (weight 1, no

@@ -4,7 +4,18 @@
  *
  * with the boundary conditions at tₙ₊₁ (so prescribed motions give a quasi-static
  * loading path); the velocity is 0. The previous solution is the starting guess.
- * Needs enough constrained vertices to remove the rigid motions. */
+ * Needs enough constrained vertices to remove the rigid motions.
+ *
+ * Quasi-static load stepping (time.load_steps = L > 0, the usual way to reach large
+ * deflections, where Newton from the rest shape under the full load may fail): step
+ * k = 1, 2, … minimizes
+ *
+ *     E_el(x) − λₖ f_gᵀx,   λₖ = min(1, k/L),
+ *
+ * with the prescribed motions evaluated at min(tₖ, L·dt): gravity and every prescribed
+ * motion grow linearly over the first L steps and are held at their full value after,
+ * each increment a minimization started from the previous equilibrium (the step
+ * engine, problems/step_objective.c and step_bc.c). */
 #include "elastopt/step.h"
 
 static double weight(double h)

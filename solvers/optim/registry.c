@@ -3,6 +3,7 @@
 #include "elastopt/solver.h"
 #include "../solver_registry.h"
 
+extern const eo_optimizer_type eo_optimizer_fixed_point;   /* fixed_point.c */
 #if EO_HAVE_NLOPT
 extern const eo_optimizer_type eo_optimizer_nlopt;   /* nlopt.c, optional backend */
 #endif
@@ -16,6 +17,7 @@ const void *const eo_registry_optimizer[] = {
     &eo_optimizer_lbfgs,
     &eo_optimizer_ncg,
     &eo_optimizer_projective_dynamics,
+    &eo_optimizer_fixed_point,
 #if EO_HAVE_NLOPT
     &eo_optimizer_nlopt,
 #endif
