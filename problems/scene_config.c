@@ -18,6 +18,7 @@
 #include "elastopt/scene.h"
 #include "problem_registry.h"
 #include "elastopt/step.h"
+#include "obstacle.h"
 
 /* ---------------------------------------------------------------- descriptor tables */
 
@@ -56,7 +57,16 @@ const eo_param_desc eo_scene_springs_opts_desc[] = {
 const eo_param_desc eo_scene_collision_opts_desc[] = {
     {.key = "stiffness", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_collision_opts, stiffness),
      .def.d = 1e5, .min = 0, .range = EO_RANGE_POSITIVE,
-     .help = "penalty stiffness per vertex (N/m): E = k/2 max(0, -(x - point).normal)^2, not mass-weighted"},
+     .help = "penalty stiffness per vertex (N/m): E = k/2 max(0, d)^2 with d the depth inside the obstacle, not "
+             "mass-weighted"},
+    {.key = "friction", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_collision_opts, friction), .def.d = 0,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "Coulomb friction coefficient mu against this obstacle (0 = frictionless); lagged normal force, "
+             "smoothed below eps_v; implicit integrators only"},
+    {.key = "eps_v", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_collision_opts, eps_v), .def.d = 1e-3,
+     .min = 0, .range = EO_RANGE_POSITIVE,
+     .help = "friction smoothing velocity (m/s): the friction force grows from 0 to mu*lambda over tangential "
+             "speeds [0, eps_v] (sticking = creep slower than eps_v)"},
     {0},
 };
 
@@ -184,8 +194,7 @@ const eo_cfg_doc eo_scene_docs[] = {
     {"boundary.N.plane", eo_scene_plane_opts_desc, "select rest vertices with (X - point).normal >= 0"},
     {"boundary.N.rotate", eo_scene_rotate_opts_desc, "rotate the set about an axis"},
     {"springs", eo_scene_springs_opts_desc, "scene springs (mass-spring system) on top of the materials' tet elasticity; material.model = spring means springs only"},
-    {"collisions.N", eo_scene_collision_opts_desc, "half-space obstacle: penalty contact with collisions.N.plane"},
-    {"collisions.N.plane", eo_scene_plane_opts_desc, "the obstacle's boundary plane; the normal points to the free side"},
+    {"collisions.N", eo_scene_collision_opts_desc, "static obstacle (exactly one shape: plane, sphere or box): penalty contact and Coulomb friction"},
     {NULL, NULL, NULL},
 };
 
@@ -744,7 +753,10 @@ static int load_springs(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
 
 static int load_collisions(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
 {
-    static const char *const extra[] = {"plane", NULL};
+    const char *extra[16];
+    int ne = 0;
+    for (const eo_obstacle_type *const *t = eo_obstacle_types; *t && ne < 15; t++) extra[ne++] = (*t)->name;
+    extra[ne] = NULL;
     json_t *list = eo_cfg_get(cfg, "collisions");
     if (!list) return EO_OK;
     if (!json_is_array(list))
@@ -752,29 +764,37 @@ static int load_collisions(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
                        eo_json_type_name(list));
     int n = (int)json_array_size(list);
     if (!n) return EO_OK;
-    sc->collision_plane = eo_malloc(ctx, 6 * (size_t)n * sizeof(double));
-    sc->collision_k = eo_malloc(ctx, (size_t)n * sizeof(double));
-    if (!sc->collision_plane || !sc->collision_k) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    sc->collision = eo_calloc(ctx, (size_t)n, sizeof *sc->collision);
+    if (!sc->collision) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    char shapes[160] = "";
+    for (int q = 0; extra[q]; q++)
+        snprintf(shapes + strlen(shapes), sizeof shapes - strlen(shapes), "%s\"%s\"", q ? ", " : "", extra[q]);
     for (int i = 0; i < n; i++) {
         char path[64], sub[96];
         snprintf(path, sizeof path, "collisions.%d", i);
-        eo_scene_collision_opts co;
-        eo_scene_plane_opts pl;
-        eo_params_default(eo_scene_collision_opts_desc, &co);
-        eo_params_default(eo_scene_plane_opts_desc, &pl);
-        int rc = eo_cfg_section(ctx, cfg, path, eo_scene_collision_opts_desc, &co, extra);
+        eo_scene_obstacle *ob = sc->collision + i;
+        eo_params_default(eo_scene_collision_opts_desc, &ob->opts);
+        int rc = eo_cfg_section(ctx, cfg, path, eo_scene_collision_opts_desc, &ob->opts, extra);
         if (rc < 0) return rc;
-        snprintf(sub, sizeof sub, "%s.plane", path);
-        if (!eo_cfg_get(cfg, sub))
-            return cfg_err(ctx, cfg, path, EO_ERR_INVALID, "an obstacle needs \"plane\": {\"point\", \"normal\"}");
-        if ((rc = eo_cfg_section(ctx, cfg, sub, eo_scene_plane_opts_desc, &pl, NULL)) < 0) return rc;
-        snprintf(sub, sizeof sub, "%s.plane.normal", path);
-        if (normalize(pl.normal) < 0) return cfg_err(ctx, cfg, sub, EO_ERR_RANGE, "zero normal");
-        for (int k = 0; k < 3; k++) {
-            sc->collision_plane[6 * i + k] = pl.point[k];
-            sc->collision_plane[6 * i + 3 + k] = pl.normal[k];
+        const json_t *item = json_array_get(list, (size_t)i);
+        int nshape = 0;
+        for (const eo_obstacle_type *const *t = eo_obstacle_types; *t; t++)
+            if (member(item, (*t)->name)) {
+                ob->type = *t;
+                nshape++;
+            }
+        if (nshape != 1)
+            return cfg_err(ctx, cfg, path, EO_ERR_INVALID, "an obstacle needs exactly one shape of %s (found %d)",
+                           shapes, nshape);
+        EO_ASSERT(ob->type->params_size <= sizeof ob->shape);
+        eo_params_default(ob->type->params, ob->shape);
+        snprintf(sub, sizeof sub, "%s.%s", path, ob->type->name);
+        if ((rc = eo_cfg_section(ctx, cfg, sub, ob->type->params, ob->shape, NULL)) < 0) return rc;
+        const char *key = "", *msg = ob->type->setup ? ob->type->setup(ob->shape, &key) : NULL;
+        if (msg) {
+            snprintf(sub, sizeof sub, "%s.%s.%s", path, ob->type->name, key);
+            return cfg_err(ctx, cfg, sub, EO_ERR_RANGE, "%s", msg);
         }
-        sc->collision_k[i] = co.stiffness;
     }
     sc->ncollision = n;
     return EO_OK;
@@ -804,8 +824,7 @@ void eo_scene_destroy(eo_scene **psc)
     eo_free(ctx, sc->bc);
     eo_free(ctx, sc->pmass);
     eo_free(ctx, sc->spring_ab);
-    eo_free(ctx, sc->collision_plane);
-    eo_free(ctx, sc->collision_k);
+    eo_free(ctx, sc->collision);
     eo_free(ctx, sc);
     *psc = NULL;
 }
@@ -896,9 +915,10 @@ json_t *eo_scene_to_json(const eo_scene *sc)
     json_object_set_new(o, "springs", spr);
     json_t *cols = json_array();
     for (int i = 0; i < sc->ncollision; i++) {
-        const double *p = sc->collision_plane + 6 * i;
-        json_array_append_new(cols, json_pack("{s:{s:[fff], s:[fff]}, s:f}", "plane", "point", p[0], p[1], p[2],
-                                              "normal", p[3], p[4], p[5], "stiffness", sc->collision_k[i]));
+        const eo_scene_obstacle *ob = sc->collision + i;
+        json_t *e = eo_params_to_json(eo_scene_collision_opts_desc, &ob->opts);
+        json_object_set_new(e, ob->type->name, eo_params_to_json(ob->type->params, ob->shape));
+        json_array_append_new(cols, e);
     }
     json_object_set_new(o, "collisions", cols);
     json_object_set_new(o, "time", eo_params_to_json(eo_scene_time_opts_desc, &sc->time));

@@ -16,7 +16,7 @@
 #include "term.h"
 
 
-enum { MAX_TERMS = 8, BLOCK = 1024, PARALLEL_MIN_TETS = 2048 };
+enum { MAX_TERMS = 12, BLOCK = 1024, PARALLEL_MIN_TETS = 2048 };
 
 struct eo_step {
     eo_ctx *ctx;
@@ -39,6 +39,7 @@ struct eo_step {
     eo_term *terms[MAX_TERMS];
     int nterms;
     eo_term *inertia, *elastic, *gravity, *linear, *spring, *collision;
+    eo_term *friction;    /* lagged friction (term_friction.c), NULL if none */
     /* constraints and pattern */
     int *vbc, *vbc_new;   /* nv: active boundary entry per vertex, -1 free */
     int have_pattern;

@@ -15,6 +15,7 @@
 
 #include "elastopt/material.h"
 #include "elastopt/mesh.h"
+#include "elastopt/scene.h"
 #include "elastopt/sparse.h"
 
 /* Data shared by every term of one step problem (owned by step.c). */
@@ -91,9 +92,20 @@ int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, double 
  * spring direction at x; SUBTRACTED from g (g holds ∇E, the force is −g). Scene
  * springs only; used by the explicit integrators. */
 void eo_term_spring_damping(eo_term *t, const eo_sys *s, const double *x, const double *v, double *g);
-/* Penalty half-space obstacles (term_collision.c): nplanes planes, 6 numbers each
- * (point, unit normal), stiffness k[i]. */
-int eo_term_collision_create(eo_sys *s, int nplanes, const double *planes, const double *k, eo_term **out);
+/* Penalty contact with the scene's static obstacles (term_collision.c; shapes in
+ * obstacle.h). `ob` (nob entries) is borrowed. EO_OK with *out NULL: no obstacle. */
+int eo_term_collision_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out);
+/* Lagged, smoothed Coulomb friction against the obstacles with friction μ > 0
+ * (term_friction.c). EO_OK with *out NULL: no obstacle has friction. Per step:
+ * eo_term_friction_lag at xₙ (contacts, normal forces, tangent planes; idempotent);
+ * eo_term_friction_force_n adds ∇D at the end of the previous step (weight 1, for
+ * Newmark's linear term) into g; eo_term_friction_accept stores it at the accepted
+ * xₙ₊₁; eo_term_friction_reset forgets both (a new state). */
+int eo_term_friction_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out);
+void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, double h);
+void eo_term_friction_force_n(eo_term *t, double *g);
+void eo_term_friction_accept(eo_term *t, const eo_sys *s, const double *x);
+void eo_term_friction_reset(eo_term *t, const eo_sys *s);
 void eo_term_destroy(eo_ctx *ctx, eo_term **t);
 
 /* Shared helper: allocate a term with a full-length vector if `with_vec`. */

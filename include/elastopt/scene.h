@@ -43,9 +43,13 @@
 ///                      material.model = "spring" instead has NO tet elasticity and
 ///                      springs (material.k) on its tet edges: "springs only". damping c
 ///                      (N·s/m along each scene spring) acts in explicit integrators only
-///   collisions         list of half-space obstacles {"plane": {"point", "normal"},
-///                      "stiffness": k}: penalty k/2·max(0, −(x−p)·n)² per vertex (N/m
-///                      per vertex, not mass-weighted)
+///   collisions         list of static obstacles, each exactly one shape: "plane":
+///                      {"point", "normal"} (half-space), "sphere": {"center", "radius"}
+///                      (solid ball), "box": {"min", "max"} (solid axis-aligned box); with
+///                      "stiffness": k (penalty k/2·max(0, d)² per vertex, d the depth, N/m
+///                      per vertex, not mass-weighted), "friction": μ (Coulomb, 0 = none;
+///                      implicit integrators) and "eps_v" (m/s, the friction smoothing
+///                      velocity)
 ///   gravity            3-vector, m/s², default [0, 0, -9.81]
 ///   boundary           list; each entry selects rest vertices by exactly one of
 ///                      "box": [[lo],[hi]] (inside, inclusive, with a tolerance of 1e-9
@@ -101,10 +105,25 @@ typedef struct eo_scene_springs_opts {
     double damping;         ///< c along each spring, N·s/m, >= 0 (explicit integrators). Default 0.
 } eo_scene_springs_opts;
 
-/// Scalar keys of one `collisions` entry (its plane is `collisions.N.plane`).
+/// Scalar keys of one `collisions` entry (its shape is `collisions.N.plane`, `.sphere`
+/// or `.box`).
 typedef struct eo_scene_collision_opts {
     double stiffness;       ///< penalty stiffness k per vertex, N/m, > 0. Default 1e5.
+    double friction;        ///< Coulomb coefficient μ, >= 0; 0 = frictionless. Default 0.
+    double eps_v;           ///< friction smoothing velocity ε_v, m/s, > 0: below it the friction
+                            ///< force grows smoothly from 0 (static friction is approximated by
+                            ///< creep slower than ε_v). Default 1e-3.
 } eo_scene_collision_opts;
+
+/// Largest number of doubles of an obstacle shape's parameters.
+#define EO_OBSTACLE_PARAMS 12
+
+/// One `collisions` entry: a static obstacle shape with its penalty and friction.
+typedef struct eo_scene_obstacle {
+    const struct eo_obstacle_type *type;   ///< the shape (problems/obstacle.h): plane, sphere, box
+    double shape[EO_OBSTACLE_PARAMS];      ///< its section's values (e.g. plane: point, unit normal)
+    eo_scene_collision_opts opts;          ///< stiffness, friction, eps_v
+} eo_scene_obstacle;
 
 /// `mesh` section.
 typedef struct eo_scene_mesh_opts {
@@ -256,8 +275,7 @@ typedef struct eo_scene {
     int nspring;                       ///< scene springs (0 if edges = "none")
     int *spring_ab;                    ///< owned, 2·nspring vertex pairs (a < b, unique)
     int ncollision;
-    double *collision_plane;           ///< owned, 6·ncollision: point, unit normal
-    double *collision_k;               ///< owned, ncollision stiffnesses
+    eo_scene_obstacle *collision;      ///< owned, ncollision obstacles (`collisions`)
     char file[512];                    ///< config file ("<builtin>" if none)
     eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 } eo_scene;
