@@ -63,7 +63,6 @@ int eo_step_reset(eo_step *st)
         }
     }
     if (!st->integ->inertia) memset(st->v, 0, (size_t)st->n_full * sizeof(double));
-    if (st->friction) eo_term_friction_reset(st->friction, &st->sys);
     st->erestart = 1;
     return EO_OK;
 }
@@ -74,7 +73,6 @@ int eo_step_set_state(eo_step *st, const double *x, const double *v, double t)
     memcpy(st->v, v, (size_t)st->n_full * sizeof(double));
     st->t = t;
     st->erestart = 1;
-    if (st->friction) eo_term_friction_reset(st->friction, &st->sys);
     return EO_OK;
 }
 

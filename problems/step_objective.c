@@ -143,7 +143,7 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
         st->inertia->weight = 1;
         st->integ->predict(st->n_full, h, st->x, st->v, st->inertia->vec);
     }
-    if (st->friction) eo_term_friction_lag(st->friction, &st->sys, st->x, h);
+    if (st->friction) eo_term_friction_lag(st->friction, &st->sys, st->x, st->v, h, st->integ);
     if (st->linear) {
         /* c = fₙ = −∇(E_el + gravity potential)(xₙ) */
         memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
@@ -155,7 +155,6 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
             forces[i]->ops->gradient(forces[i], &st->sys, st->x, st->gfull);
             forces[i]->weight = wsave;
         }
-        if (st->friction) eo_term_friction_force_n(st->friction, st->gfull);
         for (int j = 0; j < st->n_full; j++) st->linear->vec[j] = -st->gfull[j];
     }
     /* full work vector: xₙ with prescribed positions at tₙ₊₁ */
@@ -190,7 +189,6 @@ int eo_step_end(eo_step *st, const double *x)
                         st->integ->info.name);
     const double h = st->h, t1 = st->t + h;
     eo_stepi_scatter_free(st, x);
-    if (st->friction) eo_term_friction_accept(st->friction, &st->sys, st->xw);
     st->integ->velocity(st->n_full, h, st->x, st->v, st->xw, st->vnew);
     for (int v = 0; v < st->nv; v++) {
         if (st->vbc[v] < 0) continue;

@@ -97,15 +97,12 @@ void eo_term_spring_damping(eo_term *t, const eo_sys *s, const double *x, const 
 int eo_term_collision_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out);
 /* Lagged, smoothed Coulomb friction against the obstacles with friction μ > 0
  * (term_friction.c). EO_OK with *out NULL: no obstacle has friction. Per step:
- * eo_term_friction_lag at xₙ (contacts, normal forces, tangent planes; idempotent);
- * eo_term_friction_force_n adds ∇D at the end of the previous step (weight 1, for
- * Newmark's linear term) into g; eo_term_friction_accept stores it at the accepted
- * xₙ₊₁; eo_term_friction_reset forgets both (a new state). */
+ * eo_term_friction_lag at xₙ, vₙ (contacts, normal forces, tangent planes, the slip
+ * velocity map of the integrator; recomputed from scratch each time). */
+struct eo_integrator_type;
 int eo_term_friction_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out);
-void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, double h);
-void eo_term_friction_force_n(eo_term *t, double *g);
-void eo_term_friction_accept(eo_term *t, const eo_sys *s, const double *x);
-void eo_term_friction_reset(eo_term *t, const eo_sys *s);
+void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, const double *vn, double h,
+                          const struct eo_integrator_type *integ);
 void eo_term_destroy(eo_ctx *ctx, eo_term **t);
 
 /* Shared helper: allocate a term with a full-length vector if `with_vec`. */

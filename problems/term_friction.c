@@ -1,36 +1,40 @@
 /* Friction term: Coulomb friction against the static obstacles with friction μ > 0,
  * penalty-regularized and lagged as in Incremental Potential Contact (Li et al. 2020,
- * §5: "lagged" normal forces and tangent bases, smoothed friction f₁), for the implicit
- * integrators. At the start of each step (eo_term_friction_lag, from xₙ) every vertex v
- * inside an obstacle o becomes a contact with
+ * §5: lagged normal forces and tangent bases, the smoothed friction f₁), for the
+ * implicit integrators. At the start of each step (eo_term_friction_lag, from xₙ, vₙ)
+ * every vertex v inside an obstacle o becomes a contact with
  *
- *     λ = k d(xₙ)          the penalty normal force magnitude at xₙ (N), kept fixed,
- *     n = n(xₙ)            the outward normal there, P = I − n nᵀ, kept fixed,
- *     u(x) = P (x_v − xₙ,v)  the tangential displacement over the step, y = |u|,
+ *     λ = k d(xₙ)      the penalty normal force magnitude at xₙ (N), kept for the step,
+ *     n = n(xₙ)        the outward normal there, P = I − n nᵀ, kept for the step.
  *
- * and the step objective gets the dissipative potential (weight w like every force)
+ * The slip is measured by the integrator's own end-of-step velocity: its velocity map
+ * is affine, vₙ₊₁(x) = α (x − x̂) (backward Euler α = 1/h, x̂ = xₙ; Newmark α = 2/h,
+ * x̂ = xₙ + h vₙ/2; found by evaluating the map twice), and
  *
- *     D(x) = Σ_contacts μ λ f₀(y),   f₀' = f₁,
- *     f₁(y) = 2y/ε − y²/ε² for y < ε,  1 otherwise,   ε = ε_v h (eps_v of the obstacle),
- *     f₀(y) = y²/ε − y³/(3ε²) for y < ε,  y − ε/3 otherwise,
+ *     u(x) = h P vₙ₊₁,v(x) = s P (x_v − x̂_v),  s = hα,  y = |u|  (the tangential slip),
+ *     D(x) = Σ_contacts μ λ f₀(y) / s,   f₀' = f₁,   ε = ε_v h (eps_v of the obstacle),
+ *     f₁(y) = 2y/ε − y²/ε² for y < ε, 1 otherwise;  f₀(y) = y²/ε − y³/(3ε²), y − ε/3;
  *
- * so the friction force −∇_v D = −μ λ f₁(y) u/y opposes the slip with magnitude μλ once
- * the slip speed y/h exceeds ε_v, and grows smoothly from 0 below it (sticking is creep
- * slower than ε_v). With φ(y) = f₁(y)/y:
- *     ∇_v D = μ λ φ u,    ∇²_v D = μ λ (φ P + (φ'/y) u uᵀ),
- *     y < ε: φ = 2/ε − y/ε², φ'/y = −1/(ε² y);   y ≥ ε: φ = 1/y, φ'/y = −1/y³.
- * Its eigenvalues μλ(2/ε − 2y/ε²) ≥ 0 (along u, y < ε), 0 (along u, y ≥ ε) and μλφ > 0
- * (in P, across u) and 0 along n: PSD, no projection needed.
+ * so −∇_v D = −μ λ f₁(y) u/y: the friction force opposes the slip velocity with
+ * magnitude μλ once the slip speed exceeds ε_v, and grows smoothly (C¹) from 0 below
+ * it (sticking is creep slower than ε_v). With φ(y) = f₁(y)/y:
+ *     ∇_v D = μ λ φ u,    ∇²_v D = s μ λ (φ P + (φ'/y) u uᵀ),
+ *     y < ε: φ = 2/ε − y/ε², φ'/y = −1/(ε² y);   y ≥ ε: φ = 1/y, φ'/y = −1/y³,
+ * with eigenvalues sμλ(2/ε − 2y/ε²) ≥ 0 (along u, y < ε), 0 (along u, y ≥ ε), sμλφ > 0
+ * (in P across u) and 0 along n: PSD, no projection needed.
  *
- * Lagging makes D a function of x alone within a step (IPC's lagged iteration done once
- * per step: contacts that start during the step get friction from the next step on).
- * Newmark's trapezoidal rule averages the forces at tₙ and tₙ₊₁: its linear term c gets
- * the friction force at the end of the previous step (eo_term_friction_force_n, stored
- * by eo_term_friction_accept), so that a block sliding at constant acceleration gets
- * the impulse h·μλ per step from either integrator. */
+ * Weight: the friction force acts at tₙ₊₁ only, fully implicit: the term weight is the
+ * integrator's w, doubled for integrators whose linear term carries fₙ (Newmark's
+ * trapezoidal rule weighs fₙ and fₙ₊₁ with w each; a lagged friction force at tₙ does not
+ * exist). Measuring the slip by vₙ₊₁ rather than by xₙ₊₁ − xₙ (which is h(vₙ + vₙ₊₁)/2
+ * under Newmark) keeps the sticking regime, a stiff damper, from ringing under the
+ * trapezoidal rule. Lagging makes D a function of x alone within a step (IPC's lagged
+ * iteration done once per step): contacts that start during a step get friction from the
+ * next step on. */
 #include <math.h>
 #include <string.h>
 
+#include "elastopt/step.h"
 #include "obstacle.h"
 #include "term.h"
 
@@ -46,8 +50,10 @@ typedef struct friction_data {
     const eo_scene_obstacle *ob;   /* borrowed (the scene's) */
     int cap, nc;
     contact *c;                    /* cap = (obstacles with friction) · nv */
-    double *xa;                    /* n_full: the anchor xₙ */
-    double *gprev;                 /* n_full: ∇D at the end of the last accepted step (weight 1) */
+    double *xa;                    /* n_full: the anchor x̂ (vₙ₊₁(x̂) = 0) */
+    double *work;                  /* n_full */
+    double s;                      /* hα */
+    double wfac;                   /* 2 with a linear term fₙ (Newmark), else 1 */
     int n_full;
     int group;
     int *dofs;                     /* 3·nv free ids */
@@ -58,7 +64,7 @@ static double slip(const friction_data *d, const contact *c, const double *x, do
 {
     double r[3], rn = 0, y = 0;
     for (int k = 0; k < 3; k++) {
-        r[k] = x[3 * c->v + k] - d->xa[3 * c->v + k];
+        r[k] = d->s * (x[3 * c->v + k] - d->xa[3 * c->v + k]);
         rn += r[k] * c->n[k];
     }
     for (int k = 0; k < 3; k++) {
@@ -79,11 +85,14 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
     const friction_data *d = t->data;
     double e = 0, u[3];
     for (int i = 0; i < d->nc; i++) e += d->c[i].mul * f0(slip(d, d->c + i, x, u), d->c[i].eps);
-    return t->weight * e;
+    return t->weight * d->wfac * e / d->s;
 }
 
-static double grad_into(const friction_data *d, const double *x, double w, double *g)
+static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
 {
+    (void)s;
+    const friction_data *d = t->data;
+    const double w = t->weight * d->wfac;
     double e = 0, u[3];
     for (int i = 0; i < d->nc; i++) {
         const contact *c = d->c + i;
@@ -92,13 +101,7 @@ static double grad_into(const friction_data *d, const double *x, double w, doubl
         double phi = y < c->eps ? 2 / c->eps - y / (c->eps * c->eps) : 1 / y;
         for (int k = 0; k < 3; k++) g[3 * c->v + k] += w * c->mul * phi * u[k];
     }
-    return w * e;
-}
-
-static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
-{
-    (void)s;
-    return grad_into(t->data, x, t->weight, g);
+    return w * e / d->s;
 }
 
 static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
@@ -116,7 +119,7 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
             phi = 1 / y;
             q = -1 / (y * y * y);
         }
-        const double a = t->weight * c->mul;
+        const double a = t->weight * d->wfac * d->s * c->mul;
         for (int r = 0; r < 3; r++)
             for (int k = 0; k < 3; k++)
                 He[3 * r + k] = a * (phi * ((r == k) - c->n[r] * c->n[k]) + q * u[r] * u[k]);
@@ -141,7 +144,7 @@ static void destroy(eo_term *t, eo_ctx *ctx)
     if (!d) return;
     eo_free(ctx, d->c);
     eo_free(ctx, d->xa);
-    eo_free(ctx, d->gprev);
+    eo_free(ctx, d->work);
     eo_free(ctx, d->dofs);
     eo_free(ctx, d);
 }
@@ -155,10 +158,25 @@ static const eo_term_ops friction_ops = {
     .destroy = destroy,
 };
 
-void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, double h)
+void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, const double *vn, double h,
+                          const eo_integrator_type *integ)
 {
     friction_data *d = t->data;
-    memcpy(d->xa, xn, (size_t)s->n_full * sizeof(double));
+    const int nf = s->n_full;
+    /* vₙ₊₁(x) = α (x − x̂): at x = xₙ (work) and at xₙ + 1 (xa) */
+    integ->velocity(nf, h, xn, vn, xn, d->work);
+    for (int j = 0; j < nf; j++) d->xa[j] = xn[j] + 1;
+    double v1;
+    integ->velocity(1, h, xn, vn, d->xa, &v1);
+    const double alpha = v1 - d->work[0];
+    d->wfac = integ->force_n ? 2 : 1;
+    if (alpha > 0 && isfinite(alpha)) {
+        d->s = h * alpha;
+        for (int j = 0; j < nf; j++) d->xa[j] = xn[j] - d->work[j] / alpha;
+    } else { /* no velocity (static): the slip is the displacement over the step */
+        d->s = 1;
+        memcpy(d->xa, xn, (size_t)nf * sizeof(double));
+    }
     d->nc = 0;
     for (int o = 0; o < d->nob; o++) {
         const eo_scene_obstacle *ob = d->ob + o;
@@ -173,26 +191,6 @@ void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, double 
             d->nc++;
         }
     }
-}
-
-void eo_term_friction_force_n(eo_term *t, double *g)
-{
-    friction_data *d = t->data;
-    for (int j = 0; j < d->n_full; j++) g[j] += d->gprev[j];
-}
-
-void eo_term_friction_accept(eo_term *t, const eo_sys *s, const double *x)
-{
-    friction_data *d = t->data;
-    memset(d->gprev, 0, (size_t)s->n_full * sizeof(double));
-    grad_into(d, x, 1.0, d->gprev);
-}
-
-void eo_term_friction_reset(eo_term *t, const eo_sys *s)
-{
-    friction_data *d = t->data;
-    d->nc = 0;
-    memset(d->gprev, 0, (size_t)s->n_full * sizeof(double));
 }
 
 int eo_term_friction_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out)
@@ -211,11 +209,12 @@ int eo_term_friction_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_
         d->n_full = s->n_full;
         d->c = eo_malloc(s->ctx, (size_t)d->cap * sizeof *d->c);
         d->xa = eo_calloc(s->ctx, (size_t)s->n_full, sizeof(double));
-        d->gprev = eo_calloc(s->ctx, (size_t)s->n_full, sizeof(double));
+        d->work = eo_calloc(s->ctx, (size_t)s->n_full, sizeof(double));
+        d->s = d->wfac = 1;
         d->dofs = eo_malloc(s->ctx, (size_t)s->n_full * sizeof(int));
     }
     (*out)->data = d;
-    if (!d || !d->c || !d->xa || !d->gprev || !d->dofs) {
+    if (!d || !d->c || !d->xa || !d->work || !d->dofs) {
         eo_term_destroy(s->ctx, out);
         return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (friction)");
     }
