@@ -18,6 +18,7 @@
 #include "elastopt/scene.h"
 #include "problem_registry.h"
 #include "elastopt/step.h"
+#include "lattice.h"
 #include "obstacle.h"
 
 /* ---------------------------------------------------------------- descriptor tables */
@@ -87,6 +88,27 @@ const eo_param_desc eo_scene_tetgen_opts_desc[] = {
              "better shaped, more tets)"},
     {.key = "max_volume", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_tetgen_opts, max_volume), .def.d = 0,
      .min = 0, .range = EO_RANGE_MIN, .help = "largest tet volume (m^3, TetGen -a); 0 = no bound"},
+    {0},
+};
+
+const eo_param_desc eo_scene_lattice_opts_desc[] = {
+    {.key = "cells", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_lattice_opts, cells), .def.v = {10, 10, 0},
+     .help = "grid cells along x, y, z (integers >= 0; 0 = flat along that axis: [n, n, 0] is a cloth)"},
+    {.key = "size", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_lattice_opts, size), .def.v = {1, 1, 0},
+     .help = "extent along x, y, z (m; > 0 where cells > 0)"},
+    {.key = "origin", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_lattice_opts, origin), .def.v = {0, 0, 0},
+     .help = "position of vertex 0, the minimum corner (m)"},
+    {.key = "mass", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_lattice_opts, mass), .def.d = 1, .min = 0,
+     .range = EO_RANGE_POSITIVE, .help = "total mass (kg), spread evenly over the cells and each cell's corners"},
+    {.key = "structural_k", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_lattice_opts, structural_k),
+     .def.d = 1000, .min = 0, .range = EO_RANGE_MIN,
+     .help = "stiffness of the structural springs between grid neighbours (N/m; 0 = none)"},
+    {.key = "shear_k", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_lattice_opts, shear_k), .def.d = 1000,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "stiffness of the shear springs, both diagonals of every grid square (N/m; 0 = none)"},
+    {.key = "bending_k", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_lattice_opts, bending_k), .def.d = 100,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "stiffness of the bending springs between grid points two apart along an axis (N/m; 0 = none)"},
     {0},
 };
 
@@ -184,6 +206,7 @@ const eo_cfg_doc eo_scene_docs[] = {
     {"", eo_scene_opts_desc, "top-level scene keys (also: mesh, material, materials, boundary, initial, springs, collisions, point_masses, time, solver, output)"},
     {"mesh", eo_scene_mesh_opts_desc, "the mesh: a file, mesh.generate, or mesh.points [[x,y,z], ...] (points without tets: a mass-spring system)"},
     {"mesh.generate", eo_scene_generate_opts_desc, "generated box of hexahedral cells split into tets"},
+    {"mesh.lattice", eo_scene_lattice_opts_desc, "generated mass-spring lattice without tets (cloth: one axis with 0 cells): structural, shear and bending springs"},
     {"mesh.tetgen", eo_scene_tetgen_opts_desc, "tetrahedralization of a surface mesh file (.obj, .off, .stl, .ply) by TetGen"},
     {"time", eo_scene_time_opts_desc, "time stepping"},
     {"output", eo_scene_output_opts_desc, "what `elastopt run` writes"},
@@ -286,7 +309,7 @@ static int load_points(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc, const json_t *pts
 
 static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
 {
-    static const char *const extra[] = {"generate", "points", "tetgen", NULL};
+    static const char *const extra[] = {"generate", "points", "tetgen", "lattice", NULL};
     int rc = eo_cfg_section(ctx, cfg, "mesh", eo_scene_mesh_opts_desc, &sc->mesh_opts, extra);
     if (rc < 0) return rc;
     eo_params_default(eo_scene_tetgen_opts_desc, &sc->tetgen);
@@ -300,6 +323,30 @@ static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
             return cfg_err(ctx, cfg, "mesh.tetgen", EO_ERR_INVALID,
                            "mesh.tetgen applies to surface mesh files (.obj, .off, .stl, .ply); mesh.file is '%s'",
                            sc->mesh_opts.file);
+    }
+    if (eo_cfg_get(cfg, "mesh.lattice")) {
+        if (sc->mesh_opts.file[0] || eo_cfg_get(cfg, "mesh.generate") || eo_cfg_get(cfg, "mesh.points"))
+            return cfg_err(ctx, cfg, "mesh.lattice", EO_ERR_INVALID,
+                           "give one of mesh.file, mesh.generate, mesh.points, mesh.lattice");
+        eo_params_default(eo_scene_lattice_opts_desc, &sc->lat);
+        if ((rc = eo_cfg_section(ctx, cfg, "mesh.lattice", eo_scene_lattice_opts_desc, &sc->lat, NULL)) < 0) return rc;
+        double nv = 1;
+        for (int k = 0; k < 3; k++) {
+            double c = sc->lat.cells[k];
+            if (!(c >= 0) || c != floor(c) || c > 1e4)
+                return cfg_err(ctx, cfg, "mesh.lattice.cells", EO_ERR_RANGE,
+                               "cells must be integers >= 0; component %d is %g", k, c);
+            if (c > 0 && !(sc->lat.size[k] > 0 && isfinite(sc->lat.size[k])))
+                return cfg_err(ctx, cfg, "mesh.lattice.size", EO_ERR_RANGE,
+                               "size must be positive along an axis with cells; component %d is %g", k, sc->lat.size[k]);
+            nv *= c + 1;
+        }
+        if (nv > 1e7) return cfg_err(ctx, cfg, "mesh.lattice.cells", EO_ERR_RANGE, "%g points is too many", nv);
+        rc = eo_lattice_build(ctx, &sc->lat, &sc->mesh, &sc->spring_ab, &sc->spring_k, &sc->nspring, &sc->pmass,
+                              sc->lattice_count);
+        if (rc < 0) return rc;
+        sc->points = sc->lattice = 1;
+        return EO_OK;
     }
     json_t *pts = eo_cfg_get(cfg, "mesh.points");
     if (pts) {
@@ -664,9 +711,9 @@ static int load_point_masses(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
         return cfg_err(ctx, cfg, "point_masses", EO_ERR_TYPE, "expected a list of [vertex, kg] pairs, got %s",
                        eo_json_type_name(list));
     if (!(sc->opts.point_mass > 0) && !(list && json_array_size(list))) return EO_OK;
-    sc->pmass = eo_calloc(ctx, (size_t)nv, sizeof(double));
+    if (!sc->pmass) sc->pmass = eo_calloc(ctx, (size_t)nv, sizeof(double)); /* (a lattice has its masses) */
     if (!sc->pmass) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
-    for (int v = 0; v < nv; v++) sc->pmass[v] = sc->opts.point_mass;
+    for (int v = 0; v < nv; v++) sc->pmass[v] += sc->opts.point_mass;
     for (size_t i = 0; list && i < json_array_size(list); i++) {
         char path[64];
         snprintf(path, sizeof path, "point_masses.%zu", i);
@@ -701,6 +748,13 @@ static int load_springs(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     if (rc < 0) return rc;
     json_t *list = eo_cfg_get(cfg, "springs.list");
     int is_list = strcmp(sc->springs.edges, "list") == 0, is_mesh = strcmp(sc->springs.edges, "mesh") == 0;
+    if (sc->lattice) { /* its springs are generated; springs.damping applies to them */
+        if (is_list || is_mesh || list)
+            return cfg_err(ctx, cfg, "springs.edges", EO_ERR_INVALID,
+                           "mesh.lattice makes its own springs (structural_k, shear_k, bending_k): springs.edges must "
+                           "be \"none\"");
+        return EO_OK;
+    }
     if (list && !is_list)
         return cfg_err(ctx, cfg, "springs.list", EO_ERR_INVALID, "springs.list needs springs.edges = \"list\"");
     if (is_list && (!json_is_array(list) || !json_array_size(list)))
@@ -824,6 +878,7 @@ void eo_scene_destroy(eo_scene **psc)
     eo_free(ctx, sc->bc);
     eo_free(ctx, sc->pmass);
     eo_free(ctx, sc->spring_ab);
+    eo_free(ctx, sc->spring_k);
     eo_free(ctx, sc->collision);
     eo_free(ctx, sc);
     *psc = NULL;
@@ -874,6 +929,12 @@ json_t *eo_scene_to_json(const eo_scene *sc)
     json_t *o = eo_params_to_json(eo_scene_opts_desc, &sc->opts);
     json_t *mesh = eo_params_to_json(eo_scene_mesh_opts_desc, &sc->mesh_opts);
     if (sc->generated) json_object_set_new(mesh, "generate", eo_params_to_json(eo_scene_generate_opts_desc, &sc->gen));
+    if (sc->lattice) {
+        json_t *l = eo_params_to_json(eo_scene_lattice_opts_desc, &sc->lat);
+        json_object_set_new(l, "springs", json_pack("{s:i, s:i, s:i}", "structural", sc->lattice_count[0], "shear",
+                                                    sc->lattice_count[1], "bending", sc->lattice_count[2]));
+        json_object_set_new(mesh, "lattice", l);
+    }
     json_object_set_new(mesh, "tetgen", eo_params_to_json(eo_scene_tetgen_opts_desc, &sc->tetgen));
     json_object_set_new(mesh, "vertices", json_integer(sc->mesh->nv));
     json_object_set_new(mesh, "tets", json_integer(sc->mesh->nt));
@@ -1034,7 +1095,7 @@ int eo_scene_describe(eo_ctx *ctx, const eo_scene *sc, char **text)
             hi[k] = v ? fmax(hi[k], m->X[3 * v + k]) : m->X[k];
         }
     tb_printf(&t, "mesh: %s: %d vertices, %d tets, bbox [%g, %g, %g] - [%g, %g, %g]\n",
-              sc->points ? "mesh.points" : sc->generated ? "mesh.generate" : sc->mesh_opts.file, m->nv, m->nt, lo[0],
+              sc->lattice ? "mesh.lattice" : sc->points ? "mesh.points" : sc->generated ? "mesh.generate" : sc->mesh_opts.file, m->nv, m->nt, lo[0],
               lo[1], lo[2], hi[0], hi[1], hi[2]);
     for (int r = 0; r < sc->nmat; r++) {
         int n = 0;

@@ -163,7 +163,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
         add_term(st, t, &st->elastic);
     }
     t = NULL;
-    EO_TRY(rc = eo_term_spring_create(s, sc->nspring, sc->spring_ab, sc->springs.k, sc->springs.damping, &t));
+    EO_TRY(rc = eo_term_spring_create(s, sc->nspring, sc->spring_ab, sc->springs.k, sc->spring_k, sc->springs.damping, &t));
     add_term(st, t, &st->spring);
     t = NULL;
     EO_TRY(rc = eo_term_collision_create(s, sc->ncollision, sc->collision, &t));

@@ -85,9 +85,11 @@ int eo_term_elastic_create(eo_sys *s, eo_term **out);
 int eo_term_gravity_create(eo_sys *s, const double g[3], eo_term **out);
 int eo_term_linear_create(eo_sys *s, eo_term **out);
 /* Springs: the edges of the tets of an edge-model region (`material.model = "spring"`,
- * stiffness material.k) plus `nlist` scene springs (`springs` section: vertex pairs ab,
- * stiffness k, damping c along the spring). EO_OK with *out NULL: no springs. */
-int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, double damping, eo_term **out);
+ * stiffness material.k) plus `nlist` scene springs (`springs` section or a generated
+ * `mesh.lattice`: vertex pairs ab, stiffness klist[i] or, klist NULL, k; damping c along
+ * the spring). EO_OK with *out NULL: no springs. */
+int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, const double *klist, double damping,
+                          eo_term **out);
 /* Spring damping force f_d = −c ((v_a − v_b)·n̂) n̂ on a (and −f_d on b), n̂ the unit
  * spring direction at x; SUBTRACTED from g (g holds ∇E, the force is −g). Scene
  * springs only; used by the explicit integrators. */

@@ -17,7 +17,8 @@
 ///
 /// Config keys (top level; `elastopt help` prints the tables with defaults):
 ///   description        free text, ignored
-///   mesh.file | mesh.generate.{size, cells, split, origin} | mesh.points,
+///   mesh.file | mesh.generate.{size, cells, split, origin} | mesh.points |
+///   mesh.lattice.{cells, size, origin, mass, structural_k, shear_k, bending_k},
 ///   mesh.drop_degenerate, mesh.tetgen.{quality, max_volume}
 ///                      a relative mesh.file is resolved against the config's folder;
 ///                      it is a volume mesh (.node/.ele, .mesh, .msh, .vtu) or a closed
@@ -131,6 +132,29 @@ typedef struct eo_scene_mesh_opts {
     int drop_degenerate;    ///< drop zero-volume/duplicate tets with a warning. Default false.
 } eo_scene_mesh_opts;
 
+/// `mesh.lattice` section: a generated mass-spring lattice (cloth when one axis has 0
+/// cells): (nx+1)(ny+1)(nz+1) point masses on a grid, vertex i + (nx+1)(j + (ny+1)k) at
+/// origin + (i sx/nx, j sy/ny, k sz/nz), no tets. Springs (rest length = the grid
+/// distance), each kind off when its k is 0:
+///   structural  between grid neighbours along each axis,
+///       count Σ_a n_a Π_{b≠a}(n_b+1)          (2D nx×ny: nx(ny+1) + ny(nx+1));
+///   shear       both diagonals of every grid square (cell face),
+///       count 2 Σ_{a<b} n_a n_b Π_{c≠a,b}(n_c+1)  (2D: 2 nx ny);
+///   bending     between grid points two apart along each axis (skip one),
+///       count Σ_a max(n_a−1, 0) Π_{b≠a}(n_b+1)   (2D: (nx−1)(ny+1) + (ny−1)(nx+1)).
+/// `mass` is spread over the cells (segments, squares or cubes) evenly, each cell's share
+/// equally over its corners. On a square grid the sheet's effective stiffness does not
+/// change under refinement (n springs in series, n+1 in parallel).
+typedef struct eo_scene_lattice_opts {
+    double cells[3];        ///< cells per axis (integers >= 0; 0 = flat along that axis). Default [10, 10, 0].
+    double size[3];         ///< extent per axis, m (> 0 where cells > 0, else ignored). Default [1, 1, 0].
+    double origin[3];       ///< position of vertex 0, m. Default [0, 0, 0].
+    double mass;            ///< total mass, kg, > 0. Default 1.
+    double structural_k;    ///< N/m, >= 0 (0 = none). Default 1000.
+    double shear_k;         ///< N/m, >= 0 (0 = none). Default 1000.
+    double bending_k;       ///< N/m, >= 0 (0 = none). Default 100.
+} eo_scene_lattice_opts;
+
 /// `mesh.tetgen` section: tetrahedralization of a surface mesh file.
 typedef struct eo_scene_tetgen_opts {
     double quality;         ///< radius-edge ratio bound (TetGen -q), 0 = none, else >= 1. Default 2.
@@ -203,6 +227,7 @@ EO_API extern const eo_param_desc eo_scene_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_mesh_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_generate_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_tetgen_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_lattice_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_time_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_output_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_initial_opts_desc[];
@@ -255,7 +280,10 @@ typedef struct eo_scene {
     eo_scene_generate_opts gen;
     eo_scene_tetgen_opts tetgen;       ///< mesh.tetgen (used for surface mesh files)
     int generated;                     ///< 1 if the mesh was generated
-    int points;                        ///< 1 if the mesh is mesh.points (vertices, no tets)
+    int points;                        ///< 1 if the mesh is mesh.points or mesh.lattice (vertices, no tets)
+    int lattice;                       ///< 1 if the mesh is mesh.lattice
+    eo_scene_lattice_opts lat;         ///< mesh.lattice (when lattice)
+    int lattice_count[3];              ///< structural, shear, bending springs of the lattice
     eo_mesh *mesh;                     ///< owned
     int lumped;                        ///< 1: lumped mass
     int nmat;                          ///< regions (>= 1); region 0 is `material`
@@ -274,6 +302,7 @@ typedef struct eo_scene {
     eo_scene_springs_opts springs;
     int nspring;                       ///< scene springs (0 if edges = "none")
     int *spring_ab;                    ///< owned, 2·nspring vertex pairs (a < b, unique)
+    double *spring_k;                  ///< owned, nspring stiffnesses (a lattice), NULL: springs.k for all
     int ncollision;
     eo_scene_obstacle *collision;      ///< owned, ncollision obstacles (`collisions`)
     char file[512];                    ///< config file ("<builtin>" if none)
