@@ -11,6 +11,7 @@
 #include "elastopt/material.h"
 #include "elastopt/scene.h"
 #include "elastopt/solver.h"
+#include "obstacle.h"
 
 #define EO_MAX_DOCS 96
 
@@ -29,7 +30,7 @@ static const eo_cfg_raw_doc raw_docs[] = {
     {"boundary", NULL, "list of constrained vertex sets, later entries override earlier ones"},
     {"boundary.N.box", BOX,
      "select rest vertices inside [[x0,y0,z0],[x1,y1,z1]] (inclusive, tolerance 1e-9 of the mesh size)"},
-    {"collisions", NULL, "list of penalty half-space obstacles"},
+    {"collisions", NULL, "list of static obstacles (plane, sphere, box): penalty contact, optional Coulomb friction"},
     {"point_masses",
      "{\"type\": \"array\", \"items\": {\"type\": \"array\", \"prefixItems\": [{\"type\": \"integer\", \"minimum\": 0}, "
      "{\"type\": \"number\", \"minimum\": 0}], \"minItems\": 2, \"maxItems\": 2}}",
@@ -50,6 +51,8 @@ const eo_cfg_doc *eo_config_docs(void)
     if (built) return docs;
     int n = 0;
     for (const eo_cfg_doc *d = eo_scene_docs; d->path && n < EO_MAX_DOCS - 24; d++) docs[n++] = *d;
+    for (const eo_obstacle_type *const *t = eo_obstacle_types; *t && n < EO_MAX_DOCS - 3; t++)
+        docs[n++] = (eo_cfg_doc){(*t)->doc_path, (*t)->params, (*t)->summary};
     docs[n++] = (eo_cfg_doc){"material", eo_material_opts_desc,
                              "default material of every tet (and of each `materials` list entry)"};
     docs[n++] = (eo_cfg_doc){"solver", eo_solver_opts_desc,

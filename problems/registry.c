@@ -19,6 +19,7 @@ extern const eo_integrator_type eo_integrator_implicit_midpoint;
 extern const eo_integrator_type eo_integrator_bdf2;
 extern const eo_scene_type eo_scene_cantilever, eo_scene_cantilever_static, eo_scene_twist,
     eo_scene_stretch, eo_scene_freefall, eo_scene_inverted, eo_scene_drop;
+extern const eo_scene_type eo_scene_cloth;
 
 const void *const eo_registry_integrator[] = {
     &eo_integrator_newmark,
@@ -45,6 +46,7 @@ const void *const eo_registry_scene[] = {
     &eo_scene_freefall,
     &eo_scene_inverted,
     &eo_scene_drop,
+    &eo_scene_cloth,
     NULL,
 };
 

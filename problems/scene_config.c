@@ -19,6 +19,8 @@
 #include "elastopt/scene.h"
 #include "problem_registry.h"
 #include "elastopt/step.h"
+#include "lattice.h"
+#include "obstacle.h"
 
 /* ---------------------------------------------------------------- descriptor tables */
 
@@ -57,7 +59,16 @@ const eo_param_desc eo_scene_springs_opts_desc[] = {
 const eo_param_desc eo_scene_collision_opts_desc[] = {
     {.key = "stiffness", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_collision_opts, stiffness),
      .def.d = 1e5, .min = 0, .range = EO_RANGE_POSITIVE,
-     .help = "penalty stiffness per vertex (N/m): E = k/2 max(0, -(x - point).normal)^2, not mass-weighted"},
+     .help = "penalty stiffness per vertex (N/m): E = k/2 max(0, d)^2 with d the depth inside the obstacle, not "
+             "mass-weighted"},
+    {.key = "friction", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_collision_opts, friction), .def.d = 0,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "Coulomb friction coefficient mu against this obstacle (0 = frictionless); lagged normal force, "
+             "smoothed below eps_v; implicit integrators only"},
+    {.key = "eps_v", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_collision_opts, eps_v), .def.d = 1e-3,
+     .min = 0, .range = EO_RANGE_POSITIVE,
+     .help = "friction smoothing velocity (m/s): the friction force grows from 0 to mu*lambda over tangential "
+             "speeds [0, eps_v] (sticking = creep slower than eps_v)"},
     {0},
 };
 
@@ -78,6 +89,27 @@ const eo_param_desc eo_scene_tetgen_opts_desc[] = {
              "better shaped, more tets)"},
     {.key = "max_volume", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_tetgen_opts, max_volume), .def.d = 0,
      .min = 0, .range = EO_RANGE_MIN, .help = "largest tet volume (m^3, TetGen -a); 0 = no bound"},
+    {0},
+};
+
+const eo_param_desc eo_scene_lattice_opts_desc[] = {
+    {.key = "cells", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_lattice_opts, cells), .def.v = {10, 10, 0},
+     .help = "grid cells along x, y, z (integers >= 0; 0 = flat along that axis: [n, n, 0] is a cloth)"},
+    {.key = "size", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_lattice_opts, size), .def.v = {1, 1, 0},
+     .help = "extent along x, y, z (m; > 0 where cells > 0)"},
+    {.key = "origin", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_lattice_opts, origin), .def.v = {0, 0, 0},
+     .help = "position of vertex 0, the minimum corner (m)"},
+    {.key = "mass", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_lattice_opts, mass), .def.d = 1, .min = 0,
+     .range = EO_RANGE_POSITIVE, .help = "total mass (kg), spread evenly over the cells and each cell's corners"},
+    {.key = "structural_k", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_lattice_opts, structural_k),
+     .def.d = 1000, .min = 0, .range = EO_RANGE_MIN,
+     .help = "stiffness of the structural springs between grid neighbours (N/m; 0 = none)"},
+    {.key = "shear_k", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_lattice_opts, shear_k), .def.d = 1000,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "stiffness of the shear springs, both diagonals of every grid square (N/m; 0 = none)"},
+    {.key = "bending_k", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_lattice_opts, bending_k), .def.d = 100,
+     .min = 0, .range = EO_RANGE_MIN,
+     .help = "stiffness of the bending springs between grid points two apart along an axis (N/m; 0 = none)"},
     {0},
 };
 
@@ -189,6 +221,7 @@ const eo_cfg_doc eo_scene_docs[] = {
     {"", eo_scene_opts_desc, "top-level scene keys (also: mesh, material, materials, boundary, initial, springs, collisions, point_masses, time, solver, output)"},
     {"mesh", eo_scene_mesh_opts_desc, "the mesh: a file, mesh.generate, or mesh.points [[x,y,z], ...] (points without tets: a mass-spring system)"},
     {"mesh.generate", eo_scene_generate_opts_desc, "generated box of hexahedral cells split into tets"},
+    {"mesh.lattice", eo_scene_lattice_opts_desc, "generated mass-spring lattice without tets (cloth: one axis with 0 cells): structural, shear and bending springs"},
     {"mesh.tetgen", eo_scene_tetgen_opts_desc, "tetrahedralization of a surface mesh file (.obj, .off, .stl, .ply) by TetGen"},
     {"time", eo_scene_time_opts_desc, "time stepping"},
     {"damping", eo_scene_damping_opts_desc, "damping force -C v, C = viscous I + rayleigh_alpha M + rayleigh_beta K (explicit and implicit integrators)"},
@@ -200,8 +233,7 @@ const eo_cfg_doc eo_scene_docs[] = {
     {"boundary.N.plane", eo_scene_plane_opts_desc, "select rest vertices with (X - point).normal >= 0"},
     {"boundary.N.rotate", eo_scene_rotate_opts_desc, "rotate the set about an axis"},
     {"springs", eo_scene_springs_opts_desc, "scene springs (mass-spring system) on top of the materials' tet elasticity; material.model = spring means springs only"},
-    {"collisions.N", eo_scene_collision_opts_desc, "half-space obstacle: penalty contact with collisions.N.plane"},
-    {"collisions.N.plane", eo_scene_plane_opts_desc, "the obstacle's boundary plane; the normal points to the free side"},
+    {"collisions.N", eo_scene_collision_opts_desc, "static obstacle (exactly one shape: plane, sphere or box): penalty contact and Coulomb friction"},
     {NULL, NULL, NULL},
 };
 
@@ -293,7 +325,7 @@ static int load_points(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc, const json_t *pts
 
 static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
 {
-    static const char *const extra[] = {"generate", "points", "tetgen", NULL};
+    static const char *const extra[] = {"generate", "points", "tetgen", "lattice", NULL};
     int rc = eo_cfg_section(ctx, cfg, "mesh", eo_scene_mesh_opts_desc, &sc->mesh_opts, extra);
     if (rc < 0) return rc;
     eo_params_default(eo_scene_tetgen_opts_desc, &sc->tetgen);
@@ -307,6 +339,30 @@ static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
             return cfg_err(ctx, cfg, "mesh.tetgen", EO_ERR_INVALID,
                            "mesh.tetgen applies to surface mesh files (.obj, .off, .stl, .ply); mesh.file is '%s'",
                            sc->mesh_opts.file);
+    }
+    if (eo_cfg_get(cfg, "mesh.lattice")) {
+        if (sc->mesh_opts.file[0] || eo_cfg_get(cfg, "mesh.generate") || eo_cfg_get(cfg, "mesh.points"))
+            return cfg_err(ctx, cfg, "mesh.lattice", EO_ERR_INVALID,
+                           "give one of mesh.file, mesh.generate, mesh.points, mesh.lattice");
+        eo_params_default(eo_scene_lattice_opts_desc, &sc->lat);
+        if ((rc = eo_cfg_section(ctx, cfg, "mesh.lattice", eo_scene_lattice_opts_desc, &sc->lat, NULL)) < 0) return rc;
+        double nv = 1;
+        for (int k = 0; k < 3; k++) {
+            double c = sc->lat.cells[k];
+            if (!(c >= 0) || c != floor(c) || c > 1e4)
+                return cfg_err(ctx, cfg, "mesh.lattice.cells", EO_ERR_RANGE,
+                               "cells must be integers >= 0; component %d is %g", k, c);
+            if (c > 0 && !(sc->lat.size[k] > 0 && isfinite(sc->lat.size[k])))
+                return cfg_err(ctx, cfg, "mesh.lattice.size", EO_ERR_RANGE,
+                               "size must be positive along an axis with cells; component %d is %g", k, sc->lat.size[k]);
+            nv *= c + 1;
+        }
+        if (nv > 1e7) return cfg_err(ctx, cfg, "mesh.lattice.cells", EO_ERR_RANGE, "%g points is too many", nv);
+        rc = eo_lattice_build(ctx, &sc->lat, &sc->mesh, &sc->spring_ab, &sc->spring_k, &sc->nspring, &sc->pmass,
+                              sc->lattice_count);
+        if (rc < 0) return rc;
+        sc->points = sc->lattice = 1;
+        return EO_OK;
     }
     json_t *pts = eo_cfg_get(cfg, "mesh.points");
     if (pts) {
@@ -687,9 +743,9 @@ static int load_point_masses(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
         return cfg_err(ctx, cfg, "point_masses", EO_ERR_TYPE, "expected a list of [vertex, kg] pairs, got %s",
                        eo_json_type_name(list));
     if (!(sc->opts.point_mass > 0) && !(list && json_array_size(list))) return EO_OK;
-    sc->pmass = eo_calloc(ctx, (size_t)nv, sizeof(double));
+    if (!sc->pmass) sc->pmass = eo_calloc(ctx, (size_t)nv, sizeof(double)); /* (a lattice has its masses) */
     if (!sc->pmass) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
-    for (int v = 0; v < nv; v++) sc->pmass[v] = sc->opts.point_mass;
+    for (int v = 0; v < nv; v++) sc->pmass[v] += sc->opts.point_mass;
     for (size_t i = 0; list && i < json_array_size(list); i++) {
         char path[64];
         snprintf(path, sizeof path, "point_masses.%zu", i);
@@ -724,6 +780,13 @@ static int load_springs(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     if (rc < 0) return rc;
     json_t *list = eo_cfg_get(cfg, "springs.list");
     int is_list = strcmp(sc->springs.edges, "list") == 0, is_mesh = strcmp(sc->springs.edges, "mesh") == 0;
+    if (sc->lattice) { /* its springs are generated; springs.damping applies to them */
+        if (is_list || is_mesh || list)
+            return cfg_err(ctx, cfg, "springs.edges", EO_ERR_INVALID,
+                           "mesh.lattice makes its own springs (structural_k, shear_k, bending_k): springs.edges must "
+                           "be \"none\"");
+        return EO_OK;
+    }
     if (list && !is_list)
         return cfg_err(ctx, cfg, "springs.list", EO_ERR_INVALID, "springs.list needs springs.edges = \"list\"");
     if (is_list && (!json_is_array(list) || !json_array_size(list)))
@@ -776,7 +839,10 @@ static int load_springs(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
 
 static int load_collisions(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
 {
-    static const char *const extra[] = {"plane", NULL};
+    const char *extra[16];
+    int ne = 0;
+    for (const eo_obstacle_type *const *t = eo_obstacle_types; *t && ne < 15; t++) extra[ne++] = (*t)->name;
+    extra[ne] = NULL;
     json_t *list = eo_cfg_get(cfg, "collisions");
     if (!list) return EO_OK;
     if (!json_is_array(list))
@@ -784,29 +850,37 @@ static int load_collisions(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
                        eo_json_type_name(list));
     int n = (int)json_array_size(list);
     if (!n) return EO_OK;
-    sc->collision_plane = eo_malloc(ctx, 6 * (size_t)n * sizeof(double));
-    sc->collision_k = eo_malloc(ctx, (size_t)n * sizeof(double));
-    if (!sc->collision_plane || !sc->collision_k) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    sc->collision = eo_calloc(ctx, (size_t)n, sizeof *sc->collision);
+    if (!sc->collision) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    char shapes[160] = "";
+    for (int q = 0; extra[q]; q++)
+        snprintf(shapes + strlen(shapes), sizeof shapes - strlen(shapes), "%s\"%s\"", q ? ", " : "", extra[q]);
     for (int i = 0; i < n; i++) {
         char path[64], sub[96];
         snprintf(path, sizeof path, "collisions.%d", i);
-        eo_scene_collision_opts co;
-        eo_scene_plane_opts pl;
-        eo_params_default(eo_scene_collision_opts_desc, &co);
-        eo_params_default(eo_scene_plane_opts_desc, &pl);
-        int rc = eo_cfg_section(ctx, cfg, path, eo_scene_collision_opts_desc, &co, extra);
+        eo_scene_obstacle *ob = sc->collision + i;
+        eo_params_default(eo_scene_collision_opts_desc, &ob->opts);
+        int rc = eo_cfg_section(ctx, cfg, path, eo_scene_collision_opts_desc, &ob->opts, extra);
         if (rc < 0) return rc;
-        snprintf(sub, sizeof sub, "%s.plane", path);
-        if (!eo_cfg_get(cfg, sub))
-            return cfg_err(ctx, cfg, path, EO_ERR_INVALID, "an obstacle needs \"plane\": {\"point\", \"normal\"}");
-        if ((rc = eo_cfg_section(ctx, cfg, sub, eo_scene_plane_opts_desc, &pl, NULL)) < 0) return rc;
-        snprintf(sub, sizeof sub, "%s.plane.normal", path);
-        if (normalize(pl.normal) < 0) return cfg_err(ctx, cfg, sub, EO_ERR_RANGE, "zero normal");
-        for (int k = 0; k < 3; k++) {
-            sc->collision_plane[6 * i + k] = pl.point[k];
-            sc->collision_plane[6 * i + 3 + k] = pl.normal[k];
+        const json_t *item = json_array_get(list, (size_t)i);
+        int nshape = 0;
+        for (const eo_obstacle_type *const *t = eo_obstacle_types; *t; t++)
+            if (member(item, (*t)->name)) {
+                ob->type = *t;
+                nshape++;
+            }
+        if (nshape != 1)
+            return cfg_err(ctx, cfg, path, EO_ERR_INVALID, "an obstacle needs exactly one shape of %s (found %d)",
+                           shapes, nshape);
+        EO_ASSERT(ob->type->params_size <= sizeof ob->shape);
+        eo_params_default(ob->type->params, ob->shape);
+        snprintf(sub, sizeof sub, "%s.%s", path, ob->type->name);
+        if ((rc = eo_cfg_section(ctx, cfg, sub, ob->type->params, ob->shape, NULL)) < 0) return rc;
+        const char *key = "", *msg = ob->type->setup ? ob->type->setup(ob->shape, &key) : NULL;
+        if (msg) {
+            snprintf(sub, sizeof sub, "%s.%s.%s", path, ob->type->name, key);
+            return cfg_err(ctx, cfg, sub, EO_ERR_RANGE, "%s", msg);
         }
-        sc->collision_k[i] = co.stiffness;
     }
     sc->ncollision = n;
     return EO_OK;
@@ -836,8 +910,8 @@ void eo_scene_destroy(eo_scene **psc)
     eo_free(ctx, sc->bc);
     eo_free(ctx, sc->pmass);
     eo_free(ctx, sc->spring_ab);
-    eo_free(ctx, sc->collision_plane);
-    eo_free(ctx, sc->collision_k);
+    eo_free(ctx, sc->spring_k);
+    eo_free(ctx, sc->collision);
     eo_free(ctx, sc);
     *psc = NULL;
 }
@@ -901,6 +975,12 @@ json_t *eo_scene_to_json(const eo_scene *sc)
     json_t *o = eo_params_to_json(eo_scene_opts_desc, &sc->opts);
     json_t *mesh = eo_params_to_json(eo_scene_mesh_opts_desc, &sc->mesh_opts);
     if (sc->generated) json_object_set_new(mesh, "generate", eo_params_to_json(eo_scene_generate_opts_desc, &sc->gen));
+    if (sc->lattice) {
+        json_t *l = eo_params_to_json(eo_scene_lattice_opts_desc, &sc->lat);
+        json_object_set_new(l, "springs", json_pack("{s:i, s:i, s:i}", "structural", sc->lattice_count[0], "shear",
+                                                    sc->lattice_count[1], "bending", sc->lattice_count[2]));
+        json_object_set_new(mesh, "lattice", l);
+    }
     json_object_set_new(mesh, "tetgen", eo_params_to_json(eo_scene_tetgen_opts_desc, &sc->tetgen));
     json_object_set_new(mesh, "vertices", json_integer(sc->mesh->nv));
     json_object_set_new(mesh, "tets", json_integer(sc->mesh->nt));
@@ -942,9 +1022,10 @@ json_t *eo_scene_to_json(const eo_scene *sc)
     json_object_set_new(o, "springs", spr);
     json_t *cols = json_array();
     for (int i = 0; i < sc->ncollision; i++) {
-        const double *p = sc->collision_plane + 6 * i;
-        json_array_append_new(cols, json_pack("{s:{s:[fff], s:[fff]}, s:f}", "plane", "point", p[0], p[1], p[2],
-                                              "normal", p[3], p[4], p[5], "stiffness", sc->collision_k[i]));
+        const eo_scene_obstacle *ob = sc->collision + i;
+        json_t *e = eo_params_to_json(eo_scene_collision_opts_desc, &ob->opts);
+        json_object_set_new(e, ob->type->name, eo_params_to_json(ob->type->params, ob->shape));
+        json_array_append_new(cols, e);
     }
     json_object_set_new(o, "collisions", cols);
     json_object_set_new(o, "time", eo_params_to_json(eo_scene_time_opts_desc, &sc->time));
@@ -1109,7 +1190,7 @@ int eo_scene_describe(eo_ctx *ctx, const eo_scene *sc, char **text)
             hi[k] = v ? fmax(hi[k], m->X[3 * v + k]) : m->X[k];
         }
     tb_printf(&t, "mesh: %s: %d vertices, %d tets, bbox [%g, %g, %g] - [%g, %g, %g]\n",
-              sc->points ? "mesh.points" : sc->generated ? "mesh.generate" : sc->mesh_opts.file, m->nv, m->nt, lo[0],
+              sc->lattice ? "mesh.lattice" : sc->points ? "mesh.points" : sc->generated ? "mesh.generate" : sc->mesh_opts.file, m->nv, m->nt, lo[0],
               lo[1], lo[2], hi[0], hi[1], hi[2]);
     for (int r = 0; r < sc->nmat; r++) {
         int n = 0;

@@ -167,15 +167,25 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
         add_term(st, t, &st->elastic);
     }
     t = NULL;
-    EO_TRY(rc = eo_term_spring_create(s, sc->nspring, sc->spring_ab, sc->springs.k, sc->springs.damping, &t));
+    EO_TRY(rc = eo_term_spring_create(s, sc->nspring, sc->spring_ab, sc->springs.k, sc->spring_k, sc->springs.damping, &t));
     add_term(st, t, &st->spring);
     t = NULL;
-    EO_TRY(rc = eo_term_collision_create(s, sc->ncollision, sc->collision_plane, sc->collision_k, &t));
+    EO_TRY(rc = eo_term_collision_create(s, sc->ncollision, sc->collision, &t));
     add_term(st, t, &st->collision);
     t = NULL;
     EO_TRY(rc = eo_term_damping_create(s, sc->lumped, sc->damping.viscous, sc->damping.rayleigh_alpha,
                                        sc->damping.rayleigh_beta, &t));
     add_term(st, t, &st->damping);
+    t = NULL;
+    if (!st->integ->explicit_step) EO_TRY(rc = eo_term_friction_create(s, sc->ncollision, sc->collision, &t));
+    add_term(st, t, &st->friction);
+    for (int o = 0; o < sc->ncollision && st->integ->explicit_step; o++)
+        if (sc->collision[o].opts.friction > 0) {
+            rc = eo_error(ctx, EO_ERR_INVALID,
+                          "collisions.%d.friction acts in implicit integrators only (a lagged potential of the step "
+                          "problem); %s is explicit", o, st->integ->info.name);
+            goto fail;
+        }
     if (sc->springs.damping > 0 && !st->integ->explicit_step) {
         rc = eo_error(ctx, EO_ERR_INVALID,
                       "springs.damping acts in explicit integrators only; %s is implicit (use damping.viscous / "

@@ -40,6 +40,7 @@ struct eo_step {
     int nterms;
     eo_term *inertia, *elastic, *gravity, *linear, *spring, *collision;
     eo_term *damping;           /* viscous + Rayleigh (term_damping.c), NULL if none */
+    eo_term *friction;    /* lagged friction (term_friction.c), NULL if none */
     /* constraints and pattern */
     int *vbc, *vbc_new;   /* nv: active boundary entry per vertex, -1 free */
     int have_pattern;

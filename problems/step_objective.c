@@ -237,6 +237,7 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
         if ((rc = eo_stepi_damping_stiffness(st)) < 0) return rc;
         damping_begin(st);
     }
+    if (st->friction) eo_term_friction_lag(st->friction, &st->sys, st->x, st->v, h, st->integ);
     if (st->linear) {
         /* c = fₙ = −∇(E_el + gravity potential)(xₙ) − C vₙ (damping) */
         memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));

@@ -15,6 +15,7 @@
 
 #include "elastopt/material.h"
 #include "elastopt/mesh.h"
+#include "elastopt/scene.h"
 #include "elastopt/sparse.h"
 
 /* Data shared by every term of one step problem (owned by step.c). */
@@ -84,16 +85,15 @@ int eo_term_elastic_create(eo_sys *s, eo_term **out);
 int eo_term_gravity_create(eo_sys *s, const double g[3], eo_term **out);
 int eo_term_linear_create(eo_sys *s, eo_term **out);
 /* Springs: the edges of the tets of an edge-model region (`material.model = "spring"`,
- * stiffness material.k) plus `nlist` scene springs (`springs` section: vertex pairs ab,
- * stiffness k, damping c along the spring). EO_OK with *out NULL: no springs. */
-int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, double damping, eo_term **out);
+ * stiffness material.k) plus `nlist` scene springs (`springs` section or a generated
+ * `mesh.lattice`: vertex pairs ab, stiffness klist[i] or, klist NULL, k; damping c along
+ * the spring). EO_OK with *out NULL: no springs. */
+int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, const double *klist, double damping,
+                          eo_term **out);
 /* Spring damping force f_d = −c ((v_a − v_b)·n̂) n̂ on a (and −f_d on b), n̂ the unit
  * spring direction at x; SUBTRACTED from g (g holds ∇E, the force is −g). Scene
  * springs only; used by the explicit integrators. */
 void eo_term_spring_damping(eo_term *t, const eo_sys *s, const double *x, const double *v, double *g);
-/* Penalty half-space obstacles (term_collision.c): nplanes planes, 6 numbers each
- * (point, unit normal), stiffness k[i]. */
-int eo_term_collision_create(eo_sys *s, int nplanes, const double *planes, const double *k, eo_term **out);
 /* Viscous + Rayleigh damping C = γI + αM + βK₀ (term_damping.c); EO_OK with *out NULL
  * when all three are 0. Per step: set_step (xₙ, κ, b of the stage velocity
  * v_s = κ(x − xₙ) + b; b NULL = 0) and, when needs_stiffness, set_stiffness (K₀ in the
@@ -104,6 +104,17 @@ void eo_term_damping_set_step(eo_term *t, const eo_sys *s, const double *xn, dou
 int eo_term_damping_needs_stiffness(const eo_term *t);
 void eo_term_damping_set_stiffness(eo_term *t, const eo_csc *K);
 void eo_term_damping_apply(eo_term *t, const eo_sys *s, const double *u, double *out);
+/* Penalty contact with the scene's static obstacles (term_collision.c; shapes in
+ * obstacle.h). `ob` (nob entries) is borrowed. EO_OK with *out NULL: no obstacle. */
+int eo_term_collision_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out);
+/* Lagged, smoothed Coulomb friction against the obstacles with friction μ > 0
+ * (term_friction.c). EO_OK with *out NULL: no obstacle has friction. Per step:
+ * eo_term_friction_lag at xₙ, vₙ (contacts, normal forces, tangent planes, the slip
+ * velocity map of the integrator; recomputed from scratch each time). */
+struct eo_integrator_type;
+int eo_term_friction_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out);
+void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, const double *vn, double h,
+                          const struct eo_integrator_type *integ);
 void eo_term_destroy(eo_ctx *ctx, eo_term **t);
 
 /* Shared helper: allocate a term with a full-length vector if `with_vec`. */

@@ -1,56 +1,58 @@
-/* Collision term: penalty forces against half-space obstacles (001 §2.7),
+/* Collision term: penalty forces against static obstacles (001 §2.7; shapes in
+ * obstacle.h: plane, sphere, box),
  *
- *     E_c(x) = Σ_planes Σ_vertices (k/2) · max(0, −(x_v − p)·n)²,
+ *     E_c(x) = Σ_obstacles Σ_vertices (k/2) · max(0, d(x_v))²,
  *
- * p a point of the plane, n its unit normal pointing to the free side, k the plane's
- * stiffness in N/m PER VERTEX (not mass-weighted: a vertex pushed into the plane by a
- * force F rests at penetration d = F/k, e.g. m_v g/k under its own weight; refine the
- * mesh and the total contact stiffness grows with the number of touching vertices).
- * With d = −(x_v − p)·n > 0 (penetrating):
- *     ∇_v E = −k d n,   ∇²_v E = k n nᵀ   (PSD, rank one);
- * zero otherwise. E is C¹ with a jump of the Hessian at d = 0. The term is weighted by
- * the integrator's w like every potential, and absent when the scene has no
- * `collisions` (a scene without obstacles pays nothing). */
+ * d the obstacle's penetration depth (plane: −(x − p)·n; sphere: r − |x − c|; box: the
+ * distance to the nearest face), k the obstacle's stiffness in N/m PER VERTEX (not
+ * mass-weighted: a vertex pushed into a plane by a force F rests at depth d = F/k, e.g.
+ * m_v g/k under its own weight; refine the mesh and the total contact stiffness grows
+ * with the number of touching vertices). With d > 0, n = −∇d the outward normal and
+ * ∇²d = −κ (I − n nᵀ):
+ *     ∇_v E = −k d n,   ∇²_v E = k n nᵀ − k d κ (I − n nᵀ);
+ * zero otherwise. The tangential eigenvalue −k d κ (a sphere: κ = 1/ρ) is negative:
+ * EO_PROJ_CLAMP drops it, EO_PROJ_ABS flips it; planes and boxes are PSD already. E is C¹
+ * with a jump of the Hessian at d = 0. The term is weighted by the integrator's w like
+ * every potential, and absent when the scene has no `collisions`. The obstacle list is
+ * borrowed from the scene. */
 #include <math.h>
 
+#include "obstacle.h"
 #include "term.h"
 
 typedef struct collision_data {
-    int np;
-    double *plane;   /* 6·np: point, unit normal */
-    double *k;       /* np */
-    int group;       /* one 3-dof element per vertex */
-    int *dofs;       /* 3·nv free ids */
+    int nob;
+    const eo_scene_obstacle *ob;   /* borrowed (the scene's) */
+    int group;                     /* one 3-dof element per vertex */
+    int *dofs;                     /* 3·nv free ids */
 } collision_data;
-
-static double depth(const double *pl, const double *xv)
-{
-    return -((xv[0] - pl[0]) * pl[3] + (xv[1] - pl[1]) * pl[4] + (xv[2] - pl[2]) * pl[5]);
-}
 
 static double energy(eo_term *t, const eo_sys *s, const double *x)
 {
     const collision_data *d = t->data;
-    double e = 0;
-    for (int p = 0; p < d->np; p++)
+    double e = 0, n[3], kap;
+    for (int o = 0; o < d->nob; o++) {
+        const eo_scene_obstacle *ob = d->ob + o;
         for (int v = 0; v < s->nv; v++) {
-            double dd = depth(d->plane + 6 * p, x + 3 * v);
-            if (dd > 0) e += 0.5 * d->k[p] * dd * dd;
+            double dd = ob->type->depth(ob->shape, x + 3 * v, n, &kap);
+            if (dd > 0) e += 0.5 * ob->opts.stiffness * dd * dd;
         }
+    }
     return t->weight * e;
 }
 
 static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
 {
     const collision_data *d = t->data;
-    double e = 0;
-    for (int p = 0; p < d->np; p++) {
-        const double *pl = d->plane + 6 * p;
+    double e = 0, n[3], kap;
+    for (int o = 0; o < d->nob; o++) {
+        const eo_scene_obstacle *ob = d->ob + o;
+        const double k = ob->opts.stiffness;
         for (int v = 0; v < s->nv; v++) {
-            double dd = depth(pl, x + 3 * v);
+            double dd = ob->type->depth(ob->shape, x + 3 * v, n, &kap);
             if (!(dd > 0)) continue;
-            e += 0.5 * d->k[p] * dd * dd;
-            for (int c = 0; c < 3; c++) g[3 * v + c] -= t->weight * d->k[p] * dd * pl[3 + c];
+            e += 0.5 * k * dd * dd;
+            for (int c = 0; c < 3; c++) g[3 * v + c] -= t->weight * k * dd * n[c];
         }
     }
     return t->weight * e;
@@ -58,15 +60,20 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
 
 static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
 {
-    (void)proj; /* k n nᵀ is PSD already */
     const collision_data *d = t->data;
-    double He[9];
-    for (int p = 0; p < d->np; p++) {
-        const double *n = d->plane + 6 * p + 3;
+    double He[9], n[3], kap;
+    for (int o = 0; o < d->nob; o++) {
+        const eo_scene_obstacle *ob = d->ob + o;
+        const double k = t->weight * ob->opts.stiffness;
         for (int v = 0; v < s->nv; v++) {
-            if (!(depth(d->plane + 6 * p, x + 3 * v) > 0)) continue;
+            double dd = ob->type->depth(ob->shape, x + 3 * v, n, &kap);
+            if (!(dd > 0)) continue;
+            /* eigenvalues k (n) and lt = −k d κ (tangent plane) */
+            double lt = -k * dd * kap;
+            if (proj == EO_PROJ_CLAMP && lt < 0) lt = 0;
+            if (proj == EO_PROJ_ABS) lt = fabs(lt);
             for (int i = 0; i < 3; i++)
-                for (int j = 0; j < 3; j++) He[3 * i + j] = t->weight * d->k[p] * n[i] * n[j];
+                for (int j = 0; j < 3; j++) He[3 * i + j] = (k - lt) * n[i] * n[j] + (i == j ? lt : 0);
             eo_assembler_add(s->as, d->group, v, He);
         }
     }
@@ -87,8 +94,6 @@ static void destroy(eo_term *t, eo_ctx *ctx)
 {
     collision_data *d = t->data;
     if (!d) return;
-    eo_free(ctx, d->plane);
-    eo_free(ctx, d->k);
     eo_free(ctx, d->dofs);
     eo_free(ctx, d);
 }
@@ -102,27 +107,22 @@ static const eo_term_ops collision_ops = {
     .destroy = destroy,
 };
 
-int eo_term_collision_create(eo_sys *s, int nplanes, const double *planes, const double *k, eo_term **out)
+int eo_term_collision_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out)
 {
     *out = NULL;
-    if (nplanes <= 0) return EO_OK;
+    if (nob <= 0) return EO_OK;
     int rc = eo_term_alloc(s, &collision_ops, 0, out);
     if (rc < 0) return rc;
     collision_data *d = eo_calloc(s->ctx, 1, sizeof *d);
     if (d) {
-        d->np = nplanes;
-        d->plane = eo_malloc(s->ctx, 6 * (size_t)nplanes * sizeof(double));
-        d->k = eo_malloc(s->ctx, (size_t)nplanes * sizeof(double));
+        d->nob = nob;
+        d->ob = ob;
         d->dofs = eo_malloc(s->ctx, (size_t)(s->n_full > 0 ? s->n_full : 1) * sizeof(int));
     }
     (*out)->data = d;
-    if (!d || !d->plane || !d->k || !d->dofs) {
+    if (!d || !d->dofs) {
         eo_term_destroy(s->ctx, out);
         return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (collisions)");
-    }
-    for (int p = 0; p < nplanes; p++) {
-        for (int c = 0; c < 6; c++) d->plane[6 * p + c] = planes[6 * p + c];
-        d->k[p] = k[p];
     }
     return EO_OK;
 }

@@ -26,6 +26,7 @@ typedef struct spring_data {
     int first_scene;                      /* edges [first_scene, ne) are scene springs */
     double damping;                       /* c of the scene springs, N·s/m */
     eo_material_coef scene_coef;          /* k of the scene springs */
+    eo_material_coef *list_coef;          /* per scene spring (a lattice's kinds), or NULL */
 } spring_data;
 
 extern const eo_material_type eo_material_spring;
@@ -103,6 +104,7 @@ static void destroy(eo_term *t, eo_ctx *ctx)
     eo_free(ctx, d->type);
     eo_free(ctx, d->coef);
     eo_free(ctx, d->dofs);
+    eo_free(ctx, d->list_coef);
     eo_free(ctx, d);
 }
 
@@ -137,7 +139,8 @@ void eo_term_spring_damping(eo_term *t, const eo_sys *s, const double *x, const 
     }
 }
 
-int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, double damping, eo_term **out)
+int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, const double *klist, double damping,
+                          eo_term **out)
 {
     static const int pairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
     *out = NULL;
@@ -179,9 +182,10 @@ int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, double 
         d->type = eo_malloc(s->ctx, (size_t)ne * sizeof *d->type);
         d->coef = eo_malloc(s->ctx, (size_t)ne * sizeof *d->coef);
         d->dofs = eo_malloc(s->ctx, (size_t)ne * 6 * sizeof(int));
+        if (klist && nlist > 0) d->list_coef = eo_malloc(s->ctx, (size_t)nlist * sizeof *d->list_coef);
     }
     (*out)->data = d;
-    if (!d || !d->ab || !d->L || !d->type || !d->coef || !d->dofs) {
+    if (!d || !d->ab || !d->L || !d->type || !d->coef || !d->dofs || (klist && nlist > 0 && !d->list_coef)) {
         eo_free(s->ctx, cand);
         eo_term_destroy(s->ctx, out);
         return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (springs)");
@@ -204,6 +208,10 @@ int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, double 
         d->ab[2 * ne + 1] = ab[2 * i + 1];
         d->type[ne] = &eo_material_spring;
         d->coef[ne] = &d->scene_coef;
+        if (d->list_coef) {
+            d->list_coef[i] = eo_material_coef_from(1, 0, 1, klist[i]);
+            d->coef[ne] = d->list_coef + i;
+        }
     }
     for (int e = 0; e < d->ne; e++) {
         double L2 = 0;

@@ -260,8 +260,8 @@ static void test_drop(void)
         eo_test_ctx_done(&ctx);
         return;
     }
-    const double k = eo_sim_scene(s)->collision_k[0], g = 9.81;
-    const double *pl = eo_sim_scene(s)->collision_plane;
+    const double k = eo_sim_scene(s)->collision[0].opts.stiffness, g = 9.81;
+    const double *pl = eo_sim_scene(s)->collision[0].shape; /* plane: point, unit normal */
     int bounced = 0;
     double zmin = INFINITY;
     for (int i = 0; i < eo_sim_scene(s)->time.steps; i++) {

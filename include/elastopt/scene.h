@@ -17,7 +17,8 @@
 ///
 /// Config keys (top level; `elastopt help` prints the tables with defaults):
 ///   description        free text, ignored
-///   mesh.file | mesh.generate.{size, cells, split, origin} | mesh.points,
+///   mesh.file | mesh.generate.{size, cells, split, origin} | mesh.points |
+///   mesh.lattice.{cells, size, origin, mass, structural_k, shear_k, bending_k},
 ///   mesh.drop_degenerate, mesh.tetgen.{quality, max_volume}
 ///                      a relative mesh.file is resolved against the config's folder;
 ///                      it is a volume mesh (.node/.ele, .mesh, .msh, .vtu) or a closed
@@ -43,9 +44,13 @@
 ///                      material.model = "spring" instead has NO tet elasticity and
 ///                      springs (material.k) on its tet edges: "springs only". damping c
 ///                      (N·s/m along each scene spring) acts in explicit integrators only
-///   collisions         list of half-space obstacles {"plane": {"point", "normal"},
-///                      "stiffness": k}: penalty k/2·max(0, −(x−p)·n)² per vertex (N/m
-///                      per vertex, not mass-weighted)
+///   collisions         list of static obstacles, each exactly one shape: "plane":
+///                      {"point", "normal"} (half-space), "sphere": {"center", "radius"}
+///                      (solid ball), "box": {"min", "max"} (solid axis-aligned box); with
+///                      "stiffness": k (penalty k/2·max(0, d)² per vertex, d the depth, N/m
+///                      per vertex, not mass-weighted), "friction": μ (Coulomb, 0 = none;
+///                      implicit integrators) and "eps_v" (m/s, the friction smoothing
+///                      velocity)
 ///   gravity            3-vector, m/s², default [0, 0, -9.81]
 ///   boundary           list; each entry selects rest vertices by exactly one of
 ///                      "box": [[lo],[hi]] (inside, inclusive, with a tolerance of 1e-9
@@ -103,16 +108,54 @@ typedef struct eo_scene_springs_opts {
     double damping;         ///< c along each spring, N·s/m, >= 0 (explicit integrators). Default 0.
 } eo_scene_springs_opts;
 
-/// Scalar keys of one `collisions` entry (its plane is `collisions.N.plane`).
+/// Scalar keys of one `collisions` entry (its shape is `collisions.N.plane`, `.sphere`
+/// or `.box`).
 typedef struct eo_scene_collision_opts {
     double stiffness;       ///< penalty stiffness k per vertex, N/m, > 0. Default 1e5.
+    double friction;        ///< Coulomb coefficient μ, >= 0; 0 = frictionless. Default 0.
+    double eps_v;           ///< friction smoothing velocity ε_v, m/s, > 0: below it the friction
+                            ///< force grows smoothly from 0 (static friction is approximated by
+                            ///< creep slower than ε_v). Default 1e-3.
 } eo_scene_collision_opts;
+
+/// Largest number of doubles of an obstacle shape's parameters.
+#define EO_OBSTACLE_PARAMS 12
+
+/// One `collisions` entry: a static obstacle shape with its penalty and friction.
+typedef struct eo_scene_obstacle {
+    const struct eo_obstacle_type *type;   ///< the shape (problems/obstacle.h): plane, sphere, box
+    double shape[EO_OBSTACLE_PARAMS];      ///< its section's values (e.g. plane: point, unit normal)
+    eo_scene_collision_opts opts;          ///< stiffness, friction, eps_v
+} eo_scene_obstacle;
 
 /// `mesh` section.
 typedef struct eo_scene_mesh_opts {
     char file[512];         ///< mesh file (TetGen, MEDIT, Gmsh). Default "" (generate).
     int drop_degenerate;    ///< drop zero-volume/duplicate tets with a warning. Default false.
 } eo_scene_mesh_opts;
+
+/// `mesh.lattice` section: a generated mass-spring lattice (cloth when one axis has 0
+/// cells): (nx+1)(ny+1)(nz+1) point masses on a grid, vertex i + (nx+1)(j + (ny+1)k) at
+/// origin + (i sx/nx, j sy/ny, k sz/nz), no tets. Springs (rest length = the grid
+/// distance), each kind off when its k is 0:
+///   structural  between grid neighbours along each axis,
+///       count Σ_a n_a Π_{b≠a}(n_b+1)          (2D nx×ny: nx(ny+1) + ny(nx+1));
+///   shear       both diagonals of every grid square (cell face),
+///       count 2 Σ_{a<b} n_a n_b Π_{c≠a,b}(n_c+1)  (2D: 2 nx ny);
+///   bending     between grid points two apart along each axis (skip one),
+///       count Σ_a max(n_a−1, 0) Π_{b≠a}(n_b+1)   (2D: (nx−1)(ny+1) + (ny−1)(nx+1)).
+/// `mass` is spread over the cells (segments, squares or cubes) evenly, each cell's share
+/// equally over its corners. On a square grid the sheet's effective stiffness does not
+/// change under refinement (n springs in series, n+1 in parallel).
+typedef struct eo_scene_lattice_opts {
+    double cells[3];        ///< cells per axis (integers >= 0; 0 = flat along that axis). Default [10, 10, 0].
+    double size[3];         ///< extent per axis, m (> 0 where cells > 0, else ignored). Default [1, 1, 0].
+    double origin[3];       ///< position of vertex 0, m. Default [0, 0, 0].
+    double mass;            ///< total mass, kg, > 0. Default 1.
+    double structural_k;    ///< N/m, >= 0 (0 = none). Default 1000.
+    double shear_k;         ///< N/m, >= 0 (0 = none). Default 1000.
+    double bending_k;       ///< N/m, >= 0 (0 = none). Default 100.
+} eo_scene_lattice_opts;
 
 /// `mesh.tetgen` section: tetrahedralization of a surface mesh file.
 typedef struct eo_scene_tetgen_opts {
@@ -199,6 +242,7 @@ EO_API extern const eo_param_desc eo_scene_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_mesh_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_generate_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_tetgen_opts_desc[];
+EO_API extern const eo_param_desc eo_scene_lattice_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_time_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_output_opts_desc[];
 EO_API extern const eo_param_desc eo_scene_initial_opts_desc[];
@@ -252,7 +296,10 @@ typedef struct eo_scene {
     eo_scene_generate_opts gen;
     eo_scene_tetgen_opts tetgen;       ///< mesh.tetgen (used for surface mesh files)
     int generated;                     ///< 1 if the mesh was generated
-    int points;                        ///< 1 if the mesh is mesh.points (vertices, no tets)
+    int points;                        ///< 1 if the mesh is mesh.points or mesh.lattice (vertices, no tets)
+    int lattice;                       ///< 1 if the mesh is mesh.lattice
+    eo_scene_lattice_opts lat;         ///< mesh.lattice (when lattice)
+    int lattice_count[3];              ///< structural, shear, bending springs of the lattice
     eo_mesh *mesh;                     ///< owned
     int lumped;                        ///< 1: lumped mass
     int nmat;                          ///< regions (>= 1); region 0 is `material`
@@ -271,10 +318,10 @@ typedef struct eo_scene {
     eo_scene_springs_opts springs;
     int nspring;                       ///< scene springs (0 if edges = "none")
     int *spring_ab;                    ///< owned, 2·nspring vertex pairs (a < b, unique)
+    double *spring_k;                  ///< owned, nspring stiffnesses (a lattice), NULL: springs.k for all
     int ncollision;
-    double *collision_plane;           ///< owned, 6·ncollision: point, unit normal
-    double *collision_k;               ///< owned, ncollision stiffnesses
     eo_scene_damping_opts damping;     ///< `damping` section
+    eo_scene_obstacle *collision;      ///< owned, ncollision obstacles (`collisions`)
     char file[512];                    ///< config file ("<builtin>" if none)
     eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
 } eo_scene;
