@@ -43,7 +43,9 @@ EO_API int eo_path_check(eo_ctx *ctx, const char *path, eo_path_mode mode);
 
 /// Create a folder (and parents) if missing; EO_ERR_IO if impossible or not writable.
 EO_API int eo_mkdir_p(eo_ctx *ctx, const char *path);
-/// Read a whole file into a NUL-terminated buffer (eo_free it). EO_ERR_IO if missing.
+/// Read a whole file into a NUL-terminated buffer (eo_free it). EO_ERR_IO if missing,
+/// unreadable or not a regular file (a FIFO, device or folder is refused at once: the
+/// file is opened with O_NONBLOCK and checked before any read, so nothing blocks).
 EO_API int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len);
 
 /// Per-frame fields for VTU output; any pointer may be NULL to omit the field.
