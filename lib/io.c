@@ -19,6 +19,10 @@ struct eo_afile {
 int eo_afile_open(eo_ctx *ctx, const char *path, eo_afile **out)
 {
     *out = NULL;
+    /* a folder, FIFO, device or socket at the path (rename would replace a FIFO or a
+     * device node by a file) or a parent that is missing, not a folder or unwritable */
+    int rc = eo_path_check(ctx, path, EO_PATH_WRITE);
+    if (rc < 0) return rc;
     eo_afile *f = eo_calloc(ctx, 1, sizeof *f);
     if (!f) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
     size_t n = strlen(path);
@@ -90,6 +94,10 @@ int eo_mkdir_p(eo_ctx *ctx, const char *path)
     for (char *p = buf + 1; *p; p++) {
         if (*p != '/') continue;
         *p = 0;
+        struct stat cs;
+        if (stat(buf, &cs) == 0 && !S_ISDIR(cs.st_mode))
+            return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot create folder: '%s' is %s, not a folder",
+                               buf, S_ISREG(cs.st_mode) ? "a file" : "a FIFO, device or socket");
         if (mkdir(buf, 0777) != 0 && errno != EEXIST)
             return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(buf, -1), "cannot create folder: %s",
                                strerror(errno));
@@ -100,7 +108,8 @@ int eo_mkdir_p(eo_ctx *ctx, const char *path)
                            strerror(errno));
     struct stat st;
     if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))
-        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "not a folder");
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "is %s; expected a folder",
+                           S_ISREG(st.st_mode) ? "a file" : "a FIFO, device or socket");
     if (access(buf, W_OK) != 0)
         return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "folder not writable");
     return EO_OK;

@@ -13,7 +13,8 @@
 #  - terminal output: closing line naming failing steps and reasons, --verbose one line
 #    per step, --quiet nothing, a pty gets the \r progress line
 #  - hostile paths (FIFO, device, folder for a file, file for a folder, too long) exit 2
-#    at once (timeout 10); convert never changes a file that existed before it
+#    at once (timeout 10) for run, convert, poisson --vtu, stability --png, bench --out,
+#    check; convert never changes a file that existed before it
 set -u
 EXE="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"
 SRC="${EO_SOURCE_ROOT:-$(dirname "$0")/..}"
@@ -200,7 +201,9 @@ mkdir adir.vtu
 long=$(printf 'x%.0s' $(seq 300))
 for args in "run fifo" "run ." "run -q --out fifo" "run -q --out /dev/null" "run -q --out afile" "run -q --out afile/sub" \
     "run -q --out $long" "run --restart fifo" "run --restart afile" "convert fifo x.vtu" "convert gen:1,1,1:2,2,2 fifo.vtu" \
-    "convert gen:1,1,1:2,2,2 adir.vtu" "convert gen:1,1,1:2,2,2 afile/x.vtu" "convert gen:1,1,1:2,2,2 $long.vtu"; do
+    "convert gen:1,1,1:2,2,2 adir.vtu" "convert gen:1,1,1:2,2,2 afile/x.vtu" "convert gen:1,1,1:2,2,2 $long.vtu" \
+    "poisson --n 4 --vtu fifo" "poisson --n 4 --vtu adir.vtu" "stability --png fifo" \
+    "bench $SRC/bench/smoke.json --out afile" "bench $SRC/bench/smoke.json --out fifo" "check fifo"; do
     out=$(timeout 10 "$EXE" $args 2>&1 </dev/null)
     rc=$?
     [ $rc -eq 2 ] && printf '%s' "$out" | grep -q "^elastopt: error: " && ok || bad "$args: exit $rc (expected 2): $out"

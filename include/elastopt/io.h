@@ -22,7 +22,9 @@ extern "C" {
 
 typedef struct eo_afile eo_afile;
 
-/// Open `path` for writing through a temporary file. EO_ERR_IO names the path.
+/// Open `path` for writing through a temporary file. EO_ERR_IO names the path; the path
+/// is checked first (eo_path_check, EO_PATH_WRITE): a folder, FIFO, device or socket at
+/// it, or a missing or unwritable parent folder, is refused before anything is created.
 EO_API int eo_afile_open(eo_ctx *ctx, const char *path, eo_afile **out);
 EO_API FILE *eo_afile_fp(eo_afile *f);
 /// Flush, fsync-less close and rename into place; frees f and sets *f = NULL.
