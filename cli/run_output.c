@@ -157,11 +157,17 @@ int eo_run_dir_count_earlier(const eo_run_dir *d, char *names, size_t n)
     size_t used = 0;
     if (names && n) names[0] = 0;
     struct dirent *e;
-    while ((e = readdir(dir))) {
-        if (!is_run_file(e->d_name)) continue;
-        if (names && count < 4 && used + strlen(e->d_name) + 3 < n)
-            used += (size_t)snprintf(names + used, n - used, "%s%s", count ? ", " : "", e->d_name);
-        count++;
+    int shown = 0;
+    for (int pass = 0; pass < 2; pass++) { /* name the logs and the summary before frames */
+        rewinddir(dir);
+        while ((e = readdir(dir))) {
+            if (!is_run_file(e->d_name) || (frame_step(e->d_name) >= 0) != pass) continue;
+            if (names && shown < 4 && used + strlen(e->d_name) + 3 < n) {
+                used += (size_t)snprintf(names + used, n - used, "%s%s", shown ? ", " : "", e->d_name);
+                shown++;
+            }
+            count++;
+        }
     }
     closedir(dir);
     return count;
