@@ -1,16 +1,35 @@
 /* elastopt run: simulate a scene, each implicit step solved by the configured solver.
  *
  * Everything is validated before anything is written (a bad scene exits 2 and leaves
- * no file): config + overrides, scene, solver section, unknown keys. Then into DIR:
- *   <name>.pvd + <name>_NNNN.vtu   frames (point data displacement, velocity; cell data
- *                                  energy density, J, inverted), every output.every steps
- *   iterations.csv                 one row per solver iteration of every step
+ * no file): config + overrides, scene, solver section, unknown keys. Then into DIR
+ * (--out, else output.dir, else out/<scene name>), locked by run.lock while the run
+ * lasts (run_output.h lists the files):
+ *   run.json                       how the run was set up (read by --restart)
+ *   NAME.pvd + frame_NNNNNN.vtu    frames numbered by step (point data displacement,
+ *                                  velocity; cell data energy density, J, inverted),
+ *                                  every output.every steps
+ *   steps.csv                      one row per step, appended and flushed every step
+ *   iterations.csv                 one row per solver iteration, flushed every step
+ *   restart.dat                    the state after the last completed step (atomic)
  *   summary.json                   build info, the config as given and as resolved, and
  *                                  per step: iterations, reason, converged, time, g,
  *                                  ‖∇g‖, centre of mass, max displacement, min J,
- *                                  inverted tets, kinetic and elastic energy
- * all written atomically. Exit 0 if every step converged, 1 if some did not, 2 on bad
- * input.
+ *                                  inverted tets, kinetic and elastic energy; rewritten
+ *                                  atomically every output.summary_every steps and at
+ *                                  the end
+ * A folder holding an earlier run's files is refused unless --force (which removes
+ * them first) or --restart DIR (which continues that run from restart.dat: positions,
+ * velocities, time and step index; the constrained sets follow from t; the summary and
+ * the pvd are rebuilt from steps.csv and the frames on disk).
+ *
+ * SIGINT / SIGTERM: the handler only sets a flag; the iteration callback then returns
+ * non-zero, the running step stops and is discarded (the state goes back to the last
+ * completed step, its iteration rows are cut from iterations.csv), every file is
+ * completed, summary.json says "stop_reason": "interrupted", and the exit status is
+ * 130 / 143.
+ *
+ * Exit 0 if every step converged, 1 if some did not (or a solver error stopped the
+ * run), 2 on bad input or an output that cannot be written.
  *
  * The steps run through eo_sim (sim.h), the library's one copy of the step protocol.
  * Explicit integrators (forward_euler, ..., leapfrog) advance without a solver: no
@@ -20,89 +39,120 @@
  * After every step the state is checked: a non-finite position, velocity, energy or
  * force (an explicit integrator beyond its stability limit, or a blown-up implicit
  * solve) stops the run with reason "diverged_nonfinite" on that step and as
- * "stop_reason" in summary.json (null when the run was not stopped), an error message
- * naming the step, and exit 1; the last finite state is kept for the frames and the
- * summary. */
+ * "stop_reason" in summary.json, an error message naming the step, and exit 1; the
+ * last finite state is kept for the frames, the summary and restart.dat. */
+#define _XOPEN_SOURCE 700
 #include <jansson.h>
+#include <limits.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "eo_build_config.h"
 #include "elastopt/io.h"
 #include "elastopt/machine.h"
 #include "elastopt/sim.h"
+#include "progress.h"
+#include "run_output.h"
 #include "scene_args.h"
 
 extern const eo_cli_command eo_cmd_run;
 
-typedef struct step_record {
-    int iterations, reason;
-    double t, time, g, grad_norm;
-    long n_value, n_gradient, n_hessian, n_factor;
-    eo_step_stats stats;
-} step_record;
+/* ---------------------------------------------------------------- signals */
+
+static volatile sig_atomic_t g_signal;
+
+static void on_signal(int sig) { g_signal = sig; }
+
+typedef struct signals {
+    struct sigaction old_int, old_term;
+} signals;
+
+static void signals_install(signals *s)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    g_signal = 0;
+    sigaction(SIGINT, &sa, &s->old_int);
+    sigaction(SIGTERM, &sa, &s->old_term);
+}
+
+static void signals_restore(const signals *s)
+{
+    sigaction(SIGINT, &s->old_int, NULL);
+    sigaction(SIGTERM, &s->old_term, NULL);
+}
+
+/* ---------------------------------------------------------------- per iteration */
 
 typedef struct run_state {
     FILE *csv;
     int step;
-    int progress;
-    int nsteps;
-    int iters_this_step;
+    int interrupted;  /* the callback stopped the running step */
 } run_state;
 
 static int on_iter(const eo_iter_info *it, void *user)
 {
     run_state *rs = user;
-    fprintf(rs->csv, "%d,%d,%.6e,%.17g,%.6e,%.6e,%.6e,%d,%d,%s\n", rs->step, it->iteration, it->time, it->g,
-            it->grad_norm, it->decrement, it->alpha, it->ls_evals, it->inverted,
-            it->reason ? eo_reason_name(it->reason) : "");
-    rs->iters_this_step = it->iteration;
+    char b[5][32];
+    fprintf(rs->csv, "%d,%d,%s,%s,%s,%s,%s,%d,%d,%s\n", rs->step, it->iteration, eo_run_num(b[0], it->time, 6),
+            eo_run_num(b[1], it->g, 17), eo_run_num(b[2], it->grad_norm, 6), eo_run_num(b[3], it->decrement, 6),
+            eo_run_num(b[4], it->alpha, 6), it->ls_evals, it->inverted, it->reason ? eo_reason_name(it->reason) : "");
+    if (g_signal) {
+        rs->interrupted = 1;
+        return 1;
+    }
     return 0;
 }
 
-static void progress(const run_state *rs, int done, double t, int iters)
-{
-    if (!rs->progress) return;
-    const int W = 30;
-    int fill = rs->nsteps ? done * W / rs->nsteps : W;
-    char bar[64];
-    for (int i = 0; i < W; i++) bar[i] = i < fill ? '#' : '.';
-    bar[W] = 0;
-    fprintf(stderr, "\r[%s] step %d/%d  t = %.4g s  iterations %d   ", bar, done, rs->nsteps, t, iters);
-    if (done == rs->nsteps) fprintf(stderr, "\n");
-    fflush(stderr);
-}
+/* ---------------------------------------------------------------- frames */
 
-static int write_frame(eo_ctx *ctx, eo_step *st, const char *dir, const char *name, int frame, eo_pvd *pvd,
-                       double *disp, double *psi, double *J, unsigned char *inv)
+typedef struct frame_buf {
+    double *disp, *psi, *J;
+    unsigned char *inv;
+} frame_buf;
+
+static int write_frame(eo_ctx *ctx, eo_step *st, const char *dir, int step, eo_pvd *pvd, const frame_buf *b)
 {
     const eo_mesh *m = eo_step_mesh(st);
     const double *x = eo_step_x(st);
-    for (int i = 0; i < 3 * m->nv; i++) disp[i] = x[i] - m->X[i];
-    eo_step_fields(st, psi, J, inv);
-    eo_vtu_fields f = {.x = x, .displacement = disp, .velocity = eo_step_v(st), .energy_density = psi,
-                       .J = J, .inverted = inv};
-    char file[300], path[1400];
-    snprintf(file, sizeof file, "%s_%04d.vtu", name, frame);
+    for (int i = 0; i < 3 * m->nv; i++) b->disp[i] = x[i] - m->X[i];
+    eo_step_fields(st, b->psi, b->J, b->inv);
+    eo_vtu_fields f = {.x = x, .displacement = b->disp, .velocity = eo_step_v(st), .energy_density = b->psi,
+                       .J = b->J, .inverted = b->inv};
+    char file[64], path[1200];
+    eo_run_frame_name(step, file, sizeof file);
     snprintf(path, sizeof path, "%s/%s", dir, file);
     int rc = eo_vtu_write(ctx, path, m, &f);
     if (rc < 0) return rc;
     return eo_pvd_add(ctx, pvd, eo_step_time(st), file);
 }
 
+/* ---------------------------------------------------------------- summary.json */
+
 static json_t *vec3(const double *v) { return json_pack("[fff]", v[0], v[1], v[2]); }
 
 static json_t *real_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }
 
-static int write_summary(eo_ctx *ctx, const char *dir, const char *name, eo_cfg *cfg, const eo_scene *sc,
-                         const eo_solver *solver, const step_record *rec, int nrec, const eo_step_stats *s0,
-                         int nframes, const char *pvd_file, const char *error)
+typedef struct summary_info {
+    const char *dir, *name, *pvd_file, *error;
+    const char *status;       /* running | finished | interrupted | stopped */
+    const char *stop_reason;  /* NULL, "interrupted", "diverged_nonfinite" */
+    int nframes, restarted_at; /* restarted_at: step this process started from (0: fresh) */
+    double wall;
+} summary_info;
+
+static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_solver *solver,
+                         const eo_run_record *rec, int nrec, const eo_step_stats *s0, const summary_info *in)
 {
     json_t *root = json_object();
-    json_object_set_new(root, "scene", json_string(name));
+    json_object_set_new(root, "scene", json_string(in->name));
     json_object_set_new(root, "config_file", json_string(eo_cfg_file(cfg)));
     eo_machine mach;
     eo_machine_get(&mach);
@@ -123,19 +173,20 @@ static int write_summary(eo_ctx *ctx, const char *dir, const char *name, eo_cfg 
     long total_iters = 0;
     double total_time = 0;
     for (int k = 0; k < nrec; k++) {
-        const step_record *r = rec + k;
+        const eo_run_record *r = rec + k;
         int conv = eo_reason_is_converged(r->reason);
         all &= conv;
-        if (!conv) json_array_append_new(bad, json_integer(k + 1));
+        if (!conv) json_array_append_new(bad, json_integer(r->step));
         total_iters += r->iterations;
         total_time += r->time;
         json_t *e = json_object();
-        json_object_set_new(e, "step", json_integer(k + 1));
+        json_object_set_new(e, "step", json_integer(r->step));
         json_object_set_new(e, "t", json_real(r->t));
         json_object_set_new(e, "iterations", json_integer(r->iterations));
         json_object_set_new(e, "reason", json_string(eo_reason_name(r->reason)));
         json_object_set_new(e, "converged", json_boolean(conv));
-        json_object_set_new(e, "time", json_real(r->time));
+        json_object_set_new(e, "time", real_or_null(r->time));
+        json_object_set_new(e, "wall_time", real_or_null(r->wall));
         json_object_set_new(e, "g", real_or_null(r->g));
         json_object_set_new(e, "grad_norm", real_or_null(r->grad_norm));
         json_object_set_new(e, "evaluations", json_pack("{s:I, s:I, s:I, s:I}", "value", (json_int_t)r->n_value,
@@ -151,19 +202,22 @@ static int write_summary(eo_ctx *ctx, const char *dir, const char *name, eo_cfg 
         json_array_append_new(steps, e);
     }
     if (nrec < sc->time.steps) all = 0;
+    json_object_set_new(root, "status", json_string(in->status));
     json_object_set_new(root, "steps", steps);
     json_object_set_new(root, "steps_run", json_integer(nrec));
+    json_object_set_new(root, "steps_planned", json_integer(sc->time.steps));
     json_object_set_new(root, "all_converged", json_boolean(all));
     json_object_set_new(root, "not_converged", bad);
     json_object_set_new(root, "total_iterations", json_integer(total_iters));
     json_object_set_new(root, "total_solve_time", json_real(total_time));
-    json_object_set_new(root, "frames", json_integer(nframes));
-    json_object_set_new(root, "pvd", pvd_file ? json_string(pvd_file) : json_null());
-    json_object_set_new(root, "error", error ? json_string(error) : json_null());
-    int stopped = nrec > 0 && rec[nrec - 1].reason == EO_DIVERGED_NONFINITE;
-    json_object_set_new(root, "stop_reason", stopped ? json_string(eo_reason_name(EO_DIVERGED_NONFINITE)) : json_null());
+    json_object_set_new(root, "wall_time", json_real(in->wall));
+    json_object_set_new(root, "restarted_at_step", in->restarted_at ? json_integer(in->restarted_at) : json_null());
+    json_object_set_new(root, "frames", json_integer(in->nframes));
+    json_object_set_new(root, "pvd", in->pvd_file ? json_string(in->pvd_file) : json_null());
+    json_object_set_new(root, "error", in->error ? json_string(in->error) : json_null());
+    json_object_set_new(root, "stop_reason", in->stop_reason ? json_string(in->stop_reason) : json_null());
     char path[1100];
-    snprintf(path, sizeof path, "%s/summary.json", dir);
+    snprintf(path, sizeof path, "%s/summary.json", in->dir);
     eo_afile *f = NULL;
     int rc = eo_afile_open(ctx, path, &f);
     if (rc >= 0) {
@@ -182,150 +236,417 @@ static int write_summary(eo_ctx *ctx, const char *dir, const char *name, eo_cfg 
     return rc;
 }
 
+/* ---------------------------------------------------------------- run.json */
+
+static int write_json_file(eo_ctx *ctx, const char *path, json_t *j)
+{
+    eo_afile *f = NULL;
+    int rc = eo_afile_open(ctx, path, &f);
+    if (rc < 0) return rc;
+    char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(17));
+    if (!text) {
+        eo_afile_abort(ctx, &f);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory (%s)", path);
+    }
+    fputs(text, eo_afile_fp(f));
+    fputc('\n', eo_afile_fp(f));
+    free(text);
+    return eo_afile_commit(ctx, &f);
+}
+
+/* The run's origin: absolute scene file or built-in name, every override so far. */
+typedef struct run_origin {
+    char name[256];
+    char file[PATH_MAX];   /* "" for a built-in scene */
+    char builtin[128];
+    const char *ov[2 * EO_CLI_MAX_OVERRIDES + 1];  /* NULL-terminated */
+    int nov;
+} run_origin;
+
+static int write_run_json(eo_ctx *ctx, const char *dir, const run_origin *o, eo_cfg *cfg)
+{
+    json_t *ov = json_array();
+    for (int k = 0; k < o->nov; k++) json_array_append_new(ov, json_string(o->ov[k]));
+    json_t *j = json_pack("{s:s, s:i, s:s, s:o, s:o, s:o, s:O}", "format", "elastopt-run", "version", 1, "name",
+                          o->name, "scene_file", o->file[0] ? json_string(o->file) : json_null(), "builtin",
+                          o->file[0] ? json_null() : json_string(o->builtin), "overrides", ov, "config",
+                          eo_cfg_root(cfg));
+    if (!j) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (run.json)");
+    char path[1100];
+    snprintf(path, sizeof path, "%s/run.json", dir);
+    int rc = write_json_file(ctx, path, j);
+    json_decref(j);
+    return rc;
+}
+
+/* Read DIR/run.json into o (override strings point into *doc: keep it until the end),
+ * and load the scene's config document as the run had it, checked against the recorded
+ * one. */
+static int read_run_json(eo_ctx *ctx, const char *dir, run_origin *o, json_t **doc, eo_cfg **cfg)
+{
+    char path[1100];
+    snprintf(path, sizeof path, "%s/run.json", dir);
+    char *text = NULL;
+    size_t len;
+    struct stat st;
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(dir, -1), "not a folder; expected the output folder of an "
+                                                                   "earlier elastopt run");
+    if (stat(path, &st) != 0)
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(dir, -1),
+                           "no run.json: not the output folder of an elastopt run (or of one from a version without "
+                           "restarts)");
+    int rc = eo_read_file(ctx, path, &text, &len);
+    if (rc < 0) return rc;
+    json_error_t err;
+    *doc = json_loads(text, 0, &err);
+    eo_free(ctx, text);
+    if (!*doc) return eo_error_at(ctx, EO_ERR_PARSE, EO_ERRLOC_FILE(path, err.line), "%s", err.text);
+    const char *name = json_string_value(json_object_get(*doc, "name"));
+    const char *file = json_string_value(json_object_get(*doc, "scene_file"));
+    const char *builtin = json_string_value(json_object_get(*doc, "builtin"));
+    json_t *ov = json_object_get(*doc, "overrides"), *conf = json_object_get(*doc, "config");
+    if (!name || (!file && !builtin) || !json_is_array(ov) || !json_is_object(conf) ||
+        json_array_size(ov) > EO_CLI_MAX_OVERRIDES)
+        return eo_error_at(ctx, EO_ERR_PARSE, EO_ERRLOC_FILE(path, -1),
+                           "expected name, scene_file or builtin, overrides (at most %d) and config",
+                           EO_CLI_MAX_OVERRIDES);
+    snprintf(o->name, sizeof o->name, "%s", name);
+    snprintf(o->file, sizeof o->file, "%s", file ? file : "");
+    snprintf(o->builtin, sizeof o->builtin, "%s", builtin ? builtin : "");
+    o->nov = 0;
+    for (size_t k = 0; k < json_array_size(ov); k++) {
+        const char *s = json_string_value(json_array_get(ov, k));
+        if (!s) return eo_error_at(ctx, EO_ERR_PARSE, EO_ERRLOC_FILE(path, -1), "overrides: expected strings");
+        o->ov[o->nov++] = s;
+    }
+    o->ov[o->nov] = NULL;
+    rc = eo_scene_cfg_load(ctx, file, file ? NULL : builtin, cfg);
+    for (int k = 0; rc >= 0 && k < o->nov; k++) rc = eo_cfg_override(ctx, *cfg, o->ov[k]);
+    if (rc < 0) return rc;
+    if (!json_equal(eo_cfg_root(*cfg), conf))
+        return eo_error_at(ctx, EO_ERR_INVALID, EO_ERRLOC_FILE(file ? file : path, -1),
+                           "the scene changed since the run in %s was started; continuing it would not continue "
+                           "the same simulation (start a new run instead)",
+                           dir);
+    return EO_OK;
+}
+
+/* ---------------------------------------------------------------- the command */
+
 static int run(eo_ctx *ctx, int argc, char **argv)
 {
     eo_cli_scene_args a = {0};
-    const char *out_dir = NULL;
-    int quiet = 0;
+    const char *out_dir = NULL, *restart = NULL;
+    int force = 0;
+    eo_cli_verbosity verb = EO_CLI_NORMAL;
     for (int i = 1; i < argc; i++) {
         int r = eo_cli_scene_arg(&eo_cmd_run, argc, argv, &i, &a);
         if (r < 0) return EO_EXIT_BAD_INPUT;
         if (r > 0) continue;
         if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) out_dir = argv[++i];
-        else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) quiet = 1;
+        else if (strcmp(argv[i], "--restart") == 0 && i + 1 < argc) restart = argv[++i];
+        else if (strcmp(argv[i], "--force") == 0) force = 1;
+        else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) verb = EO_CLI_QUIET;
+        else if (strcmp(argv[i], "--verbose") == 0 || strcmp(argv[i], "-v") == 0) verb = EO_CLI_VERBOSE;
         else return eo_cli_usage_error(&eo_cmd_run, "unknown option '%s'", argv[i]);
     }
+    if (restart && (a.file || a.scene || out_dir || force))
+        return eo_cli_usage_error(&eo_cmd_run, "--restart DIR continues the run in DIR: give no scene, --out or "
+                                               "--force with it (-o overrides, e.g. -o time.steps=N, are allowed)");
     eo_sim *sim = NULL;
-    eo_afile *csv = NULL;
+    eo_cfg *cfg = NULL;
     eo_pvd *pvd = NULL;
-    step_record *rec = NULL;
-    double *fbuf = NULL;
-    int rc, bad_input = 1, nrec = 0, nframes = 0;
-    char name[256], dir[1024], path[1400], pvd_file[300], errtext[1024] = "";
-    eo_cli_scene_name(&a, name, sizeof name);
+    eo_run_record *rec = NULL;
+    double *fbuf = NULL, *xs = NULL, *vs = NULL, *hs = NULL;
+    FILE *csv = NULL, *scsv = NULL;
+    json_t *run_doc = NULL;
+    eo_run_dir rd = {0};
+    signals sig;
+    int rc, nrec = 0, nframes = 0, first = 0, have_signals = 0;
+    char dir[1024], path[1400], pvd_file[300], errtext[1024] = "";
+    static run_origin org; /* big (PATH_MAX); one per process */
+    memset(&org, 0, sizeof org);
+    eo_cli_progress pg;
+    memset(&pg, 0, sizeof pg);
 
     /* ---- validate everything before writing anything (eo_sim_create: scene, solver
      * section, every method's section, unknown keys) */
-    const char *ov[EO_CLI_MAX_OVERRIDES + 1];
-    for (int k = 0; k < a.noverrides; k++) ov[k] = a.overrides[k];
-    ov[a.noverrides] = NULL;
-    EO_TRY(rc = eo_sim_create_from(ctx, a.file, a.scene, ov, &sim));
+    if (restart) {
+        EO_TRY(rc = read_run_json(ctx, restart, &org, &run_doc, &cfg));
+    } else {
+        eo_cli_scene_name(&a, org.name, sizeof org.name);
+        if (a.file) {
+            /* the file must be readable before realpath (a FIFO must not block) */
+            EO_TRY(rc = eo_scene_cfg_load(ctx, a.file, NULL, &cfg));
+            if (!realpath(a.file, org.file)) snprintf(org.file, sizeof org.file, "%s", a.file);
+        } else {
+            snprintf(org.builtin, sizeof org.builtin, "%s", a.scene ? a.scene : "cantilever");
+            EO_TRY(rc = eo_scene_cfg_load(ctx, NULL, org.builtin, &cfg));
+        }
+    }
+    for (int k = 0; k < a.noverrides; k++) {
+        EO_TRY(rc = eo_cfg_override(ctx, cfg, a.overrides[k]));
+        org.ov[org.nov++] = a.overrides[k];
+    }
+    org.ov[org.nov] = NULL;
+    rc = eo_sim_create(ctx, cfg, &sim); /* takes cfg over */
+    cfg = NULL;
+    if (rc < 0) goto fail;
+    cfg = NULL;
     const eo_scene *sc = eo_sim_scene(sim);
     eo_step *st = eo_sim_step_problem(sim);
-    snprintf(dir, sizeof dir, "%s", out_dir ? out_dir : sc->output.dir);
+    if (restart) snprintf(dir, sizeof dir, "%s", restart);
+    else if (out_dir) snprintf(dir, sizeof dir, "%s", out_dir);
+    else if (sc->output.dir[0]) snprintf(dir, sizeof dir, "%s", sc->output.dir);
+    else snprintf(dir, sizeof dir, "out/%s", org.name);
     const eo_mesh *m = sc->mesh;
-    rec = eo_calloc(ctx, (size_t)sc->time.steps, sizeof *rec);
-    fbuf = eo_malloc(ctx, (size_t)(3 * m->nv + 2 * m->nt) * sizeof(double) + (size_t)m->nt);
-    if (!rec || !fbuf) {
-        rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    const int nsteps = sc->time.steps;
+    const size_t nf = (size_t)(3 * m->nv > 0 ? 3 * m->nv : 1);
+    rec = eo_calloc(ctx, (size_t)nsteps, sizeof *rec);
+    fbuf = eo_malloc(ctx, (size_t)(3 * m->nv + 2 * m->nt) * sizeof(double) + (size_t)m->nt + 1);
+    xs = eo_malloc(ctx, nf * sizeof(double));
+    vs = eo_malloc(ctx, nf * sizeof(double));
+    const size_t hlen = eo_sim_history_len(sim); /* a multistep integrator's history (bdf2) */
+    hs = eo_malloc(ctx, (hlen ? hlen : 1) * sizeof(double));
+    if (!rec || !fbuf || !xs || !vs || !hs) {
+        rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory for the records of time.steps = %d steps", nsteps);
         goto fail;
     }
-    double *disp = fbuf, *psi = fbuf + 3 * m->nv, *J = psi + m->nt;
-    unsigned char *inv = (unsigned char *)(J + m->nt);
-
-    eo_cli_scene_report(ctx, sc, quiet);
-    /* ---- outputs */
-    bad_input = 0;
-    EO_TRY(rc = eo_mkdir_p(ctx, dir));
-    snprintf(path, sizeof path, "%s/iterations.csv", dir);
-    EO_TRY(rc = eo_afile_open(ctx, path, &csv));
-    fprintf(eo_afile_fp(csv), "step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason\n");
-    int frames = sc->output.vtu && sc->output.every > 0;
-    snprintf(pvd_file, sizeof pvd_file, "%s.pvd", name);
-    if (frames) {
-        snprintf(path, sizeof path, "%s/%s", dir, pvd_file);
-        EO_TRY(rc = eo_pvd_create(ctx, path, &pvd));
-        EO_TRY(rc = write_frame(ctx, st, dir, name, nframes++, pvd, disp, psi, J, inv));
-    }
+    frame_buf fb = {.disp = fbuf, .psi = fbuf + 3 * m->nv, .J = fbuf + 3 * m->nv + m->nt};
+    fb.inv = (unsigned char *)(fb.J + m->nt);
     eo_step_stats s0;
-    eo_step_stats_compute(st, &s0);
-    run_state rs = {.csv = eo_afile_fp(csv), .progress = !quiet && isatty(2), .nsteps = sc->time.steps};
+    EO_TRY(rc = eo_step_stats_compute(st, &s0)); /* the scene's initial state */
+    eo_cli_scene_report(ctx, sc, verb == EO_CLI_QUIET);
+
+    /* ---- the folder: lock, earlier runs */
+    signals_install(&sig);
+    have_signals = 1;
+    EO_TRY(rc = eo_run_dir_open(ctx, dir, &rd));
+    const int frames = sc->output.vtu && sc->output.every > 0;
+    snprintf(pvd_file, sizeof pvd_file, "%s.pvd", org.name);
+    snprintf(path, sizeof path, "%s/%s", dir, pvd_file);
+    if (frames) EO_TRY(rc = eo_pvd_create(ctx, path, &pvd));
+    char itpath[1200], stpath[1200], rspath[1200];
+    snprintf(itpath, sizeof itpath, "%s/iterations.csv", dir);
+    snprintf(stpath, sizeof stpath, "%s/steps.csv", dir);
+    snprintf(rspath, sizeof rspath, "%s/restart.dat", dir);
+    eo_run_array arrays[] = {
+        {.name = "x", .data = xs, .count = 3 * (size_t)m->nv, .required = 1},
+        {.name = "v", .data = vs, .count = 3 * (size_t)m->nv, .required = 1},
+        {.name = "history", .data = hs, .count = hlen, .required = 0},
+    };
+    const int narrays = hlen ? 3 : 2;
+    if (restart) {
+        double t;
+        EO_TRY(rc = eo_run_restart_read(ctx, rspath, &first, &t, m->nv, arrays, narrays));
+        if (first > nsteps) {
+            rc = eo_error_at(ctx, EO_ERR_RANGE, EO_ERRLOC_FILE(rspath, -1),
+                             "the run is at step %d, beyond time.steps = %d; raise it (-o time.steps=N)", first,
+                             nsteps);
+            goto fail;
+        }
+        EO_TRY(rc = eo_run_logs_resume(ctx, &rd, first, rec));
+        nrec = first;
+        EO_TRY(rc = eo_sim_set_state(sim, xs, vs, t, first));
+        if (hlen && arrays[2].present) EO_TRY(rc = eo_sim_set_history(sim, hs));
+        eo_run_dir_remove_frames_after(&rd, first);
+        for (int s = 0; frames && s <= first; s++) { /* the series so far, from the frames on disk */
+            char file[64];
+            struct stat fst;
+            eo_run_frame_name(s, file, sizeof file);
+            snprintf(path, sizeof path, "%s/%s", dir, file);
+            if (stat(path, &fst) != 0) continue;
+            EO_TRY(rc = eo_pvd_add(ctx, pvd, s ? rec[s - 1].t : 0.0, file));
+            nframes++;
+        }
+        EO_TRY(rc = write_run_json(ctx, dir, &org, eo_sim_cfg(sim)));
+        if (!(csv = fopen(itpath, "a")) || !(scsv = fopen(stpath, "a"))) {
+            rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(csv ? stpath : itpath, -1), "cannot append");
+            goto fail;
+        }
+        fseek(csv, 0, SEEK_END); /* so that ftell is the end from the start */
+        fseek(scsv, 0, SEEK_END);
+    } else {
+        char names[200];
+        int n = eo_run_dir_count_earlier(&rd, names, sizeof names);
+        if (n > 0 && !force) {
+            rc = eo_error(ctx, EO_ERR_IO,
+                          "%s holds %d files of an earlier run (%s%s); use --force to replace them, "
+                          "--restart %s to continue that run, or --out DIR for another folder",
+                          dir, n, names, n > 4 ? ", ..." : "", dir);
+            goto fail;
+        }
+        if (n > 0) EO_TRY(rc = eo_run_dir_remove_earlier(ctx, &rd));
+        EO_TRY(rc = write_run_json(ctx, dir, &org, eo_sim_cfg(sim)));
+        if (!(csv = fopen(itpath, "w")) || !(scsv = fopen(stpath, "w"))) {
+            rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(csv ? stpath : itpath, -1), "cannot write");
+            goto fail;
+        }
+        fprintf(csv, "%s\n", EO_RUN_ITER_CSV_HEADER);
+        fprintf(scsv, "%s\n", EO_RUN_STEPS_CSV_HEADER);
+        fflush(csv);
+        fflush(scsv);
+        if (frames) {
+            EO_TRY(rc = write_frame(ctx, st, dir, 0, pvd, &fb));
+            nframes++;
+        }
+        eo_sim_get_state(sim, xs, vs, NULL, NULL);
+        if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
+        EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), m->nv, arrays, narrays));
+    }
+    summary_info si = {.dir = dir, .name = org.name, .pvd_file = frames ? pvd_file : NULL, .status = "running",
+                       .restarted_at = first};
+    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
+
+    /* ---- the steps */
+    run_state rs = {.csv = csv};
     eo_sim_set_iter_callback(sim, on_iter, &rs);
-    progress(&rs, 0, 0, 0);
     const int expl = eo_sim_is_explicit(sim);
-    int all_converged = 1;
-    long total_iters = 0;
+    int all_converged = 1, diverged = 0;
+    for (int k = 0; k < nrec; k++) all_converged &= eo_reason_is_converged(rec[k].reason);
+    eo_cli_progress_init(&pg, verb, nsteps, first);
     double t_start = eo_wtime();
-    for (int k = 0; k < sc->time.steps; k++) {
+    for (int k = first; k < nsteps && !g_signal; k++) {
         rs.step = k + 1;
+        double tb;
+        eo_sim_get_state(sim, xs, vs, &tb, NULL);
+        if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
+        long off = ftell(csv);
         eo_sim_step_result r;
+        double w0 = eo_wtime();
         rc = eo_sim_step(sim, &r);
+        double wall = eo_wtime() - w0;
+        if (rs.interrupted) { /* the step was stopped half-way: back to the last completed one */
+            EO_TRY(rc = eo_sim_set_state(sim, xs, vs, tb, k));
+            if (hlen) EO_TRY(rc = eo_sim_set_history(sim, hs));
+            fflush(csv);
+            if (off >= 0 && ftruncate(fileno(csv), (off_t)off) != 0) {
+                rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(itpath, -1), "cannot cut the interrupted step");
+                goto fail;
+            }
+            break;
+        }
         if (rc < 0) {
             snprintf(errtext, sizeof errtext, "step %d: %s", k + 1, eo_ctx_message(ctx));
             all_converged = 0;
+            rc = EO_OK;
             break;
         }
-        if (expl) fprintf(rs.csv, "%d,0,%.6e,nan,nan,nan,nan,0,-1,%s\n", k + 1, r.time, eo_reason_name(r.reason));
+        if (expl) fprintf(csv, "%d,0,%.6e,,,,,0,-1,%s\n", k + 1, r.time, eo_reason_name(r.reason));
+        eo_run_record *e = rec + nrec++;
+        *e = (eo_run_record){.step = k + 1, .iterations = r.iterations, .reason = r.reason, .t = r.t,
+                             .time = r.time, .wall = wall, .g = r.g, .grad_norm = r.grad_norm,
+                             .n_value = r.n_value, .n_gradient = r.n_gradient, .n_hessian = r.n_hessian,
+                             .n_factor = r.n_factor, .stats = r.stats};
+        eo_run_record_write(scsv, e);
+        if (fflush(csv) != 0 || fflush(scsv) != 0) {
+            rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(stpath, -1), "write failed at step %d", k + 1);
+            goto fail;
+        }
+        all_converged &= eo_reason_is_converged(r.reason);
         if (r.reason == EO_DIVERGED_NONFINITE) {
-            /* the sim kept the last finite state (tₙ) */
+            /* the sim kept the last finite state (tₙ); restart.dat stays at it */
             snprintf(errtext, sizeof errtext,
                      "step %d (t = %g s): the state became non-finite (diverged_nonfinite)%s", k + 1,
                      eo_sim_time(sim) + sc->time.dt,
                      expl ? "; the explicit integrator is beyond its stability limit: reduce time.dt" : "");
-            rec[nrec].reason = r.reason;
-            rec[nrec].t = r.t;
-            rec[nrec].stats = r.stats;
-            rec[nrec].g = rec[nrec].grad_norm = NAN;
-            nrec++;
-            all_converged = 0;
+            e->g = e->grad_norm = NAN;
+            diverged = 1;
             break;
         }
-        step_record *e = rec + nrec++;
-        e->iterations = r.iterations;
-        e->reason = r.reason;
-        e->t = r.t;
-        e->time = r.time;
-        e->g = r.g;
-        e->grad_norm = r.grad_norm;
-        e->n_value = r.n_value;
-        e->n_gradient = r.n_gradient;
-        e->n_hessian = r.n_hessian;
-        e->n_factor = r.n_factor;
-        e->stats = r.stats;
-        all_converged &= eo_reason_is_converged(r.reason);
-        total_iters += r.iterations;
-        if (frames && (k + 1) % sc->output.every == 0)
-            EO_TRY(rc = write_frame(ctx, st, dir, name, nframes++, pvd, disp, psi, J, inv));
-        progress(&rs, k + 1, r.t, r.iterations);
+        if (frames && (k + 1) % sc->output.every == 0) {
+            EO_TRY(rc = write_frame(ctx, st, dir, k + 1, pvd, &fb));
+            nframes++;
+        }
+        eo_sim_get_state(sim, xs, vs, NULL, NULL);
+        if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
+        EO_TRY(rc = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), m->nv, arrays, narrays));
+        if (sc->output.summary_every > 0 && (k + 1) % sc->output.summary_every == 0 && k + 1 < nsteps) {
+            si.nframes = nframes;
+            si.wall = eo_wtime() - t_start;
+            EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
+        }
+        eo_cli_progress_step(&pg, e);
     }
+    const int signo = g_signal;
     double wall = eo_wtime() - t_start;
-    if (rs.progress && nrec < sc->time.steps) fprintf(stderr, "\n");
-    EO_TRY(rc = eo_afile_commit(ctx, &csv));
-    EO_TRY(rc = write_summary(ctx, dir, name, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, nframes,
-                              frames ? pvd_file : NULL, errtext[0] ? errtext : NULL));
+    eo_cli_progress_done(&pg);
+    int bad_close = fclose(csv) != 0;
+    bad_close |= fclose(scsv) != 0;
+    csv = scsv = NULL;
+    if (bad_close) {
+        rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(stpath, -1), "write failed");
+        goto fail;
+    }
+    si.nframes = nframes;
+    si.wall = wall;
+    si.error = errtext[0] ? errtext : NULL;
+    si.stop_reason = diverged ? eo_reason_name(EO_DIVERGED_NONFINITE) : signo ? "interrupted" : NULL;
+    si.status = signo ? "interrupted" : (diverged || errtext[0]) ? "stopped" : "finished";
+    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
     if (errtext[0]) fprintf(stderr, "elastopt: error: %s\n", errtext);
-    if (!quiet) {
-        int nconv = 0;
-        for (int k = 0; k < nrec; k++) nconv += eo_reason_is_converged(rec[k].reason);
-        printf("%s: %d/%d steps converged, %ld iterations, %.3f s; final min J %.4g, inverted %d -> %s/summary.json\n",
-               name, nconv, sc->time.steps, total_iters, wall, nrec ? rec[nrec - 1].stats.min_J : s0.min_J,
+    if (signo && verb != EO_CLI_QUIET)
+        fprintf(stderr, "elastopt: interrupted (%s) after step %d of %d; every file is complete; continue with: "
+                        "elastopt run --restart %s\n",
+                signo == SIGINT ? "SIGINT" : "SIGTERM", nrec, nsteps, dir);
+    if (verb != EO_CLI_QUIET) {
+        char closing[600];
+        long total_iters = 0;
+        for (int k = 0; k < nrec; k++) total_iters += rec[k].iterations;
+        eo_cli_progress_closing(rec, nrec, nsteps, closing, sizeof closing);
+        printf("%s: %s; %ld iterations, %.3f s; final min J %.4g, inverted %d; summary: %s/summary.json\n",
+               org.name, closing, total_iters, wall, nrec ? rec[nrec - 1].stats.min_J : s0.min_J,
                nrec ? rec[nrec - 1].stats.inverted : s0.inverted, dir);
     }
-    rc = all_converged ? EO_EXIT_OK : EO_EXIT_NOT_CONVERGED;
+    rc = signo ? 128 + signo : all_converged ? EO_EXIT_OK : EO_EXIT_NOT_CONVERGED;
     goto done;
 fail:
+    eo_cli_progress_done(&pg);
     eo_cli_fail(ctx, rc);
-    rc = bad_input ? EO_EXIT_BAD_INPUT : EO_EXIT_NOT_CONVERGED;
+    rc = EO_EXIT_BAD_INPUT;
 done:
-    eo_afile_abort(ctx, &csv);
+    if (csv) fclose(csv);
+    if (scsv) fclose(scsv);
+    eo_run_dir_close(&rd);
+    if (have_signals) signals_restore(&sig);
     eo_pvd_destroy(&pvd);
     eo_free(ctx, rec);
     eo_free(ctx, fbuf);
+    eo_free(ctx, xs);
+    eo_free(ctx, vs);
+    eo_free(ctx, hs);
+    eo_cfg_destroy(&cfg);
     eo_sim_destroy(&sim);
+    json_decref(run_doc);
     return rc;
 }
 
 const eo_cli_command eo_cmd_run = {
     .name = "run",
-    .summary = "simulate a scene (default: the built-in cantilever)",
-    .usage = "elastopt run [SCENE.json | --scene NAME] [-o key=value ...] [--out DIR] [--quiet]\n\n"
+    .summary = "simulate a scene (default: the built-in cantilever); continue one with --restart",
+    .usage = "elastopt run [SCENE.json | --scene NAME] [-o key=value ...] [--out DIR] [--force]\n"
+             "             [--quiet | --verbose]\n"
+             "elastopt run --restart DIR [-o key=value ...] [--quiet | --verbose]\n\n"
              "Runs the scene's time steps, each an optimization problem solved by the configured\n"
              "solver. Without a scene runs the built-in `cantilever`. `-o` overrides any config key\n"
              "(e.g. -o solver.hessian_fix=abs -o time.steps=10). Writes into DIR (default\n"
-             "output.dir, \"out\"): NAME.pvd + NAME_NNNN.vtu frames, iterations.csv (one row per\n"
-             "solver iteration) and summary.json (config, build, per-step results).\n"
-             "A progress bar goes to stderr when it is a terminal (not with --quiet).\n"
-             "Exit status: 0 every step converged, 1 some step did not, 2 bad input (nothing\n"
-             "written).\n",
+             "output.dir, else out/<scene name>): NAME.pvd + frame_NNNNNN.vtu frames (NNNNNN =\n"
+             "the step), steps.csv (one row per step) and iterations.csv (one row per solver\n"
+             "iteration), both appended and flushed every step, restart.dat (the state after\n"
+             "the last step), run.json (how the run was set up) and summary.json (config, build,\n"
+             "per-step results; rewritten every output.summary_every steps and at the end).\n"
+             "A folder holding an earlier run's files is refused unless --force (which removes\n"
+             "them first); a folder another run is writing into (run.lock) is refused.\n"
+             "--restart DIR continues the run in DIR (interrupted or finished; raise time.steps\n"
+             "with -o to go further) from its last completed step; the trajectory is the same,\n"
+             "bit for bit, as that of an uninterrupted run.\n"
+             "Ctrl-C (SIGINT) or SIGTERM stops the running step and ends the run cleanly: every\n"
+             "file complete, summary.json \"stop_reason\": \"interrupted\", exit 130 / 143.\n"
+             "On a terminal a progress line is redrawn on stderr (step, simulated time, time per\n"
+             "step, ETA, last step's iterations, worst reason); not on a terminal a line every\n"
+             "5 s at most; --verbose: one line per step; --quiet: nothing but errors.\n"
+             "Exit status: 0 every step converged, 1 some step did not, 2 bad input or an output\n"
+             "that cannot be written (nothing written), 130/143 interrupted.\n",
     .run = run,
 };

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "cli.h"
+#include "elastopt/io.h"
 #include "elastopt/registry.h"
 #include "elastopt/stability.h"
 
@@ -106,6 +107,10 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--png") == 0 && i + 1 < argc) png = argv[++i];
         else return eo_cli_usage_error(&eo_cmd_stability, "unknown argument '%s'", argv[i]);
+    }
+    if (png) { /* before the measurements: a path that cannot be written fails at once */
+        int rc = eo_path_check(ctx, png, EO_PATH_WRITE);
+        if (rc < 0) return eo_cli_fail(ctx, rc);
     }
     printf("%-18s %-14s %-14s %-14s %-14s %s\n", "integrator", "real h*lambda", "theory", "imag h*omega", "theory",
            "agree");

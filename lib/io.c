@@ -3,6 +3,7 @@
 #include "elastopt/io.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -18,6 +19,10 @@ struct eo_afile {
 int eo_afile_open(eo_ctx *ctx, const char *path, eo_afile **out)
 {
     *out = NULL;
+    /* a folder, FIFO, device or socket at the path (rename would replace a FIFO or a
+     * device node by a file) or a parent that is missing, not a folder or unwritable */
+    int rc = eo_path_check(ctx, path, EO_PATH_WRITE);
+    if (rc < 0) return rc;
     eo_afile *f = eo_calloc(ctx, 1, sizeof *f);
     if (!f) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
     size_t n = strlen(path);
@@ -89,6 +94,10 @@ int eo_mkdir_p(eo_ctx *ctx, const char *path)
     for (char *p = buf + 1; *p; p++) {
         if (*p != '/') continue;
         *p = 0;
+        struct stat cs;
+        if (stat(buf, &cs) == 0 && !S_ISDIR(cs.st_mode))
+            return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot create folder: '%s' is %s, not a folder",
+                               buf, S_ISREG(cs.st_mode) ? "a file" : "a FIFO, device or socket");
         if (mkdir(buf, 0777) != 0 && errno != EEXIST)
             return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(buf, -1), "cannot create folder: %s",
                                strerror(errno));
@@ -99,7 +108,8 @@ int eo_mkdir_p(eo_ctx *ctx, const char *path)
                            strerror(errno));
     struct stat st;
     if (stat(buf, &st) != 0 || !S_ISDIR(st.st_mode))
-        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "not a folder");
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "is %s; expected a folder",
+                           S_ISREG(st.st_mode) ? "a file" : "a FIFO, device or socket");
     if (access(buf, W_OK) != 0)
         return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "folder not writable");
     return EO_OK;
@@ -109,12 +119,29 @@ int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len)
 {
     *text = NULL;
     *len = 0;
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot open: %s", strerror(errno));
+    /* O_NONBLOCK: opening a FIFO must not wait for a writer; anything but a regular file
+     * (a FIFO, a device such as /dev/zero that never ends, a folder) is refused */
+    int fd = open(path, O_RDONLY | O_NONBLOCK);
+    if (fd < 0) return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot open: %s", strerror(errno));
     struct stat st;
-    if (fstat(fileno(fp), &st) != 0 || S_ISDIR(st.st_mode)) {
-        fclose(fp);
-        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "not a regular file");
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        const char *what = S_ISDIR(st.st_mode)    ? "a folder"
+                           : S_ISFIFO(st.st_mode) ? "a FIFO (named pipe)"
+                           : S_ISCHR(st.st_mode)  ? "a character device"
+                           : S_ISBLK(st.st_mode)  ? "a block device"
+                           : S_ISSOCK(st.st_mode) ? "a socket"
+                                                  : "not a regular file";
+        close(fd);
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot read: it is %s; expected a regular file",
+                           what);
+    }
+    int fl = fcntl(fd, F_GETFL);
+    if (fl >= 0) fcntl(fd, F_SETFL, fl & ~O_NONBLOCK);
+    FILE *fp = fdopen(fd, "rb");
+    if (!fp) {
+        int e = errno;
+        close(fd);
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot open: %s", strerror(e));
     }
     size_t cap = st.st_size > 0 ? (size_t)st.st_size + 1 : 4096, n = 0;
     char *buf = eo_malloc(ctx, cap);

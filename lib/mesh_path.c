@@ -25,6 +25,7 @@
 
 static const char *kind_name(mode_t m)
 {
+    if (S_ISREG(m)) return "a file";
     if (S_ISDIR(m)) return "a folder";
     if (S_ISFIFO(m)) return "a FIFO (named pipe)";
     if (S_ISCHR(m)) return "a character device";

@@ -153,11 +153,14 @@ const eo_param_desc eo_scene_damping_opts_desc[] = {
 
 const eo_param_desc eo_scene_output_opts_desc[] = {
     {.key = "dir", .kind = EO_PARAM_STRING, .offset = offsetof(eo_scene_output_opts, dir),
-     .size = SZ(eo_scene_output_opts, dir), .def.s = "out", .help = "output folder (elastopt run --out overrides)"},
+     .size = SZ(eo_scene_output_opts, dir), .def.s = "", .help = "output folder; empty = out/<scene name> (elastopt run --out overrides)"},
     {.key = "every", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_output_opts, every), .def.i = 1,
      .min = 0, .range = EO_RANGE_MIN, .help = "write a VTU frame every k steps (0 = none)"},
     {.key = "vtu", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_output_opts, vtu), .def.i = 1,
      .help = "write VTU frames and the .pvd series"},
+    {.key = "summary_every", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_output_opts, summary_every),
+     .def.i = 10, .min = 0, .range = EO_RANGE_MIN,
+     .help = "rewrite summary.json (atomically) every k steps and at the end (0 = only at the end)"},
     {0},
 };
 

@@ -26,8 +26,8 @@ done
 "$EXE" run --out default --quiet
 rc=$?
 [ $rc -eq 0 ] && ok || bad "run default exit $rc"
-[ -s default/summary.json ] && [ -s default/iterations.csv ] && [ -s default/cantilever.pvd ] &&
-    [ -s default/cantilever_0000.vtu ] && [ -s default/cantilever_0040.vtu ] && ok || bad "default outputs missing: $(ls default)"
+[ -s default/summary.json ] && [ -s default/iterations.csv ] && [ -s default/steps.csv ] && [ -s default/restart.dat ] && [ ! -e default/run.lock ] && [ -s default/cantilever.pvd ] &&
+    [ -s default/frame_000000.vtu ] && [ -s default/frame_000040.vtu ] && ok || bad "default outputs missing: $(ls default)"
 python3 - default/summary.json <<'PY' && ok || bad "summary.json contents"
 import json, sys
 s = json.load(open(sys.argv[1]))
@@ -158,7 +158,7 @@ for st in s["steps"]:
     assert all(math.isfinite(c) for c in st["com"]), st["com"]
     assert st["max_disp"] is not None and math.isfinite(st["max_disp"]), st["max_disp"]
 # frames: the initial one + one per completed step (the diverged step writes none)
-frames = glob.glob(sys.argv[2] + "/cantilever_*.vtu")
+frames = glob.glob(sys.argv[2] + "/frame_*.vtu")
 assert len(frames) == s["steps_run"] == s["frames"], (len(frames), s["steps_run"], s["frames"])
 PY
 done

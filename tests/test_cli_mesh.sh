@@ -168,7 +168,7 @@ rc=$?
 printf '%s' "$out" | grep -q "^boundary.0 (tag 11 of the tagged triangles; fixed): 4 vertices$" && ok || bad "tag 11 count: $out"
 printf '%s' "$out" | grep -q "^boundary.1 (tag 12 of the tagged triangles; translate): 4 vertices$" && ok || bad "tag 12 count: $out"
 printf '%s' "$out" | grep -q "^region 0 (material, .*): 5 tets$" && ok || bad "region count: $out"
-out=$("$EXE" run tags.json --out tags_out --quiet 2>&1)
+out=$("$EXE" run tags.json --out tags_out --force --quiet 2>&1)
 printf '%s' "$out" | grep -q "boundary.0" && bad "--quiet prints the scene report: $out" || ok
 cat >tag7.json <<'JSON'
 {"mesh": {"file": "tagged.msh"},
@@ -197,7 +197,7 @@ printf '%s' "$out" | grep -q "^boundary.0 (nearest \[0, -0.34, 0\]: vertex [0-9]
 printf '%s' "$out" | grep -q "^boundary.1 (boundary surface; fixed): 3135 vertices$" && ok || bad "surface count: $out"
 printf '%s' "$out" | grep -q "^elastopt: warning: gravity \[0, 0, -9.81\] does not point down this mesh: .*facing -y.*looks y-up; set gravity \[0, -9.81, 0\]" && ok || bad "y-up warning: $out"
 python3 -c "import json; o=json.load(open('bunny_out/summary.json')); assert o['steps_run']==2 and o['resolved']['scene']['boundary'][1]['vertices']==3135, o['steps_run']" && ok || bad "bunny summary"
-out=$("$EXE" run bunny.json --out bunny_out -o gravity=0,-9.81,0 -o time.steps=1 2>&1)
+out=$("$EXE" run bunny.json --out bunny_out --force -o gravity=0,-9.81,0 -o time.steps=1 2>&1)
 printf '%s' "$out" | grep -q "warning" && bad "warning with gravity -y: $out" || ok
 
 # --- surface input (TetGen) and VTU input through the CLI

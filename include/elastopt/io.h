@@ -22,7 +22,9 @@ extern "C" {
 
 typedef struct eo_afile eo_afile;
 
-/// Open `path` for writing through a temporary file. EO_ERR_IO names the path.
+/// Open `path` for writing through a temporary file. EO_ERR_IO names the path; the path
+/// is checked first (eo_path_check, EO_PATH_WRITE): a folder, FIFO, device or socket at
+/// it, or a missing or unwritable parent folder, is refused before anything is created.
 EO_API int eo_afile_open(eo_ctx *ctx, const char *path, eo_afile **out);
 EO_API FILE *eo_afile_fp(eo_afile *f);
 /// Flush, fsync-less close and rename into place; frees f and sets *f = NULL.
@@ -43,7 +45,9 @@ EO_API int eo_path_check(eo_ctx *ctx, const char *path, eo_path_mode mode);
 
 /// Create a folder (and parents) if missing; EO_ERR_IO if impossible or not writable.
 EO_API int eo_mkdir_p(eo_ctx *ctx, const char *path);
-/// Read a whole file into a NUL-terminated buffer (eo_free it). EO_ERR_IO if missing.
+/// Read a whole file into a NUL-terminated buffer (eo_free it). EO_ERR_IO if missing,
+/// unreadable or not a regular file (a FIFO, device or folder is refused at once: the
+/// file is opened with O_NONBLOCK and checked before any read, so nothing blocks).
 EO_API int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len);
 
 /// Per-frame fields for VTU output; any pointer may be NULL to omit the field.

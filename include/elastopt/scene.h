@@ -77,7 +77,7 @@
 ///   damping.{viscous, rayleigh_alpha, rayleigh_beta}
 ///                      damping force −C v, C = γI + αM + βK₀ (eo_scene_damping_opts)
 ///   time.integrator, time.dt, time.steps, time.load_steps
-///   output.dir, output.every, output.vtu
+///   output.dir, output.every, output.vtu, output.summary_every
 ///   solver.*           the solver's section (solver.h), loaded by the caller
 #ifndef ELASTOPT_SCENE_H
 #define ELASTOPT_SCENE_H
@@ -196,9 +196,11 @@ typedef struct eo_scene_damping_opts {
 
 /// `output` section.
 typedef struct eo_scene_output_opts {
-    char dir[512];          ///< output folder. Default "out".
+    char dir[512];          ///< output folder; "" = out/<scene name>. Default "".
     int every;              ///< write a VTU frame every k steps, 0 = none. Default 1.
     int vtu;                ///< write VTU frames and the .pvd. Default true.
+    int summary_every;      ///< rewrite summary.json every k steps (and at the end), 0 =
+                            ///< only at the end. Default 10.
 } eo_scene_output_opts;
 
 /// `initial` section (scalar part).

@@ -16,6 +16,6 @@ const eo_scene_type eo_scene_drop = {
     "  ],\n"
     "  \"time\": {\"integrator\": \"backward_euler\", \"dt\": 0.01, \"steps\": 100},\n"
     "  \"solver\": {\"optimizer\": \"newton\", \"hessian_fix\": \"clamp\", \"tol\": 1e-14, \"max_iters\": 100},\n"
-    "  \"output\": {\"dir\": \"out\", \"every\": 5, \"vtu\": true}\n"
+    "  \"output\": {\"every\": 5, \"vtu\": true}\n"
     "}\n",
 };
