@@ -443,11 +443,33 @@ static void test_config(void)
         json_t *j = eo_solver_to_json(s);
         json_t *h = json_object_get(json_object_get(j, "lbfgs"), "history");
         CHECK(h && json_integer_value(h) == 5, "echo of lbfgs.history");
-        CHECK(json_object_get(j, "backtracking") != NULL, "echo of the line search");
+        /* solver.linesearch = auto (default) resolves to lbfgs's choice, wolfe */
+        CHECK(json_object_get(j, "wolfe") != NULL && json_object_get(j, "backtracking") == NULL,
+              "echo of the line search lbfgs chose");
+        json_t *lsn = json_object_get(j, "linesearch");
+        CHECK(lsn && strcmp(json_string_value(lsn), "wolfe") == 0, "linesearch echoed as wolfe");
+        CHECK(strcmp(eo_solver_get_opts(s)->linesearch, "wolfe") == 0, "resolved name in the opts");
         json_decref(j);
     }
     eo_solver_destroy(&s);
     eo_cfg_destroy(&cfg);
+    /* auto per optimizer: newton, gradient_descent and projective_dynamics backtracking,
+     * ncg wolfe; an explicit choice wins */
+    {
+        const char *opt_ls[][3] = {{"newton", "auto", "backtracking"}, {"gradient_descent", "auto", "backtracking"},
+                                   {"projective_dynamics", "auto", "backtracking"}, {"ncg", "auto", "wolfe"},
+                                   {"lbfgs", "backtracking", "backtracking"}, {"ncg", "exact", "exact"}};
+        for (int i = 0; i < 6; i++) {
+            eo_solver_opts_default(&o);
+            CHECK(strcmp(o.linesearch, "auto") == 0, "default linesearch is auto");
+            snprintf(o.optimizer, sizeof o.optimizer, "%s", opt_ls[i][0]);
+            snprintf(o.linesearch, sizeof o.linesearch, "%s", opt_ls[i][1]);
+            CHECK(eo_solver_create(ctx, &o, NULL, &s) == EO_OK, "%s", eo_ctx_message(ctx));
+            CHECK(s && strcmp(eo_solver_get_opts(s)->linesearch, opt_ls[i][2]) == 0, "%s + %s -> %s, got %s",
+                  opt_ls[i][0], opt_ls[i][1], opt_ls[i][2], s ? eo_solver_get_opts(s)->linesearch : "-");
+            eo_solver_destroy(&s);
+        }
+    }
 
     /* unknown sub-section, unknown key, wrong type, unknown names */
     const char *bad[] = {

@@ -9,10 +9,13 @@
 ///   solver.linesearch  backtracking, wolfe, exact, none         (eo_linesearch_type)
 ///   solver.stop        newton_decrement, gradient               (eo_stop_type)
 ///   solver.linear      cholmod, cholmod_ldlt, ...               (eo_linsolve_type)
-/// solver.linesearch is one explicit choice (default backtracking, for newton); lbfgs and
-/// ncg are meant to run with `solver.linesearch = wolfe`, whose curvature constant c2 then
-/// defaults to the optimizer's preference (0.9 lbfgs, 0.1 ncg; eo_ls_extra.c2) and which
-/// hands back ∇g of the accepted point (one value+gradient call per trial).
+/// solver.linesearch defaults to `auto`: the optimizer's own choice
+/// (eo_optimizer_type.linesearch): `wolfe` for lbfgs and ncg, `backtracking` for newton,
+/// gradient_descent and projective_dynamics (and for a plug-in that names none); the
+/// solver echoes the resolved name. wolfe's curvature constant c2 then defaults to the
+/// optimizer's preference (0.9 lbfgs, 0.1 ncg; eo_ls_extra.c2) and it hands back ∇g of
+/// the accepted point (one value+gradient call per trial). Any registered line search
+/// can still be named explicitly.
 /// plus solver.tol, solver.max_iters, solver.time_budget (eo_solver_opts), and each
 /// method's parameters live in config section `solver.<method name>` (e.g.
 /// `solver.backtracking.c1`, `solver.shift.shift_init`, `solver.lbfgs.history`). Sections
@@ -381,6 +384,10 @@ typedef struct eo_optimizer_type {
     size_t state_size;
     int needs_linear;     ///< 1 if it factors/solves systems (solver.linear used)
     int needs_hessian;    ///< 1 if it calls objective hessian
+    /// Line search used when solver.linesearch is "auto" (the default): a registered
+    /// line-search name, NULL = "backtracking". lbfgs and ncg: "wolfe"; newton,
+    /// gradient_descent, projective_dynamics: backtracking; newton_tr uses none.
+    const char *linesearch;
     /// Size workspace for n variables, on a zeroed state. The solver calls it at the
     /// first minimize and, after destroy and zeroing, whenever obj->n changes.
     int (*setup)(void *st, const void *params, int n, eo_ctx *ctx);
@@ -409,7 +416,9 @@ EO_API int eo_solver_report(const eo_solver_ctx *sc, double t0, eo_iter_info *in
 typedef struct eo_solver_opts {
     char optimizer[32];    ///< registered optimizer (default "newton")
     char hessian_fix[32];  ///< registered Hessian fix (default "clamp")
-    char linesearch[32];   ///< registered line search (default "backtracking")
+    char linesearch[32];   ///< registered line search, or "auto" (default): the
+                           ///< optimizer's choice (eo_optimizer_type.linesearch),
+                           ///< replaced by the resolved name in eo_solver_get_opts
     char stop[32];         ///< registered stopping rule (default "newton_decrement")
     char linear[32];       ///< registered linear solver (default "cholmod"), used only by
                            ///< optimizers that solve systems (newton, projective_dynamics)
