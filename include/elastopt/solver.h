@@ -2,7 +2,7 @@
 /// Optimizers, Hessian fixes, line searches and stopping rules, each chosen by name.
 ///
 /// The solver of one step problem is assembled from four pluggable pieces:
-///   solver.optimizer   newton, gradient_descent, lbfgs, ncg,
+///   solver.optimizer   newton, newton_tr, gradient_descent, lbfgs, ncg,
 ///                      projective_dynamics                      (eo_optimizer_type)
 ///   solver.hessian_fix none, shift, clamp, abs, project_on_demand,
 ///                      progressive, trust_region_filter         (eo_hessfix_type)
@@ -278,6 +278,30 @@ typedef struct eo_newton_params {
     double descent_eps;  ///< p is a descent direction iff ∇gᵀp < −eps‖∇g‖‖p‖ (1e-12)
 } eo_newton_params;
 
+/// Trust-region Newton with Steihaug–Toint CG (config `solver.newton_tr.*`;
+/// solvers/optim/newton_tr.c has the algorithm).
+typedef struct eo_newton_tr_params {
+    char hessian[16];    ///< model Hessian: "true" (unprojected) or "fix" (per-element
+                         ///< projection of solver.hessian_fix) (default "true")
+    char precond[16];    ///< "none" (M = I) or "jacobi" (M = diag|H_ii|): CG preconditioner
+                         ///< and trust-region norm √(pᵀMp) (default "none")
+    double delta0;       ///< first radius in that norm (m for none); 0 = the first inner
+                         ///< solve is unconstrained (default 0)
+    double delta_max;    ///< largest radius, 0 = none (0)
+    double eta;          ///< accept when ρ = actual/predicted reduction > eta (1e-4)
+    double rho_low;      ///< Δ ← shrink·‖p‖ when ρ < rho_low (0.25)
+    double rho_high;     ///< Δ ← grow·Δ when ρ > rho_high on the boundary (0.75)
+    double shrink;       ///< (0.25)
+    double grow;         ///< (2)
+    char forcing[16];    ///< CG tolerance η_k = min(cg_rtol_max, ‖∇g‖/‖∇g₀‖) "quadratic"
+                         ///< or its square root "superlinear" (default "quadratic")
+    double cg_rtol_max;  ///< largest η_k (0.5)
+    int cg_max_iters;    ///< CG iterations per inner solve, 0 = n (0)
+    int max_rejects;     ///< rejected trial steps in a row before diverged_linesearch (50)
+    double noise;        ///< where |g(x+p) − g(x)| ≤ noise·|g(x)| the actual reduction is
+                         ///< −½(∇g(x) + ∇g(x+p))ᵀp (1e-10)
+} eo_newton_tr_params;
+
 /// Gradient descent (config `solver.gradient_descent.*`).
 typedef struct eo_gradient_descent_params {
     int scaled;          ///< p = −D⁻¹∇g with D = objective metric (lumped mass) (true)
@@ -377,6 +401,9 @@ typedef struct eo_solve_result {
                           ///< (the fix for `shift`, the safeguard for clamp/abs)
     double projected;     ///< mean over the directions of this minimization of the
                           ///< fraction of elements projected (0 if none computed)
+    long n_inner;         ///< inner iterations (newton_tr: CG iterations; else 0)
+    long n_negcurv;       ///< newton_tr: inner solves that met negative curvature dᵀHd ≤ 0
+                          ///< and stepped to the trust-region boundary along d (else 0)
 } eo_solve_result;
 
 typedef struct eo_optimizer_type {
@@ -399,8 +426,9 @@ typedef struct eo_optimizer_type {
     void (*destroy)(void *st, eo_ctx *ctx);
 } eo_optimizer_type;
 
-EO_API extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_gradient_descent,
-    eo_optimizer_lbfgs, eo_optimizer_ncg, eo_optimizer_projective_dynamics;
+EO_API extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_newton_tr,
+    eo_optimizer_gradient_descent, eo_optimizer_lbfgs, eo_optimizer_ncg,
+    eo_optimizer_projective_dynamics;
 EO_API extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfix_clamp,
     eo_hessfix_abs, eo_hessfix_project_on_demand, eo_hessfix_progressive,
     eo_hessfix_trust_region_filter;
