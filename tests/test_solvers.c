@@ -79,8 +79,8 @@ static int run(eo_ctx *ctx, tprob *p, const run_cfg *rc, double *x, tlog *L, eo_
 }
 
 /* ---- the sweep ----------------------------------------------------------------------- */
-static const char *const optimizers[] = {"newton", "gradient_descent", "lbfgs", "ncg"};
-#define N_OPT 4
+static const char *const optimizers[] = {"newton", "gradient_descent", "lbfgs", "ncg", "newton_tr"};
+#define N_OPT 5
 static const char *hessfixes[32]; /* every registered Hessian fix (main fills it) */
 static size_t n_hessfixes;
 static const char *const linesearches[] = {"backtracking", "exact", "none", "wolfe"};
@@ -91,6 +91,7 @@ static const char *const stops[] = {"newton_decrement", "gradient"};
 static int must_converge(int prob, const char *opt, const char *hf, const char *ls)
 {
     int nonconvex = prob == P_ROSEN || prob == P_DWELL;
+    if (strcmp(opt, "newton_tr") == 0) return 1; /* no line search; the true Hessian + trust region */
     if (strcmp(ls, "none") == 0) /* full steps: only where they provably work */
         return (prob == P_QUAD || prob == P_ILL) && strcmp(opt, "lbfgs") != 0 && strcmp(opt, "ncg") != 0;
     if (strcmp(opt, "ncg") == 0) /* CG needs a (near-)exact search: Armijo alone may stall */
@@ -116,7 +117,7 @@ static void test_sweep(void)
                     for (size_t si = 0; si < 2; si++) {
                         run_cfg rc = {.opt = optimizers[oi], .hf = hessfixes[hi], .ls = linesearches[li],
                                       .stop = stops[si], .tol = si == 0 ? 1e-16 : 1e-10,
-                                      .max_iters = newton ? 100 : oi == 1 || oi == 3 ? 5000 : 1000};
+                                      .max_iters = newton || oi == 4 ? 100 : oi == 1 || oi == 3 ? 5000 : 1000};
                         double x[NMAX];
                         eo_solve_result res;
                         p.n_inf = 0;
