@@ -4,9 +4,13 @@
  * no file): config + overrides, scene, solver section, unknown keys. Then into DIR:
  *   <name>.pvd + <name>_NNNN.vtu   frames (point data displacement, velocity; cell data
  *                                  energy density, J, inverted), every output.every steps
- *   iterations.csv                 one row per solver iteration of every step
+ *   iterations.csv                 one row per solver iteration of every step; column
+ *                                  `entry`: the configuration of the fallback chain
+ *                                  that ran it (0 = solver, k = solver.fallback[k-1])
  *   summary.json                   build info, the config as given and as resolved, and
- *                                  per step: iterations, reason, converged, time, g,
+ *                                  per step: iterations, reason, converged, entry (the
+ *                                  configuration kept) and fallback_from (the entries
+ *                                  that stopped before it: reason, iterations), time, g,
  *                                  ‖∇g‖, centre of mass, max displacement, min J,
  *                                  inverted tets, kinetic and elastic energy
  * all written atomically. Exit 0 if every step converged, 1 if some did not, 2 on bad
@@ -43,6 +47,7 @@ typedef struct step_record {
     double t, time, g, grad_norm;
     long n_value, n_gradient, n_hessian, n_factor;
     eo_step_stats stats;
+    int entry, n_entries, entry_reason[EO_SIM_MAX_ENTRIES], entry_iterations[EO_SIM_MAX_ENTRIES];
 } step_record;
 
 typedef struct run_state {
@@ -51,14 +56,15 @@ typedef struct run_state {
     int progress;
     int nsteps;
     int iters_this_step;
+    const eo_sim *sim; /* for the fallback entry running */
 } run_state;
 
 static int on_iter(const eo_iter_info *it, void *user)
 {
     run_state *rs = user;
-    fprintf(rs->csv, "%d,%d,%.6e,%.17g,%.6e,%.6e,%.6e,%d,%d,%s\n", rs->step, it->iteration, it->time, it->g,
+    fprintf(rs->csv, "%d,%d,%.6e,%.17g,%.6e,%.6e,%.6e,%d,%d,%s,%d\n", rs->step, it->iteration, it->time, it->g,
             it->grad_norm, it->decrement, it->alpha, it->ls_evals, it->inverted,
-            it->reason ? eo_reason_name(it->reason) : "");
+            it->reason ? eo_reason_name(it->reason) : "", eo_sim_entry(rs->sim));
     rs->iters_this_step = it->iteration;
     return 0;
 }
@@ -135,6 +141,13 @@ static int write_summary(eo_ctx *ctx, const char *dir, const char *name, eo_cfg 
         json_object_set_new(e, "iterations", json_integer(r->iterations));
         json_object_set_new(e, "reason", json_string(eo_reason_name(r->reason)));
         json_object_set_new(e, "converged", json_boolean(conv));
+        json_object_set_new(e, "entry", json_integer(r->entry)); /* 0 = solver, k = solver.fallback[k-1] */
+        json_t *tried = json_array(); /* the entries that stopped before it, and why */
+        for (int j = 0; j < r->n_entries && j < r->entry; j++)
+            json_array_append_new(tried, json_pack("{s:i, s:s, s:i}", "entry", j, "reason",
+                                                   eo_reason_name(r->entry_reason[j]), "iterations",
+                                                   r->entry_iterations[j]));
+        json_object_set_new(e, "fallback_from", tried);
         json_object_set_new(e, "time", json_real(r->time));
         json_object_set_new(e, "g", real_or_null(r->g));
         json_object_set_new(e, "grad_norm", real_or_null(r->grad_norm));
@@ -229,7 +242,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     EO_TRY(rc = eo_mkdir_p(ctx, dir));
     snprintf(path, sizeof path, "%s/iterations.csv", dir);
     EO_TRY(rc = eo_afile_open(ctx, path, &csv));
-    fprintf(eo_afile_fp(csv), "step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason\n");
+    fprintf(eo_afile_fp(csv), "step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason,entry\n");
     int frames = sc->output.vtu && sc->output.every > 0;
     snprintf(pvd_file, sizeof pvd_file, "%s.pvd", name);
     if (frames) {
@@ -239,7 +252,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     }
     eo_step_stats s0;
     eo_step_stats_compute(st, &s0);
-    run_state rs = {.csv = eo_afile_fp(csv), .progress = !quiet && isatty(2), .nsteps = sc->time.steps};
+    run_state rs = {.csv = eo_afile_fp(csv), .progress = !quiet && isatty(2), .nsteps = sc->time.steps, .sim = sim};
     eo_sim_set_iter_callback(sim, on_iter, &rs);
     progress(&rs, 0, 0, 0);
     const int expl = eo_sim_is_explicit(sim);
@@ -255,7 +268,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             all_converged = 0;
             break;
         }
-        if (expl) fprintf(rs.csv, "%d,0,%.6e,nan,nan,nan,nan,0,-1,%s\n", k + 1, r.time, eo_reason_name(r.reason));
+        if (expl) fprintf(rs.csv, "%d,0,%.6e,nan,nan,nan,nan,0,-1,%s,0\n", k + 1, r.time, eo_reason_name(r.reason));
         if (r.reason == EO_DIVERGED_NONFINITE) {
             /* the sim kept the last finite state (tₙ) */
             snprintf(errtext, sizeof errtext,
@@ -282,6 +295,10 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         e->n_hessian = r.n_hessian;
         e->n_factor = r.n_factor;
         e->stats = r.stats;
+        e->entry = r.entry;
+        e->n_entries = r.n_entries;
+        memcpy(e->entry_reason, r.entry_reason, sizeof e->entry_reason);
+        memcpy(e->entry_iterations, r.entry_iterations, sizeof e->entry_iterations);
         all_converged &= eo_reason_is_converged(r.reason);
         total_iters += r.iterations;
         if (frames && (k + 1) % sc->output.every == 0)

@@ -91,8 +91,12 @@ static void method_section_names(const char **names, size_t cap)
 int eo_solver_opts_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver_opts *o)
 {
     if (!cfg) return EO_OK;
-    const char *names[MAX_EXTRA];
+    const char *names[MAX_EXTRA + 1];
     method_section_names(names, MAX_EXTRA);
+    size_t k = 0;
+    while (names[k]) k++;
+    names[k] = "fallback"; /* the fallback chain, read by the simulation driver (sim.h) */
+    names[k + 1] = NULL;
     return eo_cfg_section(ctx, cfg, "solver", eo_solver_opts_desc, o, names);
 }
 
