@@ -95,15 +95,17 @@ typedef struct run_state {
     FILE *csv;
     int step;
     int interrupted;  /* the callback stopped the running step */
+    const eo_sim *sim; /* for the fallback entry running */
 } run_state;
 
 static int on_iter(const eo_iter_info *it, void *user)
 {
     run_state *rs = user;
     char b[5][32];
-    fprintf(rs->csv, "%d,%d,%s,%s,%s,%s,%s,%d,%d,%s\n", rs->step, it->iteration, eo_run_num(b[0], it->time, 6),
+    fprintf(rs->csv, "%d,%d,%s,%s,%s,%s,%s,%d,%d,%s,%d\n", rs->step, it->iteration, eo_run_num(b[0], it->time, 6),
             eo_run_num(b[1], it->g, 17), eo_run_num(b[2], it->grad_norm, 6), eo_run_num(b[3], it->decrement, 6),
-            eo_run_num(b[4], it->alpha, 6), it->ls_evals, it->inverted, it->reason ? eo_reason_name(it->reason) : "");
+            eo_run_num(b[4], it->alpha, 6), it->ls_evals, it->inverted, it->reason ? eo_reason_name(it->reason) : "",
+            eo_sim_entry(rs->sim));
     if (g_signal) {
         rs->interrupted = 1;
         return 1;
@@ -185,6 +187,13 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
         json_object_set_new(e, "iterations", json_integer(r->iterations));
         json_object_set_new(e, "reason", json_string(eo_reason_name(r->reason)));
         json_object_set_new(e, "converged", json_boolean(conv));
+        json_object_set_new(e, "entry", json_integer(r->entry)); /* 0 = solver, k = solver.fallback[k-1] */
+        json_t *tried = json_array(); /* the entries that stopped before it, and why */
+        for (int j = 0; j < r->n_entries && j < r->entry; j++)
+            json_array_append_new(tried, json_pack("{s:i, s:s, s:i}", "entry", j, "reason",
+                                                   eo_reason_name(r->entry_reason[j]), "iterations",
+                                                   r->entry_iterations[j]));
+        json_object_set_new(e, "fallback_from", tried);
         json_object_set_new(e, "time", real_or_null(r->time));
         json_object_set_new(e, "wall_time", real_or_null(r->wall));
         json_object_set_new(e, "g", real_or_null(r->g));
@@ -500,7 +509,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
 
     /* ---- the steps */
-    run_state rs = {.csv = csv};
+    run_state rs = {.csv = csv, .sim = sim};
     eo_sim_set_iter_callback(sim, on_iter, &rs);
     const int expl = eo_sim_is_explicit(sim);
     int all_converged = 1, diverged = 0;
@@ -533,12 +542,15 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             rc = EO_OK;
             break;
         }
-        if (expl) fprintf(csv, "%d,0,%.6e,,,,,0,-1,%s\n", k + 1, r.time, eo_reason_name(r.reason));
+        if (expl) fprintf(csv, "%d,0,%.6e,,,,,0,-1,%s,0\n", k + 1, r.time, eo_reason_name(r.reason));
         eo_run_record *e = rec + nrec++;
         *e = (eo_run_record){.step = k + 1, .iterations = r.iterations, .reason = r.reason, .t = r.t,
                              .time = r.time, .wall = wall, .g = r.g, .grad_norm = r.grad_norm,
                              .n_value = r.n_value, .n_gradient = r.n_gradient, .n_hessian = r.n_hessian,
-                             .n_factor = r.n_factor, .stats = r.stats};
+                             .n_factor = r.n_factor, .stats = r.stats, .entry = r.entry,
+                             .n_entries = r.n_entries};
+        memcpy(e->entry_reason, r.entry_reason, sizeof e->entry_reason);
+        memcpy(e->entry_iterations, r.entry_iterations, sizeof e->entry_iterations);
         eo_run_record_write(scsv, e);
         if (fflush(csv) != 0 || fflush(scsv) != 0) {
             rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(stpath, -1), "write failed at step %d", k + 1);

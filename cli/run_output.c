@@ -225,13 +225,13 @@ void eo_run_record_write(FILE *f, const eo_run_record *r)
 {
     const eo_step_stats *s = &r->stats;
     char b[11][32];
-    fprintf(f, "%d,%s,%d,%s,%d,%s,%s,%s,%s,%ld,%ld,%ld,%ld,%s,%s,%s,%s,%s,%d,%s,%s,%s\n", r->step,
+    fprintf(f, "%d,%s,%d,%s,%d,%s,%s,%s,%s,%ld,%ld,%ld,%ld,%s,%s,%s,%s,%s,%d,%s,%s,%s,%d\n", r->step,
             eo_run_num(b[0], r->t, 17), r->iterations, eo_reason_name(r->reason), eo_reason_is_converged(r->reason),
             eo_run_num(b[1], r->time, 17), eo_run_num(b[2], r->wall, 17), eo_run_num(b[3], r->g, 17),
             eo_run_num(b[4], r->grad_norm, 17), r->n_value, r->n_gradient, r->n_hessian, r->n_factor,
             eo_run_num(b[5], s->com[0], 17), eo_run_num(b[6], s->com[1], 17), eo_run_num(b[7], s->com[2], 17),
             eo_run_num(b[8], s->max_disp, 17), eo_run_num(b[9], s->min_J, 17), s->inverted,
-            eo_run_num(b[10], s->kinetic, 17), eo_run_num(b[0], s->elastic, 17), eo_run_num(b[1], s->gravity, 17));
+            eo_run_num(b[10], s->kinetic, 17), eo_run_num(b[0], s->elastic, 17), eo_run_num(b[1], s->gravity, 17), r->entry);
 }
 
 static int reason_from_name(const char *s, int *reason)
@@ -249,7 +249,7 @@ static int reason_from_name(const char *s, int *reason)
 /* parse one row (NUL-terminated, no newline) */
 static int parse_record(char *line, eo_run_record *r)
 {
-    enum { NF = 22 };
+    enum { NF = 23 };
     char *f[NF];
     int n = 0;
     for (char *p = line; n < NF; n++) {
@@ -283,6 +283,7 @@ static int parse_record(char *line, eo_run_record *r)
     r->stats.kinetic = num_field(f[19]);
     r->stats.elastic = num_field(f[20]);
     r->stats.gravity = num_field(f[21]);
+    r->entry = atoi(f[22]);
     return 0;
 }
 

@@ -17,6 +17,7 @@
 #include <stdio.h>
 
 #include "cli.h"
+#include "elastopt/sim.h"
 #include "elastopt/step.h"
 
 /* What `elastopt run` keeps of one completed step (a row of steps.csv). */
@@ -25,12 +26,15 @@ typedef struct eo_run_record {
     double t, time, wall, g, grad_norm;
     long n_value, n_gradient, n_hessian, n_factor;
     eo_step_stats stats;
+    int entry;            /* the fallback-chain entry whose result was kept (0 = solver) */
+    int n_entries;        /* entries run (0 when read back from steps.csv) */
+    int entry_reason[EO_SIM_MAX_ENTRIES], entry_iterations[EO_SIM_MAX_ENTRIES];
 } eo_run_record;
 
 #define EO_RUN_STEPS_CSV_HEADER                                                                           \
     "step,t,iterations,reason,converged,solve_time,wall_time,g,grad_norm,n_value,n_gradient,n_hessian,"     \
-    "n_factor,com_x,com_y,com_z,max_disp,min_J,inverted,kinetic,elastic,gravity_potential"
-#define EO_RUN_ITER_CSV_HEADER "step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason"
+    "n_factor,com_x,com_y,com_z,max_disp,min_J,inverted,kinetic,elastic,gravity_potential,entry"
+#define EO_RUN_ITER_CSV_HEADER "step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason,entry"
 
 /* The folder, locked. */
 typedef struct eo_run_dir {

@@ -138,14 +138,14 @@ static int in_range(const eo_param_desc *p, double v)
 
 static void choices_list(const eo_param_desc *p, char *buf, size_t n)
 {
-    if (p->kind == EO_PARAM_METHOD) {
-        eo_registry_name_list(p->registry, buf, n);
-        return;
-    }
     size_t k = 0;
     buf[0] = 0;
+    if (p->kind == EO_PARAM_METHOD) { /* the registered names, then the extra values */
+        eo_registry_name_list(p->registry, buf, n);
+        k = strlen(buf);
+    }
     for (const char *const *c = p->choices; c && *c && k < n; c++)
-        k += (size_t)snprintf(buf + k, n - k, "%s%s", c == p->choices ? "" : ", ", *c);
+        k += (size_t)snprintf(buf + k, n - k, "%s%s", k == 0 ? "" : ", ", *c);
 }
 
 static int check_name(eo_ctx *ctx, const eo_param_desc *p, const char *s, const eo_param_src *src)
@@ -157,6 +157,8 @@ static int check_name(eo_ctx *ctx, const eo_param_desc *p, const char *s, const 
     } else if (p->kind == EO_PARAM_METHOD) {
         for (const void *const *t = eo_registry_types(p->registry); t && *t; t++)
             if (strcmp(eo_method_info_of(*t)->name, s) == 0) return EO_OK;
+        for (const char *const *c = p->choices; c && *c; c++) /* extra values ("auto") */
+            if (strcmp(*c, s) == 0) return EO_OK;
     } else {
         return EO_OK;
     }
@@ -384,9 +386,11 @@ static json_t *param_schema(const eo_param_desc *p)
         json_t *e = json_array();
         if (p->kind == EO_PARAM_CHOICE)
             for (const char *const *c = p->choices; c && *c; c++) json_array_append_new(e, json_string(*c));
-        else
+        else {
             for (const void *const *t = eo_registry_types(p->registry); t && *t; t++)
                 json_array_append_new(e, json_string(eo_method_info_of(*t)->name));
+            for (const char *const *c = p->choices; c && *c; c++) json_array_append_new(e, json_string(*c));
+        }
         json_object_set_new(o, "enum", e);
         break;
     }

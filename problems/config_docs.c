@@ -39,6 +39,9 @@ static const eo_cfg_raw_doc raw_docs[] = {
      "{\"type\": \"array\", \"items\": {\"type\": \"array\", \"items\": {\"type\": \"integer\", \"minimum\": 0}, "
      "\"minItems\": 2, \"maxItems\": 2}}",
      "[[i, j], ...]: scene springs between vertex pairs (springs.edges = \"list\")"},
+    {"solver.fallback", "{\"type\": \"array\", \"items\": {\"type\": \"object\"}, \"maxItems\": 7}",
+     "fallback chain: list of solver sections, each merged over `solver` (keys it names replace those); a "
+     "step that stops diverged_* (not diverged_external) is solved again from its start with the next entry"},
     {NULL, NULL, NULL},
 };
 

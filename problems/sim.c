@@ -17,6 +17,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <jansson.h>
+
 #include "elastopt/sim.h"
 
 struct eo_sim {
@@ -30,7 +32,71 @@ struct eo_sim {
     eo_objective *obj;   /* objective of the prepared next step */
     int prepared;        /* obj and the step's guess belong to the current state */
     double *xb, *vb;     /* state before an implicit step (restored if it diverges) */
+    double *x0b;         /* the step's starting guess, for the fallback entries */
+    eo_solver *fb[EO_SIM_MAX_ENTRIES - 1]; /* solver.fallback entries */
+    int nfb;
+    int entry;           /* configuration running (or last run) */
 };
+
+static void fallback_clear(eo_solver **fb, int *nfb)
+{
+    for (int i = 0; i < *nfb; i++) eo_solver_destroy(&fb[i]);
+    *nfb = 0;
+}
+
+/* The solvers of cfg's `solver.fallback` (each entry merged over the `solver` section),
+ * validated like the main one; the list is consumed in cfg. cfg NULL or no list: none. */
+static int fallback_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver **fb, int *nfb)
+{
+    *nfb = 0;
+    if (!cfg) return EO_OK;
+    /* read without marking `solver` consumed whole (its keys are checked by its loads) */
+    json_t *main_sec = json_object_get(eo_cfg_root(cfg), "solver");
+    json_t *list = json_is_object(main_sec) ? json_object_get(main_sec, "fallback") : NULL;
+    if (!list) return EO_OK;
+    eo_cfg_consume(cfg, "solver.fallback");
+    if (!json_is_array(list) || json_array_size(list) > EO_SIM_MAX_ENTRIES - 1)
+        return eo_error(ctx, EO_ERR_TYPE, "%s: key 'solver.fallback': expected a list of at most %d solver sections",
+                        eo_cfg_file(cfg), EO_SIM_MAX_ENTRIES - 1);
+    int rc = EO_OK;
+    size_t i;
+    json_t *item;
+    json_array_foreach(list, i, item) {
+        if (!json_is_object(item)) {
+            rc = eo_error(ctx, EO_ERR_TYPE, "%s: key 'solver.fallback.%zu': expected an object (a solver section)",
+                          eo_cfg_file(cfg), i);
+            break;
+        }
+        eo_cfg *ec = NULL;
+        if ((rc = eo_cfg_create_empty(ctx, &ec)) < 0) break;
+        json_t *merged = json_deep_copy(main_sec);
+        if (!merged) merged = json_object();
+        json_object_del(merged, "fallback");
+        if (!merged || json_object_update_recursive(merged, item) < 0 ||
+            json_object_set_new(eo_cfg_root(ec), "solver", merged) < 0) {
+            eo_cfg_destroy(&ec);
+            rc = eo_error(ctx, EO_ERR_NOMEM, "sim: out of memory");
+            break;
+        }
+        eo_solver_opts o;
+        eo_solver_opts_default(&o);
+        rc = eo_solver_opts_load(ctx, ec, &o);
+        if (rc >= 0) rc = eo_solver_create(ctx, &o, ec, &fb[*nfb]);
+        if (rc >= 0) {
+            ++*nfb;
+            rc = eo_cfg_finish(ctx, ec);
+        }
+        eo_cfg_destroy(&ec);
+        if (rc < 0) {
+            char msg[600];
+            snprintf(msg, sizeof msg, "%s", eo_ctx_message(ctx));
+            rc = eo_error(ctx, rc, "%s: solver.fallback.%zu: %s", eo_cfg_file(cfg), i, msg);
+            break;
+        }
+    }
+    if (rc < 0) fallback_clear(fb, nfb);
+    return rc;
+}
 
 /* The mass solver of an explicit integrator: solver.linear with its section's params. */
 static int mass_solver(eo_ctx *ctx, eo_cfg *cfg, const char *name, eo_linsolve **out)
@@ -72,6 +138,7 @@ int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
     eo_solver_opts_default(&so);
     EO_TRY(rc = eo_solver_opts_load(ctx, cfg, &so));
     EO_TRY(rc = eo_solver_create(ctx, &so, cfg, &s->solver));
+    EO_TRY(rc = fallback_load(ctx, cfg, s->fb, &s->nfb));
     if (s->sc->integrator->explicit_step && !s->sc->lumped && s->sc->mesh->nt > 0)
         EO_TRY(rc = mass_solver(ctx, cfg, so.linear, &mls));
     EO_TRY(rc = eo_cfg_finish(ctx, cfg));
@@ -84,7 +151,8 @@ int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
     size_t nf = (size_t)(3 * s->sc->mesh->nv > 0 ? 3 * s->sc->mesh->nv : 1);
     s->xb = eo_malloc(ctx, nf * sizeof(double));
     s->vb = eo_malloc(ctx, nf * sizeof(double));
-    if (!s->xb || !s->vb) {
+    s->x0b = s->nfb ? eo_malloc(ctx, nf * sizeof(double)) : NULL;
+    if (!s->xb || !s->vb || (s->nfb && !s->x0b)) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "sim: out of memory");
         goto fail;
     }
@@ -117,6 +185,8 @@ void eo_sim_destroy(eo_sim **ps)
     eo_ctx *ctx = s->ctx;
     eo_free(ctx, s->xb);
     eo_free(ctx, s->vb);
+    eo_free(ctx, s->x0b);
+    fallback_clear(s->fb, &s->nfb);
     eo_solver_destroy(&s->solver);
     eo_step_destroy(&s->st);
     eo_scene_destroy(&s->sc);
@@ -133,13 +203,34 @@ void eo_sim_set_iter_callback(eo_sim *s, eo_iter_fn fn, void *user)
 
 int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solver_cfg)
 {
-    eo_solver *sv = NULL;
+    eo_solver *sv = NULL, *fb[EO_SIM_MAX_ENTRIES - 1];
+    int nfb = 0;
     int rc = eo_solver_create(s->ctx, opts, solver_cfg, &sv);
     if (rc < 0) return rc;
+    if ((rc = fallback_load(s->ctx, solver_cfg, fb, &nfb)) < 0) {
+        eo_solver_destroy(&sv);
+        return rc;
+    }
+    double *x0b = NULL;
+    if (nfb && !s->x0b) {
+        x0b = eo_malloc(s->ctx, (size_t)(3 * s->sc->mesh->nv > 0 ? 3 * s->sc->mesh->nv : 1) * sizeof(double));
+        if (!x0b) {
+            fallback_clear(fb, &nfb);
+            eo_solver_destroy(&sv);
+            return eo_error(s->ctx, EO_ERR_NOMEM, "sim: out of memory");
+        }
+        s->x0b = x0b;
+    }
     eo_solver_destroy(&s->solver);
     s->solver = sv;
+    fallback_clear(s->fb, &s->nfb);
+    for (int i = 0; i < nfb; i++) s->fb[i] = fb[i];
+    s->nfb = nfb;
     return EO_OK;
 }
+
+int eo_sim_entry(const eo_sim *s) { return s->entry; }
+int eo_sim_n_fallback(const eo_sim *s) { return s->nfb; }
 
 int eo_sim_prepare(eo_sim *s, eo_objective **obj, double **guess)
 {
@@ -165,21 +256,37 @@ int eo_sim_step(eo_sim *s, eo_sim_step_result *r)
         double t0 = eo_wtime();
         if ((rc = eo_step_advance(s->st, &r->reason)) < 0) return rc;
         r->time = eo_wtime() - t0;
+        s->entry = 0;
+        r->n_entries = 1;
+        r->entry_reason[0] = r->reason;
     } else {
         if ((rc = eo_sim_prepare(s, NULL, NULL)) < 0) return rc;
         s->prepared = 0;
         double *x = eo_step_guess(s->st);
-        eo_solve_result sr;
-        if ((rc = eo_solver_minimize(s->solver, s->obj, x, s->fn, s->user, &sr)) < 0) return rc;
-        r->iterations = sr.iterations;
-        r->reason = sr.reason;
-        r->time = sr.time;
-        r->g = sr.g;
-        r->grad_norm = sr.grad_norm;
-        r->n_value = sr.n_value;
-        r->n_gradient = sr.n_gradient;
-        r->n_hessian = sr.n_hessian;
-        r->n_factor = sr.n_factor;
+        const size_t nx = (size_t)s->obj->n * sizeof(double);
+        if (s->nfb) memcpy(s->x0b, x, nx);
+        /* the solver, then the fallback entries while the step has not converged */
+        for (int e = 0; e <= s->nfb; e++) {
+            eo_solve_result sr;
+            if (e > 0) memcpy(x, s->x0b, nx); /* again from the step's starting guess */
+            s->entry = e;
+            if ((rc = eo_solver_minimize(e ? s->fb[e - 1] : s->solver, s->obj, x, s->fn, s->user, &sr)) < 0)
+                return rc;
+            r->entry = e;
+            r->n_entries = e + 1;
+            r->entry_reason[e] = sr.reason;
+            r->entry_iterations[e] = sr.iterations;
+            r->iterations = sr.iterations;
+            r->reason = sr.reason;
+            r->time += sr.time;
+            r->g = sr.g;
+            r->grad_norm = sr.grad_norm;
+            r->n_value += sr.n_value;
+            r->n_gradient += sr.n_gradient;
+            r->n_hessian += sr.n_hessian;
+            r->n_factor += sr.n_factor;
+            if (sr.reason >= 0 || sr.reason == EO_DIVERGED_EXTERNAL) break;
+        }
         const size_t nf = (size_t)(3 * s->sc->mesh->nv) * sizeof(double);
         const double t = eo_step_time(s->st);
         const int index = eo_step_index(s->st);

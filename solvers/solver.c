@@ -30,6 +30,8 @@ struct eo_solver {
     eo_linsolve *linear;
 };
 
+static const char *const linesearch_auto[] = {"auto", NULL};
+
 #define OPTS_STR(field) .size = sizeof(((eo_solver_opts *)0)->field)
 
 const eo_param_desc eo_solver_opts_desc[] = {
@@ -40,8 +42,9 @@ const eo_param_desc eo_solver_opts_desc[] = {
      OPTS_STR(hessian_fix), .def.s = "clamp", .registry = &eo_reg_hessfix,
      .help = "how Newton makes its Hessian positive definite"},
     {.key = "linesearch", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linesearch),
-     OPTS_STR(linesearch), .def.s = "backtracking", .registry = &eo_reg_linesearch,
-     .help = "line search along each direction"},
+     OPTS_STR(linesearch), .def.s = "auto", .registry = &eo_reg_linesearch, .choices = linesearch_auto,
+     .help = "line search along each direction; auto = the optimizer's choice (wolfe for lbfgs and ncg, none for "
+             "newton_tr, else backtracking)"},
     {.key = "stop", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, stop),
      OPTS_STR(stop), .def.s = "newton_decrement", .registry = &eo_reg_stop,
      .help = "stopping rule (reads tol)"},
@@ -88,8 +91,12 @@ static void method_section_names(const char **names, size_t cap)
 int eo_solver_opts_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver_opts *o)
 {
     if (!cfg) return EO_OK;
-    const char *names[MAX_EXTRA];
+    const char *names[MAX_EXTRA + 1];
     method_section_names(names, MAX_EXTRA);
+    size_t k = 0;
+    while (names[k]) k++;
+    names[k] = "fallback"; /* the fallback chain, read by the simulation driver (sim.h) */
+    names[k + 1] = NULL;
     return eo_cfg_section(ctx, cfg, "solver", eo_solver_opts_desc, o, names);
 }
 
@@ -152,6 +159,10 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, eo_so
     for (size_t i = 0; i < N_KINDS; i++) {
         if (i == SLOT_LINEAR && !((const eo_optimizer_type *)s->type[SLOT_OPT])->needs_linear)
             continue;
+        if (i == SLOT_LINESEARCH && strcmp(s->opts.linesearch, "auto") == 0) {
+            const char *pref = ((const eo_optimizer_type *)s->type[SLOT_OPT])->linesearch;
+            snprintf(s->opts.linesearch, sizeof s->opts.linesearch, "%s", pref ? pref : "backtracking");
+        }
         EO_TRY(rc = eo_registry_lookup(ctx, solver_regs[i], opts_name(&s->opts, (int)i), &s->type[i]));
         EO_TRY(rc = load_params(ctx, cfg, s->type[i], &s->params[i]));
     }

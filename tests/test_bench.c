@@ -104,7 +104,7 @@ static void test_parse_errors(const char *dir)
            "two configurations are named 'n'");
     refuse(dir, "{\"baseline\": \"x\", " SCENE ", " CONF "}", EO_ERR_INVALID, "configurations: n");
     refuse(dir, "{" SCENE ", \"matrix\": [{\"optimizer\": [\"newtn\"]}]}", EO_ERR_UNKNOWN_NAME,
-           "valid: newton, gradient_descent, lbfgs");
+           "valid: newton, newton_tr, gradient_descent, lbfgs");
     refuse(dir, "{" SCENE ", \"matrix\": [{\"optimizer\": [\"newton\"], \"fix\": [\"clamp\"]}]}",
            EO_ERR_UNKNOWN_KEY, "optimizer, hessian_fix, linesearch, set");
     refuse(dir, "{\"thresholds\": [1e-2, -1], " SCENE ", " CONF "}", EO_ERR_RANGE, "thresholds");
@@ -216,7 +216,7 @@ static void test_shipped_suites(void)
     static const struct {
         const char *file;
         int scenes, configs;
-    } want[] = {{"standard.json", 16, 22}, {"standard-full.json", 24, 22}, {"hard.json", 8, 22}, {"smoke.json", 5, 4}};
+    } want[] = {{"standard.json", 16, 26}, {"standard-full.json", 24, 22}, {"hard.json", 8, 22}, {"smoke.json", 5, 4}};
     for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
         char path[4200];
         snprintf(path, sizeof path, "%s/bench/%s", src, want[i].file);

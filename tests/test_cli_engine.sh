@@ -41,7 +41,7 @@ assert s["resolved"]["scene"]["time"]["integrator"] == "newmark"
 assert s["config"]["time"]["steps"] == 40
 assert s["steps"][-1]["inverted"] == 0
 PY
-head -1 default/iterations.csv | grep -q '^step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason$' && ok || bad "csv header"
+head -1 default/iterations.csv | grep -q '^step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason,entry$' && ok || bad "csv header"
 [ "$(grep -c 'converged_decrement' default/iterations.csv)" -eq 40 ] && ok || bad "csv: one final row per step"
 
 # --- a step that cannot converge: exit 1, files still written

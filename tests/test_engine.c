@@ -397,6 +397,82 @@ static void test_sim_api(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* Fallback chain (solver.fallback, in eo_sim_step): newton + hessian_fix none with a
+ * budget of 20 iterations does not finish the inverted start's first step
+ * (diverged_max_iters); the chain's entry 1 (hessian_fix clamp, 100 iterations) solves it
+ * again from the step's starting guess, to the same point as newton + clamp alone; the
+ * step record names entry 1 and the first entry's reason; the callback sees the entry
+ * running; a later step that entry 0 solves records entry 0. Bad entries are errors
+ * naming solver.fallback.N. */
+typedef struct entry_seen {
+    const eo_sim *sim;
+    int rows[3];
+} entry_seen;
+
+static int count_entry(const eo_iter_info *info, void *user)
+{
+    (void)info;
+    entry_seen *e = user;
+    int k = eo_sim_entry(e->sim);
+    e->rows[k >= 0 && k < 2 ? k : 2]++;
+    return 0;
+}
+
+static void test_fallback(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    const char *ov[] = {"solver.hessian_fix=none", "solver.max_iters=20", "time.steps=2",
+                        "solver.fallback=[{\"hessian_fix\": \"clamp\", \"max_iters\": 100}]", NULL};
+    const char *ref[] = {"solver.hessian_fix=clamp", "solver.max_iters=100", "time.steps=2", NULL};
+    eo_sim *s = NULL, *sr = NULL;
+    CHECK(eo_test_sim_open(&s, ctx, "inverted", NULL, ov) == 0, "open with fallback");
+    CHECK(eo_test_sim_open(&sr, ctx, "inverted", NULL, ref) == 0, "open clamp");
+    if (s && sr) {
+        CHECK(eo_sim_n_fallback(s) == 1 && eo_sim_n_fallback(sr) == 0, "fallback entries");
+        eo_sim_step_result r, rr;
+        entry_seen es = {s, {0, 0, 0}};
+        CHECK(eo_test_sim_step(s, count_entry, &es, &r) == 0, "step: %s", eo_ctx_message(ctx));
+        CHECK(eo_test_sim_step(sr, NULL, NULL, &rr) == 0, "step: %s", eo_ctx_message(ctx));
+        printf("fallback: step 1 entry %d of %d tried: entry 0 %s after %d it., entry 1 %s after %d it.; "
+               "newton+clamp alone %s after %d it.\n", r.entry, r.n_entries, eo_reason_name(r.entry_reason[0]),
+               r.entry_iterations[0], eo_reason_name(r.entry_reason[1]), r.entry_iterations[1],
+               eo_reason_name(rr.reason), rr.iterations);
+        CHECK(r.entry == 1 && r.n_entries == 2, "entry %d of %d", r.entry, r.n_entries);
+        CHECK(r.entry_reason[0] == EO_DIVERGED_MAX_ITERS && r.entry_iterations[0] == 20, "entry 0: %s",
+              eo_reason_name(r.entry_reason[0]));
+        CHECK(eo_reason_is_converged(r.reason) && r.reason == r.entry_reason[1] && r.iterations == rr.iterations,
+              "entry 1: %s after %d (clamp alone %d)", eo_reason_name(r.reason), r.iterations, rr.iterations);
+        CHECK(r.n_gradient > rr.n_gradient, "evaluations of both runs counted");
+        CHECK(es.rows[0] == 21 && es.rows[1] == r.iterations + 1 && es.rows[2] == 0,
+              "callback records per entry: %d, %d, %d", es.rows[0], es.rows[1], es.rows[2]);
+        const int nv = eo_sim_scene(s)->mesh->nv;
+        double *x = malloc((size_t)nv * 3 * sizeof(double)), *xr = malloc((size_t)nv * 3 * sizeof(double));
+        eo_sim_get_state(s, x, NULL, NULL, NULL);
+        eo_sim_get_state(sr, xr, NULL, NULL, NULL);
+        double d = 0;
+        for (int i = 0; i < 3 * nv; i++) d = fmax(d, fabs(x[i] - xr[i]));
+        CHECK(d == 0, "fallback result differs from newton+clamp from the same guess by %g", d);
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0, "step 2");
+        CHECK(r.entry == 0 && r.n_entries == 1 && eo_reason_is_converged(r.reason), "step 2: entry %d, %s", r.entry,
+              eo_reason_name(r.reason));
+        free(x);
+        free(xr);
+    }
+    eo_sim_destroy(&s);
+    eo_sim_destroy(&sr);
+    const char *bad1[] = {"solver.fallback=[{\"hessian_fx\": \"clamp\"}]", NULL};
+    const char *bad2[] = {"solver.fallback=[{\"optimizer\": \"newtn\"}]", NULL};
+    const char *bad3[] = {"solver.fallback={\"optimizer\": \"lbfgs\"}", NULL};
+    CHECK(eo_sim_create_from(ctx, NULL, "cantilever", bad1, &s) == EO_ERR_UNKNOWN_KEY && !s &&
+              strstr(eo_ctx_message(ctx), "solver.fallback.0"),
+          "unknown key in an entry: %s", eo_ctx_message(ctx));
+    CHECK(eo_sim_create_from(ctx, NULL, "cantilever", bad2, &s) == EO_ERR_UNKNOWN_NAME && !s, "bad name: %s",
+          eo_ctx_message(ctx));
+    CHECK(eo_sim_create_from(ctx, NULL, "cantilever", bad3, &s) == EO_ERR_TYPE && !s, "not a list: %s",
+          eo_ctx_message(ctx));
+    eo_test_ctx_done(&ctx);
+}
+
 int main(void)
 {
     test_sim_api();
@@ -409,5 +485,6 @@ int main(void)
     test_cantilever_refinement();
     test_inverted();
     test_regions_and_release();
+    test_fallback();
     return eo_test_finish("test_engine");
 }

@@ -79,8 +79,8 @@ static int run(eo_ctx *ctx, tprob *p, const run_cfg *rc, double *x, tlog *L, eo_
 }
 
 /* ---- the sweep ----------------------------------------------------------------------- */
-static const char *const optimizers[] = {"newton", "gradient_descent", "lbfgs", "ncg"};
-#define N_OPT 4
+static const char *const optimizers[] = {"newton", "gradient_descent", "lbfgs", "ncg", "newton_tr"};
+#define N_OPT 5
 static const char *hessfixes[32]; /* every registered Hessian fix (main fills it) */
 static size_t n_hessfixes;
 static const char *const linesearches[] = {"backtracking", "exact", "none", "wolfe"};
@@ -91,6 +91,7 @@ static const char *const stops[] = {"newton_decrement", "gradient"};
 static int must_converge(int prob, const char *opt, const char *hf, const char *ls)
 {
     int nonconvex = prob == P_ROSEN || prob == P_DWELL;
+    if (strcmp(opt, "newton_tr") == 0) return 1; /* no line search; the true Hessian + trust region */
     if (strcmp(ls, "none") == 0) /* full steps: only where they provably work */
         return (prob == P_QUAD || prob == P_ILL) && strcmp(opt, "lbfgs") != 0 && strcmp(opt, "ncg") != 0;
     if (strcmp(opt, "ncg") == 0) /* CG needs a (near-)exact search: Armijo alone may stall */
@@ -116,7 +117,7 @@ static void test_sweep(void)
                     for (size_t si = 0; si < 2; si++) {
                         run_cfg rc = {.opt = optimizers[oi], .hf = hessfixes[hi], .ls = linesearches[li],
                                       .stop = stops[si], .tol = si == 0 ? 1e-16 : 1e-10,
-                                      .max_iters = newton ? 100 : oi == 1 || oi == 3 ? 5000 : 1000};
+                                      .max_iters = newton || oi == 4 ? 100 : oi == 1 || oi == 3 ? 5000 : 1000};
                         double x[NMAX];
                         eo_solve_result res;
                         p.n_inf = 0;
@@ -443,11 +444,33 @@ static void test_config(void)
         json_t *j = eo_solver_to_json(s);
         json_t *h = json_object_get(json_object_get(j, "lbfgs"), "history");
         CHECK(h && json_integer_value(h) == 5, "echo of lbfgs.history");
-        CHECK(json_object_get(j, "backtracking") != NULL, "echo of the line search");
+        /* solver.linesearch = auto (default) resolves to lbfgs's choice, wolfe */
+        CHECK(json_object_get(j, "wolfe") != NULL && json_object_get(j, "backtracking") == NULL,
+              "echo of the line search lbfgs chose");
+        json_t *lsn = json_object_get(j, "linesearch");
+        CHECK(lsn && strcmp(json_string_value(lsn), "wolfe") == 0, "linesearch echoed as wolfe");
+        CHECK(strcmp(eo_solver_get_opts(s)->linesearch, "wolfe") == 0, "resolved name in the opts");
         json_decref(j);
     }
     eo_solver_destroy(&s);
     eo_cfg_destroy(&cfg);
+    /* auto per optimizer: newton, gradient_descent and projective_dynamics backtracking,
+     * ncg wolfe; an explicit choice wins */
+    {
+        const char *opt_ls[][3] = {{"newton", "auto", "backtracking"}, {"gradient_descent", "auto", "backtracking"},
+                                   {"projective_dynamics", "auto", "backtracking"}, {"ncg", "auto", "wolfe"},
+                                   {"lbfgs", "backtracking", "backtracking"}, {"ncg", "exact", "exact"}};
+        for (int i = 0; i < 6; i++) {
+            eo_solver_opts_default(&o);
+            CHECK(strcmp(o.linesearch, "auto") == 0, "default linesearch is auto");
+            snprintf(o.optimizer, sizeof o.optimizer, "%s", opt_ls[i][0]);
+            snprintf(o.linesearch, sizeof o.linesearch, "%s", opt_ls[i][1]);
+            CHECK(eo_solver_create(ctx, &o, NULL, &s) == EO_OK, "%s", eo_ctx_message(ctx));
+            CHECK(s && strcmp(eo_solver_get_opts(s)->linesearch, opt_ls[i][2]) == 0, "%s + %s -> %s, got %s",
+                  opt_ls[i][0], opt_ls[i][1], opt_ls[i][2], s ? eo_solver_get_opts(s)->linesearch : "-");
+            eo_solver_destroy(&s);
+        }
+    }
 
     /* unknown sub-section, unknown key, wrong type, unknown names */
     const char *bad[] = {

@@ -67,7 +67,9 @@ typedef struct eo_param_desc {
     } def;                     ///< documented default
     double min, max;           ///< range, used as told by .range
     unsigned range;            ///< EO_RANGE_* bits; 0 = unbounded
-    const char *const *choices;///< CHOICE: NULL-terminated list
+    const char *const *choices;///< CHOICE: NULL-terminated list; METHOD: extra values
+                               ///< accepted besides the registered names (e.g. "auto"),
+                               ///< given a meaning by the table's owner (NULL: none)
     const struct eo_registry *registry; ///< METHOD: the registry of the kind (registry.h)
     const char *help;          ///< one line: meaning and unit
 } eo_param_desc;

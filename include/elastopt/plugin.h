@@ -34,7 +34,7 @@ extern "C" {
 #endif
 
 /// Version of the method-table layouts (bumped when an ops table changes incompatibly).
-#define EO_ABI_VERSION 3   /* 3: eo_integrator_type (theta, history ops), eo_objective_ops (inertia) grew */
+#define EO_ABI_VERSION 3   /* 3: eo_integrator_type (theta, history ops), eo_objective_ops (inertia) grew; eo_optimizer_type.linesearch */
 
 /// The library's EO_ABI_VERSION.
 EO_API int eo_abi_version(void);

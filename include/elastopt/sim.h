@@ -41,6 +41,9 @@ extern "C" {
 
 typedef struct eo_sim eo_sim;
 
+/// Most solver configurations of one step: `solver` + up to 7 `solver.fallback` entries.
+#define EO_SIM_MAX_ENTRIES 8
+
 /// What one step did (eo_sim_step).
 typedef struct eo_sim_step_result {
     int iterations;       ///< solver iterations (0 for an explicit integrator)
@@ -51,6 +54,15 @@ typedef struct eo_sim_step_result {
     double g, grad_norm;  ///< objective and ‖∇g‖ at the accepted point (NAN if explicit)
     long n_value, n_gradient, n_hessian, n_factor;  ///< evaluations of this step
     eo_step_stats stats;  ///< diagnostics of the state after the step
+    /// Fallback chain (config `solver.fallback`): the configuration whose result the
+    /// step kept, 0 = `solver`, k = solver.fallback[k−1] (the first that converged, or the
+    /// last one tried), how many were tried and the reason each stopped with. iterations,
+    /// reason, g and grad_norm are those of the kept run; time and the evaluation counts
+    /// add up every run of the step.
+    int entry;
+    int n_entries;
+    int entry_reason[EO_SIM_MAX_ENTRIES];
+    int entry_iterations[EO_SIM_MAX_ENTRIES];
 } eo_sim_step_result;
 
 /// Create a simulation from a scene config document (eo_scene_cfg_load + the caller's
@@ -67,13 +79,29 @@ EO_API int eo_sim_create_from(eo_ctx *ctx, const char *path, const char *builtin
 /// Free; sets *s = NULL; accepts NULL.
 EO_API void eo_sim_destroy(eo_sim **s);
 
-/// Callback after every solver iteration of eo_sim_step (NULL: none).
+/// Callback after every solver iteration of eo_sim_step (NULL: none); during a step the
+/// callback can ask eo_sim_entry which configuration of the chain is running.
 EO_API void eo_sim_set_iter_callback(eo_sim *s, eo_iter_fn fn, void *user);
+/// The configuration eo_sim_step is running (or ran last): 0 = `solver`, k =
+/// solver.fallback[k−1].
+EO_API int eo_sim_entry(const eo_sim *s);
+/// Number of fallback entries (config `solver.fallback`, 0 if none).
+EO_API int eo_sim_n_fallback(const eo_sim *s);
 /// Replace the sim's solver by one made from opts (NULL: defaults) and the method
-/// sections of solver_cfg (NULL: defaults; borrowed during the call, not finished).
-/// On error the old solver stays.
+/// sections of solver_cfg (NULL: defaults; borrowed during the call, not finished), and
+/// its fallback chain by solver_cfg's `solver.fallback` (none if absent or solver_cfg
+/// NULL). On error the old solver and chain stay.
 EO_API int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solver_cfg);
 
+/// Fallback chain: `solver.fallback` is a list of solver sections; each entry is the
+/// `solver` section with the keys the entry names replaced (merged recursively, so
+/// `{"hessian_fix": "clamp"}` or `{"optimizer": "lbfgs", "lbfgs": {"history": 20}}`).
+/// When the configuration running a step stops without converging (any diverged_*
+/// reason but diverged_external, the callback's stop), the step is solved again from the
+/// same starting guess with the next entry; the first that converges is kept (else the
+/// last). Every entry is validated at create (errors name `solver.fallback.N`).
+/// eo_sim_trial uses only the solver it is given.
+///
 /// One time step, the whole protocol (see the file comment). Returns EO_OK also when
 /// the step did not converge (r->reason negative; diverged_nonfinite leaves the state
 /// at the last finite one and does not advance t); a negative status only for errors

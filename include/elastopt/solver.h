@@ -2,17 +2,20 @@
 /// Optimizers, Hessian fixes, line searches and stopping rules, each chosen by name.
 ///
 /// The solver of one step problem is assembled from four pluggable pieces:
-///   solver.optimizer   newton, gradient_descent, lbfgs, ncg,
+///   solver.optimizer   newton, newton_tr, gradient_descent, lbfgs, ncg,
 ///                      projective_dynamics                      (eo_optimizer_type)
 ///   solver.hessian_fix none, shift, clamp, abs, project_on_demand,
 ///                      progressive, trust_region_filter         (eo_hessfix_type)
 ///   solver.linesearch  backtracking, wolfe, exact, none         (eo_linesearch_type)
 ///   solver.stop        newton_decrement, gradient               (eo_stop_type)
 ///   solver.linear      cholmod, cholmod_ldlt, ...               (eo_linsolve_type)
-/// solver.linesearch is one explicit choice (default backtracking, for newton); lbfgs and
-/// ncg are meant to run with `solver.linesearch = wolfe`, whose curvature constant c2 then
-/// defaults to the optimizer's preference (0.9 lbfgs, 0.1 ncg; eo_ls_extra.c2) and which
-/// hands back ∇g of the accepted point (one value+gradient call per trial).
+/// solver.linesearch defaults to `auto`: the optimizer's own choice
+/// (eo_optimizer_type.linesearch): `wolfe` for lbfgs and ncg, `backtracking` for newton,
+/// gradient_descent and projective_dynamics (and for a plug-in that names none); the
+/// solver echoes the resolved name. wolfe's curvature constant c2 then defaults to the
+/// optimizer's preference (0.9 lbfgs, 0.1 ncg; eo_ls_extra.c2) and it hands back ∇g of
+/// the accepted point (one value+gradient call per trial). Any registered line search
+/// can still be named explicitly.
 /// plus solver.tol, solver.max_iters, solver.time_budget (eo_solver_opts), and each
 /// method's parameters live in config section `solver.<method name>` (e.g.
 /// `solver.backtracking.c1`, `solver.shift.shift_init`, `solver.lbfgs.history`). Sections
@@ -275,6 +278,30 @@ typedef struct eo_newton_params {
     double descent_eps;  ///< p is a descent direction iff ∇gᵀp < −eps‖∇g‖‖p‖ (1e-12)
 } eo_newton_params;
 
+/// Trust-region Newton with Steihaug–Toint CG (config `solver.newton_tr.*`;
+/// solvers/optim/newton_tr.c has the algorithm).
+typedef struct eo_newton_tr_params {
+    char hessian[16];    ///< model Hessian: "true" (unprojected) or "fix" (per-element
+                         ///< projection of solver.hessian_fix) (default "true")
+    char precond[16];    ///< "none" (M = I) or "jacobi" (M = diag|H_ii|): CG preconditioner
+                         ///< and trust-region norm √(pᵀMp) (default "none")
+    double delta0;       ///< first radius in that norm (m for none); 0 = the first inner
+                         ///< solve is unconstrained (default 0)
+    double delta_max;    ///< largest radius, 0 = none (0)
+    double eta;          ///< accept when ρ = actual/predicted reduction > eta (1e-4)
+    double rho_low;      ///< Δ ← shrink·‖p‖ when ρ < rho_low (0.25)
+    double rho_high;     ///< Δ ← grow·Δ when ρ > rho_high on the boundary (0.75)
+    double shrink;       ///< (0.25)
+    double grow;         ///< (2)
+    char forcing[16];    ///< CG tolerance η_k = min(cg_rtol_max, ‖∇g‖/‖∇g₀‖) "quadratic"
+                         ///< or its square root "superlinear" (default "quadratic")
+    double cg_rtol_max;  ///< largest η_k (0.5)
+    int cg_max_iters;    ///< CG iterations per inner solve, 0 = n (0)
+    int max_rejects;     ///< rejected trial steps in a row before diverged_linesearch (50)
+    double noise;        ///< where |g(x+p) − g(x)| ≤ noise·|g(x)| the actual reduction is
+                         ///< −½(∇g(x) + ∇g(x+p))ᵀp (1e-10)
+} eo_newton_tr_params;
+
 /// Gradient descent (config `solver.gradient_descent.*`).
 typedef struct eo_gradient_descent_params {
     int scaled;          ///< p = −D⁻¹∇g with D = objective metric (lumped mass) (true)
@@ -386,6 +413,9 @@ typedef struct eo_solve_result {
                           ///< (the fix for `shift`, the safeguard for clamp/abs)
     double projected;     ///< mean over the directions of this minimization of the
                           ///< fraction of elements projected (0 if none computed)
+    long n_inner;         ///< inner iterations (newton_tr: CG iterations; else 0)
+    long n_negcurv;       ///< newton_tr: inner solves that met negative curvature dᵀHd ≤ 0
+                          ///< and stepped to the trust-region boundary along d (else 0)
 } eo_solve_result;
 
 typedef struct eo_optimizer_type {
@@ -393,6 +423,10 @@ typedef struct eo_optimizer_type {
     size_t state_size;
     int needs_linear;     ///< 1 if it factors/solves systems (solver.linear used)
     int needs_hessian;    ///< 1 if it calls objective hessian
+    /// Line search used when solver.linesearch is "auto" (the default): a registered
+    /// line-search name, NULL = "backtracking". lbfgs and ncg: "wolfe"; newton,
+    /// gradient_descent, projective_dynamics: backtracking; newton_tr uses none.
+    const char *linesearch;
     /// Size workspace for n variables, on a zeroed state. The solver calls it at the
     /// first minimize and, after destroy and zeroing, whenever obj->n changes.
     int (*setup)(void *st, const void *params, int n, eo_ctx *ctx);
@@ -404,8 +438,9 @@ typedef struct eo_optimizer_type {
     void (*destroy)(void *st, eo_ctx *ctx);
 } eo_optimizer_type;
 
-EO_API extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_gradient_descent,
-    eo_optimizer_lbfgs, eo_optimizer_ncg, eo_optimizer_projective_dynamics;
+EO_API extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_newton_tr,
+    eo_optimizer_gradient_descent, eo_optimizer_lbfgs, eo_optimizer_ncg,
+    eo_optimizer_projective_dynamics;
 EO_API extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfix_clamp,
     eo_hessfix_abs, eo_hessfix_project_on_demand, eo_hessfix_progressive,
     eo_hessfix_trust_region_filter;
@@ -421,7 +456,9 @@ EO_API int eo_solver_report(const eo_solver_ctx *sc, double t0, eo_iter_info *in
 typedef struct eo_solver_opts {
     char optimizer[32];    ///< registered optimizer (default "newton")
     char hessian_fix[32];  ///< registered Hessian fix (default "clamp")
-    char linesearch[32];   ///< registered line search (default "backtracking")
+    char linesearch[32];   ///< registered line search, or "auto" (default): the
+                           ///< optimizer's choice (eo_optimizer_type.linesearch),
+                           ///< replaced by the resolved name in eo_solver_get_opts
     char stop[32];         ///< registered stopping rule (default "newton_decrement")
     char linear[32];       ///< registered linear solver (default "cholmod"), used only by
                            ///< optimizers that solve systems (newton, projective_dynamics)

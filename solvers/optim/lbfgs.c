@@ -216,6 +216,7 @@ const eo_optimizer_type eo_optimizer_lbfgs = {
     .state_size = sizeof(lbfgs_state),
     .needs_linear = 1, /* only with h0 = pd */
     .needs_hessian = 0,
+    .linesearch = "wolfe",
     .setup = lbfgs_setup,
     .minimize = lbfgs_minimize,
     .destroy = lbfgs_destroy,

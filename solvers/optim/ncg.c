@@ -258,6 +258,7 @@ const eo_optimizer_type eo_optimizer_ncg = {
     .state_size = sizeof(ncg_state),
     .needs_linear = 1, /* only with precond = pd */
     .needs_hessian = 0,
+    .linesearch = "wolfe",
     .setup = ncg_setup,
     .minimize = ncg_minimize,
     .destroy = ncg_destroy,

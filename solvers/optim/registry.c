@@ -13,6 +13,7 @@ extern const eo_optimizer_type eo_optimizer_ipopt;   /* ipopt.c, optional backen
 
 const void *const eo_registry_optimizer[] = {
     &eo_optimizer_newton,
+    &eo_optimizer_newton_tr,
     &eo_optimizer_gradient_descent,
     &eo_optimizer_lbfgs,
     &eo_optimizer_ncg,
