@@ -224,14 +224,14 @@ static double num_field(const char *s) { return *s ? strtod(s, NULL) : NAN; }
 void eo_run_record_write(FILE *f, const eo_run_record *r)
 {
     const eo_step_stats *s = &r->stats;
-    char b[11][32];
+    char b[14][32];
     fprintf(f, "%d,%s,%d,%s,%d,%s,%s,%s,%s,%ld,%ld,%ld,%ld,%s,%s,%s,%s,%s,%d,%s,%s,%s,%d\n", r->step,
             eo_run_num(b[0], r->t, 17), r->iterations, eo_reason_name(r->reason), eo_reason_is_converged(r->reason),
             eo_run_num(b[1], r->time, 17), eo_run_num(b[2], r->wall, 17), eo_run_num(b[3], r->g, 17),
             eo_run_num(b[4], r->grad_norm, 17), r->n_value, r->n_gradient, r->n_hessian, r->n_factor,
             eo_run_num(b[5], s->com[0], 17), eo_run_num(b[6], s->com[1], 17), eo_run_num(b[7], s->com[2], 17),
             eo_run_num(b[8], s->max_disp, 17), eo_run_num(b[9], s->min_J, 17), s->inverted,
-            eo_run_num(b[10], s->kinetic, 17), eo_run_num(b[0], s->elastic, 17), eo_run_num(b[1], s->gravity, 17), r->entry);
+            eo_run_num(b[10], s->kinetic, 17), eo_run_num(b[11], s->elastic, 17), eo_run_num(b[12], s->gravity, 17), r->entry);
 }
 
 static int reason_from_name(const char *s, int *reason)
