@@ -34,7 +34,7 @@ extern "C" {
 #endif
 
 /// Version of the method-table layouts (bumped when an ops table changes incompatibly).
-#define EO_ABI_VERSION 2
+#define EO_ABI_VERSION 3
 
 /// The library's EO_ABI_VERSION.
 EO_API int eo_abi_version(void);
