@@ -17,7 +17,9 @@
  *             solver.linear and reused by every iteration and every later step while
  *             the objective, the matrix and its version are unchanged (a release makes
  *             a new pattern: one new factorization; solvers/optim/pd_updown.c has the
- *             rank update/downdate of such a factor).
+ *             rank update/downdate of such a factor). An objective without the op
+ *             (not a step problem: tests' analytic problems, Poisson) gets its clamped
+ *             Hessian at the first iterate, factored once per minimization.
  * Iteration   local step: pᵢ = proj(Gᵢx) for every constraint (inside the objective's
  *             gradient: P = wᵢ(F − proj(F)) per tet, k(‖d‖ − L)d/‖d‖ per spring);
  *             global step: x⁺ = L⁻¹ b(x), b = M y + w(Σ wᵢGᵢᵀpᵢ + f). Because
@@ -121,31 +123,19 @@ static int same_pattern(const eo_csc *A, const eo_csc *B)
            memcmp(A->rowind, B->rowind, (size_t)A->nnz * sizeof(int)) == 0;
 }
 
-/* Factor the objective's constant matrix unless the factors in the linear solver are
- * already its. Returns a negative status, or EO_OK with *reason < 0 if it cannot be
- * factored. */
-static int ensure_factor(pdlg_state *st, const eo_solver_ctx *sc, eo_solve_result *res, int *reason)
+/* Copy M into the own matrix A (analysis on a new pattern) and factor it. */
+static int load_factor(pdlg_state *st, const eo_solver_ctx *sc, const eo_csc *M, eo_solve_result *res, int *reason)
 {
-    eo_csc *L = NULL;
-    unsigned long ver = 0;
-    int rc = eo_objective_constant_hessian(sc->obj, &L, &ver);
-    if (rc == EO_ERR_UNSUPPORTED)
-        return eo_error(sc->ctx, EO_ERR_UNSUPPORTED,
-                        "pd_local_global needs the objective's constant PD matrix (op constant_hessian, "
-                        "the step objective has it)");
-    if (rc < 0) return rc;
-    if (st->factored && st->obj == sc->obj && st->src == L && st->version == ver && st->ls == sc->linear)
-        return EO_OK;
-    st->factored = 0;
-    if (!L || L->n != st->n)
+    int rc;
+    if (!M || M->n != st->n)
         return eo_error(sc->ctx, EO_ERR_INVALID, "pd_local_global: matrix has n = %d, objective has n = %d",
-                        L ? L->n : -1, st->n);
-    if (same_pattern(st->A, L) && st->analyzed && st->ls == sc->linear) {
-        memcpy(st->A->val, L->val, (size_t)L->nnz * sizeof(double));
+                        M ? M->n : -1, st->n);
+    if (same_pattern(st->A, M) && st->analyzed && st->ls == sc->linear) {
+        memcpy(st->A->val, M->val, (size_t)M->nnz * sizeof(double));
     } else {
         st->analyzed = 0;
         eo_csc_destroy(&st->A);
-        rc = eo_csc_clone(sc->ctx, L, &st->A);
+        rc = eo_csc_clone(sc->ctx, M, &st->A);
         if (rc < 0) return rc;
         rc = eo_linsolve_analyze(sc->linear, st->A);
         if (rc < 0) {
@@ -161,13 +151,38 @@ static int ensure_factor(pdlg_state *st, const eo_solver_ctx *sc, eo_solve_resul
     if (rc < 0) {
         res->status = rc;
         *reason = EO_DIVERGED_LINSOLVE;
-        return EO_OK;
-    }
-    if (rc == EO_WARN_NOT_PD) {
+    } else if (rc == EO_WARN_NOT_PD) {
         *reason = EO_DIVERGED_NOT_PD;
-        return EO_OK;
+    } else {
+        st->factored = 1;
     }
-    st->factored = 1;
+    return EO_OK;
+}
+
+/* Factor the objective's constant matrix unless the factors in the linear solver are
+ * already its. An objective without one (not a step problem) gets its Hessian at the
+ * first iterate x, clamped, factored for this minimization only. Returns a negative
+ * status, or EO_OK with *reason < 0 if it cannot be factored. */
+static int ensure_factor(pdlg_state *st, const eo_solver_ctx *sc, const double *x, eo_solve_result *res,
+                         int *reason)
+{
+    eo_csc *L = NULL;
+    unsigned long ver = 0;
+    int rc = eo_objective_constant_hessian(sc->obj, &L, &ver);
+    if (rc == EO_ERR_UNSUPPORTED) {
+        st->factored = 0;
+        st->obj = NULL;
+        rc = eo_objective_hessian(sc->obj, x, EO_PROJ_CLAMP, &L);
+        if (rc < 0) return rc;
+        return load_factor(st, sc, L, res, reason);
+    }
+    if (rc < 0) return rc;
+    if (st->factored && st->obj == sc->obj && st->src == L && st->version == ver && st->ls == sc->linear)
+        return EO_OK;
+    st->factored = 0;
+    st->obj = NULL;
+    rc = load_factor(st, sc, L, res, reason);
+    if (rc < 0 || !st->factored) return rc;
     st->obj = sc->obj;
     st->src = L;
     st->version = ver;
@@ -283,7 +298,7 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
     rc = eo_objective_gradient(obj, x, &g, st->grad);
     if (rc < 0) goto done;
     gn = gn0 = isfinite(g) ? eo_norm2(n, st->grad) : NAN;
-    rc = ensure_factor(st, sc, res, &reason);
+    rc = ensure_factor(st, sc, x, res, &reason);
     if (rc < 0) goto done;
     anderson_clear(st);
     for (k = 0;; k++) {
