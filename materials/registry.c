@@ -4,7 +4,7 @@
 
 extern const eo_material_type eo_material_linear, eo_material_stvk, eo_material_corotated,
     eo_material_fixed_corotated, eo_material_neo_hookean, eo_material_stable_neo_hookean,
-    eo_material_spring;
+    eo_material_spring, eo_material_pd_arap, eo_material_pd_strain_limit, eo_material_pd_volume;
 
 const void *const eo_registry_material[] = {
     &eo_material_linear,
@@ -14,6 +14,9 @@ const void *const eo_registry_material[] = {
     &eo_material_neo_hookean,
     &eo_material_stable_neo_hookean,
     &eo_material_spring,
+    &eo_material_pd_arap,
+    &eo_material_pd_strain_limit,
+    &eo_material_pd_volume,
     NULL,
 };
 
@@ -32,6 +35,9 @@ static int check_material(eo_ctx *ctx, const void *type)
     if (!!(t->flags & EO_MATERIAL_EDGE) != (t->edge_eval != NULL))
         return eo_error(ctx, EO_ERR_INVALID,
                         "register material '%s': EO_MATERIAL_EDGE goes with edge_eval", t->info.name);
+    if (t->pd_weight && !t->sigma_eval)
+        return eo_error(ctx, EO_ERR_INVALID,
+                        "register material '%s': pd_weight is for isotropic tet models (sigma_eval)", t->info.name);
     return EO_OK;
 }
 

@@ -30,8 +30,11 @@
  * Measured on examples/twist.json (50 steps, tol 1e-10, iterations per step, plain PD /
  * L-BFGS-PD m = 5): k = λ + 2μ 114 / 24; k = 2μ 101 / 28; k = tr C/9 101 / 24;
  * the material's clamped rest Hessian instead of k·I₉: 412 / 39.
- * Springs have no rotation-invariant form here yet: their rest Hessian k·ddᵀ (clamped)
- * is used, which is constant too.
+ * Springs: the isotropic block k·[[1, −1], [−1, 1]] ⊗ I₃ of Liu, Bouaziz & Kavan 2013
+ * (a spring is the constraint ‖x_a − x_b‖ = L; term_spring.c), rotation invariant too.
+ * Materials that are PD constraint energies (pd_arap, pd_strain_limit, pd_volume) give
+ * kₜ = their own weight (material op pd_weight): then L is exactly the global matrix of
+ * their local/global iteration (solvers/optim/pd_local_global.c).
  *
  * L is SPD whenever the problem is well posed: M is SPD, and without inertia (static)
  * the elastic part is SPD as soon as every connected piece of the mesh has a
@@ -49,6 +52,7 @@
 double eo_pd_tet_weight(const eo_material_type *mt, const eo_material_coef *c)
 {
     static const double I3[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    if (mt->pd_weight) return mt->pd_weight(c); /* a PD constraint energy: its own weight */
     eo_material_eval ev;
     if (eo_material_evaluate(mt, c, I3, EO_EVAL_HESS, EO_PROJ_CLAMP, &ev) < 0) return 0;
     return (ev.dPdF[0] + ev.dPdF[4 * 9 + 4] + ev.dPdF[8 * 9 + 8]) / 3;

@@ -459,6 +459,9 @@ static int load_materials(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
         rc = eo_registry_find(ctx, EO_KIND_MATERIAL, mat->opts.model, (const void **)&mat->type);
         if (rc < 0) return cfg_err(ctx, cfg, path, rc, "%s", eo_ctx_message(ctx));
         mat->coef = eo_material_coef_from_opts(&mat->opts);
+        if (!(mat->opts.pd_min <= mat->opts.pd_max))
+            return cfg_err(ctx, cfg, path, EO_ERR_RANGE, "pd_min = %g is above pd_max = %g", mat->opts.pd_min,
+                           mat->opts.pd_max);
         if (r == 0) continue;
         char sub[96];
         snprintf(sub, sizeof sub, "%s.attribute", path);

@@ -12,6 +12,7 @@
  * which dissipates power c((v_a − v_b)·n̂)² and leaves rigid motions alone. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "term.h"
 
@@ -83,6 +84,26 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
     return EO_OK;
 }
 
+/* Projective-dynamics matrix of the springs (pd_matrix.c; Liu, Bouaziz & Kavan, "Fast
+ * Simulation of Mass-Spring Systems", 2013): a spring is the constraint ‖x_a − x_b‖ = Lₑ,
+ * k/2(‖d‖ − L)² = min_{‖p‖ = L} k/2‖d − p‖² with d = x_a − x_b, so its block of the global
+ * matrix is w·kₑ·[[1, −1], [−1, 1]] ⊗ I₃ (isotropic: the same for every orientation). */
+static int pd_hessian(eo_term *t, const eo_sys *s)
+{
+    const spring_data *d = t->data;
+    double He[36];
+    for (int e = 0; e < d->ne; e++) {
+        const double k = t->weight * d->coef[e]->k;
+        memset(He, 0, sizeof He);
+        for (int i = 0; i < 3; i++) {
+            He[6 * i + i] = He[6 * (i + 3) + i + 3] = k;
+            He[6 * i + i + 3] = He[6 * (i + 3) + i] = -k;
+        }
+        eo_assembler_add(s->as, d->group, e, He);
+    }
+    return EO_OK;
+}
+
 static int attach(eo_term *t, eo_sys *s)
 {
     spring_data *d = t->data;
@@ -113,6 +134,7 @@ static const eo_term_ops spring_ops = {
     .energy = energy,
     .gradient = gradient,
     .hessian = hessian,
+    .pd_hessian = pd_hessian,
     .attach = attach,
     .destroy = destroy,
 };

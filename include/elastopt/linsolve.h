@@ -123,6 +123,40 @@ EO_API const void *eo_linsolve_get_params(const eo_linsolve *ls);
 /// Look up a registered solver by name (EO_ERR_UNKNOWN_NAME listing the valid names).
 EO_API int eo_linsolve_find(eo_ctx *ctx, const char *name, const eo_linsolve_type **out);
 
+
+/// A CHOLMOD LDLᵀ factor of Ã(S) = [A_SS 0; 0 diag(A_CC)] for an SPD matrix A over all n
+/// variables and a free set S (C = the rest), kept current when S changes by rank
+/// updates/downdates (cholmod_updown) instead of a refactorization: releasing or pinning
+/// k variables costs a rank-2k change (solvers/linsys/updown.c has the construction).
+/// The free block of Ã(S) is the matrix of the problem with C eliminated, so solving
+/// Ã(S)x = b gives the eliminated solution on S (and b_C/A_CC on C).
+/// ```c
+/// eo_updown *u; eo_updown_create(ctx, A, is_free, &u);    // analyze + factor once
+/// eo_updown_set_free(u, is_free2, &rank);                  // pins and releases
+/// eo_updown_solve(u, b, x);
+/// eo_updown_destroy(&u);
+/// ```
+/// A (upper-triangle CSC, every diagonal stored) and is_free (n bytes, NULL = all free)
+/// are copied. Returns EO_OK, EO_ERR_INVALID (not positive definite), EO_ERR_NOMEM or
+/// EO_ERR_INTERNAL (a CHOLMOD failure).
+typedef struct eo_updown eo_updown;
+EO_API int eo_updown_create(eo_ctx *ctx, const eo_csc *A, const unsigned char *is_free, eo_updown **out);
+/// Change the free set to is_free (n bytes): pins by update+downdate, then releases.
+/// *rank (may be NULL) = columns of the update/downdate matrices, 2·(changed variables).
+EO_API int eo_updown_set_free(eo_updown *u, const unsigned char *is_free, int *rank);
+/// Numeric refactorization of Ã(S) with the same symbolic analysis (the alternative the
+/// update replaces; for tests and benchmarks).
+EO_API int eo_updown_refactor(eo_updown *u);
+/// x = Ã(S)⁻¹ b (n values each, distinct arrays).
+EO_API int eo_updown_solve(eo_updown *u, const double *b, double *x);
+/// The factor as a dense n×n row-major matrix (permuted order; strictly lower part L,
+/// diagonal D of LDLᵀ), for comparisons in tests.
+EO_API int eo_updown_factor_dense(eo_updown *u, double *LD);
+/// Columns passed to cholmod_updown so far.
+EO_API long eo_updown_columns(const eo_updown *u);
+/// Free; sets *u = NULL; accepts NULL.
+EO_API void eo_updown_destroy(eo_updown **u);
+
 #ifdef __cplusplus
 }
 #endif

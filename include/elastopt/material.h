@@ -46,6 +46,8 @@ typedef struct eo_material_coef {
     double E, nu, mu, lambda;
     double density;  ///< kg/m³
     double k;        ///< spring stiffness (N/m), springs only
+    double pd_min, pd_max; ///< bounds of a PD constraint (pd_strain_limit: singular values,
+                           ///< pd_volume: det F); 1, 1 from eo_material_coef_from
 } eo_material_coef;
 
 EO_API eo_material_coef eo_material_coef_from(double E, double nu, double density, double k);
@@ -57,8 +59,11 @@ typedef struct eo_material_opts {
     double nu;        ///< Poisson ratio. Default 0.45; range (-1, 0.5).
     double density;   ///< kg/m³. Default 1000; range (0, inf).
     double k;         ///< spring stiffness, N/m (spring model). Default 1000; range (0, inf).
+    double pd_min;    ///< lower bound of the PD constraint: singular values (pd_strain_limit)
+                      ///< or det F (pd_volume). Default 1; range (0, inf).
+    double pd_max;    ///< upper bound, >= pd_min. Default 1; range (0, inf).
 } eo_material_opts;
-/// Descriptor table of eo_material_opts (keys model, E, nu, density, k).
+/// Descriptor table of eo_material_opts (keys model, E, nu, density, k, pd_min, pd_max).
 EO_API extern const eo_param_desc eo_material_opts_desc[];
 /// Coefficients from options.
 EO_API eo_material_coef eo_material_coef_from_opts(const eo_material_opts *o);
@@ -83,7 +88,9 @@ typedef enum eo_eval_what {
 enum {
     EO_MATERIAL_INVERSION_SAFE = 1,  ///< finite and smooth through J <= 0
     EO_MATERIAL_EDGE = 2,            ///< a 2-node (spring) model, not a tet model
-    EO_MATERIAL_BARRIER = 4          ///< ψ = +∞ at J <= 0 (optimizers must backtrack)
+    EO_MATERIAL_BARRIER = 4,         ///< ψ = +∞ at J <= 0 (optimizers must backtrack)
+    EO_MATERIAL_NO_VOLUME = 8        ///< linearizes to linear elasticity with λ = 0 (no
+                                     ///< volume term: pd_arap, pd_strain_limit at bounds 1, 1)
 };
 
 typedef struct eo_material_type {
@@ -110,6 +117,12 @@ typedef struct eo_material_type {
     double (*edge_eval)(const eo_material_coef *c, double L, const double a[3],
                         const double b[3], eo_eval_what what, eo_proj proj, double grad[6],
                         double hess[36]);
+    /// Optional, isotropic tet models that are projective-dynamics constraint energies
+    /// (ψ = Σ_c (w_c/2)‖F − proj_c(F)‖², Bouaziz et al. 2014): the total weight Σ_c w_c
+    /// per unit rest volume (Pa), i.e. the element block V·(Σ w_c)·GᵀG of the PD global
+    /// matrix (problems/pd_matrix.c). NULL: the matrix takes the mean rest stiffness
+    /// ∂²ψ/∂F_ii² at F = I (λ + 2μ for the classical models).
+    double (*pd_weight)(const eo_material_coef *c);
 } eo_material_type;
 
 /// det F, the one way J is computed everywhere (kernel, barrier, inverted counts):

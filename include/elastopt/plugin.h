@@ -34,7 +34,7 @@ extern "C" {
 #endif
 
 /// Version of the method-table layouts (bumped when an ops table changes incompatibly).
-#define EO_ABI_VERSION 3   /* 3: eo_integrator_type (theta, history ops), eo_objective_ops (inertia) grew; eo_optimizer_type.linesearch */
+#define EO_ABI_VERSION 3   /* 3: eo_integrator_type (theta, history ops), eo_objective_ops (inertia) grew; eo_optimizer_type.linesearch; eo_material_type.pd_weight */
 
 /// The library's EO_ABI_VERSION.
 EO_API int eo_abi_version(void);

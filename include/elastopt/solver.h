@@ -3,7 +3,8 @@
 ///
 /// The solver of one step problem is assembled from four pluggable pieces:
 ///   solver.optimizer   newton, newton_tr, gradient_descent, lbfgs, ncg,
-///                      projective_dynamics                      (eo_optimizer_type)
+///                      projective_dynamics, pd_local_global, fixed_point
+///                                                               (eo_optimizer_type)
 ///   solver.hessian_fix none, shift, clamp, abs, project_on_demand,
 ///                      progressive, trust_region_filter         (eo_hessfix_type)
 ///   solver.linesearch  backtracking, wolfe, exact, none         (eo_linesearch_type)
@@ -353,6 +354,15 @@ typedef struct eo_projective_dynamics_params {
                          ///< 2017) (default 0)
 } eo_projective_dynamics_params;
 
+/// Projective dynamics, local/global solver (config `solver.pd_local_global.*`; Bouaziz
+/// et al. 2014). Minimizes the step objective of PD constraint energies (materials
+/// pd_arap, pd_strain_limit, pd_volume; springs) with the objective's constant matrix.
+typedef struct eo_pd_local_global_params {
+    int anderson;        ///< Anderson acceleration of the local/global map, with the energy
+                         ///< safeguard of Peng et al. 2018 (default false)
+    int window;          ///< Anderson window m, differences kept (default 5, range [1, 100])
+} eo_pd_local_global_params;
+
 /// Backtracking (config `solver.backtracking.*`).
 typedef struct eo_backtracking_params {
     double c1;           ///< Armijo constant (1e-4)
@@ -440,7 +450,7 @@ typedef struct eo_optimizer_type {
 
 EO_API extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_newton_tr,
     eo_optimizer_gradient_descent, eo_optimizer_lbfgs, eo_optimizer_ncg,
-    eo_optimizer_projective_dynamics;
+    eo_optimizer_projective_dynamics, eo_optimizer_pd_local_global;
 EO_API extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfix_clamp,
     eo_hessfix_abs, eo_hessfix_project_on_demand, eo_hessfix_progressive,
     eo_hessfix_trust_region_filter;

@@ -19,6 +19,7 @@ const void *const eo_registry_optimizer[] = {
     &eo_optimizer_ncg,
     &eo_optimizer_projective_dynamics,
     &eo_optimizer_fixed_point,
+    &eo_optimizer_pd_local_global,
 #if EO_HAVE_NLOPT
     &eo_optimizer_nlopt,
 #endif

@@ -1,0 +1,430 @@
+/* Projective dynamics, the local/global solver (registry key "pd_local_global").
+ *
+ * Energy      PD minimizes its own energy (Bouaziz, Martin, Liu, Kavan & Pauly,
+ *             "Projective Dynamics: Fusing Constraint Projections for Fast Simulation",
+ *             SIGGRAPH 2014, eq. 10–13): the step objective
+ *                 g(x) = ½‖x − y‖²_M + w·[ Σᵢ (wᵢ/2)‖Gᵢx − pᵢ(x)‖² − fᵀx ],
+ *             pᵢ(x) = proj_Cᵢ(Gᵢx) the closest point of constraint set Cᵢ, when every
+ *             elastic term is a PD constraint energy: tets of the materials pd_arap
+ *             (C = SO(3), wᵢ = 2μVᵢ), pd_strain_limit (singular values in [pd_min,
+ *             pd_max], 2μVᵢ), pd_volume (SO(3) with 2μVᵢ plus det F ∈ [pd_min, pd_max]
+ *             with 3λVᵢ) and springs (‖x_a − x_b‖ = L, wᵢ = k: the fast mass-springs of
+ *             Liu, Bouaziz & Kavan, "Fast Simulation of Mass-Spring Systems", SIGGRAPH
+ *             Asia 2013). Gravity and Newmark's linear term are the linear −fᵀx.
+ * Global      L = M + w·Σᵢ wᵢ GᵢᵀGᵢ, the objective's constant_hessian (problems/
+ *             pd_matrix.c; each PD material gives its wᵢ through op pd_weight, springs
+ *             the isotropic block k[[1,−1],[−1,1]] ⊗ I₃), factored ONCE with
+ *             solver.linear and reused by every iteration and every later step while
+ *             the objective, the matrix and its version are unchanged (a release makes
+ *             a new pattern: one new factorization; solvers/optim/pd_updown.c has the
+ *             rank update/downdate of such a factor). An objective without the op
+ *             (not a step problem: tests' analytic problems, Poisson) gets its clamped
+ *             Hessian at the first iterate, factored once per minimization.
+ * Iteration   local step: pᵢ = proj(Gᵢx) for every constraint (inside the objective's
+ *             gradient: P = wᵢ(F − proj(F)) per tet, k(‖d‖ − L)d/‖d‖ per spring);
+ *             global step: x⁺ = L⁻¹ b(x), b = M y + w(Σ wᵢGᵢᵀpᵢ + f). Because
+ *             ∇g(x) = L x − b(x) (envelope theorem), this is computed in correction form
+ *                 d = −L⁻¹∇g(x),   G(x) = x + d = L⁻¹ b(x)
+ *             (one solve with the prefactored L per iteration, no line search). It is a
+ *             block coordinate descent on (x, p), so g(G(x)) ≤ g(x) for every
+ *             PD-expressible objective (tests/test_pd_local_global.c checks it). An
+ *             objective that is not (collision penalties, a classical material) still
+ *             runs: where the plain iterate raises g beyond rounding (1e-12|g|), the
+ *             configured line search along d takes over for that iteration.
+ * Anderson    anderson = true (Peng, Deng, Zhang, Geng, Qin & Liu, "Anderson
+ *             Acceleration for Geometry Optimization and Physics Simulation", SIGGRAPH
+ *             2018, Alg. 2): the local/global map G is a fixed-point iteration with
+ *             residual f(x) = G(x) − x = d. With the last m = window differences
+ *             ΔF = [f_{j+1} − f_j], ΔG = [G(x_{j+1}) − G(x_j)],
+ *                 θ = argmin ‖f_k − ΔF θ‖₂  (m×m normal equations, Cholesky),
+ *                 x_AA = G(x_k) − ΔG θ          (mixing β = 1, the paper's choice).
+ *             Safeguard: x_AA is accepted only if g(x_AA) < g(x_k); otherwise the
+ *             plain iterate G(x_k) is taken (one more evaluation) and the history is
+ *             cleared, which keeps g monotone and the method globally convergent.
+ * Stopping    the configured rule at every iterate: gradient (‖∇g‖ relative) or
+ *             newton_decrement with λ²/2 = ∇gᵀL⁻¹∇g/2 (an estimate of g − g* only as
+ *             good as L is of ∇²g).
+ * Memory      workspace (7 + 2m vectors of n, m² + 2m scalars) in setup, the copy of L
+ *             once per new matrix; nothing inside the iterations. */
+#include <stddef.h>
+#include <string.h>
+
+#include "descent.h"
+#include "external.h" /* eo_external_inverted */
+
+typedef struct pdlg_state {
+    int n, m;
+    double *buf;
+    double *grad, *d, *xg, *xt, *gt, *fprev, *gprev, *work;
+    double *dF, *dG;          /* m columns of n each (ring) */
+    double *gram, *rhs, *chol, *theta; /* m×m, m, m×m, m */
+    int count, head, have_prev;
+    /* the factored matrix: own copy A, and what it was made from */
+    eo_csc *A;
+    const eo_objective *obj;
+    const eo_csc *src;
+    unsigned long version;
+    const eo_linsolve *ls;
+    int analyzed, factored;
+    eo_ctx *ctx;
+} pdlg_state;
+
+static const eo_param_desc pdlg_desc[] = {
+    {.key = "anderson", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_pd_local_global_params, anderson),
+     .def.i = 0, .help = "Anderson acceleration of the local/global map with the energy safeguard (Peng 2018)"},
+    {.key = "window", .kind = EO_PARAM_INT, .offset = offsetof(eo_pd_local_global_params, window), .def.i = 5,
+     .min = 1, .max = 100, .range = EO_RANGE_CLOSED, .help = "Anderson window m (differences kept)"},
+    {0},
+};
+
+static void pdlg_free(pdlg_state *st, eo_ctx *ctx)
+{
+    eo_free(ctx, st->buf);
+    st->buf = NULL;
+    eo_csc_destroy(&st->A);
+}
+
+static int pdlg_setup(void *vst, const void *params, int n, eo_ctx *ctx)
+{
+    pdlg_state *st = vst;
+    eo_pd_local_global_params def;
+    const eo_pd_local_global_params *pp = params;
+    if (!pp) {
+        eo_params_default(pdlg_desc, &def);
+        pp = &def;
+    }
+    pdlg_free(st, ctx);
+    memset(st, 0, sizeof *st);
+    st->ctx = ctx;
+    if (n < 0) return eo_error(ctx, EO_ERR_INVALID, "pd_local_global: n = %d < 0", n);
+    const size_t nn = (size_t)(n > 0 ? n : 1), m = (size_t)pp->window;
+    st->buf = eo_calloc(ctx, (8 + 2 * m) * nn + 2 * m * m + 2 * m, sizeof(double));
+    if (!st->buf) return eo_error(ctx, EO_ERR_NOMEM, "pd_local_global: out of memory (n = %d, window %zu)", n, m);
+    double *p = st->buf;
+    double **vec[] = {&st->grad, &st->d, &st->xg, &st->xt, &st->gt, &st->fprev, &st->gprev, &st->work};
+    for (size_t i = 0; i < sizeof vec / sizeof vec[0]; i++, p += nn) *vec[i] = p;
+    st->dF = p, p += m * nn;
+    st->dG = p, p += m * nn;
+    st->gram = p, p += m * m;
+    st->chol = p, p += m * m;
+    st->rhs = p, p += m;
+    st->theta = p;
+    st->n = n;
+    st->m = (int)m;
+    return EO_OK;
+}
+
+static void pdlg_destroy(void *vst, eo_ctx *ctx) { pdlg_free(vst, ctx); }
+
+static int same_pattern(const eo_csc *A, const eo_csc *B)
+{
+    return A && B && A->n == B->n && A->nnz == B->nnz &&
+           memcmp(A->colptr, B->colptr, ((size_t)A->n + 1) * sizeof(int)) == 0 &&
+           memcmp(A->rowind, B->rowind, (size_t)A->nnz * sizeof(int)) == 0;
+}
+
+/* Copy M into the own matrix A (analysis on a new pattern) and factor it. */
+static int load_factor(pdlg_state *st, const eo_solver_ctx *sc, const eo_csc *M, eo_solve_result *res, int *reason)
+{
+    int rc;
+    if (!M || M->n != st->n)
+        return eo_error(sc->ctx, EO_ERR_INVALID, "pd_local_global: matrix has n = %d, objective has n = %d",
+                        M ? M->n : -1, st->n);
+    if (same_pattern(st->A, M) && st->analyzed && st->ls == sc->linear) {
+        memcpy(st->A->val, M->val, (size_t)M->nnz * sizeof(double));
+    } else {
+        st->analyzed = 0;
+        eo_csc_destroy(&st->A);
+        rc = eo_csc_clone(sc->ctx, M, &st->A);
+        if (rc < 0) return rc;
+        rc = eo_linsolve_analyze(sc->linear, st->A);
+        if (rc < 0) {
+            res->status = rc;
+            *reason = EO_DIVERGED_LINSOLVE;
+            return EO_OK;
+        }
+        st->analyzed = 1;
+        st->ls = sc->linear;
+    }
+    rc = eo_linsolve_factor(sc->linear, st->A);
+    res->n_factor++;
+    if (rc < 0) {
+        res->status = rc;
+        *reason = EO_DIVERGED_LINSOLVE;
+    } else if (rc == EO_WARN_NOT_PD) {
+        *reason = EO_DIVERGED_NOT_PD;
+    } else {
+        st->factored = 1;
+    }
+    return EO_OK;
+}
+
+/* Factor the objective's constant matrix unless the factors in the linear solver are
+ * already its. An objective without one (not a step problem) gets its Hessian at the
+ * first iterate x, clamped, factored for this minimization only. Returns a negative
+ * status, or EO_OK with *reason < 0 if it cannot be factored. */
+static int ensure_factor(pdlg_state *st, const eo_solver_ctx *sc, const double *x, eo_solve_result *res,
+                         int *reason)
+{
+    eo_csc *L = NULL;
+    unsigned long ver = 0;
+    int rc = eo_objective_constant_hessian(sc->obj, &L, &ver);
+    if (rc == EO_ERR_UNSUPPORTED) {
+        st->factored = 0;
+        st->obj = NULL;
+        rc = eo_objective_hessian(sc->obj, x, EO_PROJ_CLAMP, &L);
+        if (rc < 0) return rc;
+        return load_factor(st, sc, L, res, reason);
+    }
+    if (rc < 0) return rc;
+    if (st->factored && st->obj == sc->obj && st->src == L && st->version == ver && st->ls == sc->linear)
+        return EO_OK;
+    st->factored = 0;
+    st->obj = NULL;
+    rc = load_factor(st, sc, L, res, reason);
+    if (rc < 0 || !st->factored) return rc;
+    st->obj = sc->obj;
+    st->src = L;
+    st->version = ver;
+    return EO_OK;
+}
+
+/* Anderson: push the differences of (f, G) against the previous iterate's, then
+ * θ = argmin ‖f − ΔF θ‖ and xt = xg − ΔG θ. Returns 1 if xt holds an accelerated point. */
+static int anderson(pdlg_state *st, const double *f, const double *xg, double *xt)
+{
+    const int n = st->n, m = st->m;
+    int ok = 0;
+    if (st->have_prev) {
+        const int j = st->head;
+        double *df = st->dF + (size_t)j * n, *dg = st->dG + (size_t)j * n;
+        for (int i = 0; i < n; i++) {
+            df[i] = f[i] - st->fprev[i];
+            dg[i] = xg[i] - st->gprev[i];
+        }
+        st->head = (st->head + 1) % m;
+        if (st->count < m) st->count++;
+        for (int q = 0; q < st->count; q++) {
+            double v = eo_dot(n, df, st->dF + (size_t)q * n);
+            st->gram[j * m + q] = st->gram[q * m + j] = v;
+        }
+        const int c = st->count;
+        double tr = 0;
+        for (int q = 0; q < c; q++) {
+            st->rhs[q] = eo_dot(n, st->dF + (size_t)q * n, f);
+            tr += st->gram[q * m + q];
+        }
+        /* Cholesky of the Gram matrix (+ tiny relative regularization) */
+        const double reg = 1e-12 * (tr > 0 ? tr / c : 1);
+        ok = tr > 0;
+        for (int a = 0; a < c && ok; a++) {
+            for (int b = 0; b <= a; b++) {
+                double s = st->gram[a * m + b] + (a == b ? reg : 0);
+                for (int k = 0; k < b; k++) s -= st->chol[a * m + k] * st->chol[b * m + k];
+                if (a == b) {
+                    if (!(s > 0)) {
+                        ok = 0;
+                        break;
+                    }
+                    st->chol[a * m + a] = sqrt(s);
+                } else {
+                    st->chol[a * m + b] = s / st->chol[b * m + b];
+                }
+            }
+        }
+        if (ok) {
+            for (int a = 0; a < c; a++) { /* forward */
+                double s = st->rhs[a];
+                for (int k = 0; k < a; k++) s -= st->chol[a * m + k] * st->theta[k];
+                st->theta[a] = s / st->chol[a * m + a];
+            }
+            for (int a = c - 1; a >= 0; a--) { /* backward */
+                double s = st->theta[a];
+                for (int k = a + 1; k < c; k++) s -= st->chol[k * m + a] * st->theta[k];
+                st->theta[a] = s / st->chol[a * m + a];
+            }
+            for (int a = 0; a < c; a++) ok &= isfinite(st->theta[a]);
+        }
+        if (ok) {
+            memcpy(xt, xg, (size_t)n * sizeof(double));
+            for (int q = 0; q < c; q++) {
+                const double th = st->theta[q], *dgq = st->dG + (size_t)q * n;
+                for (int i = 0; i < n; i++) xt[i] -= th * dgq[i];
+            }
+        }
+    }
+    memcpy(st->fprev, f, (size_t)n * sizeof(double));
+    memcpy(st->gprev, xg, (size_t)n * sizeof(double));
+    st->have_prev = 1;
+    return ok;
+}
+
+static void anderson_clear(pdlg_state *st)
+{
+    st->count = st->head = st->have_prev = 0;
+}
+
+/* accepted steps without a strict decrease of g (and no new smallest ‖∇g‖) before
+ * EO_DIVERGED_STAGNATED: the tolerance is below the rounding level of g */
+#define PDLG_STALL_LIMIT 5
+
+static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc, double *x,
+                         eo_solve_result *res)
+{
+    pdlg_state *st = vst;
+    eo_pd_local_global_params def;
+    const eo_pd_local_global_params *pp = params;
+    if (!pp) {
+        eo_params_default(pdlg_desc, &def);
+        pp = &def;
+    }
+    eo_objective *obj = sc->obj;
+    const int n = obj->n;
+    const double t0 = eo_wtime();
+    const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
+    double g = NAN, gn = NAN, gn0 = NAN, g_prev = NAN, step_norm = NAN, last_dec = NAN, gn_best = INFINITY;
+    int rc = EO_OK, reason = 0, k = 0, stalled = 0;
+    memset(res, 0, sizeof *res);
+    res->decrement = NAN;
+    if (n != st->n || pp->window != st->m) {
+        rc = eo_error(sc->ctx, EO_ERR_INVALID, "pd_local_global set up for n = %d, window %d; called with %d, %d",
+                      st->n, st->m, n, pp->window);
+        goto done;
+    }
+    if (!sc->linear) {
+        rc = eo_error(sc->ctx, EO_ERR_INVALID, "pd_local_global needs a linear solver");
+        goto done;
+    }
+    rc = eo_objective_gradient(obj, x, &g, st->grad);
+    if (rc < 0) goto done;
+    gn = gn0 = isfinite(g) ? eo_norm2(n, st->grad) : NAN;
+    rc = ensure_factor(st, sc, x, res, &reason);
+    if (rc < 0) goto done;
+    anderson_clear(st);
+    for (k = 0;; k++) {
+        eo_iter_info info = {.iteration = k, .g = g, .grad_norm = gn, .decrement = NAN, .alpha = NAN,
+                             .ls_evals = 0, .shift = 0, .inverted = eo_external_inverted(sc, x), .reason = 0,
+                             .x = x};
+        eo_stop_info si = {.iteration = k, .g = g, .g_prev = g_prev, .grad_norm = gn, .grad_norm0 = gn0,
+                           .decrement = NAN, .step_norm = step_norm, .x_norm = eo_norm2(n, x), .tol = sc->tol};
+        if (!reason && (!isfinite(g) || !isfinite(gn))) reason = EO_DIVERGED_NONFINITE;
+        if (!reason) reason = sc->stop->check(sc->stop_params, &si);
+        if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget) reason = EO_DIVERGED_TIME_BUDGET;
+        if (!reason) { /* global step: d = −L⁻¹∇g */
+            int src = eo_linsolve_solve(sc->linear, st->grad, st->d);
+            if (src < 0) {
+                res->status = src;
+                reason = EO_DIVERGED_LINSOLVE;
+            } else if (src == EO_WARN_NOT_PD) {
+                reason = EO_DIVERGED_NOT_PD;
+            } else {
+                for (int i = 0; i < n; i++) st->d[i] = -st->d[i];
+                const double dg = eo_dot(n, st->grad, st->d);
+                if (!(dg < 0) || !isfinite(dg)) {
+                    reason = EO_DIVERGED_NOT_DESCENT;
+                } else {
+                    info.decrement = last_dec = -dg / 2;
+                    if (sc->stop->needs_direction) {
+                        si.decrement = info.decrement;
+                        reason = sc->stop->check(sc->stop_params, &si);
+                    }
+                }
+            }
+        }
+        if (!reason && stalled >= PDLG_STALL_LIMIT) reason = EO_DIVERGED_STAGNATED;
+        if (!reason && k >= sc->max_iters) reason = EO_DIVERGED_MAX_ITERS;
+        if (reason) {
+            info.reason = reason;
+            eo_solver_report(sc, t0, &info);
+            break;
+        }
+        /* the plain local/global iterate G(x) = x + d, and Anderson's candidate */
+        for (int i = 0; i < n; i++) st->xg[i] = x[i] + st->d[i];
+        int accel = pp->anderson && anderson(st, st->d, st->xg, st->xt);
+        double gt = NAN, alpha = 1;
+        int nev = 0;
+        if (accel) {
+            nev++;
+            rc = eo_objective_gradient(obj, st->xt, &gt, st->gt);
+            if (rc < 0) goto done;
+            if (!(isfinite(gt) && gt < g)) { /* safeguard: back to G(x), history cleared */
+                accel = 0;
+                anderson_clear(st);
+                res->n_fallback++;
+            }
+        }
+        if (!accel) {
+            memcpy(st->xt, st->xg, (size_t)n * sizeof(double));
+            nev++;
+            rc = eo_objective_gradient(obj, st->xt, &gt, st->gt);
+            if (rc < 0) goto done;
+            if (!(isfinite(gt) && gt <= g + 1e-12 * fabs(g))) {
+                /* not a PD energy (or non-finite): the configured line search along d */
+                int ls_n = 0;
+                eo_ls_extra ex = {.grad_new = st->gt, .have_grad = 0, .c2 = 0};
+                rc = sc->linesearch->search(sc->linesearch_params, obj, x, st->d, g, -2 * last_dec, 1, st->xt, &gt,
+                                            &alpha, &ls_n, st->work, sc->ctx, &ex);
+                nev += ls_n;
+                if (rc < 0) goto done;
+                if (!isfinite(gt) || !(rc == EO_OK || gt < g) || !(alpha > 0)) {
+                    rc = EO_OK;
+                    info.ls_evals = nev;
+                    reason = info.reason = EO_DIVERGED_LINESEARCH;
+                    eo_solver_report(sc, t0, &info);
+                    break;
+                }
+                rc = EO_OK;
+                if (!ex.have_grad) {
+                    nev++;
+                    rc = eo_objective_gradient(obj, st->xt, &gt, st->gt);
+                    if (rc < 0) goto done;
+                }
+                anderson_clear(st);
+            }
+        }
+        info.alpha = alpha;
+        info.ls_evals = nev;
+        if (gn < gn_best) gn_best = gn;
+        if (eo_solver_report(sc, t0, &info)) {
+            reason = EO_DIVERGED_EXTERNAL;
+            break;
+        }
+        double s2 = 0;
+        for (int i = 0; i < n; i++) {
+            double s = st->xt[i] - x[i];
+            s2 += s * s;
+            x[i] = st->xt[i];
+        }
+        step_norm = sqrt(s2);
+        double *t = st->grad;
+        st->grad = st->gt;
+        st->gt = t;
+        g_prev = g;
+        g = gt;
+        gn = isfinite(g) ? eo_norm2(n, st->grad) : NAN;
+        last_dec = NAN;
+        stalled = (g < g_prev || gn < gn_best) ? 0 : stalled + 1;
+    }
+done:
+    res->reason = reason;
+    res->iterations = k;
+    res->g = g;
+    res->grad_norm = gn;
+    res->decrement = last_dec;
+    eo_solve_result_finish(res, obj, nv0, ng0, nh0, t0, rc);
+    return rc < 0 ? rc : EO_OK;
+}
+
+const eo_optimizer_type eo_optimizer_pd_local_global = {
+    .info = {.name = "pd_local_global",
+             .summary = "projective dynamics local/global solver (Bouaziz 2014): per-constraint projections, "
+                        "constant matrix factored once, optional Anderson acceleration (Peng 2018)",
+             .params = pdlg_desc,
+             .params_size = sizeof(eo_pd_local_global_params)},
+    .state_size = sizeof(pdlg_state),
+    .needs_linear = 1,
+    .needs_hessian = 0,
+    .setup = pdlg_setup,
+    .minimize = pdlg_minimize,
+    .destroy = pdlg_destroy,
+};
