@@ -30,6 +30,9 @@ struct eo_sim {
     eo_objective *obj;   /* objective of the prepared next step */
     int prepared;        /* obj and the step's guess belong to the current state */
     double *xb, *vb;     /* state before an implicit step (restored if it diverges) */
+    double *xyz;         /* rest positions of the free vertices (3 nv), for set_coordinates */
+    const eo_solver *coord_solver; /* s->solver was given the coordinates of ... */
+    int coord_n;                   /* ... an objective with coord_n free coordinates */
 };
 
 /* The mass solver of an explicit integrator: solver.linear with its section's params. */
@@ -84,7 +87,8 @@ int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
     size_t nf = (size_t)(3 * s->sc->mesh->nv > 0 ? 3 * s->sc->mesh->nv : 1);
     s->xb = eo_malloc(ctx, nf * sizeof(double));
     s->vb = eo_malloc(ctx, nf * sizeof(double));
-    if (!s->xb || !s->vb) {
+    s->xyz = eo_malloc(ctx, nf * sizeof(double));
+    if (!s->xb || !s->vb || !s->xyz) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "sim: out of memory");
         goto fail;
     }
@@ -117,6 +121,7 @@ void eo_sim_destroy(eo_sim **ps)
     eo_ctx *ctx = s->ctx;
     eo_free(ctx, s->xb);
     eo_free(ctx, s->vb);
+    eo_free(ctx, s->xyz);
     eo_solver_destroy(&s->solver);
     eo_step_destroy(&s->st);
     eo_scene_destroy(&s->sc);
@@ -138,6 +143,7 @@ int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solver_cfg)
     if (rc < 0) return rc;
     eo_solver_destroy(&s->solver);
     s->solver = sv;
+    s->coord_solver = NULL;
     return EO_OK;
 }
 
@@ -150,6 +156,27 @@ int eo_sim_prepare(eo_sim *s, eo_objective **obj, double **guess)
     }
     if (obj) *obj = s->obj;
     if (guess) *guess = eo_step_guess(s->st);
+    return EO_OK;
+}
+
+/* Node coordinates for the linear solver of `solver` (AMG's rigid-body modes,
+ * linsolve.h): the rest positions of the free vertices in free order, given again when the
+ * free set changes (a release) or the solver is another one. Free coordinates come in
+ * vertex triples (constraints act on whole vertices); anything else is left alone. */
+static int sim_coordinates(eo_sim *s, eo_solver *solver)
+{
+    eo_linsolve *ls = eo_solver_get_linsolve(solver);
+    const int n = s->obj->n;
+    if (!ls || n % 3 != 0) return EO_OK;
+    if (solver == s->solver && s->coord_solver == solver && s->coord_n == n) return EO_OK;
+    const double *x0 = eo_step_x0(s->st);
+    for (int i = 0; i < n; i++) s->xyz[i] = x0[eo_step_free_to_full(s->st, i)];
+    int rc = eo_linsolve_set_coordinates(ls, n / 3, s->xyz);
+    if (rc < 0) return rc;
+    if (solver == s->solver) {
+        s->coord_solver = solver;
+        s->coord_n = n;
+    }
     return EO_OK;
 }
 
@@ -170,6 +197,7 @@ int eo_sim_step(eo_sim *s, eo_sim_step_result *r)
         s->prepared = 0;
         double *x = eo_step_guess(s->st);
         eo_solve_result sr;
+        if ((rc = sim_coordinates(s, s->solver)) < 0) return rc;
         if ((rc = eo_solver_minimize(s->solver, s->obj, x, s->fn, s->user, &sr)) < 0) return rc;
         r->iterations = sr.iterations;
         r->reason = sr.reason;
@@ -206,6 +234,7 @@ int eo_sim_trial(eo_sim *s, eo_solver *solver, const double *x0, double *x, eo_i
     if (rc < 0) return rc;
     const double *src = x0 ? x0 : eo_step_guess(s->st);
     if (src != x) memmove(x, src, (size_t)s->obj->n * sizeof(double));
+    if ((rc = sim_coordinates(s, solver ? solver : s->solver)) < 0) return rc;
     return eo_solver_minimize(solver ? solver : s->solver, s->obj, x, fn, user, res);
 }
 

@@ -76,6 +76,14 @@ typedef struct eo_iter_info {
     int inverted;         ///< inverted elements at x_k (-1 if unknown)
     int reason;           ///< reason if this is the last iteration, else 0
     const double *x;      ///< the iterate x_k (borrowed, valid during the callback)
+    /// Inexact Newton (solver.newton.forcing ≠ none): forcing term η_k = relative inner
+    /// tolerance given to the iterative linear solver for the direction (0 if none).
+    double eta;
+    int lin_iters;        ///< iterations of the last inner linear solve (0 direct/none)
+    /// 1 if the inner CG met non-positive curvature pᵀHp ≤ 0 for this direction (the
+    /// Hessian fix then used another system: `none` the clamp-projected one, `shift` a
+    /// larger shift, ...); the offending CG direction is never used.
+    int neg_curvature;
 } eo_iter_info;
 
 /// Callback after every iteration; return non-zero to stop (reason EO_DIVERGED_EXTERNAL).
@@ -204,6 +212,8 @@ typedef struct eo_hessfix_out {
     int reason;               ///< negative eo_reason if there is no direction / system:
                               ///< EO_DIVERGED_NOT_PD (shift above shift_max),
                               ///< EO_DIVERGED_LINSOLVE, EO_DIVERGED_NONFINITE; else 0
+    int neg_curvature;        ///< 1 if an iterative inner solve (cg/pcg) met pᵀAp ≤ 0
+                              ///< during this call (EO_WARN_NOT_PD from solve)
 } eo_hessfix_out;
 
 /// Line-search outcome of the step along the fix's last direction (hook `accepted`).
@@ -271,8 +281,25 @@ typedef struct eo_hessfix_trust_region_filter_params {
 } eo_hessfix_trust_region_filter_params;
 
 /// Newton (config `solver.newton.*`).
+///
+/// Inexact Newton: with an iterative solver.linear (cg, pcg, gmres) the direction solve
+/// H̃p = −∇g stops at ‖H̃p + ∇g‖ ≤ η_k‖∇g‖, η_k set by `forcing` through
+/// eo_linsolve_set_rtol before each direction (direct solvers ignore it):
+///   none      the linear solver's own `tol` (default)
+///   constant  η_k = eta
+///   ew1       Eisenstat–Walker choice 1: η_k = |‖∇g_k‖ − ‖∇g_{k−1} + αH̃_{k−1}p_{k−1}‖| / ‖∇g_{k−1}‖,
+///             safeguard η_k ≥ η_{k−1}^φ (φ = (1+√5)/2) when that is > 0.1
+///   ew2       Eisenstat–Walker choice 2: η_k = ew_gamma (‖∇g_k‖/‖∇g_{k−1}‖)^ew_alpha,
+///             safeguard η_k ≥ ew_gamma η_{k−1}^ew_alpha when that is > 0.1
+/// η_0 = eta, then η_k ∈ [eta_min, eta_max] (Eisenstat & Walker 1996; solvers/optim/forcing.c).
 typedef struct eo_newton_params {
     double descent_eps;  ///< p is a descent direction iff ∇gᵀp < −eps‖∇g‖‖p‖ (1e-12)
+    char forcing[16];    ///< "none", "constant", "ew1", "ew2" (default "none")
+    double eta;          ///< constant: η_k; ew1/ew2: η_0 (default 0.5)
+    double ew_gamma;     ///< ew2: γ ∈ (0, 1] (default 0.9)
+    double ew_alpha;     ///< ew2: α ∈ (1, 2] (default 2)
+    double eta_max;      ///< upper bound of η_k (default 0.9)
+    double eta_min;      ///< lower bound of η_k (default 1e-12)
 } eo_newton_params;
 
 /// Gradient descent (config `solver.gradient_descent.*`).
@@ -374,6 +401,9 @@ typedef struct eo_solve_result {
                           ///< (the fix for `shift`, the safeguard for clamp/abs)
     double projected;     ///< mean over the directions of this minimization of the
                           ///< fraction of elements projected (0 if none computed)
+    long lin_iters;       ///< newton: inner linear-solver iterations, summed (0 direct)
+    long n_neg_curvature; ///< newton: directions whose inner CG met pᵀHp ≤ 0 (handled by
+                          ///< the Hessian fix, see eo_iter_info.neg_curvature)
 } eo_solve_result;
 
 typedef struct eo_optimizer_type {

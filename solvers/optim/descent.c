@@ -123,6 +123,9 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
             if (rc < 0) goto done;
             info.shift = d.shift;
             info.projected = d.projected;
+            info.eta = d.eta;
+            info.lin_iters = d.lin_iters;
+            info.neg_curvature = d.neg_curvature;
             alpha0 = d.alpha0;
             reason = d.reason;
             if (!reason) {
