@@ -96,6 +96,10 @@ typedef struct eo_stop_info {
     double grad_norm;     ///< ‖∇g(x)‖₂
     double grad_norm0;    ///< ‖∇g(x₀)‖₂ at the start of this minimization
     double decrement;     ///< λ²/2 for the direction just computed at x (NAN if none)
+    double decrement0;    ///< λ²/2 of the first direction of this minimization (NAN before
+                          ///< it; 0 from optimizers that do not track it)
+    double decrement_prev; ///< λ²/2 of the previous iteration's direction (NAN at first; 0
+                          ///< from optimizers that do not track it)
     double step_norm;     ///< ‖α p‖₂ of the last step (NAN at first)
     double x_norm;        ///< ‖x‖₂
     double tol;           ///< solver.tol
@@ -359,6 +363,14 @@ typedef struct eo_exact_params {
     int max_evals;       ///< evaluations before giving up (100)
 } eo_exact_params;
 
+/// Relative decrement stopping rule, the default (config `solver.relative_decrement.*`):
+/// converged when λ_k ≤ tol·λ_0 (λ² = −∇gᵀp, λ_0 of the first direction), or at the
+/// rounding floor: λ_k²/2 ≤ plateau·|g| and λ_k² > λ_{k−1}²/4.
+typedef struct eo_stop_relative_decrement_params {
+    double plateau;      ///< level of λ²/2, relative to |g|, below which a decrement that
+                         ///< stopped falling counts as converged (1e-16)
+} eo_stop_relative_decrement_params;
+
 /// Gradient stopping rule (config `solver.gradient.*`).
 typedef struct eo_stop_gradient_params {
     double floor;        ///< lower bound of the scale ‖∇g(x₀)‖, units of ∇g (1e-300)
@@ -429,7 +441,8 @@ EO_API extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfi
     eo_hessfix_trust_region_filter;
 EO_API extern const eo_linesearch_type eo_linesearch_backtracking, eo_linesearch_wolfe,
     eo_linesearch_exact, eo_linesearch_none;
-EO_API extern const eo_stop_type eo_stop_newton_decrement, eo_stop_gradient;
+EO_API extern const eo_stop_type eo_stop_newton_decrement, eo_stop_gradient,
+    eo_stop_relative_decrement;
 
 /// Shared helper for optimizers: report an iteration (fills time = now − t0, calls
 /// sc->on_iter); returns non-zero if the callback asked to stop.
@@ -440,7 +453,7 @@ typedef struct eo_solver_opts {
     char optimizer[32];    ///< registered optimizer (default "newton")
     char hessian_fix[32];  ///< registered Hessian fix (default "clamp")
     char linesearch[32];   ///< registered line search (default "backtracking")
-    char stop[32];         ///< registered stopping rule (default "newton_decrement")
+    char stop[32];         ///< registered stopping rule (default "relative_decrement")
     char linear[32];       ///< registered linear solver (default "cholmod"), used only by
                            ///< optimizers that solve systems (newton, projective_dynamics)
     double tol;            ///< stopping tolerance, see the file comment (default 1e-10)

@@ -86,7 +86,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
     const double t0 = eo_wtime();
     const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
     double *grad = w->grad, *grad_new = w->grad_new, *p = w->p;
-    double g = NAN, gn = NAN, gn0, g_prev = NAN, step_norm = NAN, last_dec = NAN;
+    double g = NAN, gn = NAN, gn0, g_prev = NAN, step_norm = NAN, last_dec = NAN, dec0 = NAN, dec_prev = NAN;
     int rc = EO_OK, reason = 0, k = 0, stalled = 0, weak = 0;
     double gn_best = INFINITY, gn_sig = INFINITY;
 
@@ -110,7 +110,8 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                              .alpha = NAN, .ls_evals = 0, .shift = 0,
                              .inverted = eo_external_inverted(sc, x), .reason = 0, .x = x};
         eo_stop_info si = {.iteration = k, .g = g, .g_prev = g_prev, .grad_norm = gn,
-                           .grad_norm0 = gn0, .decrement = NAN, .step_norm = step_norm,
+                           .grad_norm0 = gn0, .decrement = NAN, .decrement0 = dec0, .decrement_prev = dec_prev,
+                           .step_norm = step_norm,
                            .x_norm = eo_norm2(n, x), .tol = sc->tol};
         double dg = NAN, alpha0 = 1;
         if (!isfinite(g) || !isfinite(gn)) reason = EO_DIVERGED_NONFINITE;
@@ -134,6 +135,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                     reason = EO_DIVERGED_NOT_DESCENT;
                 } else {
                     info.decrement = last_dec = -alpha0 * dg / 2;
+                    if (k == 0) si.decrement0 = dec0 = last_dec;
                     if (sc->stop->needs_direction) {
                         si.decrement = info.decrement;
                         reason = sc->stop->check(sc->stop_params, &si);
@@ -190,6 +192,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         g_prev = g;
         g = gchk;
         gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
+        dec_prev = last_dec;
         last_dec = NAN;
         stalled = (g < g_prev || gn < gn_best) ? 0 : stalled + 1;
         if (g < g_prev - 1e-15 * fabs(g_prev) || gn < 0.9 * gn_sig) {
