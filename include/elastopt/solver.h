@@ -6,8 +6,8 @@
 ///                      projective_dynamics                      (eo_optimizer_type)
 ///   solver.hessian_fix none, shift, clamp, abs, project_on_demand,
 ///                      progressive, trust_region_filter         (eo_hessfix_type)
-///   solver.linesearch  backtracking, wolfe, exact, none         (eo_linesearch_type)
-///   solver.stop        newton_decrement, gradient               (eo_stop_type)
+///   solver.linesearch  backtracking, nonmonotone, wolfe, exact, none (eo_linesearch_type)
+///   solver.stop        relative_decrement, newton_decrement, gradient (eo_stop_type)
 ///   solver.linear      cholmod, cholmod_ldlt, ...               (eo_linsolve_type)
 /// solver.linesearch is one explicit choice (default backtracking, for newton); lbfgs and
 /// ncg are meant to run with `solver.linesearch = wolfe`, whose curvature constant c2 then
@@ -122,7 +122,14 @@ typedef struct eo_ls_extra {
                          ///< gradient call that produced *gnew), 0 if the caller must evaluate it
     double c2;           ///< in: curvature constant the optimizer prefers (0 = no preference);
                          ///< used by wolfe when its own c2 is 0 (auto): 0.9 quasi-Newton, 0.1 CG
+    /// in: g at the accepted iterates of this minimization, oldest first, the last one =
+    /// g0 (at most EO_LS_HISTORY of them; NULL/0 = none), for non-monotone searches
+    const double *g_hist;
+    int n_hist;
 } eo_ls_extra;
+
+/// Length of the history of g values the descent loop hands to the line search.
+#define EO_LS_HISTORY 64
 
 typedef struct eo_linesearch_type {
     eo_method_info info;
@@ -356,6 +363,18 @@ typedef struct eo_backtracking_params {
     int max_evals;       ///< trials before giving up (60)
 } eo_backtracking_params;
 
+/// Non-monotone backtracking (config `solver.nonmonotone.*`): Armijo against a reference
+/// R ≥ g(x_k) from the earlier iterates' values (eo_ls_extra.g_hist).
+typedef struct eo_nonmonotone_params {
+    double c1;           ///< sufficient decrease constant (1e-4)
+    double shrink;       ///< α ← shrink·α after a rejected trial (0.5)
+    int max_evals;       ///< trials before giving up (60)
+    char reference[16];  ///< "max" (Grippo–Lampariello–Lucidi: max of the last memory+1
+                         ///< values) or "average" (Zhang–Hager C_k) (default "max")
+    int memory;          ///< max: M earlier values (10)
+    double eta;          ///< average: Zhang–Hager weight η (0.85)
+} eo_nonmonotone_params;
+
 /// Exact line search (config `solver.exact.*`).
 typedef struct eo_exact_params {
     double tol;          ///< stop when |φ'(α)| ≤ tol·|φ'(0)| or the bracket is narrower
@@ -440,7 +459,7 @@ EO_API extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfi
     eo_hessfix_abs, eo_hessfix_project_on_demand, eo_hessfix_progressive,
     eo_hessfix_trust_region_filter;
 EO_API extern const eo_linesearch_type eo_linesearch_backtracking, eo_linesearch_wolfe,
-    eo_linesearch_exact, eo_linesearch_none;
+    eo_linesearch_exact, eo_linesearch_none, eo_linesearch_nonmonotone;
 EO_API extern const eo_stop_type eo_stop_newton_decrement, eo_stop_gradient,
     eo_stop_relative_decrement;
 

@@ -89,6 +89,8 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
     double g = NAN, gn = NAN, gn0, g_prev = NAN, step_norm = NAN, last_dec = NAN, dec0 = NAN, dec_prev = NAN;
     int rc = EO_OK, reason = 0, k = 0, stalled = 0, weak = 0;
     double gn_best = INFINITY, gn_sig = INFINITY;
+    double ghist[EO_LS_HISTORY]; /* g of the accepted iterates, oldest first (nonmonotone) */
+    int nhist = 0;
 
     memset(res, 0, sizeof *res);
     res->decrement = NAN;
@@ -101,6 +103,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
     if (rc < 0) goto done;
     gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
     gn0 = gn;
+    ghist[nhist++] = g;
     if (ops->begin) {
         rc = ops->begin(st, params, sc, x, g, grad, res);
         if (rc < 0) goto done;
@@ -153,7 +156,8 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         }
         double gnew = NAN, alpha = 0;
         int nev = 0;
-        eo_ls_extra ex = {.grad_new = grad_new, .have_grad = 0, .c2 = ops->ls_c2};
+        eo_ls_extra ex = {.grad_new = grad_new, .have_grad = 0, .c2 = ops->ls_c2, .g_hist = ghist,
+                          .n_hist = nhist};
         rc = sc->linesearch->search(sc->linesearch_params, obj, x, p, g, dg, alpha0, w->x_new,
                                     &gnew, &alpha, &nev, w->work, sc->ctx, &ex);
         info.ls_evals = nev;
@@ -191,6 +195,8 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         grad_new = t;
         g_prev = g;
         g = gchk;
+        if (nhist == EO_LS_HISTORY) memmove(ghist, ghist + 1, (EO_LS_HISTORY - 1) * sizeof ghist[0]), nhist--;
+        ghist[nhist++] = g;
         gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
         dec_prev = last_dec;
         last_dec = NAN;
