@@ -37,6 +37,15 @@
 /// (eo_linsolve_analyze, once per pattern).
 ///
 /// The tolerance `solver.tol` (default 1e-10) is read by the stopping rule:
+///  - relative_decrement (the default): λ_k ≤ tol·λ_0 with λ² = −∇gᵀp = ‖p‖²_H and λ_0 the
+///    decrement of the first direction: the iterate is within about tol of x*, relative
+///    to the step's own motion ‖x_0 − x*‖_H (scale-aware: units and magnitudes cancel);
+///    also converged at the rounding floor, λ²/2 ≤ plateau·|g| (1e-16) with λ² no longer
+///    falling (λ_k² > λ_{k−1}²/4). With tol = 1e-10 the static StVK cantilever's tip is
+///    within 3.7e-11 and the dynamic cantilever's after 50 steps within 2.3e-10 of the
+///    converged answer (the absolute newton_decrement 1e-10: 2.2e-6 and 6e-2).
+///    Linearly converging methods (projective dynamics, first-order methods) need many
+///    iterations for 1e-10: give them a looser tol (e.g. 1e-5).
 ///  - newton_decrement: λ²/2 = −∇gᵀp/2 ≤ tol, in the units of g (for the step objective
 ///    ½‖x − x̃‖²_M + w E, kg·m²). λ²/2 estimates g(x) − g*, so tol = 1e-10 means
 ///    ‖x − x*‖_H ≲ √(2·tol) ≈ 1.4e-5 m·√kg.
