@@ -22,8 +22,10 @@
  *   would spend its whole iteration budget (and ~35 evaluations per iteration) at the
  *   rounding floor.
  *   Likewise EO_DESCENT_WEAK_LIMIT accepted steps in a row without SIGNIFICANT progress
- *   (g decreasing by more than 1e-15·|g|, or ‖∇g‖ below 0.9 times its best significant
- *   value) → EO_DIVERGED_STAGNATED: at the floor g and ‖∇g‖ wander at the rounding
+ *   (g below its best significant value by more than 1e-14·|g|, or ‖∇g‖ below 0.9 times
+ *   its best significant value; records, so that g wandering at its rounding level,
+ *   about 1e-15·|g| between full Newton steps at the floor, does not count) →
+ *   EO_DIVERGED_STAGNATED: at the floor g and ‖∇g‖ wander at the rounding
  *   level and set new "records" by noise now and then, which the rule above counts as
  *   progress (measured: Newton on the twist with a relative gradient tolerance of 1e-18
  *   ran 182 iterations at the floor before it; with this rule 20-80).
@@ -88,7 +90,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
     double *grad = w->grad, *grad_new = w->grad_new, *p = w->p;
     double g = NAN, gn = NAN, gn0, g_prev = NAN, step_norm = NAN, last_dec = NAN, dec0 = NAN, dec_prev = NAN;
     int rc = EO_OK, reason = 0, k = 0, stalled = 0, weak = 0;
-    double gn_best = INFINITY, gn_sig = INFINITY;
+    double gn_best = INFINITY, gn_sig = INFINITY, g_sig = INFINITY;
     double ghist[EO_LS_HISTORY]; /* g of the accepted iterates, oldest first (nonmonotone) */
     int nhist = 0;
 
@@ -201,8 +203,9 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         dec_prev = last_dec;
         last_dec = NAN;
         stalled = (g < g_prev || gn < gn_best) ? 0 : stalled + 1;
-        if (g < g_prev - 1e-15 * fabs(g_prev) || gn < 0.9 * gn_sig) {
+        if (g < g_sig - 1e-14 * fabs(g_sig) || gn < 0.9 * gn_sig) {
             weak = 0;
+            if (g < g_sig) g_sig = g;
             if (gn < gn_sig) gn_sig = gn;
         } else {
             weak++;
