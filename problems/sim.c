@@ -36,6 +36,9 @@ struct eo_sim {
     eo_solver *fb[EO_SIM_MAX_ENTRIES - 1]; /* solver.fallback entries */
     int nfb;
     int entry;           /* configuration running (or last run) */
+    double *xyz;         /* rest positions of the free vertices (3 nv), for set_coordinates */
+    const eo_solver *coord_solver; /* s->solver was given the coordinates of ... */
+    int coord_n;                   /* ... an objective with coord_n free coordinates */
 };
 
 static void fallback_clear(eo_solver **fb, int *nfb)
@@ -152,7 +155,8 @@ int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
     s->xb = eo_malloc(ctx, nf * sizeof(double));
     s->vb = eo_malloc(ctx, nf * sizeof(double));
     s->x0b = s->nfb ? eo_malloc(ctx, nf * sizeof(double)) : NULL;
-    if (!s->xb || !s->vb || (s->nfb && !s->x0b)) {
+    s->xyz = eo_malloc(ctx, nf * sizeof(double));
+    if (!s->xb || !s->vb || (s->nfb && !s->x0b) || !s->xyz) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "sim: out of memory");
         goto fail;
     }
@@ -187,6 +191,7 @@ void eo_sim_destroy(eo_sim **ps)
     eo_free(ctx, s->vb);
     eo_free(ctx, s->x0b);
     fallback_clear(s->fb, &s->nfb);
+    eo_free(ctx, s->xyz);
     eo_solver_destroy(&s->solver);
     eo_step_destroy(&s->st);
     eo_scene_destroy(&s->sc);
@@ -226,6 +231,7 @@ int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solver_cfg)
     fallback_clear(s->fb, &s->nfb);
     for (int i = 0; i < nfb; i++) s->fb[i] = fb[i];
     s->nfb = nfb;
+    s->coord_solver = NULL;
     return EO_OK;
 }
 
@@ -241,6 +247,27 @@ int eo_sim_prepare(eo_sim *s, eo_objective **obj, double **guess)
     }
     if (obj) *obj = s->obj;
     if (guess) *guess = eo_step_guess(s->st);
+    return EO_OK;
+}
+
+/* Node coordinates for the linear solver of `solver` (AMG's rigid-body modes,
+ * linsolve.h): the rest positions of the free vertices in free order, given again when the
+ * free set changes (a release) or the solver is another one. Free coordinates come in
+ * vertex triples (constraints act on whole vertices); anything else is left alone. */
+static int sim_coordinates(eo_sim *s, eo_solver *solver)
+{
+    eo_linsolve *ls = eo_solver_get_linsolve(solver);
+    const int n = s->obj->n;
+    if (!ls || n % 3 != 0) return EO_OK;
+    if (solver == s->solver && s->coord_solver == solver && s->coord_n == n) return EO_OK;
+    const double *x0 = eo_step_x0(s->st);
+    for (int i = 0; i < n; i++) s->xyz[i] = x0[eo_step_free_to_full(s->st, i)];
+    int rc = eo_linsolve_set_coordinates(ls, n / 3, s->xyz);
+    if (rc < 0) return rc;
+    if (solver == s->solver) {
+        s->coord_solver = solver;
+        s->coord_n = n;
+    }
     return EO_OK;
 }
 
@@ -270,8 +297,9 @@ int eo_sim_step(eo_sim *s, eo_sim_step_result *r)
             eo_solve_result sr;
             if (e > 0) memcpy(x, s->x0b, nx); /* again from the step's starting guess */
             s->entry = e;
-            if ((rc = eo_solver_minimize(e ? s->fb[e - 1] : s->solver, s->obj, x, s->fn, s->user, &sr)) < 0)
-                return rc;
+            eo_solver *sv = e ? s->fb[e - 1] : s->solver;
+            if ((rc = sim_coordinates(s, sv)) < 0) return rc;
+            if ((rc = eo_solver_minimize(sv, s->obj, x, s->fn, s->user, &sr)) < 0) return rc;
             r->entry = e;
             r->n_entries = e + 1;
             r->entry_reason[e] = sr.reason;
@@ -313,6 +341,7 @@ int eo_sim_trial(eo_sim *s, eo_solver *solver, const double *x0, double *x, eo_i
     if (rc < 0) return rc;
     const double *src = x0 ? x0 : eo_step_guess(s->st);
     if (src != x) memmove(x, src, (size_t)s->obj->n * sizeof(double));
+    if ((rc = sim_coordinates(s, solver ? solver : s->solver)) < 0) return rc;
     return eo_solver_minimize(solver ? solver : s->solver, s->obj, x, fn, user, res);
 }
 

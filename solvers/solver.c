@@ -46,14 +46,15 @@ const eo_param_desc eo_solver_opts_desc[] = {
      .help = "line search along each direction; auto = the optimizer's choice (wolfe for lbfgs and ncg, none for "
              "newton_tr, else backtracking)"},
     {.key = "stop", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, stop),
-     OPTS_STR(stop), .def.s = "newton_decrement", .registry = &eo_reg_stop,
+     OPTS_STR(stop), .def.s = "relative_decrement", .registry = &eo_reg_stop,
      .help = "stopping rule (reads tol)"},
     {.key = "linear", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linear),
      OPTS_STR(linear), .def.s = "cholmod", .registry = &eo_reg_linsolve,
      .help = "linear solver for Newton systems and the consistent-mass solve of explicit integrators"},
     {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_solver_opts, tol), .def.d = 1e-10,
      .min = 0, .range = EO_RANGE_POSITIVE,
-     .help = "newton_decrement: lambda^2/2 <= tol (units of g); gradient: relative reduction"},
+     .help = "relative_decrement: lambda <= tol*lambda_0; newton_decrement: lambda^2/2 <= tol (units of g); "
+             "gradient: relative reduction"},
     {.key = "max_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_solver_opts, max_iters),
      .def.i = 100, .min = 0, .max = 100000000, .range = EO_RANGE_CLOSED,
      .help = "iteration cap per minimization (reason diverged_max_iters)"},

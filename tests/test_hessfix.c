@@ -115,7 +115,8 @@ static void test_pin(void)
         const pin *p0 = &pins[i];
         char fix[64];
         snprintf(fix, sizeof fix, "solver.hessian_fix=%s", p0->fix);
-        const char *ov[] = {fix, "time.steps=3", NULL};
+        /* pinned iterates of the old default stop (absolute decrement 1e-10) */
+        const char *ov[] = {fix, "time.steps=3", "solver.stop=newton_decrement", NULL};
         eo_ctx *ctx = eo_test_ctx();
         eo_sim *s = NULL;
         int rc = eo_test_sim_open(&s, ctx, p0->scene, NULL, ov);
@@ -264,8 +265,9 @@ static int run_first(const char *scene, const char *const *extra, const char *fi
     snprintf(f, sizeof f, "solver.hessian_fix=%s", fix);
     snprintf(op, sizeof op, "solver.optimizer=%s", opt);
     snprintf(t, sizeof t, "solver.tol=%s", tol);
-    const char *ov[16] = {f, op, t, "solver.max_iters=500"};
-    int k = 4;
+    /* tol is an absolute decrement here (the old default rule) */
+    const char *ov[16] = {f, op, t, "solver.max_iters=500", "solver.stop=newton_decrement"};
+    int k = 5;
     for (const char *const *e = extra; e && *e && k < 15; e++) ov[k++] = *e;
     ov[k] = NULL;
     eo_ctx *ctx = eo_test_ctx();

@@ -207,7 +207,7 @@ static void check_lbfgs_faster(void)
     for (int i = 0; i < 2; i++) {
         const char *ov[] = {"material.E=1e7", "material.nu=0.45", "solver.optimizer=projective_dynamics",
                             i ? "solver.projective_dynamics.lbfgs_history=5" : "solver.projective_dynamics.lbfgs_history=0",
-                            "solver.tol=1e-14", "solver.max_iters=20000", NULL};
+                            "solver.tol=1e-14", "solver.max_iters=20000", "solver.stop=newton_decrement", NULL};
         run_out r;
         CHECK(run_step(cube, ov, 0, &r) == 0 && eo_reason_is_converged(r.reason), "stiff %d: %s", i,
               eo_reason_name(r.reason));
@@ -296,6 +296,7 @@ static void check_fallback_and_alloc(void)
     eo_solver_opts_default(&o);
     snprintf(o.optimizer, sizeof o.optimizer, "projective_dynamics");
     o.tol = 1e-20;
+    snprintf(o.stop, sizeof o.stop, "newton_decrement"); /* tol is absolute here */
     eo_solver *sv = NULL;
     CHECK(eo_solver_create(ctx, &o, NULL, &sv) == EO_OK, "%s", eo_ctx_message(ctx));
     if (sv) {
@@ -318,8 +319,10 @@ static void check_fallback_and_alloc(void)
 
     /* step objective: after the first minimization nothing allocates */
     eo_sim *s = NULL;
+    /* the old absolute stop: PD converges linearly, relative_decrement's 1e-10 of the step's
+     * motion takes it ~100 iterations per step here */
     const char *ov[] = {"solver.optimizer=projective_dynamics", "solver.projective_dynamics.lbfgs_history=5",
-                        "time.steps=3", NULL};
+                        "time.steps=3", "solver.stop=newton_decrement", NULL};
     if (eo_test_sim_open(&s, ctx, "twist", NULL, ov) == 0) {
         for (int k = 0; k < 3; k++) {
             long c0 = cnt.calls;

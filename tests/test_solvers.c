@@ -497,7 +497,7 @@ static void test_config(void)
     eo_solver_opts_default(&o);
     snprintf(o.linesearch, sizeof o.linesearch, "wolf");
     CHECK(eo_solver_create(ctx, &o, NULL, &s) == EO_ERR_UNKNOWN_NAME &&
-              strstr(eo_ctx_message(ctx), "backtracking, wolfe, exact, none"),
+              strstr(eo_ctx_message(ctx), "backtracking, nonmonotone, wolfe, exact, none"),
           "unknown line search message: %s", eo_ctx_message(ctx));
     CHECK(s == NULL, "no object on failure");
     /* no two solver-section methods with parameters share a name across kinds */

@@ -34,7 +34,12 @@ extern "C" {
 #endif
 
 /// Version of the method-table layouts (bumped when an ops table changes incompatibly).
-#define EO_ABI_VERSION 3   /* 3: eo_integrator_type (theta, history ops), eo_objective_ops (inertia) grew; eo_optimizer_type.linesearch; eo_material_type.pd_weight */
+/// 3: eo_integrator_type (theta, history ops), eo_objective_ops (inertia),
+/// eo_optimizer_type (linesearch), eo_material_type (pd_weight), eo_iter_info (eta,
+/// lin_iters, neg_curvature), eo_stop_info (decrement0, decrement_prev), eo_ls_extra
+/// (g_hist, n_hist), eo_hessfix_out (neg_curvature), eo_solve_result and
+/// eo_newton_params grew.
+#define EO_ABI_VERSION 3
 
 /// The library's EO_ABI_VERSION.
 EO_API int eo_abi_version(void);

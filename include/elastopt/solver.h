@@ -7,8 +7,8 @@
 ///                                                               (eo_optimizer_type)
 ///   solver.hessian_fix none, shift, clamp, abs, project_on_demand,
 ///                      progressive, trust_region_filter         (eo_hessfix_type)
-///   solver.linesearch  backtracking, wolfe, exact, none         (eo_linesearch_type)
-///   solver.stop        newton_decrement, gradient               (eo_stop_type)
+///   solver.linesearch  backtracking, nonmonotone, wolfe, exact, none (eo_linesearch_type)
+///   solver.stop        relative_decrement, newton_decrement, gradient (eo_stop_type)
 ///   solver.linear      cholmod, cholmod_ldlt, ...               (eo_linsolve_type)
 /// solver.linesearch defaults to `auto`: the optimizer's own choice
 /// (eo_optimizer_type.linesearch): `wolfe` for lbfgs and ncg, `backtracking` for newton,
@@ -41,6 +41,15 @@
 /// (eo_linsolve_analyze, once per pattern).
 ///
 /// The tolerance `solver.tol` (default 1e-10) is read by the stopping rule:
+///  - relative_decrement (the default): λ_k ≤ tol·λ_0 with λ² = −∇gᵀp = ‖p‖²_H and λ_0 the
+///    decrement of the first direction: the iterate is within about tol of x*, relative
+///    to the step's own motion ‖x_0 − x*‖_H (scale-aware: units and magnitudes cancel);
+///    also converged at the rounding floor, λ²/2 ≤ plateau·|g| (1e-16) with λ² no longer
+///    falling (λ_k² > λ_{k−1}²/4). With tol = 1e-10 the static StVK cantilever's tip is
+///    within 3.7e-11 and the dynamic cantilever's after 50 steps within 2.3e-10 of the
+///    converged answer (the absolute newton_decrement 1e-10: 2.2e-6 and 6e-2).
+///    Linearly converging methods (projective dynamics, first-order methods) need many
+///    iterations for 1e-10: give them a looser tol (e.g. 1e-5).
 ///  - newton_decrement: λ²/2 = −∇gᵀp/2 ≤ tol, in the units of g (for the step objective
 ///    ½‖x − x̃‖²_M + w E, kg·m²). λ²/2 estimates g(x) − g*, so tol = 1e-10 means
 ///    ‖x − x*‖_H ≲ √(2·tol) ≈ 1.4e-5 m·√kg.
@@ -80,6 +89,14 @@ typedef struct eo_iter_info {
     int inverted;         ///< inverted elements at x_k (-1 if unknown)
     int reason;           ///< reason if this is the last iteration, else 0
     const double *x;      ///< the iterate x_k (borrowed, valid during the callback)
+    /// Inexact Newton (solver.newton.forcing ≠ none): forcing term η_k = relative inner
+    /// tolerance given to the iterative linear solver for the direction (0 if none).
+    double eta;
+    int lin_iters;        ///< iterations of the last inner linear solve (0 direct/none)
+    /// 1 if the inner CG met non-positive curvature pᵀHp ≤ 0 for this direction (the
+    /// Hessian fix then used another system: `none` the clamp-projected one, `shift` a
+    /// larger shift, ...); the offending CG direction is never used.
+    int neg_curvature;
 } eo_iter_info;
 
 /// Callback after every iteration; return non-zero to stop (reason EO_DIVERGED_EXTERNAL).
@@ -92,6 +109,10 @@ typedef struct eo_stop_info {
     double grad_norm;     ///< ‖∇g(x)‖₂
     double grad_norm0;    ///< ‖∇g(x₀)‖₂ at the start of this minimization
     double decrement;     ///< λ²/2 for the direction just computed at x (NAN if none)
+    double decrement0;    ///< λ²/2 of the first direction of this minimization (NAN before
+                          ///< it; 0 from optimizers that do not track it)
+    double decrement_prev; ///< λ²/2 of the previous iteration's direction (NAN at first; 0
+                          ///< from optimizers that do not track it)
     double step_norm;     ///< ‖α p‖₂ of the last step (NAN at first)
     double x_norm;        ///< ‖x‖₂
     double tol;           ///< solver.tol
@@ -114,7 +135,14 @@ typedef struct eo_ls_extra {
                          ///< gradient call that produced *gnew), 0 if the caller must evaluate it
     double c2;           ///< in: curvature constant the optimizer prefers (0 = no preference);
                          ///< used by wolfe when its own c2 is 0 (auto): 0.9 quasi-Newton, 0.1 CG
+    /// in: g at the accepted iterates of this minimization, oldest first, the last one =
+    /// g0 (at most EO_LS_HISTORY of them; NULL/0 = none), for non-monotone searches
+    const double *g_hist;
+    int n_hist;
 } eo_ls_extra;
+
+/// Length of the history of g values the descent loop hands to the line search.
+#define EO_LS_HISTORY 64
 
 typedef struct eo_linesearch_type {
     eo_method_info info;
@@ -208,6 +236,8 @@ typedef struct eo_hessfix_out {
     int reason;               ///< negative eo_reason if there is no direction / system:
                               ///< EO_DIVERGED_NOT_PD (shift above shift_max),
                               ///< EO_DIVERGED_LINSOLVE, EO_DIVERGED_NONFINITE; else 0
+    int neg_curvature;        ///< 1 if an iterative inner solve (cg/pcg) met pᵀAp ≤ 0
+                              ///< during this call (EO_WARN_NOT_PD from solve)
 } eo_hessfix_out;
 
 /// Line-search outcome of the step along the fix's last direction (hook `accepted`).
@@ -275,8 +305,25 @@ typedef struct eo_hessfix_trust_region_filter_params {
 } eo_hessfix_trust_region_filter_params;
 
 /// Newton (config `solver.newton.*`).
+///
+/// Inexact Newton: with an iterative solver.linear (cg, pcg, gmres) the direction solve
+/// H̃p = −∇g stops at ‖H̃p + ∇g‖ ≤ η_k‖∇g‖, η_k set by `forcing` through
+/// eo_linsolve_set_rtol before each direction (direct solvers ignore it):
+///   none      the linear solver's own `tol` (default)
+///   constant  η_k = eta
+///   ew1       Eisenstat–Walker choice 1: η_k = |‖∇g_k‖ − ‖∇g_{k−1} + αH̃_{k−1}p_{k−1}‖| / ‖∇g_{k−1}‖,
+///             safeguard η_k ≥ η_{k−1}^φ (φ = (1+√5)/2) when that is > 0.1
+///   ew2       Eisenstat–Walker choice 2: η_k = ew_gamma (‖∇g_k‖/‖∇g_{k−1}‖)^ew_alpha,
+///             safeguard η_k ≥ ew_gamma η_{k−1}^ew_alpha when that is > 0.1
+/// η_0 = eta, then η_k ∈ [eta_min, eta_max] (Eisenstat & Walker 1996; solvers/optim/forcing.c).
 typedef struct eo_newton_params {
     double descent_eps;  ///< p is a descent direction iff ∇gᵀp < −eps‖∇g‖‖p‖ (1e-12)
+    char forcing[16];    ///< "none", "constant", "ew1", "ew2" (default "none")
+    double eta;          ///< constant: η_k; ew1/ew2: η_0 (default 0.5)
+    double ew_gamma;     ///< ew2: γ ∈ (0, 1] (default 0.9)
+    double ew_alpha;     ///< ew2: α ∈ (1, 2] (default 2)
+    double eta_max;      ///< upper bound of η_k (default 0.9)
+    double eta_min;      ///< lower bound of η_k (default 1e-12)
 } eo_newton_params;
 
 /// Trust-region Newton with Steihaug–Toint CG (config `solver.newton_tr.*`;
@@ -370,12 +417,32 @@ typedef struct eo_backtracking_params {
     int max_evals;       ///< trials before giving up (60)
 } eo_backtracking_params;
 
+/// Non-monotone backtracking (config `solver.nonmonotone.*`): Armijo against a reference
+/// R ≥ g(x_k) from the earlier iterates' values (eo_ls_extra.g_hist).
+typedef struct eo_nonmonotone_params {
+    double c1;           ///< sufficient decrease constant (1e-4)
+    double shrink;       ///< α ← shrink·α after a rejected trial (0.5)
+    int max_evals;       ///< trials before giving up (60)
+    char reference[16];  ///< "max" (Grippo–Lampariello–Lucidi: max of the last memory+1
+                         ///< values) or "average" (Zhang–Hager C_k) (default "max")
+    int memory;          ///< max: M earlier values (10)
+    double eta;          ///< average: Zhang–Hager weight η (0.85)
+} eo_nonmonotone_params;
+
 /// Exact line search (config `solver.exact.*`).
 typedef struct eo_exact_params {
     double tol;          ///< stop when |φ'(α)| ≤ tol·|φ'(0)| or the bracket is narrower
                          ///< than tol·α (1e-8)
     int max_evals;       ///< evaluations before giving up (100)
 } eo_exact_params;
+
+/// Relative decrement stopping rule, the default (config `solver.relative_decrement.*`):
+/// converged when λ_k ≤ tol·λ_0 (λ² = −∇gᵀp, λ_0 of the first direction), or at the
+/// rounding floor: λ_k²/2 ≤ plateau·|g| and λ_k² > λ_{k−1}²/4.
+typedef struct eo_stop_relative_decrement_params {
+    double plateau;      ///< level of λ²/2, relative to |g|, below which a decrement that
+                         ///< stopped falling counts as converged (1e-16)
+} eo_stop_relative_decrement_params;
 
 /// Gradient stopping rule (config `solver.gradient.*`).
 typedef struct eo_stop_gradient_params {
@@ -426,6 +493,9 @@ typedef struct eo_solve_result {
     long n_inner;         ///< inner iterations (newton_tr: CG iterations; else 0)
     long n_negcurv;       ///< newton_tr: inner solves that met negative curvature dᵀHd ≤ 0
                           ///< and stepped to the trust-region boundary along d (else 0)
+    long lin_iters;       ///< newton: inner linear-solver iterations, summed (0 direct)
+    long n_neg_curvature; ///< newton: directions whose inner CG met pᵀHp ≤ 0 (handled by
+                          ///< the Hessian fix, see eo_iter_info.neg_curvature)
 } eo_solve_result;
 
 typedef struct eo_optimizer_type {
@@ -455,8 +525,9 @@ EO_API extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfi
     eo_hessfix_abs, eo_hessfix_project_on_demand, eo_hessfix_progressive,
     eo_hessfix_trust_region_filter;
 EO_API extern const eo_linesearch_type eo_linesearch_backtracking, eo_linesearch_wolfe,
-    eo_linesearch_exact, eo_linesearch_none;
-EO_API extern const eo_stop_type eo_stop_newton_decrement, eo_stop_gradient;
+    eo_linesearch_exact, eo_linesearch_none, eo_linesearch_nonmonotone;
+EO_API extern const eo_stop_type eo_stop_newton_decrement, eo_stop_gradient,
+    eo_stop_relative_decrement;
 
 /// Shared helper for optimizers: report an iteration (fills time = now − t0, calls
 /// sc->on_iter); returns non-zero if the callback asked to stop.
@@ -469,7 +540,7 @@ typedef struct eo_solver_opts {
     char linesearch[32];   ///< registered line search, or "auto" (default): the
                            ///< optimizer's choice (eo_optimizer_type.linesearch),
                            ///< replaced by the resolved name in eo_solver_get_opts
-    char stop[32];         ///< registered stopping rule (default "newton_decrement")
+    char stop[32];         ///< registered stopping rule (default "relative_decrement")
     char linear[32];       ///< registered linear solver (default "cholmod"), used only by
                            ///< optimizers that solve systems (newton, projective_dynamics)
     double tol;            ///< stopping tolerance, see the file comment (default 1e-10)

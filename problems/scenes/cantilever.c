@@ -16,7 +16,7 @@ const eo_scene_type eo_scene_cantilever = {
     "  ],\n"
     "  \"time\": {\"integrator\": \"newmark\", \"dt\": 0.01, \"steps\": 40},\n"
     "  \"solver\": {\"optimizer\": \"newton\", \"hessian_fix\": \"clamp\", \"linesearch\": \"auto\",\n"
-    "             \"stop\": \"newton_decrement\", \"tol\": 1e-10, \"max_iters\": 100},\n"
+    "             \"stop\": \"relative_decrement\", \"tol\": 1e-10, \"max_iters\": 100},\n"
     "  \"output\": {\"every\": 1, \"vtu\": true}\n"
     "}\n",
 };

@@ -71,6 +71,7 @@ typedef struct eo_objective_ops {
     int (*n_elements)(void *data);
     int (*hessian_masked)(void *data, const double *x, const unsigned char *proj_of, eo_csc **H);
     int (*element_residual)(void *data, const double *v, double *r);
+    int (*inertia)(void *data, void *out);
 } eo_objective_ops;
 typedef struct eo_objective {
     int n; const eo_objective_ops *ops; void *data; long n_value, n_gradient, n_hessian;
@@ -88,18 +89,21 @@ int eo_registry_find(eo_ctx *ctx, int kind, const char *name, const void **out);
 typedef struct eo_iter_info {
     int iteration; double time; double g; double grad_norm; double decrement; double alpha;
     int ls_evals; double shift; double projected; int inverted; int reason; const double *x;
+    double eta; int lin_iters; int neg_curvature;
 } eo_iter_info;
 typedef int (*eo_iter_fn)(const eo_iter_info *info, void *user);
 typedef struct eo_stop_info {
     int iteration; double g, g_prev; double grad_norm; double grad_norm0; double decrement;
-    double step_norm; double x_norm; double tol;
+    double decrement0; double decrement_prev; double step_norm; double x_norm; double tol;
 } eo_stop_info;
 typedef struct eo_stop_type {
     eo_method_info info;
     int (*check)(const void *params, const eo_stop_info *si);
     int needs_direction;
 } eo_stop_type;
-typedef struct eo_ls_extra { double *grad_new; int have_grad; double c2; } eo_ls_extra;
+typedef struct eo_ls_extra {
+    double *grad_new; int have_grad; double c2; const double *g_hist; int n_hist;
+} eo_ls_extra;
 typedef struct eo_linesearch_type {
     eo_method_info info;
     int (*search)(const void *params, eo_objective *obj, const double *x, const double *p,
@@ -119,7 +123,8 @@ typedef struct eo_solver_ctx {
 typedef struct eo_solve_result {
     int reason; int iterations; double g, grad_norm, decrement; double time;
     long n_value, n_gradient, n_hessian, n_factor; int status; long n_fallback;
-    long n_shifted; double projected;
+    long n_shifted; double projected; long n_inner; long n_negcurv; long lin_iters;
+    long n_neg_curvature;
 } eo_solve_result;
 typedef struct eo_solver_opts {
     char optimizer[32]; char hessian_fix[32]; char linesearch[32]; char stop[32];
@@ -173,6 +178,7 @@ typedef struct eo_mesh_head { int nv; int nt; double *X; int *tets; } eo_mesh_he
 typedef struct eo_sim_step_result {
     int iterations; int reason; double t; double time; double g, grad_norm;
     long n_value, n_gradient, n_hessian, n_factor; eo_step_stats stats;
+    int entry; int n_entries; int entry_reason[8]; int entry_iterations[8];
 } eo_sim_step_result;
 int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out);
 int eo_sim_create_from(eo_ctx *ctx, const char *path, const char *builtin,
@@ -245,6 +251,7 @@ REASONS = {  # name -> value (status.h EO_REASON_LIST)
     "diverged_max_iters": -1, "diverged_linesearch": -2, "diverged_nonfinite": -3,
     "diverged_not_descent": -4, "diverged_linsolve": -5, "diverged_not_pd": -6,
     "diverged_time_budget": -7, "diverged_external": -8, "diverged_stagnated": -9,
+    "diverged_not_contracting": -10,
 }
 
 _SOURCE_ROOT = Path(__file__).resolve().parents[2]

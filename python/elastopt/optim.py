@@ -51,6 +51,8 @@ class SolveProblem(Objective):
         self._k = 0
         self._stopped = None    # (reason, record, emitted) when the run was stopped
         self._gn0 = math.nan
+        self._dec0 = math.nan   # decrement of the first direction (relative_decrement)
+        self._dec_prev = math.nan
 
     def _check_alive(self, _obj):
         if not self._alive:
@@ -67,11 +69,16 @@ class SolveProblem(Objective):
         the reason name if converged ("converged_decrement", ...), else None. A rule that
         needs the decrement (newton_decrement) says None while decrement is NaN."""
         sc = self._sc
+        it = self._k if iteration is None else iteration
+        if math.isfinite(decrement) and (it == 0 or not math.isfinite(self._dec0)):
+            self._dec0 = decrement
         si = ffi.new("eo_stop_info *", {
-            "iteration": self._k if iteration is None else iteration, "g": g, "g_prev": g_prev,
+            "iteration": it, "g": g, "g_prev": g_prev,
             "grad_norm": grad_norm, "grad_norm0": self._gn0, "decrement": decrement,
+            "decrement0": self._dec0, "decrement_prev": self._dec_prev,
             "step_norm": step_norm, "x_norm": x_norm, "tol": sc.tol})
         r = sc.stop.check(sc.stop_params, si)
+        self._dec_prev = decrement
         return reason_name(r) if r > 0 else None
 
     def line_search(self, x, p, g=None, grad=None, alpha0=1.0, c2=0.0):
@@ -113,6 +120,7 @@ class SolveProblem(Objective):
         g, grad = self.gradient(x0)
         gn = float(np.linalg.norm(grad)) if math.isfinite(g) else math.nan
         self._gn0 = gn
+        self._dec0 = self._dec_prev = math.nan
         self.g0, self.grad0 = g, grad
         self._pending = (np.array(x0, dtype=float), g, gn, math.nan, self.inverted_count(x0))
 

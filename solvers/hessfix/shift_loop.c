@@ -83,6 +83,7 @@ int eo_shift_factor(eo_shift_ws *w, const eo_hessfix_shift_params *hp, int shift
                 good = 1;
             } else {
                 frc = eo_linsolve_solve(env->linear, env->grad, p);
+                if (frc == EO_WARN_NOT_PD) out->neg_curvature = 1; /* cg/pcg: pᵀAp ≤ 0 */
                 if (frc >= 0 && frc != EO_WARN_NOT_PD) {
                     for (int i = 0; i < n; i++) p[i] = -p[i];
                     double dg = dot(n, env->grad, p), pn = sqrt(dot(n, p, p));

@@ -6,7 +6,22 @@
  * holds with φ(α) finite — or, at rounding level (when the predicted decrease
  * α|φ'(0)| is below 100·ε_g, ε_g = 4·ε_mach·|φ(0)|), φ(α) ≤ φ(0) + ε_g: there the
  * Armijo test would compare rounding noise and fail near every minimizer whose g* ≠ 0
- * (as in Hager & Zhang's approximate Wolfe conditions). A trial where g is +∞ (outside the domain of a barrier
+ * (as in Hager & Zhang's approximate Wolfe conditions).
+ *
+ * Directional-derivative test at rounding level (when the caller passes extra, as the
+ * descent loop does): in that regime the trial is evaluated with its gradient and also
+ * accepted when
+ *     φ'(α) ≤ (1 − 2·c1)·|φ'(0)|   and   φ(α) ≤ φ(0) + 100·ε_g,
+ * Hager & Zhang's approximate Armijo condition (2005, eq. 4.1 with δ = c1): on a
+ * quadratic φ it is equivalent to the Armijo test, but it is computed from ∇g without
+ * the cancellation of φ(α) − φ(0). The gradient is handed back (extra->have_grad), so
+ * the trial costs the loop nothing extra. Measured on the static cantilever (E = 1e7,
+ * stable neo-Hookean, relative_decrement to 1e-10): the value-only test rejected the
+ * full Newton step in 33 of 47 iterations once λ²/2 < ε|g| (α down to 1e-7 on steps the
+ * derivative shows are right; g there wanders by ±5ε|g| with every evaluation, more than
+ * ε_g); with the derivative test 17, every step after the first a full one (12–13
+ * with no line search: there the first full step, which raises g from 4.9 to 10.8 — a
+ * real increase, rejected by any monotone search — lands nearer the solution). A trial where g is +∞ (outside the domain of a barrier
  * material, an inverted element) or NaN is rejected like a too-long step. After
  * max_evals rejected trials the search returns x itself (α = 0) and
  * EO_WARN_NOT_CONVERGED (Nocedal & Wright, Numerical Optimization, Alg. 3.1). */
@@ -45,7 +60,26 @@ static int bt_search(const void *params, eo_objective *obj, const double *x, con
     *nevals = 0;
     for (int k = 0; k < bp->max_evals; k++) {
         double f;
-        int rc = eo_ls_value(obj, x, p, a, xnew, &f, nevals);
+        const int tiny = -a * dg0 <= 100 * noise; /* g cannot resolve the predicted decrease */
+        int rc;
+        if (tiny && extra && extra->grad_new) {
+            eo_ls_point(obj->n, x, p, a, xnew);
+            ++*nevals;
+            rc = eo_objective_gradient(obj, xnew, &f, extra->grad_new);
+            if (rc < 0) return rc;
+            double d = 0;
+            for (int i = 0; i < obj->n; i++) d += extra->grad_new[i] * p[i];
+            if (isfinite(f) && isfinite(d) &&
+                (f <= g0 + noise || (d <= (1 - 2 * bp->c1) * -dg0 && f <= g0 + 100 * noise))) {
+                extra->have_grad = 1;
+                *gnew = f;
+                *alpha = a;
+                return EO_OK;
+            }
+            a *= bp->shrink;
+            continue;
+        }
+        rc = eo_ls_value(obj, x, p, a, xnew, &f, nevals);
         if (rc < 0) return rc;
         if (isfinite(f) && (f <= g0 + bp->c1 * a * dg0 ||
                             (-a * dg0 <= 100 * noise && f <= g0 + noise))) {

@@ -4,6 +4,7 @@
 
 const void *const eo_registry_linesearch[] = {
     &eo_linesearch_backtracking,
+    &eo_linesearch_nonmonotone,
     &eo_linesearch_wolfe,
     &eo_linesearch_exact,
     &eo_linesearch_none,

@@ -89,6 +89,7 @@ static inline int eo_cg_solve(eo_cg *s, eo_cg_precond_fn M, const void *pc, cons
     double bnorm = sqrt(eo_cg_dot(n, b, b));
     stats->iterations = 0;
     stats->residual = 0;
+    stats->curvature = 0;
     if (!s->o.warm_start || bnorm == 0) memset(x, 0, (size_t)n * sizeof(double));
     if (bnorm == 0) return EO_OK;
     if (s->o.warm_start) {

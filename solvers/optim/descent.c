@@ -22,8 +22,10 @@
  *   would spend its whole iteration budget (and ~35 evaluations per iteration) at the
  *   rounding floor.
  *   Likewise EO_DESCENT_WEAK_LIMIT accepted steps in a row without SIGNIFICANT progress
- *   (g decreasing by more than 1e-15·|g|, or ‖∇g‖ below 0.9 times its best significant
- *   value) → EO_DIVERGED_STAGNATED: at the floor g and ‖∇g‖ wander at the rounding
+ *   (g below its best significant value by more than 1e-14·|g|, or ‖∇g‖ below 0.9 times
+ *   its best significant value; records, so that g wandering at its rounding level,
+ *   about 1e-15·|g| between full Newton steps at the floor, does not count) →
+ *   EO_DIVERGED_STAGNATED: at the floor g and ‖∇g‖ wander at the rounding
  *   level and set new "records" by noise now and then, which the rule above counts as
  *   progress (measured: Newton on the twist with a relative gradient tolerance of 1e-18
  *   ran 182 iterations at the floor before it; with this rule 20-80). The window grows
@@ -94,9 +96,11 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
     const double t0 = eo_wtime();
     const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
     double *grad = w->grad, *grad_new = w->grad_new, *p = w->p;
-    double g = NAN, gn = NAN, gn0, g_prev = NAN, step_norm = NAN, last_dec = NAN;
+    double g = NAN, gn = NAN, gn0, g_prev = NAN, step_norm = NAN, last_dec = NAN, dec0 = NAN, dec_prev = NAN;
     int rc = EO_OK, reason = 0, k = 0, stalled = 0, weak = 0;
-    double gn_best = INFINITY, gn_sig = INFINITY;
+    double gn_best = INFINITY, gn_sig = INFINITY, g_sig = INFINITY;
+    double ghist[EO_LS_HISTORY]; /* g of the accepted iterates, oldest first (nonmonotone) */
+    int nhist = 0;
 
     memset(res, 0, sizeof *res);
     res->decrement = NAN;
@@ -109,6 +113,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
     if (rc < 0) goto done;
     gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
     gn0 = gn;
+    ghist[nhist++] = g;
     if (ops->begin) {
         rc = ops->begin(st, params, sc, x, g, grad, res);
         if (rc < 0) goto done;
@@ -118,7 +123,8 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                              .alpha = NAN, .ls_evals = 0, .shift = 0,
                              .inverted = eo_external_inverted(sc, x), .reason = 0, .x = x};
         eo_stop_info si = {.iteration = k, .g = g, .g_prev = g_prev, .grad_norm = gn,
-                           .grad_norm0 = gn0, .decrement = NAN, .step_norm = step_norm,
+                           .grad_norm0 = gn0, .decrement = NAN, .decrement0 = dec0, .decrement_prev = dec_prev,
+                           .step_norm = step_norm,
                            .x_norm = eo_norm2(n, x), .tol = sc->tol};
         double dg = NAN, alpha0 = 1;
         if (!isfinite(g) || !isfinite(gn)) reason = EO_DIVERGED_NONFINITE;
@@ -131,6 +137,9 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
             if (rc < 0) goto done;
             info.shift = d.shift;
             info.projected = d.projected;
+            info.eta = d.eta;
+            info.lin_iters = d.lin_iters;
+            info.neg_curvature = d.neg_curvature;
             alpha0 = d.alpha0;
             reason = d.reason;
             if (!reason) {
@@ -139,6 +148,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                     reason = EO_DIVERGED_NOT_DESCENT;
                 } else {
                     info.decrement = last_dec = -alpha0 * dg / 2;
+                    if (k == 0) si.decrement0 = dec0 = last_dec;
                     if (sc->stop->needs_direction) {
                         si.decrement = info.decrement;
                         reason = sc->stop->check(sc->stop_params, &si);
@@ -156,7 +166,8 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         }
         double gnew = NAN, alpha = 0;
         int nev = 0;
-        eo_ls_extra ex = {.grad_new = grad_new, .have_grad = 0, .c2 = ops->ls_c2};
+        eo_ls_extra ex = {.grad_new = grad_new, .have_grad = 0, .c2 = ops->ls_c2, .g_hist = ghist,
+                          .n_hist = nhist};
         rc = sc->linesearch->search(sc->linesearch_params, obj, x, p, g, dg, alpha0, w->x_new,
                                     &gnew, &alpha, &nev, w->work, sc->ctx, &ex);
         info.ls_evals = nev;
@@ -194,11 +205,15 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         grad_new = t;
         g_prev = g;
         g = gchk;
+        if (nhist == EO_LS_HISTORY) memmove(ghist, ghist + 1, (EO_LS_HISTORY - 1) * sizeof ghist[0]), nhist--;
+        ghist[nhist++] = g;
         gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
+        dec_prev = last_dec;
         last_dec = NAN;
         stalled = (g < g_prev || gn < gn_best) ? 0 : stalled + 1;
-        if (g < g_prev - 1e-15 * fabs(g_prev) || gn < 0.9 * gn_sig) {
+        if (g < g_sig - 1e-14 * fabs(g_sig) || gn < 0.9 * gn_sig) {
             weak = 0;
+            if (g < g_sig) g_sig = g;
             if (gn < gn_sig) gn_sig = gn;
         } else {
             weak++;

@@ -25,6 +25,9 @@ typedef struct eo_direction_out {
     double shift;   /* Hessian shift used (0 if none) */
     double projected; /* fraction of elements projected by the Hessian fix (0 if none) */
     int reason;     /* negative eo_reason when no direction could be computed */
+    double eta;     /* inexact Newton: inner relative tolerance (0 if none) */
+    int lin_iters;  /* iterations of the inner linear solve (0 if none) */
+    int neg_curvature; /* the inner CG met non-positive curvature (handled by the fix) */
 } eo_direction_out;
 
 typedef struct eo_descent_ops {

@@ -2,6 +2,10 @@
  * formulas and the references). */
 #include "forcing.h"
 
+#include <string.h>
+
+#include "elastopt/linsolve.h"
+
 #include <math.h>
 #include <stddef.h>
 
@@ -44,4 +48,72 @@ double eo_forcing_eta(const eo_forcing_params *p, int k, double gnorm, double gn
     if (eta > p->eta_max) eta = p->eta_max;
     if (eta < p->eta_min) eta = p->eta_min; /* (d) */
     return eta;
+}
+
+double eo_forcing_eta_ew1(const eo_forcing_params *p, int k, double gnorm, double gnorm_prev,
+                          double linres_prev, double eta_prev)
+{
+    double eta;
+    if (k <= 0) {
+        eta = p->eta0;
+    } else {
+        if (!(gnorm >= 0) || !(gnorm_prev > 0) || !(linres_prev >= 0) || !isfinite(gnorm) ||
+            !isfinite(gnorm_prev) || !isfinite(linres_prev))
+            return p->eta_max;
+        eta = fabs(gnorm - linres_prev) / gnorm_prev;
+        const double phi = 0.5 * (1 + sqrt(5.0));
+        double floor = pow(eta_prev, phi); /* safeguard (2.2) */
+        if (floor > 0.1 && eta < floor) eta = floor;
+    }
+    if (eta > p->eta_max) eta = p->eta_max;
+    if (p->gtol > 0 && gnorm > 0 && eta < 0.5 * p->gtol / gnorm) eta = 0.5 * p->gtol / gnorm;
+    if (eta > p->eta_max) eta = p->eta_max;
+    if (eta < p->eta_min) eta = p->eta_min;
+    return eta;
+}
+
+int eo_forcing_kind(const char *name)
+{
+    static const char *const names[] = {"none", "constant", "ew1", "ew2"};
+    for (int i = 0; i < 4; i++)
+        if (name && !strcmp(name, names[i])) return i;
+    return -1;
+}
+
+void eo_inexact_begin(eo_inexact *s, int kind, double eta, double gamma, double alpha, double eta_min,
+                      double eta_max)
+{
+    memset(s, 0, sizeof *s);
+    s->kind = kind;
+    eo_forcing_params_default(&s->fp);
+    s->fp.eta0 = eta;
+    s->fp.gamma = gamma;
+    s->fp.alpha = alpha;
+    s->fp.eta_min = eta_min;
+    s->fp.eta_max = eta_max;
+    s->gnorm_prev = s->linres_prev = s->eta_prev = NAN;
+}
+
+double eo_inexact_before(eo_inexact *s, struct eo_linsolve *ls, double gnorm)
+{
+    double eta = 0;
+    switch (s->kind) { /* the four forcing rules of this file, not method names */
+    case EO_FORCING_CONSTANT: eta = s->fp.eta0; break;
+    case EO_FORCING_EW1:
+        eta = eo_forcing_eta_ew1(&s->fp, s->k, gnorm, s->gnorm_prev, s->linres_prev, s->eta_prev);
+        break;
+    case EO_FORCING_EW2: eta = eo_forcing_eta(&s->fp, s->k, gnorm, s->gnorm_prev, s->eta_prev); break;
+    default: return 0;
+    }
+    if (!(eta > 0 && eta < 1)) eta = eta >= 1 ? 0.9 : 1e-16;
+    eo_linsolve_set_rtol(ls, eta);
+    s->eta_prev = eta;
+    s->k++;
+    return eta;
+}
+
+void eo_inexact_after(eo_inexact *s, double gnorm, double linres)
+{
+    s->gnorm_prev = gnorm;
+    s->linres_prev = linres;
 }

@@ -40,4 +40,33 @@ void eo_forcing_params_default(eo_forcing_params *p);
  * ‖∇g_{k−1}‖ and η_{k−1}. */
 double eo_forcing_eta(const eo_forcing_params *p, int k, double gnorm, double gnorm_prev, double eta_prev);
 
+/* Eisenstat–Walker choice 1 (the paper's eq. 2.1 with safeguard 2.2):
+ *   η_k = | ‖∇g_k‖ − ‖∇g_{k−1} + H_{k−1} s_{k−1}‖ | / ‖∇g_{k−1}‖        (k >= 1)
+ * (linres_prev = ‖∇g_{k−1} + H_{k−1}s_{k−1}‖, the linear model's residual at the step
+ * taken), then if η_{k−1}^φ > 0.1 (φ = (1+√5)/2): η_k = max(η_k, η_{k−1}^φ); then
+ * safeguards (b)–(d) above. Local convergence is superlinear of order φ (Thm 2.2). */
+double eo_forcing_eta_ew1(const eo_forcing_params *p, int k, double gnorm, double gnorm_prev,
+                          double linres_prev, double eta_prev);
+
+/* Newton's use of the forcing terms (solver.newton.forcing): the state of one
+ * minimization. eo_inexact_begin at the start; eo_inexact_before before each direction
+ * (sets the linear solver's rtol, returns η_k, 0 when forcing = none); eo_inexact_after
+ * once the step from that direction is accepted (linres = ‖∇g_k + αH̃p_k‖, only read by
+ * ew1). Nothing is allocated. */
+enum { EO_FORCING_NONE, EO_FORCING_CONSTANT, EO_FORCING_EW1, EO_FORCING_EW2 };
+typedef struct eo_inexact {
+    int kind;
+    eo_forcing_params fp;
+    int k;              /* directions computed in this minimization */
+    double eta_prev, gnorm_prev, linres_prev;
+} eo_inexact;
+
+/* kind from its name ("none", "constant", "ew1", "ew2"); -1 if unknown. */
+int eo_forcing_kind(const char *name);
+void eo_inexact_begin(eo_inexact *s, int kind, double eta, double gamma, double alpha, double eta_min,
+                      double eta_max);
+struct eo_linsolve;
+double eo_inexact_before(eo_inexact *s, struct eo_linsolve *ls, double gnorm);
+void eo_inexact_after(eo_inexact *s, double gnorm, double linres);
+
 #endif

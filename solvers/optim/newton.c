@@ -25,11 +25,21 @@
  * eo_linsolve_factor at every factorization (by the fix). Nothing is allocated.
  * A factorization or solve error (negative status) ends the run with
  * EO_DIVERGED_LINSOLVE (status in res.status); a non-finite Hessian diagonal with
- * EO_DIVERGED_NONFINITE. */
+ * EO_DIVERGED_NONFINITE.
+ *
+ * Inexact Newton (solver.newton.forcing, forcing.c): before each direction the forcing
+ * term η_k goes to the linear solver (eo_linsolve_set_rtol; direct solvers ignore it),
+ * so an iterative solve stops at ‖H̃p + ∇g‖ ≤ η_k‖∇g‖. Non-positive curvature met by
+ * the inner CG is counted (res.n_neg_curvature, iteration record neg_curvature) and left
+ * to the Hessian fix, which never uses that direction (`none` takes the clamp-projected
+ * system for that iteration, `shift` a larger shift). */
 #include <stddef.h>
 #include <string.h>
 
 #include "descent.h"
+#include "forcing.h"
+
+static const char *const forcing_names[] = {"none", "constant", "ew1", "ew2", NULL};
 
 typedef struct newton_state {
     eo_descent_ws w;
@@ -45,12 +55,30 @@ typedef struct newton_state {
     double g_old, dg, alpha;
     double proj_sum;
     long proj_count;
+    eo_inexact inexact;     /* forcing terms (forcing.h) */
+    double shift_last;      /* c of the last direction's system (for ew1's residual) */
+    double *Hp;             /* ew1: H̃p workspace (n) */
 } newton_state;
 
 static const eo_param_desc newton_desc[] = {
     {.key = "descent_eps", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, descent_eps),
      .def.d = 1e-12, .min = 0, .max = 1, .range = EO_RANGE_MIN | EO_RANGE_MAX_OPEN,
      .help = "p is a descent direction iff grad'p < -eps*|grad|*|p|"},
+    {.key = "forcing", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_newton_params, forcing),
+     .size = sizeof(((eo_newton_params *)0)->forcing), .def.s = "none", .choices = forcing_names,
+     .help = "inexact Newton with an iterative solver.linear: inner relative tolerance eta_k = none "
+             "(the solver's own tol), constant (eta), ew1 / ew2 (Eisenstat-Walker choice 1 / 2)"},
+    {.key = "eta", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, eta), .def.d = 0.5,
+     .min = 0, .max = 1, .range = EO_RANGE_OPEN, .help = "forcing = constant: eta_k; ew1/ew2: eta_0"},
+    {.key = "ew_gamma", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, ew_gamma), .def.d = 0.9,
+     .min = 0, .max = 1, .range = EO_RANGE_MIN_OPEN | EO_RANGE_MAX,
+     .help = "ew2: eta_k = ew_gamma (|grad_k|/|grad_k-1|)^ew_alpha"},
+    {.key = "ew_alpha", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, ew_alpha), .def.d = 2,
+     .min = 1, .max = 2, .range = EO_RANGE_MIN_OPEN | EO_RANGE_MAX, .help = "ew2: exponent in (1, 2]"},
+    {.key = "eta_max", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, eta_max), .def.d = 0.9,
+     .min = 0, .max = 1, .range = EO_RANGE_OPEN, .help = "upper bound of the forcing term"},
+    {.key = "eta_min", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, eta_min), .def.d = 1e-12,
+     .min = 0, .max = 1, .range = EO_RANGE_OPEN, .help = "lower bound of the forcing term"},
     {0},
 };
 
@@ -59,7 +87,10 @@ static int newton_setup(void *vst, const void *params, int n, eo_ctx *ctx)
     newton_state *st = vst;
     (void)params;
     eo_descent_ws_deinit(ctx, &st->w);
+    eo_free(ctx, st->Hp);
     memset(st, 0, sizeof *st);
+    st->Hp = eo_calloc(ctx, (size_t)(n > 0 ? n : 1), sizeof(double));
+    if (!st->Hp) return eo_error(ctx, EO_ERR_NOMEM, "newton: out of memory (n = %d)", n);
     return eo_descent_ws_init(ctx, n, &st->w);
 }
 
@@ -67,6 +98,8 @@ static void newton_destroy(void *vst, eo_ctx *ctx)
 {
     newton_state *st = vst;
     eo_descent_ws_deinit(ctx, &st->w);
+    eo_free(ctx, st->Hp);
+    st->Hp = NULL;
 }
 
 /* eo_hessfix_assemble_fn: the objective's Hessian at st->x, analyzed on a new pattern. */
@@ -128,6 +161,9 @@ static int newton_begin(void *vst, const void *params, const eo_solver_ctx *sc, 
     st->pending = 0;
     st->proj_sum = 0;
     st->proj_count = 0;
+    const eo_newton_params *np = params;
+    eo_inexact_begin(&st->inexact, eo_forcing_kind(np->forcing), np->eta, np->ew_gamma, np->ew_alpha,
+                     np->eta_min, np->eta_max);
     if (!sc->linear) return eo_error(sc->ctx, EO_ERR_INVALID, "newton needs a linear solver");
     if (!sc->hessfix) return eo_error(sc->ctx, EO_ERR_INVALID, "newton needs a Hessian fix");
     if (!sc->hessfix->begin) return EO_OK;
@@ -151,8 +187,15 @@ static int newton_direction(void *vst, const void *params, const eo_solver_ctx *
     st->pending = 0;
     eo_hessfix_env env = newton_env(st, params, sc, x, g, grad, res);
     eo_hessfix_out fo = {.shift = 0, .projected = 0, .factored = 0, .reason = 0};
+    out->eta = eo_inexact_before(&st->inexact, sc->linear, eo_norm2(sc->obj->n, grad));
     int rc = hf->factor(sc->hessfix_state, sc->hessfix_params, &env, p, &fo);
     if (rc < 0) return rc;
+    const eo_linsolve_stats *ls = eo_linsolve_get_stats(sc->linear);
+    out->lin_iters = ls->iterations;
+    res->lin_iters += ls->iterations;
+    out->neg_curvature = fo.neg_curvature;
+    if (fo.neg_curvature) res->n_neg_curvature++;
+    st->shift_last = fo.shift;
     out->shift = fo.shift;
     out->projected = fo.projected;
     st->proj_sum += fo.projected;
@@ -173,9 +216,22 @@ static void newton_accepted(void *vst, const void *params, const double *x, cons
                             double alpha)
 {
     newton_state *st = vst;
-    (void)params, (void)x, (void)x_new, (void)grad, (void)grad_new, (void)p;
+    (void)params, (void)x, (void)x_new, (void)grad_new;
     st->alpha = alpha;
     st->pending = 1;
+    if (st->inexact.kind == EO_FORCING_NONE) return;
+    const int n = st->sc->obj->n;
+    double linres = NAN;
+    if (st->inexact.kind == EO_FORCING_EW1 && st->H) { /* ‖∇g + α(H + cI)p‖ */
+        eo_csc_symv(st->H, p, st->Hp);
+        double r2 = 0;
+        for (int i = 0; i < n; i++) {
+            double r = grad[i] + alpha * (st->Hp[i] + st->shift_last * p[i]);
+            r2 += r * r;
+        }
+        linres = sqrt(r2);
+    }
+    eo_inexact_after(&st->inexact, eo_norm2(n, grad), linres);
 }
 
 static const eo_descent_ops newton_ops = {

@@ -3,6 +3,7 @@
 #include "../solver_registry.h"
 
 const void *const eo_registry_stop[] = {
+    &eo_stop_relative_decrement,
     &eo_stop_newton_decrement,
     &eo_stop_gradient,
     NULL,

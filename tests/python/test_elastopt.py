@@ -130,7 +130,7 @@ class Stepping(unittest.TestCase):
         for k, v in ov.items():
             args += ["-o", eo._core.override_text(k, v)]
         subprocess.run(args, check=True)
-        frame = eo.read_vtu(out / "twist_0005.vtu")
+        frame = eo.read_vtu(out / "frame_000005.vtu")
         with eo.Sim(scene="twist", overrides=ov) as sim:
             rs = sim.run()
             self.assertEqual(len(rs), 5)
