@@ -34,6 +34,10 @@
 #include "descent.h"
 #include "external.h" /* eo_external_inverted */
 
+/* One update larger than this many times the previous one ends the iteration at once
+ * as not contracting (before the iterates overflow), without waiting for the window. */
+#define EO_FIXED_POINT_BLOWUP 100.0
+
 typedef struct fp_state {
     int n;
     double *d, *grad, *best, *hist; /* n, n, n, window + 1 norms */
@@ -188,7 +192,12 @@ static int fp_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
                 dmin = dn;
                 memcpy(st->best, x, (size_t)n * sizeof(double));
             }
-            if (k >= m && st->hist[0] > 0) {
+            const double dprev = k == 0 ? NAN : st->hist[k <= m ? k - 1 : m - 1];
+            if (dprev > 0 && dn > EO_FIXED_POINT_BLOWUP * dprev) { /* one update grew by orders */
+                st->rho = dn / dprev;
+                reason = EO_DIVERGED_NOT_CONTRACTING;
+                eo_log(sc->ctx, EO_LOG_INFO, "fixed_point: update grew %.3g-fold in one iteration", st->rho);
+            } else if (k >= m && st->hist[0] > 0) {
                 double rho = pow(st->hist[m] / st->hist[0], 1.0 / m);
                 st->rho = rho;
                 if (!(rho < 1)) {
