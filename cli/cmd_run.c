@@ -412,6 +412,17 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     const eo_mesh *m = sc->mesh;
     const int nsteps = sc->time.steps;
     const size_t nf = (size_t)(3 * m->nv > 0 ? 3 * m->nv : 1);
+    {   /* a step count whose records cannot be held: name the key, not "out of memory" */
+        eo_machine mach;
+        eo_machine_get(&mach);
+        double need = (double)nsteps * sizeof *rec;
+        if (mach.mem_bytes > 0 && need > 0.5 * mach.mem_bytes) {
+            rc = eo_cfg_error(ctx, eo_sim_cfg(sim), "time.steps", EO_ERR_RANGE,
+                              "%d steps: their per-step records need %.3g GB, more than half of this machine's "
+                              "%.3g GB", nsteps, need / 1e9, mach.mem_bytes / 1e9);
+            goto fail;
+        }
+    }
     rec = eo_calloc(ctx, (size_t)nsteps, sizeof *rec);
     fbuf = eo_malloc(ctx, (size_t)(3 * m->nv + 2 * m->nt) * sizeof(double) + (size_t)m->nt + 1);
     xs = eo_malloc(ctx, nf * sizeof(double));
@@ -419,7 +430,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     const size_t hlen = eo_sim_history_len(sim); /* a multistep integrator's history (bdf2) */
     hs = eo_malloc(ctx, (hlen ? hlen : 1) * sizeof(double));
     if (!rec || !fbuf || !xs || !vs || !hs) {
-        rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory for the records of time.steps = %d steps", nsteps);
+        rc = eo_cfg_error(ctx, eo_sim_cfg(sim), "time.steps", EO_ERR_NOMEM,
+                          "out of memory for the records of %d steps", nsteps);
         goto fail;
     }
     frame_buf fb = {.disp = fbuf, .psi = fbuf + 3 * m->nv, .J = fbuf + 3 * m->nv + m->nt};

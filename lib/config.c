@@ -8,6 +8,7 @@
 #include "elastopt/config.h"
 #include "elastopt/io.h"
 
+#include <stdarg.h>
 #include <jansson.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -329,3 +330,24 @@ int eo_cfg_finish(eo_ctx *ctx, eo_cfg *cfg) { return walk(ctx, cfg, cfg->root, "
 
 json_t *eo_cfg_root(eo_cfg *cfg) { return cfg->root; }
 const char *eo_cfg_file(const eo_cfg *cfg) { return cfg->file; }
+
+/* ---- errors located at a key (file:line of the document, or the -o override) */
+
+int eo_cfg_error(eo_ctx *ctx, eo_cfg *cfg, const char *path, int status, const char *fmt, ...)
+{
+    char text[768];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    eo_param_src src = eo_cfg_src(cfg, path);
+    char needle[600];
+    snprintf(needle, sizeof needle, "\n%s", path);
+    const char *o = src.overridden ? strstr(src.overridden, needle) : NULL;
+    if (o && (o[strlen(needle)] == '\n' || o[strlen(needle)] == '.'))
+        return eo_error(ctx, status, "command line -o %s: %s", path, text);
+    eo_errloc loc = EO_ERRLOC_NONE;
+    loc.file = src.file;
+    if (src.text) eo_json_locate(src.text, path, &loc.line, &loc.column);
+    return eo_error_at(ctx, status, loc, "key '%s': %s", path, text);
+}

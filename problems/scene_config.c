@@ -242,29 +242,7 @@ const eo_cfg_doc eo_scene_docs[] = {
 
 /* ---------------------------------------------------------------- errors */
 
-static int cfg_err(eo_ctx *ctx, eo_cfg *cfg, const char *path, int status, const char *fmt, ...)
-#if defined(__GNUC__)
-    __attribute__((format(printf, 5, 6)))
-#endif
-    ;
-static int cfg_err(eo_ctx *ctx, eo_cfg *cfg, const char *path, int status, const char *fmt, ...)
-{
-    char text[768];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(text, sizeof text, fmt, ap);
-    va_end(ap);
-    eo_param_src src = eo_cfg_src(cfg, path);
-    char needle[600];
-    snprintf(needle, sizeof needle, "\n%s", path);
-    const char *o = src.overridden ? strstr(src.overridden, needle) : NULL;
-    if (o && (o[strlen(needle)] == '\n' || o[strlen(needle)] == '.'))
-        return eo_error(ctx, status, "command line -o %s: %s", path, text);
-    eo_errloc loc = EO_ERRLOC_NONE;
-    loc.file = src.file;
-    if (src.text) eo_json_locate(src.text, path, &loc.line, &loc.column);
-    return eo_error_at(ctx, status, loc, "key '%s': %s", path, text);
-}
+#define cfg_err eo_cfg_error
 
 /* [[x0,y0,z0],[x1,y1,z1]] → box[6] */
 static int read_box(eo_ctx *ctx, eo_cfg *cfg, const char *path, const json_t *v, double box[6])

@@ -47,7 +47,7 @@ static int cb_minimize(void *user, const eo_solver_ctx *sc, double *x, eo_solve_
     eo_objective *obj = sc->obj;
     const int n = obj->n;
     const double t0 = eo_wtime();
-    double grad[4096], p[4096], g, gn0 = NAN;
+    double grad[4096], p[4096], g, gn0 = NAN, dec0 = NAN, dec_prev = NAN;
     if (n > 4096) return eo_error(sc->ctx, EO_ERR_INVALID, "test: n too large");
     for (int k = 0;; k++) {
         int rc = eo_objective_gradient(obj, x, &g, grad);
@@ -59,7 +59,8 @@ static int cb_minimize(void *user, const eo_solver_ctx *sc, double *x, eo_solve_
         eo_iter_info info = {.iteration = k, .g = g, .grad_norm = gn, .decrement = NAN,
                              .alpha = NAN, .inverted = -1, .x = x};
         eo_stop_info si = {.iteration = k, .g = g, .g_prev = NAN, .grad_norm = gn,
-                           .grad_norm0 = gn0, .decrement = NAN, .step_norm = NAN, .tol = sc->tol};
+                           .grad_norm0 = gn0, .decrement = NAN, .decrement0 = dec0, .decrement_prev = dec_prev,
+                           .step_norm = NAN, .tol = sc->tol};
         int reason = sc->stop->check(sc->stop_params, &si);
         if (!reason) {
             u->calls++;
@@ -67,7 +68,9 @@ static int cb_minimize(void *user, const eo_solver_ctx *sc, double *x, eo_solve_
             double dg = 0;
             for (int i = 0; i < n; i++) dg += grad[i] * p[i];
             si.decrement = info.decrement = -dg / 2;
+            if (k == 0) si.decrement0 = dec0 = si.decrement; /* relative_decrement's reference */
             if (sc->stop->needs_direction) reason = sc->stop->check(sc->stop_params, &si);
+            dec_prev = si.decrement;
         }
         if (!reason && k >= sc->max_iters) reason = EO_DIVERGED_MAX_ITERS;
         res->iterations = k;

@@ -34,6 +34,17 @@ grep -q "big.json:2:.*mesh.generate.cells.*GB" big.err && ok || bad "huge box me
 "$EXE" run -o mesh.generate.cells=[100000,100000,100] --out big 2> big2.err
 [ $? -eq 2 ] && grep -q "command line -o mesh.generate.cells" big2.err && ok || bad "huge box -o: $(cat big2.err)"
 
+# a step count whose per-step records cannot be held: the key and its file:line
+cat > steps.json <<'J'
+{
+  "time": {"steps": 2000000000}
+}
+J
+"$EXE" run steps.json --out steps 2> steps.err
+rc=$?
+[ $rc -eq 2 ] && grep -q "steps.json:2:.*time.steps.*GB" steps.err && [ ! -e steps ] && ok ||
+    bad "huge time.steps: exit $rc, $(cat steps.err)"
+
 # overlapping boundary sets: different motions warn naming both; equal motions do not
 cat > ov.json <<'J'
 {"boundary": [{"box": [[-1,-1,-1],[0.05,1,1]], "fixed": true},

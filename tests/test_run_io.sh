@@ -95,7 +95,7 @@ else
 fi
 
 # --- SIGTERM in the middle of a step: the half-done step is discarded
-GD=(-o solver.optimizer=gradient_descent -o solver.max_iters=100000 -o solver.tol=1e-300 -o time.steps=3
+GD=(-o solver.optimizer=gradient_descent -o solver.stop=gradient -o solver.max_iters=100000 -o solver.tol=1e-300 -o time.steps=3
     -o output.vtu=false)
 "$EXE" run --out term "${GD[@]}" --quiet >term.out 2>term.err &
 P=$!
@@ -182,7 +182,7 @@ out=$("$EXE" run --out capped -o solver.max_iters=1 -o solver.tol=1e-40 -o time.
     grep -q "^cantilever: 0/2 converged; steps 1, 2: diverged_max_iters (1 iteration); .*summary: capped/summary.json$" &&
     ok || bad "closing line: $out"
 err=$("$EXE" run --out verb --verbose -o time.steps=4 -o output.vtu=false 2>&1 >/dev/null)
-[ "$(printf '%s\n' "$err" | grep -c '^step [0-9]/4  t = .* converged_decrement  1 iterations')" -eq 4 ] && ok ||
+[ "$(printf '%s\n' "$err" | grep -c '^step [0-9]/4  t = .* converged_decrement  [0-9]* iterations')" -eq 4 ] && ok ||
     bad "--verbose: $err"
 out=$("$EXE" run --out quiet --quiet -o time.steps=2 2>&1)
 [ -z "$out" ] && ok || bad "--quiet printed: $out"
@@ -190,7 +190,7 @@ err=$("$EXE" run --out plain -o time.steps=3 -o output.vtu=false 2>&1 >/dev/null
 printf '%s' "$err" | grep -q $'\r' && bad "not a terminal: got \\r: $err" || ok
 if command -v script >/dev/null; then
     script -qfec "$EXE run --out tty -o time.steps=30 -o output.vtu=false" /dev/null >tty.txt 2>&1 </dev/null
-    grep -q $'\r.*step 30/30  t = 0.3 s  .*/step  ETA .*  last 1 iterations  all converged' tty.txt && ok ||
+    grep -q $'\r.*step 30/30  t = 0.3 s  .*/step  ETA .*  last [0-9]* iterations  all converged' tty.txt && ok ||
         bad "pty progress line: $(cat -v tty.txt | tail -3)"
 fi
 

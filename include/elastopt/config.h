@@ -50,6 +50,14 @@ EO_API int eo_cfg_section(eo_ctx *ctx, eo_cfg *cfg, const char *path, const eo_p
                    void *obj, const char *const *extra);
 /// The error source for a path: file + text, or "-o" when an override set the value.
 EO_API eo_param_src eo_cfg_src(eo_cfg *cfg, const char *path);
+/// Record an error about the value at `path`, located where it came from: "command line
+/// -o PATH: TEXT" when an override set it, else "FILE:LINE:COLUMN: key 'PATH': TEXT";
+/// returns status.
+EO_API int eo_cfg_error(eo_ctx *ctx, eo_cfg *cfg, const char *path, int status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 5, 6)))
+#endif
+    ;
 /// Report the first key that no load consumed (EO_ERR_UNKNOWN_KEY listing the keys
 /// that are valid at that level, as recorded by the section loads).
 EO_API int eo_cfg_finish(eo_ctx *ctx, eo_cfg *cfg);
