@@ -221,7 +221,7 @@ const eo_param_desc eo_scene_rotate_opts_desc[] = {
 };
 
 const eo_cfg_doc eo_scene_docs[] = {
-    {"", eo_scene_opts_desc, "top-level scene keys (also: mesh, material, materials, boundary, initial, springs, collisions, point_masses, time, solver, output)"},
+    {"", eo_scene_opts_desc, "top-level scene keys (also: mesh, material, materials, boundary, initial, springs, collisions, point_masses, damping, time, solver, output)"},
     {"mesh", eo_scene_mesh_opts_desc, "the mesh: a file, mesh.generate, or mesh.points [[x,y,z], ...] (points without tets: a mass-spring system)"},
     {"mesh.generate", eo_scene_generate_opts_desc, "generated box of hexahedral cells split into tets"},
     {"mesh.lattice", eo_scene_lattice_opts_desc, "generated mass-spring lattice without tets (cloth: one axis with 0 cells): structural, shear and bending springs"},
