@@ -508,6 +508,12 @@ static int clean_surface(eo_ctx *ctx, eo_surface *s, const char *file)
     }
     s->np = n;
     for (int i = 0; i < 3 * s->nt; i++) s->tri[i] = map[s->tri[i]];
+    if (s->np < 4) { /* e.g. a triangle listed twice, or corners that are all the same few points */
+        rc = eo_error_at(ctx, EO_ERR_MESH, EO_ERRLOC_FILE(file, -1),
+                         "%d distinct points on the triangles (after merging equal points); expected a closed "
+                         "surface (at least 4)", s->np);
+        goto done;
+    }
     for (int f = 0; f < s->nt; f++) {
         const int *t = s->tri + 3 * f;
         if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {

@@ -267,6 +267,10 @@ int main(void)
     expect_fail(ctx, "open.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\n", "at least 4");
     expect_fail(ctx, "open2.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 1 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 5 3\n",
                 "open2.obj:7: triangle 2: the surface is not closed");
+    /* 4 points and 4 triangles, but one point is a copy: after merging, one triangle
+     * listed four times (every edge in an even number of triangles) on 3 points */
+    expect_fail(ctx, "copies.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 0\nf 1 2 3\nf 1 3 2\nf 4 2 3\nf 4 3 2\n",
+                "3 distinct points");
     expect_fail(ctx, "range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "range.obj:4: expected a vertex index in [1, 3]");
     expect_fail(ctx, "degen.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 0 2\n",
                 "degen.off:10: triangle 4: degenerate");
