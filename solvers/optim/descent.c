@@ -97,7 +97,10 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                       w->n, n);
         goto done;
     }
+    double tg = eo_wtime();
     rc = eo_objective_gradient(obj, x, &g, grad);
+    res->t_gradient += eo_wtime() - tg;
+    res->n_gradient_outside++;
     if (rc < 0) goto done;
     gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
     gn0 = gn;
@@ -149,8 +152,11 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         double gnew = NAN, alpha = 0;
         int nev = 0;
         eo_ls_extra ex = {.grad_new = grad_new, .have_grad = 0, .c2 = ops->ls_c2};
+        const double tls = eo_wtime();
         rc = sc->linesearch->search(sc->linesearch_params, obj, x, p, g, dg, alpha0, w->x_new,
                                     &gnew, &alpha, &nev, w->work, sc->ctx, &ex);
+        res->t_linesearch += eo_wtime() - tls;
+        res->n_ls_evals += nev;
         info.ls_evals = nev;
         if (rc < 0) goto done;
         if (!isfinite(gnew) || !(rc == EO_OK || gnew < g) || !(alpha > 0)) {
@@ -170,7 +176,10 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         /* accept: the gradient at x_{k+1} from the line search if it has it, else one call */
         double gchk = gnew;
         if (!ex.have_grad) {
+            tg = eo_wtime();
             rc = eo_objective_gradient(obj, w->x_new, &gchk, grad_new);
+            res->t_gradient += eo_wtime() - tg;
+            res->n_gradient_outside++;
             if (rc < 0) goto done;
         }
         if (ops->accepted) ops->accepted(st, params, x, w->x_new, grad, grad_new, p, alpha);
