@@ -381,6 +381,9 @@ typedef struct eo_solve_result {
     double t_linesearch;  ///< inside the line search, its objective evaluations included
     double t_gradient;    ///< gradient evaluations outside the line search
     long n_assembly, n_ls_evals, n_gradient_outside;  ///< the calls timed above
+    int decrement_estimated;  ///< 1: stopped on the decrement estimated from the previous
+                              ///< factor (newton + newton_decrement), `decrement` is that
+                              ///< estimate; 0: from the direction at the returned x
 } eo_solve_result;
 
 /// Where a solver's time went: wall seconds and counts accumulated over every
