@@ -58,7 +58,7 @@ void eo_step_destroy(eo_step **pst)
     void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
                       st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->vbc,
                       st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->sys.elem_g,
-                      st->sys.elem_H, st->tet_order};
+                      st->sys.elem_H};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++) eo_free(ctx, arrays[i]);
     eo_free(ctx, st);
     *pst = NULL;
@@ -102,24 +102,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->sys.block = BLOCK;
     st->sys.elem_g = eo_malloc(ctx, 12 * (size_t)BLOCK * sizeof(double));
     st->sys.elem_H = eo_malloc(ctx, 144 * (size_t)BLOCK * sizeof(double));
-    st->tet_order = eo_malloc(ctx, nt * sizeof(int));
-    int *vcount = eo_calloc(ctx, nv + 1, sizeof(int));
-    if (st->tet_order && vcount) { /* counting sort of the tets by their largest vertex */
-        for (int k = 0; k < m->nt; k++) {
-            const int *t = m->tets + 4 * k;
-            int v = t[0] > t[1] ? t[0] : t[1], w = t[2] > t[3] ? t[2] : t[3];
-            vcount[(v > w ? v : w) + 1]++;
-        }
-        for (int v = 0; v < m->nv; v++) vcount[v + 1] += vcount[v];
-        for (int k = 0; k < m->nt; k++) {
-            const int *t = m->tets + 4 * k;
-            int v = t[0] > t[1] ? t[0] : t[1], w = t[2] > t[3] ? t[2] : t[3];
-            st->tet_order[vcount[v > w ? v : w]++] = k;
-        }
-        st->sys.tet_order = st->tet_order;
-    }
-    eo_free(ctx, vcount);
-    if (!st->tet_order || !st->Dminv || !st->psi_rest || !st->vol || !st->rho || !st->vmass || !st->tet_type || !st->tet_coef || !st->x ||
+    if (!st->Dminv || !st->psi_rest || !st->vol || !st->rho || !st->vmass || !st->tet_type || !st->tet_coef || !st->x ||
         !st->v || !st->x0 || !st->xw || !st->gfull || !st->vnew || !st->guess || !st->vbc ||
         !st->vbc_new || !st->full2free || !st->free2full || !st->tet_dofs || !st->sys.elem_g ||
         !st->sys.elem_H) {

@@ -44,9 +44,6 @@ typedef struct eo_sys {
     double *elem_g;             /* 12·block */
     double *elem_H;             /* 144·block */
     int parallel;               /* 1: use OpenMP in element loops */
-    const int *tet_order;       /* nt: the serial Hessian loop's visiting order (tets by
-                                   their largest vertex index, so that the scatter walks
-                                   the matrix columns forward), or NULL: 0, 1, ... */
     const unsigned char *proj_of; /* nt: per-tet projection during a hessian_masked call
                                      (overrides the hessian's proj for tets), else NULL */
 } eo_sys;

@@ -14,10 +14,7 @@
  * thread count and no allocation or atomic is needed. The energy is a plain reduction.
  * Serial Hessian assembly (the default) is one pass: each tet's 12×12 matrix goes from
  * the kernel's output straight into the CSC (eo_assembler_add_scaled, 3×3 blocks),
- * without the element buffer, visiting the tets in s->tet_order (by largest vertex
- * index: on meshes whose tets are numbered without locality, TetGen's, the scatter
- * then walks the matrix forward instead of jumping across it; the sums per matrix
- * entry change order only, a rounding-level difference). */
+ * without the element buffer. */
 #include <math.h>
 #include <string.h>
 
@@ -87,8 +84,7 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
 {
     const double w = t->weight;
     if (!s->parallel) { /* one pass: evaluate and scatter each tet, no element buffer */
-        for (int q = 0; q < s->nt; q++) {
-            const int k = s->tet_order ? s->tet_order[q] : q;
+        for (int k = 0; k < s->nt; k++) {
             if (skip(s, k)) continue;
             eo_tet_out out;
             eval_tet(s, k, x, EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[k] : proj, &out);
