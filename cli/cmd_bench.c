@@ -13,6 +13,7 @@
 
 #include "cli.h"
 #include "elastopt/bench.h"
+#include "profile.h"
 
 extern const eo_cli_command eo_cmd_bench;
 
@@ -49,10 +50,18 @@ static void on_progress(const eo_bench_progress *p, void *user)
     fflush(stderr);
 }
 
+static void on_profile(const char *scene, const char *config, const eo_profile *p, void *user)
+{
+    char title[256];
+    (void)user;
+    snprintf(title, sizeof title, "%s / %s", scene, config);
+    eo_cli_profile_print(stdout, title, p);
+}
+
 static int run(eo_ctx *ctx, int argc, char **argv)
 {
     const char *suite_path = NULL, *out = NULL;
-    int repeats = 0, plots = -1, quiet = 0;
+    int repeats = 0, plots = -1, quiet = 0, profile = 0;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) out = argv[++i];
         else if (strcmp(argv[i], "--repeats") == 0 && i + 1 < argc) {
@@ -62,6 +71,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             repeats = (int)v;
         } else if (strcmp(argv[i], "--no-plots") == 0) plots = 0;
         else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) quiet = 1;
+        else if (strcmp(argv[i], "--profile") == 0) profile = 1;
         else if (argv[i][0] == '-') return eo_cli_usage_error(&eo_cmd_bench, "unknown option '%s'", argv[i]);
         else if (suite_path) return eo_cli_usage_error(&eo_cmd_bench, "give one SUITE.json");
         else suite_path = argv[i];
@@ -87,6 +97,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     o.plots = plots;
     o.progress = quiet ? NULL : on_progress;
     o.user = &ps;
+    if (profile) o.profile = on_profile;
     if (!quiet)
         fprintf(stderr, "bench %s: %d scene(s) x %d configuration(s) -> %s\n", suite_path, eo_bench_suite_nscenes(s),
                 eo_bench_suite_nconfigs(s), dir);
@@ -107,12 +118,14 @@ static int run(eo_ctx *ctx, int argc, char **argv)
 const eo_cli_command eo_cmd_bench = {
     .name = "bench",
     .summary = "benchmark solver configurations: speed against error (suite in bench/)",
-    .usage = "elastopt bench SUITE.json [--out DIR] [--repeats N] [--no-plots] [--quiet]\n\n"
+    .usage = "elastopt bench SUITE.json [--out DIR] [--repeats N] [--no-plots] [--quiet] [--profile]\n\n"
              "Runs a benchmark suite (bench/standard.json, bench/hard.json, bench/smoke.json; keys in\n"
              "include/elastopt/bench.h): a tight Newton reference per step, then every configuration\n"
              "from the same state, timed (median of N repeats after a warm-up). Writes into DIR\n"
              "(default out/bench-<suite>): curves.csv (every iteration), summary.csv, reference.csv,\n"
              "trajectory.csv, report.md and plots/*.png (gnuplot). Progress goes to stderr.\n"
+             "--profile: per scene and configuration, the solver's time by phase over its curve\n"
+             "runs (as `run --profile`), on stdout.\n"
              "Exit status: 0 all references converged, no NaN produced and every required\n"
              "configuration converged; 1 otherwise; 2 bad input or I/O error.\n",
     .run = run,

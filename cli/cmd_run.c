@@ -58,6 +58,7 @@
 #include "elastopt/sim.h"
 #include "progress.h"
 #include "run_output.h"
+#include "profile.h"
 #include "scene_args.h"
 
 extern const eo_cli_command eo_cmd_run;
@@ -347,7 +348,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
 {
     eo_cli_scene_args a = {0};
     const char *out_dir = NULL, *restart = NULL;
-    int force = 0;
+    int force = 0, profile = 0;
     eo_cli_verbosity verb = EO_CLI_NORMAL;
     for (int i = 1; i < argc; i++) {
         int r = eo_cli_scene_arg(&eo_cmd_run, argc, argv, &i, &a);
@@ -358,6 +359,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         else if (strcmp(argv[i], "--force") == 0) force = 1;
         else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) verb = EO_CLI_QUIET;
         else if (strcmp(argv[i], "--verbose") == 0 || strcmp(argv[i], "-v") == 0) verb = EO_CLI_VERBOSE;
+        else if (strcmp(argv[i], "--profile") == 0) profile = 1;
         else return eo_cli_usage_error(&eo_cmd_run, "unknown option '%s'", argv[i]);
     }
     if (restart && (a.file || a.scene || out_dir || force))
@@ -528,6 +530,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     for (int k = 0; k < nrec; k++) all_converged &= eo_reason_is_converged(rec[k].reason);
     eo_cli_progress_init(&pg, verb, nsteps, first);
     double t_start = eo_wtime();
+    eo_cli_profile prof;
+    eo_cli_profile_begin(&prof, profile, sim);
     for (int k = first; k < nsteps && !g_signal; k++) {
         rs.step = k + 1;
         double tb;
@@ -592,7 +596,9 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
         }
         eo_cli_progress_step(&pg, e);
+        eo_cli_profile_step(&prof, sim, k + 1);
     }
+    eo_cli_profile_total(&prof, sim, org.name);
     const int signo = g_signal;
     double wall = eo_wtime() - t_start;
     eo_cli_progress_done(&pg);
@@ -650,7 +656,7 @@ const eo_cli_command eo_cmd_run = {
     .name = "run",
     .summary = "simulate a scene (default: the built-in cantilever); continue one with --restart",
     .usage = "elastopt run [SCENE.json | --scene NAME] [-o key=value ...] [--out DIR] [--force]\n"
-             "             [--quiet | --verbose]\n"
+             "             [--quiet | --verbose] [--profile]\n"
              "elastopt run --restart DIR [-o key=value ...] [--quiet | --verbose]\n\n"
              "Runs the scene's time steps, each an optimization problem solved by the configured\n"
              "solver. Without a scene runs the built-in `cantilever`. `-o` overrides any config key\n"
@@ -670,6 +676,9 @@ const eo_cli_command eo_cmd_run = {
              "On a terminal a progress line is redrawn on stderr (step, simulated time, time per\n"
              "step, ETA, last step's iterations, worst reason); not on a terminal a line every\n"
              "5 s at most; --verbose: one line per step; --quiet: nothing but errors.\n"
+             "--profile: per step and in total, the solver's time in assembly, factorization\n"
+             "(symbolic, numeric), solves, line search, gradients and other, and the ratio of\n"
+             "a Newton iteration to its numeric factorization (stdout).\n"
              "Exit status: 0 every step converged, 1 some step did not, 2 bad input or an output\n"
              "that cannot be written (nothing written), 130/143 interrupted.\n",
     .run = run,

@@ -9,7 +9,11 @@
  *     gets map[a*k+b] for the local pairs whose upper entry lies in column j.
  * Entry (a,b) of an element maps to the stored (g(a), g(b)) iff g(a) <= g(b); for
  * g(a) == g(b) both (a,b) and (b,a) map to the diagonal, which sums repeated ids
- * correctly. Every diagonal is present and is the last entry of its column. */
+ * correctly. Every diagonal is present and is the last entry of its column.
+ * Groups of vertex triples (the tets, springs and contacts of the step engine: k = 12,
+ * 6, 3 with all three coordinates of a vertex free or eliminated together) are scattered
+ * by 3×3 blocks instead, with one offset per block: 16 ints per tet instead of 144
+ * (block_maps), the same sums in the same order per entry. */
 #include "elastopt/sparse.h"
 
 #include <stdlib.h>
@@ -213,7 +217,8 @@ typedef struct eo_asm_group {
     int ne, k;
     long first;  /* global element number of element 0 */
     int *dofs;   /* ne*k */
-    int *map;    /* ne*k*k, built at finalize */
+    int *map;    /* ne*k*k, built at finalize (NULL for a block group) */
+    int *bmap;   /* block group: ne*(k/3)² block offsets (see block_maps), else NULL */
 } eo_asm_group;
 
 struct eo_assembler {
@@ -245,6 +250,7 @@ void eo_assembler_destroy(eo_assembler **as)
     for (int g = 0; g < a->ngroups; g++) {
         eo_free(ctx, a->groups[g].dofs);
         eo_free(ctx, a->groups[g].map);
+        eo_free(ctx, a->groups[g].bmap);
     }
     eo_free(ctx, a->groups);
     eo_csc_destroy(&a->A);
@@ -347,6 +353,66 @@ static void free_work(eo_ctx *ctx, int *a, int *b, int *c, int *d, long *e)
     eo_free(ctx, e);
 }
 
+/* Block scatter (3×3 blocks). A group whose k = 3m local variables come in vertex
+ * triples — each triple all eliminated or three consecutive ids r, r+1, r+2 — is
+ * scattered by blocks: for the local vertex pair (a, b) with row triple r = g(3a) and
+ * column triple c = g(3b), r < c, the rows r, r+1, r+2 are consecutive in each of the
+ * columns c, c+1, c+2 at the same offset o from the column start (the three columns
+ * of a vertex have the same rows above c: the variables sharing an element with the
+ * vertex), so one int o per block replaces nine map entries; r = c (the vertex's own
+ * block) is the upper triangle at the end of the columns (o = -2), r > c is the
+ * transposed block of (b, a) (o = -1, not read), as the per-entry map does. Every
+ * offset is verified against the pattern; a group where one fails keeps the k×k map.
+ * Returns 1 if the group is a block group (bmap built), 0 if not, < 0 out of memory. */
+static int block_maps(eo_ctx *ctx, eo_asm_group *G, const eo_csc *A)
+{
+    if (G->k % 3 || G->ne == 0) return 0;
+    const int m = G->k / 3, k = G->k;
+    const int *cp = A->colptr, *ri = A->rowind;
+    for (int e = 0; e < G->ne; e++) { /* vertex triples */
+        const int *d = G->dofs + (size_t)e * k;
+        for (int a = 0; a < m; a++) {
+            const int r = d[3 * a];
+            if (r < 0 ? (d[3 * a + 1] != -1 || d[3 * a + 2] != -1) : (d[3 * a + 1] != r + 1 || d[3 * a + 2] != r + 2))
+                return 0;
+        }
+    }
+    int *bm = eo_malloc(ctx, (size_t)G->ne * (size_t)(m * m) * sizeof(int));
+    if (!bm) return EO_ERR_NOMEM;
+    for (int e = 0; e < G->ne; e++) {
+        const int *d = G->dofs + (size_t)e * k;
+        int *o = bm + (size_t)e * m * m;
+        for (int a = 0; a < m; a++)
+            for (int b = 0; b < m; b++) {
+                const int r = d[3 * a], c = d[3 * b];
+                int ok = 1, off = -1;
+                if (r < 0 || c < 0 || r > c) {
+                    off = -1;
+                } else if (r == c) {
+                    off = -2;
+                    for (int l = 0; l < 3 && ok; l++)
+                        for (int i = 0; i <= l; i++) ok &= ri[cp[c + l + 1] - 1 - l + i] == c + i;
+                } else {
+                    int p = eo_csc_find(A, r, c);
+                    ok = p >= 0;
+                    off = ok ? p - cp[c] : -1;
+                    for (int l = 0; l < 3 && ok; l++)
+                        for (int i = 0; i < 3 && ok; i++) {
+                            int q = cp[c + l] + off + i;
+                            ok = q < cp[c + l + 1] && ri[q] == r + i;
+                        }
+                }
+                if (!ok) {
+                    eo_free(ctx, bm);
+                    return 0;
+                }
+                o[a * m + b] = off;
+            }
+    }
+    G->bmap = bm;
+    return 1;
+}
+
 int eo_assembler_finalize(eo_ctx *ctx, eo_assembler *as)
 {
     if (as->A) return eo_error(ctx, EO_ERR_INVALID, "assembler: finalize called twice");
@@ -405,9 +471,12 @@ int eo_assembler_finalize(eo_ctx *ctx, eo_assembler *as)
     }
     A->colptr[n] = p;
     memset(A->val, 0, (size_t)(nnz ? nnz : 1) * sizeof(double));
-    /* 3. maps */
+    /* 3. maps: block offsets where the group allows, else the k×k map */
     for (int g = 0; g < as->ngroups; g++) {
         eo_asm_group *G = &as->groups[g];
+        int b = block_maps(ctx, G, A);
+        if (b < 0) goto nomem;
+        if (b) continue;
         size_t m = (size_t)G->ne * (size_t)G->k * (size_t)G->k;
         G->map = eo_malloc(ctx, (m ? m : 1) * sizeof(int));
         if (!G->map) goto nomem;
@@ -418,6 +487,7 @@ int eo_assembler_finalize(eo_ctx *ctx, eo_assembler *as)
         for (int q = incp[j]; q < ince[j]; q++) {
             int e;
             const eo_asm_group *G = group_of(as, inc[q], &e);
+            if (!G->map) continue; /* block group */
             const int k = G->k;
             const int *d = G->dofs + (size_t)e * k;
             int *map = G->map + (size_t)e * k * k;
@@ -439,7 +509,8 @@ nomem:
     eo_csc_destroy(&A);
     for (int g = 0; g < as->ngroups; g++) {
         eo_free(ctx, as->groups[g].map);
-        as->groups[g].map = NULL;
+        eo_free(ctx, as->groups[g].bmap);
+        as->groups[g].map = as->groups[g].bmap = NULL;
     }
     return eo_error(ctx, EO_ERR_NOMEM, "assembler: out of memory building the pattern (n=%d)", n);
 }
@@ -451,11 +522,62 @@ void eo_assembler_zero(eo_assembler *as)
     if (as->A) memset(as->A->val, 0, (size_t)as->A->nnz * sizeof(double));
 }
 
+/* A += w Ke by 3×3 blocks (block_maps) */
+static void add_blocks(eo_assembler *as, const eo_asm_group *G, int e, const double *Ke, double w)
+{
+    const int k = G->k, m = k / 3;
+    const int *d = G->dofs + (size_t)e * k, *bm = G->bmap + (size_t)e * m * m;
+    const int *cp = as->A->colptr;
+    double *val = as->A->val;
+    for (int b = 0; b < m; b++) {
+        const int c = d[3 * b];
+        if (c < 0) continue;
+        for (int a = 0; a < m; a++) {
+            const int o = bm[a * m + b];
+            if (o == -1) continue;
+            const double *K = Ke + (size_t)(3 * a) * k + 3 * b;
+            if (o >= 0) {
+                for (int l = 0; l < 3; l++) {
+                    double *v = val + cp[c + l] + o;
+                    v[0] += w * K[l];
+                    v[1] += w * K[k + l];
+                    v[2] += w * K[2 * k + l];
+                }
+            } else { /* own block: upper triangle, rows c..c+l at the end of column c+l */
+                for (int l = 0; l < 3; l++) {
+                    double *v = val + cp[c + l + 1] - 1 - l;
+                    for (int i = 0; i <= l; i++) v[i] += w * K[i * k + l];
+                }
+            }
+        }
+    }
+}
+
+void eo_assembler_add_scaled(eo_assembler *as, int h, int e, const double *Ke, double w)
+{
+    EO_ASSERT(as->A && h >= 0 && h < as->ngroups);
+    const eo_asm_group *G = &as->groups[h];
+    EO_ASSERT(e >= 0 && e < G->ne);
+    if (G->bmap) {
+        add_blocks(as, G, e, Ke, w);
+        return;
+    }
+    const int kk = G->k * G->k;
+    const int *map = G->map + (size_t)e * kk;
+    double *val = as->A->val;
+    for (int t = 0; t < kk; t++)
+        if (map[t] >= 0) val[map[t]] += w * Ke[t];
+}
+
 void eo_assembler_add(eo_assembler *as, int h, int e, const double *Ke)
 {
     EO_ASSERT(as->A && h >= 0 && h < as->ngroups);
     const eo_asm_group *G = &as->groups[h];
     EO_ASSERT(e >= 0 && e < G->ne);
+    if (G->bmap) {
+        add_blocks(as, G, e, Ke, 1.0);
+        return;
+    }
     const int kk = G->k * G->k;
     const int *map = G->map + (size_t)e * kk;
     double *val = as->A->val;
@@ -473,5 +595,10 @@ const int *eo_assembler_map(const eo_assembler *as, int h, int e)
 {
     if (!as->A || h < 0 || h >= as->ngroups || e < 0 || e >= as->groups[h].ne) return NULL;
     const eo_asm_group *G = &as->groups[h];
-    return G->map + (size_t)e * G->k * G->k;
+    return G->map ? G->map + (size_t)e * G->k * G->k : NULL;
+}
+
+int eo_assembler_is_block(const eo_assembler *as, int h)
+{
+    return as->A && h >= 0 && h < as->ngroups && as->groups[h].bmap != NULL;
 }

@@ -11,7 +11,10 @@
  * Element loops run in blocks of s->block tets: element values are computed (in
  * parallel with OpenMP when s->parallel) into preallocated per-element buffers, then
  * scattered serially into the gradient / assembler, so results do not depend on the
- * thread count and no allocation or atomic is needed. The energy is a plain reduction. */
+ * thread count and no allocation or atomic is needed. The energy is a plain reduction.
+ * Serial Hessian assembly (the default) is one pass: each tet's 12×12 matrix goes from
+ * the kernel's output straight into the CSC (eo_assembler_add_scaled, 3×3 blocks),
+ * without the element buffer. */
 #include <math.h>
 #include <string.h>
 
@@ -80,6 +83,15 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
 static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
 {
     const double w = t->weight;
+    if (!s->parallel) { /* one pass: evaluate and scatter each tet, no element buffer */
+        for (int k = 0; k < s->nt; k++) {
+            if (skip(s, k)) continue;
+            eo_tet_out out;
+            eval_tet(s, k, x, EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[k] : proj, &out);
+            eo_assembler_add_scaled(s->as, s->tet_group, k, out.hess, w);
+        }
+        return EO_OK;
+    }
     for (int b0 = 0; b0 < s->nt; b0 += s->block) {
         int nb = s->nt - b0 < s->block ? s->nt - b0 : s->block;
 #if defined(_OPENMP)

@@ -28,6 +28,7 @@ struct eo_solver {
     void *hf_state;             /* the Hessian fix's state (NULL: none) */
     int hf_set_up;
     eo_linsolve *linear;
+    eo_profile prof;            /* accumulated over the minimizations (eo_solver_get_profile) */
 };
 
 static const char *const linesearch_auto[] = {"auto", NULL};
@@ -266,7 +267,63 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         .user = user,
         .optimizer = opt,
     };
-    return opt->minimize(s->opt_state, s->params[SLOT_OPT], &sc, x, res);
+    eo_linsolve_stats l0 = {0};
+    if (s->linear) l0 = *eo_linsolve_get_stats(s->linear);
+    const double t0 = eo_wtime();
+    int rc = opt->minimize(s->opt_state, s->params[SLOT_OPT], &sc, x, res);
+    eo_profile *p = &s->prof;
+    p->t_total += eo_wtime() - t0;
+    p->minimizations++;
+    p->iterations += res->iterations;
+    p->t_assembly += res->t_assembly;
+    p->n_assembly += res->n_assembly;
+    p->t_linesearch += res->t_linesearch;
+    p->n_ls_evals += res->n_ls_evals;
+    p->t_gradient += res->t_gradient;
+    p->n_gradient += res->n_gradient_outside;
+    if (s->linear) {
+        const eo_linsolve_stats *l = eo_linsolve_get_stats(s->linear);
+        p->t_analyze += l->t_analyze - l0.t_analyze;
+        p->n_analyze += l->n_analyze - l0.n_analyze;
+        p->t_factor += l->t_factor - l0.t_factor;
+        p->n_factor += l->n_factor - l0.n_factor;
+        p->t_solve += l->t_solve - l0.t_solve;
+        p->n_solve += l->n_solve - l0.n_solve;
+    }
+    return rc;
+}
+
+const eo_profile *eo_solver_get_profile(const eo_solver *s) { return &s->prof; }
+void eo_solver_reset_profile(eo_solver *s) { memset(&s->prof, 0, sizeof s->prof); }
+
+void eo_profile_diff(const eo_profile *a, const eo_profile *b, eo_profile *o)
+{
+    o->minimizations = a->minimizations - b->minimizations;
+    o->iterations = a->iterations - b->iterations;
+    o->t_total = a->t_total - b->t_total;
+    o->t_assembly = a->t_assembly - b->t_assembly;
+    o->t_analyze = a->t_analyze - b->t_analyze;
+    o->t_factor = a->t_factor - b->t_factor;
+    o->t_solve = a->t_solve - b->t_solve;
+    o->t_linesearch = a->t_linesearch - b->t_linesearch;
+    o->t_gradient = a->t_gradient - b->t_gradient;
+    o->n_assembly = a->n_assembly - b->n_assembly;
+    o->n_analyze = a->n_analyze - b->n_analyze;
+    o->n_factor = a->n_factor - b->n_factor;
+    o->n_solve = a->n_solve - b->n_solve;
+    o->n_ls_evals = a->n_ls_evals - b->n_ls_evals;
+    o->n_gradient = a->n_gradient - b->n_gradient;
+}
+
+double eo_profile_other(const eo_profile *p)
+{
+    return p->t_total - (p->t_assembly + p->t_analyze + p->t_factor + p->t_solve + p->t_linesearch + p->t_gradient);
+}
+
+double eo_profile_iteration_ratio(const eo_profile *p)
+{
+    if (p->iterations <= 0 || p->n_factor <= 0 || !(p->t_factor > 0)) return NAN;
+    return (p->t_total / (double)p->iterations) / (p->t_factor / (double)p->n_factor);
 }
 
 const eo_solver_opts *eo_solver_get_opts(const eo_solver *s) { return &s->opts; }

@@ -64,5 +64,28 @@ assert all(st["reason"] == "converged_explicit" for st in s["steps"][:-1])
 PY
 "$EXE" check --scene cantilever -o time.integrator=heun >/dev/null && ok || bad "check on an explicit scene"
 
+# run --profile: one line per step and the totals table; the numbers add up (the
+# factorization count equals the Hessians of the summary, the ratio is >= 1)
+"$EXE" run --scene twist -o time.steps=3 -o output.vtu=false --out prof --quiet --profile > prof.txt
+rc=$?
+[ $rc -eq 0 ] && ok || bad "run --profile exit $rc"
+python3 - prof.txt prof/summary.json <<'PY' && ok || bad "run --profile output: $(cat prof.txt)"
+import json, re, sys
+t = open(sys.argv[1]).read()
+s = json.load(open(sys.argv[2]))
+steps = re.findall(r"^profile step (\d+): (\d+) it ([0-9.]+) s .*numeric ([0-9.]+) \((\d+)\)", t, re.M)
+assert [int(x[0]) for x in steps] == [1, 2, 3], steps
+for (k, it, tot, tf, nf), st in zip(steps, s["steps"]):
+    assert int(it) == st["iterations"], (it, st)
+    assert float(tf) <= float(tot) + 1e-4
+tab = dict(re.findall(r"^  (assembly \(Hessian\)|factor: numeric|factor: symbolic|solve|line search|gradient)\s+[0-9.]+\s+[0-9.]+%\s+(\d+)", t, re.M))
+assert int(tab["factor: symbolic"]) == 1, tab
+assert int(tab["factor: numeric"]) == sum(int(x[4]) for x in steps), tab
+m = re.search(r"iteration / numeric factorization: ([0-9.]+)", t)
+assert m and float(m.group(1)) >= 1, t
+PY
+"$EXE" run --scene cantilever -o time.steps=2 -o output.vtu=false --out noprof --quiet > noprof.txt
+[ ! -s noprof.txt ] && ok || bad "run without --profile printed: $(cat noprof.txt)"
+
 echo "cli_features: $pass passed, $fail failed"
 [ $fail -eq 0 ]

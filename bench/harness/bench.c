@@ -748,7 +748,8 @@ const char *eo_bench_suite_config_name(const eo_bench_suite *s, int i)
 
 eo_bench_run_opts eo_bench_run_opts_default(void)
 {
-    eo_bench_run_opts o = {.out_dir = NULL, .repeats = 0, .plots = -1, .progress = NULL, .user = NULL};
+    eo_bench_run_opts o = {.out_dir = NULL, .repeats = 0, .plots = -1, .progress = NULL, .user = NULL,
+                           .profile = NULL, .profile_user = NULL};
     return o;
 }
 
@@ -1246,6 +1247,7 @@ static int run_scene(run_ctx *r, int si)
             r->units_done += (double)b->nt * (R + 1);
             progress(r, si, ci, "curves");
         }
+        if (r->ro->profile) r->ro->profile(b->name, c->name, eo_solver_get_profile(sv), r->ro->profile_user);
         eo_solver_destroy(&sv);
         /* trajectory with the configuration's own stopping rule, from the scene's initial
          * state over all its steps, up to the first step the rule does not meet */

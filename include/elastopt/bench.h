@@ -147,6 +147,11 @@ typedef struct eo_bench_run_opts {
     int plots;                    ///< 0 disables the plots, -1 = the suite's choice. Default -1.
     eo_bench_progress_fn progress;
     void *user;
+    /// Optional (NULL: none): called per scene × configuration with the solver profile
+    /// (solver.h eo_profile) of that configuration's curve runs (warm-up and timed
+    /// repeats of every measured step); `elastopt bench --profile` prints it.
+    void (*profile)(const char *scene, const char *config, const eo_profile *p, void *user);
+    void *profile_user;
 } eo_bench_run_opts;
 EO_API eo_bench_run_opts eo_bench_run_opts_default(void);
 

@@ -65,6 +65,7 @@ typedef struct eo_linsolve_stats {
     int n_negative, n_zero;
     /// pcg with a reused factor (cholmod_reuse): numeric refactorizations done so far.
     long n_refactor;
+    long n_analyze;      ///< analyze calls (symbolic factorizations) so far
 } eo_linsolve_stats;
 
 typedef struct eo_linsolve_type {

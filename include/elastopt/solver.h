@@ -496,7 +496,46 @@ typedef struct eo_solve_result {
     long lin_iters;       ///< newton: inner linear-solver iterations, summed (0 direct)
     long n_neg_curvature; ///< newton: directions whose inner CG met pᵀHp ≤ 0 (handled by
                           ///< the Hessian fix, see eo_iter_info.neg_curvature)
+    /// Timers of this minimization (wall seconds) kept by the optimizers that know the
+    /// phase (the descent loop, newton); 0 where not measured. Linear-solver times come
+    /// from eo_linsolve_stats; eo_solver_get_profile adds both up.
+    double t_assembly;    ///< Hessian assembly (objective hessian calls for directions)
+    double t_linesearch;  ///< inside the line search, its objective evaluations included
+    double t_gradient;    ///< gradient evaluations outside the line search
+    long n_assembly, n_ls_evals, n_gradient_outside;  ///< the calls timed above
+    int decrement_estimated;  ///< 1: stopped on the decrement estimated from the previous
+                              ///< factor (newton + newton_decrement), `decrement` is that
+                              ///< estimate; 0: from the direction at the returned x
 } eo_solve_result;
+
+/// Where a solver's time went: wall seconds and counts accumulated over every
+/// eo_solver_minimize since eo_solver_create or eo_solver_reset_profile (read with
+/// eo_solver_get_profile). The parts do not overlap; eo_profile_other is the rest
+/// (stopping tests, Hessian-fix bookkeeping, vector updates, callbacks).
+typedef struct eo_profile {
+    long minimizations;   ///< eo_solver_minimize calls
+    long iterations;      ///< accepted steps
+    double t_total;       ///< inside eo_solver_minimize
+    double t_assembly;    ///< Hessian assembly (element kernels + scatter)
+    double t_analyze;     ///< symbolic factorization (eo_linsolve_analyze)
+    double t_factor;      ///< numeric factorization (eo_linsolve_factor)
+    double t_solve;       ///< solves (eo_linsolve_solve)
+    double t_linesearch;  ///< line searches, their value/gradient calls included
+    double t_gradient;    ///< gradients outside the line search (start point, accepted point)
+    long n_assembly, n_analyze, n_factor, n_solve, n_ls_evals, n_gradient;
+} eo_profile;
+
+/// The solver's accumulated profile (borrowed, updated by every minimize).
+EO_API const eo_profile *eo_solver_get_profile(const eo_solver *s);
+/// Zero the accumulated profile.
+EO_API void eo_solver_reset_profile(eo_solver *s);
+/// out = a − b field by field (the profile of what happened between two snapshots).
+EO_API void eo_profile_diff(const eo_profile *a, const eo_profile *b, eo_profile *out);
+/// t_total minus the timed parts.
+EO_API double eo_profile_other(const eo_profile *p);
+/// Seconds per iteration over seconds per numeric factorization:
+/// (t_total / iterations) / (t_factor / n_factor); NAN without iterations or factors.
+EO_API double eo_profile_iteration_ratio(const eo_profile *p);
 
 typedef struct eo_optimizer_type {
     eo_method_info info;

@@ -110,11 +110,18 @@ EO_API void eo_assembler_zero(eo_assembler *as);
 /// A += Σ_ab Ke[a*k+b] e_{g(a)} e_{g(b)}ᵀ over non-eliminated a, b. Only entries with
 /// g(a) <= g(b) are read (for g(a) == g(b), both orientations, so repeated ids sum).
 EO_API void eo_assembler_add(eo_assembler *as, int h, int e, const double *Ke);
+/// A += w·Ke (eo_assembler_add with the element matrix scaled on the fly, no copy).
+EO_API void eo_assembler_add_scaled(eo_assembler *as, int h, int e, const double *Ke, double w);
 /// Add to one diagonal entry (e.g. a lumped mass or a shift).
 EO_API void eo_assembler_add_diag(eo_assembler *as, int i, double v);
 /// Scatter map of element e of group h: k*k positions in val, -1 where not stored
-/// (for callers that assemble in their own loop). Borrowed.
+/// (for callers that assemble in their own loop). Borrowed. NULL for a block group
+/// (eo_assembler_is_block), which is scattered by 3×3 blocks with 1 int per block.
 EO_API const int *eo_assembler_map(const eo_assembler *as, int h, int e);
+/// 1 if group h is scattered by 3×3 blocks (k a multiple of 3, every vertex triple of
+/// variables all eliminated or three consecutive ids, verified against the pattern at
+/// finalize), 0 if by its k×k map.
+EO_API int eo_assembler_is_block(const eo_assembler *as, int h);
 
 #ifdef __cplusplus
 }

@@ -124,7 +124,8 @@ typedef struct eo_solve_result {
     int reason; int iterations; double g, grad_norm, decrement; double time;
     long n_value, n_gradient, n_hessian, n_factor; int status; long n_fallback;
     long n_shifted; double projected; long n_inner; long n_negcurv; long lin_iters;
-    long n_neg_curvature;
+    long n_neg_curvature; double t_assembly; double t_linesearch; double t_gradient;
+    long n_assembly, n_ls_evals, n_gradient_outside; int decrement_estimated;
 } eo_solve_result;
 typedef struct eo_solver_opts {
     char optimizer[32]; char hessian_fix[32]; char linesearch[32]; char stop[32];
@@ -220,6 +221,8 @@ typedef struct eo_bench_progress {
 typedef void (*eo_bench_progress_fn)(const eo_bench_progress *p, void *user);
 typedef struct eo_bench_run_opts {
     const char *out_dir; int repeats; int plots; eo_bench_progress_fn progress; void *user;
+    void (*profile)(const char *scene, const char *config, const void *p, void *user);
+    void *profile_user;
 } eo_bench_run_opts;
 typedef struct eo_bench_summary {
     int runs; int ref_failures; int nonfinite; int nan; int required_failures;

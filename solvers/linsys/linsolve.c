@@ -92,6 +92,7 @@ int eo_linsolve_analyze(eo_linsolve *ls, const eo_csc *A)
     double t = eo_wtime();
     int rc = ls->type->analyze(ls->state, A, ls->ctx);
     ls->stats.t_analyze += eo_wtime() - t;
+    ls->stats.n_analyze++;
     if (rc < 0) return rc;
     ls->analyzed = 1;
     ls->n = A->n;

@@ -6,6 +6,9 @@
  *   non-finite g or ∇g                    → EO_DIVERGED_NONFINITE
  *   stop rule without direction           → its reason (e.g. ‖∇g‖ small)
  *   time budget exceeded                  → EO_DIVERGED_TIME_BUDGET
+ *   k > 0, a rule with needs_direction and an optimizer with decrement_estimate:
+ *     the rule tested with the estimate λ̃²/2 (newton: from the factor already computed)
+ *                                         → e.g. EO_CONVERGED_DECREMENT, no new direction
  *   p_k = direction(x_k)   (optimizer)    → its reason if none (not PD, linear solve)
  *   ∇g_kᵀp_k ≥ 0 or non-finite            → EO_DIVERGED_NOT_DESCENT
  *   λ_k²/2 = −α₀∇g_kᵀp_k/2;  stop rule with direction → e.g. EO_CONVERGED_DECREMENT
@@ -109,7 +112,10 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                       w->n, n);
         goto done;
     }
+    double tg = eo_wtime();
     rc = eo_objective_gradient(obj, x, &g, grad);
+    res->t_gradient += eo_wtime() - tg;
+    res->n_gradient_outside++;
     if (rc < 0) goto done;
     gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
     gn0 = gn;
@@ -131,6 +137,21 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         if (!reason) reason = sc->stop->check(sc->stop_params, &si);
         if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget)
             reason = EO_DIVERGED_TIME_BUDGET;
+        if (!reason && k > 0 && sc->stop->needs_direction && ops->decrement_estimate) {
+            double est = NAN;
+            rc = ops->decrement_estimate(st, params, sc, x, g, grad, &est, res);
+            if (rc < 0) goto done;
+            if (est >= 0 && isfinite(est)) {
+                si.decrement = est;
+                int r = sc->stop->check(sc->stop_params, &si);
+                si.decrement = NAN;
+                if (r > 0) {
+                    reason = r;
+                    info.decrement = last_dec = est;
+                    res->decrement_estimated = 1;
+                }
+            }
+        }
         if (!reason) {
             eo_direction_out d = {.alpha0 = 1, .shift = 0, .reason = 0};
             rc = ops->direction(st, params, sc, x, g, grad, p, &d, res);
@@ -168,8 +189,11 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         int nev = 0;
         eo_ls_extra ex = {.grad_new = grad_new, .have_grad = 0, .c2 = ops->ls_c2, .g_hist = ghist,
                           .n_hist = nhist};
+        const double tls = eo_wtime();
         rc = sc->linesearch->search(sc->linesearch_params, obj, x, p, g, dg, alpha0, w->x_new,
                                     &gnew, &alpha, &nev, w->work, sc->ctx, &ex);
+        res->t_linesearch += eo_wtime() - tls;
+        res->n_ls_evals += nev;
         info.ls_evals = nev;
         if (rc < 0) goto done;
         if (!isfinite(gnew) || !(rc == EO_OK || gnew < g) || !(alpha > 0)) {
@@ -189,7 +213,10 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         /* accept: the gradient at x_{k+1} from the line search if it has it, else one call */
         double gchk = gnew;
         if (!ex.have_grad) {
+            tg = eo_wtime();
             rc = eo_objective_gradient(obj, w->x_new, &gchk, grad_new);
+            res->t_gradient += eo_wtime() - tg;
+            res->n_gradient_outside++;
             if (rc < 0) goto done;
         }
         if (ops->accepted) ops->accepted(st, params, x, w->x_new, grad, grad_new, p, alpha);

@@ -6,6 +6,13 @@
  * Direction     p = −(H + cI)⁻¹ ∇g           (002 eq. 10 with Note 4's shift c ≥ 0)
  * Decrement     λ² = ∇gᵀ(H + cI)⁻¹∇g = −∇gᵀp  (ERRATA for 002 Def. 4); the stopping rule
  *               newton_decrement stops when λ²/2 ≤ tol, λ²/2 estimating g(x) − g*.
+ *               At x_{k+1}, before assembling H_{k+1}, the rule is first tested with
+ *               λ̃² = ∇g_{k+1}ᵀ H̃_k⁻¹ ∇g_{k+1}, one solve with the factor of x_k's matrix
+ *               (only after a full step α = 1 with an unshifted H̃_k; H̃_{k+1} − H̃_k =
+ *               O(‖p_k‖), so near the solution λ̃² = λ²(1 + O(‖p_k‖))): a step that ends
+ *               after k iterations assembles and factors k matrices, not k + 1. Where the
+ *               estimate does not stop the run, the exact decrement of the new direction
+ *               is tested as before (res.decrement_estimated tells which one stopped it).
  * Line search   x ← x + αp, first trial α = 1 (the configured solver.linesearch); a
  *               trial where g = +∞ (inverted element of a barrier material) is rejected
  *               and the step shrunk by the line search.
@@ -58,6 +65,10 @@ typedef struct newton_state {
     eo_inexact inexact;     /* forcing terms (forcing.h) */
     double shift_last;      /* c of the last direction's system (for ew1's residual) */
     double *Hp;             /* ew1: H̃p workspace (n) */
+    /* the decrement estimate from the last factor (newton_decrement_estimate) */
+    int est_ok;             /* the linear solver holds the factor of the unshifted H̃ of the
+                               last direction and its step was a full one (α = 1) */
+    double *est;            /* n: H̃⁻¹∇g */
 } newton_state;
 
 static const eo_param_desc newton_desc[] = {
@@ -88,9 +99,11 @@ static int newton_setup(void *vst, const void *params, int n, eo_ctx *ctx)
     (void)params;
     eo_descent_ws_deinit(ctx, &st->w);
     eo_free(ctx, st->Hp);
+    eo_free(ctx, st->est);
     memset(st, 0, sizeof *st);
     st->Hp = eo_calloc(ctx, (size_t)(n > 0 ? n : 1), sizeof(double));
-    if (!st->Hp) return eo_error(ctx, EO_ERR_NOMEM, "newton: out of memory (n = %d)", n);
+    st->est = eo_calloc(ctx, (size_t)(n > 0 ? n : 1), sizeof(double));
+    if (!st->Hp || !st->est) return eo_error(ctx, EO_ERR_NOMEM, "newton: out of memory (n = %d)", n);
     return eo_descent_ws_init(ctx, n, &st->w);
 }
 
@@ -100,6 +113,8 @@ static void newton_destroy(void *vst, eo_ctx *ctx)
     eo_descent_ws_deinit(ctx, &st->w);
     eo_free(ctx, st->Hp);
     st->Hp = NULL;
+    eo_free(ctx, st->est);
+    st->est = NULL;
 }
 
 /* eo_hessfix_assemble_fn: the objective's Hessian at st->x, analyzed on a new pattern. */
@@ -110,8 +125,11 @@ static int newton_assemble(void *user, eo_proj proj, const unsigned char *proj_o
     const eo_solver_ctx *sc = st->sc;
     const int n = sc->obj->n;
     eo_csc *H = NULL;
+    const double t0 = eo_wtime();
     int rc = proj_of ? eo_objective_hessian_masked(sc->obj, st->x, proj_of, &H)
                      : eo_objective_hessian(sc->obj, st->x, proj, &H);
+    st->res->t_assembly += eo_wtime() - t0;
+    st->res->n_assembly++;
     if (rc < 0) return rc;
     if (!H || H->n != n)
         return eo_error(sc->ctx, EO_ERR_INVALID, "newton: Hessian has n = %d, objective has n = %d",
@@ -159,6 +177,7 @@ static int newton_begin(void *vst, const void *params, const eo_solver_ctx *sc, 
 {
     newton_state *st = vst;
     st->pending = 0;
+    st->est_ok = 0;
     st->proj_sum = 0;
     st->proj_count = 0;
     const eo_newton_params *np = params;
@@ -171,11 +190,10 @@ static int newton_begin(void *vst, const void *params, const eo_solver_ctx *sc, 
     return sc->hessfix->begin(sc->hessfix_state, sc->hessfix_params, &env);
 }
 
-static int newton_direction(void *vst, const void *params, const eo_solver_ctx *sc,
-                            const double *x, double g, const double *grad, double *p,
-                            eo_direction_out *out, eo_solve_result *res)
+/* The step along the last direction was accepted and g = g(x_{k+1}): tell the fix (its
+ * hook `accepted`), once, before anything else is done at x_{k+1}. */
+static void report_accepted(newton_state *st, const eo_solver_ctx *sc, double g)
 {
-    newton_state *st = vst;
     const eo_hessfix_type *hf = sc->hessfix;
     if (st->pending && hf->accepted) {
         const double a = st->alpha;
@@ -185,6 +203,38 @@ static int newton_direction(void *vst, const void *params, const eo_solver_ctx *
         hf->accepted(sc->hessfix_state, sc->hessfix_params, &si);
     }
     st->pending = 0;
+}
+
+/* λ̃²/2 = ½∇g(x_{k+1})ᵀH̃_k⁻¹∇g(x_{k+1}) with the factor of the last direction's matrix
+ * (one solve, no assembly, no factorization): NAN unless that factor is of the
+ * unshifted H̃_k and the step along it was a full Newton step (α = 1), where
+ * H̃_{k+1} − H̃_k = O(‖p_k‖) and the estimate is the decrement to first order. */
+static int newton_decrement_estimate(void *vst, const void *params, const eo_solver_ctx *sc,
+                                     const double *x, double g, const double *grad, double *est,
+                                     eo_solve_result *res)
+{
+    newton_state *st = vst;
+    (void)params, (void)x, (void)res;
+    report_accepted(st, sc, g);
+    *est = NAN;
+    if (!st->est_ok) return EO_OK;
+    st->est_ok = 0; /* used once: the next direction factors again */
+    int rc = eo_linsolve_solve(sc->linear, grad, st->est);
+    if (rc < 0) return rc;
+    if (rc != EO_OK) return EO_OK; /* e.g. an iterative solve that did not converge */
+    const double d = eo_dot(sc->obj->n, grad, st->est);
+    if (d >= 0 && isfinite(d)) *est = d / 2;
+    return EO_OK;
+}
+
+static int newton_direction(void *vst, const void *params, const eo_solver_ctx *sc,
+                            const double *x, double g, const double *grad, double *p,
+                            eo_direction_out *out, eo_solve_result *res)
+{
+    newton_state *st = vst;
+    const eo_hessfix_type *hf = sc->hessfix;
+    report_accepted(st, sc, g);
+    st->est_ok = 0;
     eo_hessfix_env env = newton_env(st, params, sc, x, g, grad, res);
     eo_hessfix_out fo = {.shift = 0, .projected = 0, .factored = 0, .reason = 0};
     out->eta = eo_inexact_before(&st->inexact, sc->linear, eo_norm2(sc->obj->n, grad));
@@ -196,6 +246,7 @@ static int newton_direction(void *vst, const void *params, const eo_solver_ctx *
     out->neg_curvature = fo.neg_curvature;
     if (fo.neg_curvature) res->n_neg_curvature++;
     st->shift_last = fo.shift;
+    st->est_ok = fo.factored && fo.shift == 0 && !fo.reason && sc->linear;
     out->shift = fo.shift;
     out->projected = fo.projected;
     st->proj_sum += fo.projected;
@@ -219,6 +270,7 @@ static void newton_accepted(void *vst, const void *params, const double *x, cons
     (void)params, (void)x, (void)x_new, (void)grad_new;
     st->alpha = alpha;
     st->pending = 1;
+    if (alpha != 1) st->est_ok = 0;
     if (st->inexact.kind == EO_FORCING_NONE) return;
     const int n = st->sc->obj->n;
     double linres = NAN;
@@ -238,6 +290,7 @@ static const eo_descent_ops newton_ops = {
     .begin = newton_begin,
     .direction = newton_direction,
     .accepted = newton_accepted,
+    .decrement_estimate = newton_decrement_estimate,
 };
 
 static int newton_minimize(void *vst, const void *params, const eo_solver_ctx *sc, double *x,

@@ -7,7 +7,11 @@
  * −α₀∇gᵀp/2 of its own direction: with Newton and a shift c > 0 it is the decrement of
  * H + cI; with gradient_descent (p = −D⁻¹∇g, α₀ the first trial) or lbfgs (quasi-Newton
  * p) it is only an estimate of g − g*, as good as D/α₀ or the L-BFGS matrix approximates
- * ∇²g. Also stops with EO_CONVERGED_GRADIENT when ‖∇g‖ is exactly 0. No parameters. */
+ * ∇²g. Also stops with EO_CONVERGED_GRADIENT when ‖∇g‖ is exactly 0. No parameters.
+ * Optimizers that can estimate λ²/2 without a new direction (newton: one solve with
+ * the factor of the previous iterate's matrix, after a full unshifted step) have the
+ * rule tested with that estimate first, before the next Hessian is assembled
+ * (descent.c); so the last iterate of a converged Newton run costs no factorization. */
 #include <math.h>
 
 #include "elastopt/solver.h"

@@ -1,0 +1,83 @@
+/* `--profile`: the solver's time per phase, per step and in total (PETSc's -log_view
+ * idea for one optimizer): assembly (Hessian: element kernels + scatter), factorization
+ * (symbolic = analyze, once per pattern; numeric), solves, line search (its objective
+ * evaluations included), gradients outside the line search, other (the rest of the
+ * minimization: stopping tests, Hessian-fix bookkeeping, vector updates, logging
+ * callbacks), and the ratio of one Newton iteration to one numeric factorization,
+ * (total / iterations) / (numeric / factorizations). Wall seconds, measured in the
+ * library (eo_solver_get_profile); this file only prints. */
+#include "profile.h"
+
+#include <math.h>
+#include <string.h>
+
+static const eo_profile *solver_profile(const eo_sim *sim)
+{
+    eo_solver *s = eo_sim_solver(sim);
+    return s ? eo_solver_get_profile(s) : NULL;
+}
+
+void eo_cli_profile_begin(eo_cli_profile *p, int on, const eo_sim *sim)
+{
+    memset(p, 0, sizeof *p);
+    p->on = on;
+    p->out = stdout;
+    const eo_profile *pr = solver_profile(sim);
+    if (pr) p->last = *pr;
+}
+
+void eo_cli_profile_step(eo_cli_profile *p, const eo_sim *sim, int step)
+{
+    if (!p->on) return;
+    const eo_profile *now = solver_profile(sim);
+    if (!now) return;
+    eo_profile d;
+    eo_profile_diff(now, &p->last, &d);
+    p->last = *now;
+    if (!d.minimizations) return; /* explicit step: no solver */
+    double ratio = eo_profile_iteration_ratio(&d);
+    fprintf(p->out,
+            "profile step %d: %ld it %.4f s | assembly %.4f (%ld) | factor symbolic %.4f (%ld) numeric %.4f (%ld) | "
+            "solve %.4f (%ld) | line search %.4f (%ld evals) | gradient %.4f (%ld) | other %.4f | iteration/factor ",
+            step, d.iterations, d.t_total, d.t_assembly, d.n_assembly, d.t_analyze, d.n_analyze, d.t_factor,
+            d.n_factor, d.t_solve, d.n_solve, d.t_linesearch, d.n_ls_evals, d.t_gradient, d.n_gradient,
+            eo_profile_other(&d));
+    if (isfinite(ratio)) fprintf(p->out, "%.3f\n", ratio);
+    else fprintf(p->out, "-\n");
+}
+
+static void row(FILE *out, const char *name, double t, long n, double total)
+{
+    fprintf(out, "  %-22s %10.4f %6.1f%%", name, t, total > 0 ? 100 * t / total : 0.0);
+    if (n >= 0) fprintf(out, " %8ld %12.6f\n", n, n > 0 ? t / (double)n : 0.0);
+    else fprintf(out, " %8s %12s\n", "", "");
+}
+
+void eo_cli_profile_print(FILE *out, const char *title, const eo_profile *pr)
+{
+    const double T = pr->t_total;
+    fprintf(out, "profile %s: %ld minimizations, %ld iterations, %.4f s in the solver\n", title, pr->minimizations,
+            pr->iterations, T);
+    fprintf(out, "  %-22s %10s %7s %8s %12s\n", "phase", "seconds", "share", "calls", "s/call");
+    row(out, "assembly (Hessian)", pr->t_assembly, pr->n_assembly, T);
+    row(out, "factor: symbolic", pr->t_analyze, pr->n_analyze, T);
+    row(out, "factor: numeric", pr->t_factor, pr->n_factor, T);
+    row(out, "solve", pr->t_solve, pr->n_solve, T);
+    row(out, "line search", pr->t_linesearch, pr->n_ls_evals, T);
+    row(out, "gradient", pr->t_gradient, pr->n_gradient, T);
+    row(out, "other", eo_profile_other(pr), -1, T);
+    double ratio = eo_profile_iteration_ratio(pr);
+    if (isfinite(ratio))
+        fprintf(out, "  iteration / numeric factorization: %.3f (%.4f s per iteration, %.4f s per factorization)\n",
+                ratio, T / (double)pr->iterations, pr->t_factor / (double)pr->n_factor);
+    else
+        fprintf(out, "  iteration / numeric factorization: - (no factorization)\n");
+}
+
+void eo_cli_profile_total(eo_cli_profile *p, const eo_sim *sim, const char *title)
+{
+    if (!p->on) return;
+    eo_solver *s = eo_sim_solver(sim);
+    if (!s) return;
+    eo_cli_profile_print(p->out, title, eo_solver_get_profile(s));
+}
