@@ -27,3 +27,12 @@ void eo_term_destroy(eo_ctx *ctx, eo_term **t)
     eo_free(ctx, *t);
     *t = NULL;
 }
+
+int eo_term_attach_vertex_blocks(eo_sys *s, int *dofs, int *group)
+{
+    for (int j = 0; j < s->n_full; j++) dofs[j] = s->full2free[j];
+    int h = eo_assembler_add_elements(s->ctx, s->as, s->nv, 3, dofs);
+    if (h < 0) return h;
+    *group = h;
+    return EO_OK;
+}

@@ -115,6 +115,10 @@ struct eo_integrator_type;
 int eo_term_friction_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out);
 void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, const double *vn, double h,
                           const struct eo_integrator_type *integ);
+/* Register one 3×3 block per vertex with the assembler (dofs: n_full ints, filled with
+ * the free index of every coordinate, -1 constrained): for the per-vertex terms
+ * (penalty contact, friction). */
+int eo_term_attach_vertex_blocks(eo_sys *s, int *dofs, int *group);
 void eo_term_destroy(eo_ctx *ctx, eo_term **t);
 
 /* Shared helper: allocate a term with a full-length vector if `with_vec`. */

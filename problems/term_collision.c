@@ -83,11 +83,7 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
 static int attach(eo_term *t, eo_sys *s)
 {
     collision_data *d = t->data;
-    for (int j = 0; j < s->n_full; j++) d->dofs[j] = s->full2free[j];
-    int h = eo_assembler_add_elements(s->ctx, s->as, s->nv, 3, d->dofs);
-    if (h < 0) return h;
-    d->group = h;
-    return EO_OK;
+    return eo_term_attach_vertex_blocks(s, d->dofs, &d->group);
 }
 
 static void destroy(eo_term *t, eo_ctx *ctx)
