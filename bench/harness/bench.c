@@ -36,6 +36,7 @@
 
 #include "bench_impl.h"
 #include "elastopt/io.h"
+#include "elastopt/registry.h"
 #include "elastopt/scene.h"
 #include "elastopt/sim.h"
 
@@ -70,6 +71,9 @@ const eo_param_desc eo_bench_opts_desc[] = {
     {.key = "warmup_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, warmup_iters), .def.i = 3,
      .min = 0, .range = EO_RANGE_MIN,
      .help = "iterations of the untimed warm-up run before the timed repeats (0 = no warm-up)"},
+    {.key = "ipopt_check", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_bench_opts, ipopt_check), .def.i = 1,
+     .help = "solve every measured step once more with Ipopt (exact clamped Hessian) as a second reference and "
+             "report its differences to x* (skipped without Ipopt)"},
     {.key = "curve_rows", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, curve_rows), .def.i = 200,
      .min = 0, .range = EO_RANGE_MIN,
      .help = "curves.csv keeps every iteration up to this one, then 50 per decade (0 = all)"},
@@ -1197,6 +1201,36 @@ static int run_scene(run_ctx *r, int si)
     }
     eo_sim_set_iter_callback(sim, NULL, NULL);
     eo_sim_get_state(sim, fx + (size_t)NF * nf, fv + (size_t)NF * nf, &ft[NF], NULL);
+    for (int m = 0; m < S; m++) sr->ref[m].ip_reason = -1000; /* not run */
+    const void *ipopt_type = NULL;
+    if (s->o.ipopt_check && eo_registry_find(ctx, EO_KIND_OPTIMIZER, "ipopt", &ipopt_type) == EO_OK) {
+        eo_solver_opts io;
+        eo_solver_opts_default(&io);
+        snprintf(io.optimizer, sizeof io.optimizer, "ipopt");
+        snprintf(io.hessian_fix, sizeof io.hessian_fix, "clamp");
+        io.max_iters = s->o.ref_max_iters;
+        io.time_budget = 0;
+        EO_TRY(rc = eo_solver_create(ctx, &io, NULL, &sv));
+        for (int m = 0; m < S; m++) {
+            const size_t fr = (size_t)(b->skip + m) * nf;
+            EO_TRY(rc = eo_sim_set_state(sim, fx + fr, fv + fr, ft[b->skip + m], b->skip + m));
+            EO_TRY(rc = eo_sim_prepare(sim, &obj, &guess));
+            const int n = obj->n;
+            for (int i = 0; i < n; i++) wM[i] = vmass[eo_step_free_to_full(st, i) / 3];
+            memcpy(x0, guess, (size_t)n * sizeof(double));
+            eo_solve_result ir;
+            EO_TRY(rc = eo_sim_trial(sim, sv, x0, x, NULL, NULL, NULL, &ir));
+            bench_ref *q = sr->ref + m;
+            const double *xstar = xs + (size_t)m * nf;
+            double de = fabs(q->g0 - q->gstar), pe0 = mnorm_diff(n, wM, x0, xstar);
+            q->ip_reason = ir.reason;
+            q->ip_iters = ir.iterations;
+            q->ip_time = ir.time;
+            q->ip_de = (ir.g - q->gstar) / (de > 0 ? de : fmax(fabs(q->gstar), 1e-300));
+            q->ip_pe = all_finite(n, x) ? mnorm_diff(n, wM, x, xstar) / (pe0 > 0 ? pe0 : 1) : NAN;
+        }
+        eo_solver_destroy(&sv);
+    }
     sr->ref_disp = rms_dist(nv, vmass, fx + (size_t)NF * nf, fx);
     EO_TRY(rc = eo_step_stats_compute(st, &stats));
     sr->end_minJ = stats.min_J;

@@ -91,6 +91,10 @@ typedef struct bench_ref {
     double t, g0, gstar, dec, time, floor;
     int iters, reason, converged, n;
     int rounding;         /* converged at the rounding floor, not at ref_tol */
+    /* the Ipopt check (ipopt_check): -1 not run; else Ipopt's reason and its differences
+     * to x*: (g_ip - g*)/|g0 - g*| and ||x_ip - x*||_M / ||x0 - x*||_M */
+    int ip_reason, ip_iters;
+    double ip_de, ip_pe, ip_time;
 } bench_ref;
 
 typedef struct bench_scene_res {

@@ -164,7 +164,8 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
     rc = eo_afile_open(ctx, path, &af);
     if (rc < 0) return rc;
     f = eo_afile_fp(af);
-    fprintf(f, "scene,step,t,n,iterations,reason,converged,rounding_floor,solve_time,g0,gstar,decrement,rel_err_floor\n");
+    fprintf(f, "scene,step,t,n,iterations,reason,converged,rounding_floor,solve_time,g0,gstar,decrement,rel_err_floor,"
+               "ipopt_reason,ipopt_iterations,ipopt_time,ipopt_rel_energy_diff,ipopt_rel_pos_diff\n");
     for (int si = 0; si < s->nsc; si++)
         for (int k = 0; k < s->sc[si].steps; k++) {
             const bench_ref *q = b->res[si].ref + k;
@@ -174,6 +175,13 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
             fprintf(f, ",%.17g,%.17g", q->g0, q->gstar);
             eo_bench_csv_num(f, q->dec);
             eo_bench_csv_num(f, q->floor);
+            if (q->ip_reason == -1000) fputs(",,,,,", f);
+            else {
+                fprintf(f, ",%s,%d", eo_reason_name(q->ip_reason), q->ip_iters);
+                eo_bench_csv_num(f, q->ip_time);
+                eo_bench_csv_num(f, q->ip_de);
+                eo_bench_csv_num(f, q->ip_pe);
+            }
             fputc('\n', f);
         }
     return eo_afile_commit(ctx, &af);
@@ -624,6 +632,9 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             fprintf(f, "%sstep %d: %d it., %s, λ²/2 = %.1e, rel. floor %.0e", k ? "; " : "", k + 1, q->iters,
                     q->rounding ? "converged to the rounding floor" : q->converged ? "converged" : eo_reason_name(q->reason),
                     q->dec, q->floor);
+            if (q->ip_reason != -1000)
+                fprintf(f, " (Ipopt check: %s, %d it., rel. energy diff %.1e, rel. position diff %.1e)",
+                        eo_reason_name(q->ip_reason), q->ip_iters, q->ip_de, q->ip_pe);
         }
         fprintf(f, ".\n\nReference state at t = 0 → after the last measured step: min det F %.3g → %.3g, inverted tets "
                    "%d → %d, elastic energy %.4g → %.4g J.\n\n",

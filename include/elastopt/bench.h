@@ -51,7 +51,7 @@
 ///
 /// Suite keys (top level; `eo_bench_opts_desc`):
 ///   description, repeats, baseline, target, ref_tol, ref_max_iters, max_iters,
-///   time_budget, steps, skip, trajectory, warmup_iters, curve_rows, plots
+///   time_budget, steps, skip, trajectory, warmup_iters, curve_rows, plots, ipopt_check
 ///   thresholds  list of relative energy errors for the time table (default
 ///               [1e-2, 1e-4, 1e-6, 1e-8])
 ///   budgets     list of time budgets (s) for the "error reached at" table
@@ -101,6 +101,11 @@ typedef struct eo_bench_opts {
     int curve_rows;         ///< curves.csv: every iteration up to this one, then 50 per
                             ///< decade of iteration count (0 = every iteration). Default 200.
     int plots;              ///< make PNG plots with gnuplot (if installed). Default true.
+    int ipopt_check;        ///< solve every measured step once more with Ipopt (exact
+                            ///< clamped Hessian, tol 1e-12) from the same start, as a second
+                            ///< reference: its relative energy and position differences to
+                            ///< x* go to reference.csv and report.md. Default true (skipped
+                            ///< when the build has no Ipopt).
 } eo_bench_opts;
 EO_API extern const eo_param_desc eo_bench_opts_desc[];
 
