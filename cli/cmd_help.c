@@ -45,7 +45,7 @@ static const eo_cfg_doc suite_docs[] = {
     {NULL, NULL, NULL},
 };
 static const eo_cfg_raw_doc suite_raw_docs[] = {
-    {"thresholds", VEC_NUM, "relative energy errors of the time table (default [1e-2, 1e-4, 1e-6, 1e-8])"},
+    {"thresholds", VEC_NUM, "relative energy errors of the time table (default [1e-2, 1e-3, 1e-4, 1e-6, 1e-8])"},
     {"budgets", VEC_NUM, "time budgets (s) of the 'error reached at' table (default [0.01, 0.1, 1])"},
     {"require_converged", NAMES, "configuration names that must converge on every step of every scene (else exit 1)"},
     {"scenes.N.set", SET_OBJ, "overrides of the scene config: {\"dotted.key\": value, ...}"},

@@ -641,8 +641,8 @@ int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out)
     const char *slash = strrchr(path, '/');
     if (slash) snprintf(s->dir, sizeof s->dir, "%.*s", (int)(slash - path), path);
     eo_params_default(eo_bench_opts_desc, &s->o);
-    double thr[] = {1e-2, 1e-4, 1e-6, 1e-8}, bud[] = {0.01, 0.1, 1};
-    s->nthr = 4;
+    double thr[] = {1e-2, 1e-3, 1e-4, 1e-6, 1e-8}, bud[] = {0.01, 0.1, 1};
+    s->nthr = 5;
     memcpy(s->thr, thr, sizeof thr);
     s->nbud = 3;
     memcpy(s->bud, bud, sizeof bud);

@@ -53,7 +53,7 @@
 ///   description, repeats, baseline, target, ref_tol, ref_max_iters, max_iters,
 ///   time_budget, steps, skip, trajectory, warmup_iters, curve_rows, plots, ipopt_check
 ///   thresholds  list of relative energy errors for the time table (default
-///               [1e-2, 1e-4, 1e-6, 1e-8])
+///               [1e-2, 1e-3, 1e-4, 1e-6, 1e-8])
 ///   budgets     list of time budgets (s) for the "error reached at" table
 ///               (default [0.01, 0.1, 1])
 ///   require_converged  list of configuration names that must converge on every step
