@@ -1,41 +1,62 @@
 # incompressible-0.495: relative energy error against solve time
+# colour = optimizer family (baseline black), dash = line search, point = Hessian fix;
+# in colour: the baseline, the fastest and the best of each family (at most 8)
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'incompressible-0.495.png'
-set title "incompressible-0.495: 5000 tets, stable_neo_hookean E=1e+07 nu=0.495, 1 step(s), median of 2\nfastest to 1e-06: newton-clamp-backtracking (1.01x faster than newton-shift-backtracking)"
-left = 0.001  # the start point x0 (time 0) is drawn at the left edge
+set title "incompressible-0.495: 5000 tets, stable_neo_hookean E=1e+07 nu=0.495, 1 step(s), median of 2\nfastest to 1e-06: newton-shift-none (1.02x faster than newton-none-none)"
+left = 0.0001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
-set grid xtics ytics mxtics mytics lc rgb '#dddddd'
+set grid xtics ytics mxtics mytics lc rgb '#e5e5e5'
 set format y '1e%L'
 set format x '%g'
-set xlabel 'solve time (s) of each step, median of the timed repeats'
+set xlabel 'solve time of the step (s), median of the timed repeats'
 set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set yrange [1e-11:3]
-set key outside right top spacing 1.1
+set key inside left bottom opaque box spacing 1.05 font ',10'
 set arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead lc rgb '#999999' dt 3
+set label '1e-02' at graph 1, first 0.01 offset char 0.5,0 left font ',9' tc rgb '#777777'
+set arrow from graph 0, first 0.001 to graph 1, first 0.001 nohead lc rgb '#999999' dt 3
+set label '1e-03' at graph 1, first 0.001 offset char 0.5,0 left font ',9' tc rgb '#777777'
 set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt 3
+set label '1e-04' at graph 1, first 0.0001 offset char 0.5,0 left font ',9' tc rgb '#777777'
 set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt 3
+set label '1e-06' at graph 1, first 1e-06 offset char 0.5,0 left font ',9' tc rgb '#777777'
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt 3
+set label '1e-08' at graph 1, first 1e-08 offset char 0.5,0 left font ',9' tc rgb '#777777'
+set rmargin 8
 plot \
-  'incompressible-0.495.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline) (fastest)', \
-  'incompressible-0.495.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-exact', \
-  'incompressible-0.495.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
-  'incompressible-0.495.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
-  'incompressible-0.495.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-exact', \
-  'incompressible-0.495.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \
-  'incompressible-0.495.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-backtracking', \
-  'incompressible-0.495.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-exact', \
-  'incompressible-0.495.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-none', \
-  'incompressible-0.495.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-backtracking', \
-  'incompressible-0.495.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-exact', \
-  'incompressible-0.495.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-none', \
-  'incompressible-0.495.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-backtracking', \
-  'incompressible-0.495.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-exact', \
-  'incompressible-0.495.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-none', \
-  'incompressible-0.495.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-backtracking', \
-  'incompressible-0.495.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-exact', \
-  'incompressible-0.495.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-none', \
-  'incompressible-0.495.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 title 'nlopt-lbfgs', \
-  'incompressible-0.495.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp', \
-  'incompressible-0.495.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-backtracking', \
-  'incompressible-0.495.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking'
+  'incompressible-0.495.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 title '22 other configurations', \
+  'incompressible-0.495.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'incompressible-0.495.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.4 pt 7 ps 0.6 title 'newton-clamp-backtracking (baseline)', \
+  'incompressible-0.495.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 3 lw 3.2 pt 9 ps 0.6 title 'newton-shift-none (fastest)', \
+  'incompressible-0.495.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 3 lw 1.8 pt 7 ps 0.6 title 'newton_tr', \
+  'incompressible-0.495.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 5 lw 1.8 pt 13 ps 0.6 title 'lbfgs-wolfe', \
+  'incompressible-0.495.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.8 pt 13 ps 0.6 title 'pd_local_global-anderson', \
+  'incompressible-0.495.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.8 pt 13 ps 0.6 title 'nlopt-lbfgs', \
+  'incompressible-0.495.dat' index 27 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.8 pt 7 ps 0.6 title 'ipopt-clamp', \
+  'incompressible-0.495.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.8 pt 7 ps 0.6 title 'pd-lbfgs5-backtracking'
+set terminal svg size 1400,850 font 'DejaVu Sans,11' noenhanced
+set output 'incompressible-0.495.svg'
+replot
+

@@ -1,63 +1,92 @@
 # twist-2-turns: relative energy error against solve time
+# colour = optimizer family (baseline black), dash = line search, point = Hessian fix;
+# in colour: the baseline, the fastest and the best of each family (at most 8)
 set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
 set output 'twist-2-turns.png'
-set title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4, 2 step(s), median of 2\nfastest to 1e-06: newton-none-none (1.01x faster than newton-shift-none)"
-left = 0.001  # the start point x0 (time 0) is drawn at the left edge
+set title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4, 2 step(s), median of 2\nfastest to 1e-06: newton_tr (1.11x faster than pd_local_global-anderson)"
+left = 0.0001  # the start point x0 (time 0) is drawn at the left edge
 set xrange [left:*]
 set logscale xy
-set grid xtics ytics mxtics mytics lc rgb '#dddddd'
+set grid xtics ytics mxtics mytics lc rgb '#e5e5e5'
 set format y '1e%L'
 set format x '%g'
-set xlabel 'solve time (s) of each step, median of the timed repeats'
+set xlabel 'solve time of the step (s), median of the timed repeats'
 set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set yrange [1e-11:3]
-set key outside right top spacing 1.1
+set key inside left bottom opaque box spacing 1.05 font ',10'
 set arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead lc rgb '#999999' dt 3
+set label '1e-02' at graph 1, first 0.01 offset char 0.5,0 left font ',9' tc rgb '#777777'
+set arrow from graph 0, first 0.001 to graph 1, first 0.001 nohead lc rgb '#999999' dt 3
+set label '1e-03' at graph 1, first 0.001 offset char 0.5,0 left font ',9' tc rgb '#777777'
 set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt 3
+set label '1e-04' at graph 1, first 0.0001 offset char 0.5,0 left font ',9' tc rgb '#777777'
 set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt 3
+set label '1e-06' at graph 1, first 1e-06 offset char 0.5,0 left font ',9' tc rgb '#777777'
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt 3
+set label '1e-08' at graph 1, first 1e-08 offset char 0.5,0 left font ',9' tc rgb '#777777'
+set rmargin 8
 plot \
-  'twist-2-turns.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline)', \
-  'twist-2-turns.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-exact', \
-  'twist-2-turns.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
-  'twist-2-turns.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
-  'twist-2-turns.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-exact', \
-  'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \
-  'twist-2-turns.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-backtracking', \
-  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-exact', \
-  'twist-2-turns.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-none', \
-  'twist-2-turns.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-backtracking', \
-  'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-exact', \
-  'twist-2-turns.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-none-none (fastest)', \
-  'twist-2-turns.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 3.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-backtracking', \
-  'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-exact', \
-  'twist-2-turns.dat' index 27 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-none', \
-  'twist-2-turns.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-backtracking', \
-  'twist-2-turns.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-exact', \
-  'twist-2-turns.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-none', \
-  'twist-2-turns.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 title 'nlopt-lbfgs', \
-  'twist-2-turns.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp', \
-  'twist-2-turns.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 40 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-backtracking', \
-  'twist-2-turns.dat' index 41 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 notitle, \
-  'twist-2-turns.dat' index 42 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking', \
-  'twist-2-turns.dat' index 43 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 notitle
+  'twist-2-turns.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 title '22 other configurations', \
+  'twist-2-turns.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 27 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 40 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 41 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 42 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 43 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 54 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 55 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 56 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 57 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
+  'twist-2-turns.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.4 pt 7 ps 0.6 title 'newton-clamp-backtracking (baseline)', \
+  'twist-2-turns.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.4 pt 7 ps 0.6 notitle, \
+  'twist-2-turns.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.8 pt 15 ps 0.6 title 'newton-project_on_demand-backtracking', \
+  'twist-2-turns.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.8 pt 15 ps 0.6 notitle, \
+  'twist-2-turns.dat' index 44 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 3 lw 3.2 pt 7 ps 0.6 title 'newton_tr (fastest)', \
+  'twist-2-turns.dat' index 45 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 3 lw 3.2 pt 7 ps 0.6 notitle, \
+  'twist-2-turns.dat' index 46 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 5 lw 1.8 pt 13 ps 0.6 title 'lbfgs-wolfe', \
+  'twist-2-turns.dat' index 47 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 5 lw 1.8 pt 13 ps 0.6 notitle, \
+  'twist-2-turns.dat' index 48 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 5 lw 1.8 pt 13 ps 0.6 title 'ncg-wolfe', \
+  'twist-2-turns.dat' index 49 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 5 lw 1.8 pt 13 ps 0.6 notitle, \
+  'twist-2-turns.dat' index 50 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.8 pt 13 ps 0.6 title 'pd_local_global-anderson', \
+  'twist-2-turns.dat' index 51 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.8 pt 13 ps 0.6 notitle, \
+  'twist-2-turns.dat' index 52 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.8 pt 13 ps 0.6 title 'nlopt-lbfgs', \
+  'twist-2-turns.dat' index 53 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.8 pt 13 ps 0.6 notitle, \
+  'twist-2-turns.dat' index 58 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.8 pt 7 ps 0.6 title 'pd-lbfgs5-backtracking', \
+  'twist-2-turns.dat' index 59 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.8 pt 7 ps 0.6 notitle
+set terminal svg size 1400,850 font 'DejaVu Sans,11' noenhanced
+set output 'twist-2-turns.svg'
+replot
+
