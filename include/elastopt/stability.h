@@ -17,7 +17,7 @@
 ///    |R(ihω)|; for the symplectic methods the spring's own one-step matrix);
 ///  - any complex z (the region plot): c = −2 Re z, k = |z|², whose eigenvalues are z
 ///    and z̄, so ρ(M) = |R(z)| for the methods that are a one-step rule on the
-///    first-order system (forward Euler, Heun, midpoint, RK4, backward Euler, Newmark).
+///    first-order ODE (forward Euler, Heun, midpoint, RK4, backward Euler, Newmark).
 /// A step is unstable when the amplification exceeds 1 (ρ² > 1 + 1e-13, a threshold
 /// above rounding): the bound is the end of the stable interval next to 0, found by a
 /// scan (0.01 steps to 10, then ×1.05 to 1e4) and 60 bisections. No unstable sample up

@@ -8,7 +8,7 @@
  * (projective_dynamics, env->want_direction = 0) cannot use −∇g: there the matrix is
  * shifted as by `shift` with its default parameters. With an iterative linear solver
  * (cg/pcg) that meets non-positive curvature pᵀHp ≤ 0 in the solve (out.neg_curvature),
- * that iteration instead uses the clamp-projected system (EO_PROJ_CLAMP, shift
+ * that iteration instead uses the clamp-projected matrix (EO_PROJ_CLAMP, shift
  * safeguard): the negative-curvature direction is never used and steepest descent is
  * kept for what a factorization reports. No parameters. */
 #include "shift_loop.h"
@@ -25,7 +25,7 @@ static int none_factor(void *vst, const void *params, const eo_hessfix_env *env,
     if (ok < 0) return ok;
     if (!ok && !out->reason && out->neg_curvature) {
         /* an iterative inner solve met pᵀHp ≤ 0: this iteration uses the clamp-projected
-         * system (with the shift safeguard), never the negative-curvature direction */
+         * matrix, with the shift safeguard; never the negative-curvature direction */
         out->projected = 1;
         ok = eo_shift_assemble_factor(w, &hp, 1, env, EO_PROJ_CLAMP, NULL, p, out);
         if (ok < 0) return ok;

@@ -63,7 +63,7 @@ typedef struct newton_state {
     double proj_sum;
     long proj_count;
     eo_inexact inexact;     /* forcing terms (forcing.h) */
-    double shift_last;      /* c of the last direction's system (for ew1's residual) */
+    double shift_last;      /* c of the last direction's matrix, for ew1's residual */
     double *Hp;             /* ew1: H̃p workspace (n) */
     /* the decrement estimate from the last factor (newton_decrement_estimate) */
     int est_ok;             /* the linear solver holds the factor of the unshifted H̃ of the
