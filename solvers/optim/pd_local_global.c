@@ -14,12 +14,14 @@
  * Global      L = M + w·Σᵢ wᵢ GᵢᵀGᵢ, the objective's constant_hessian (problems/
  *             pd_matrix.c; each PD material gives its wᵢ through op pd_weight, springs
  *             the isotropic block k[[1,−1],[−1,1]] ⊗ I₃), factored ONCE with
- *             solver.linear and reused by every iteration and every later step while
- *             the objective, the matrix and its version are unchanged (a release makes
- *             a new pattern: one new factorization; solvers/optim/pd_updown.c has the
- *             rank update/downdate of such a factor). An objective without the op
- *             (not a step problem: tests' analytic problems, Poisson) gets its clamped
- *             Hessian at the first iterate, factored once per minimization.
+ *             solver.linear by eo_pd_factor (pd_factor.h, shared with
+ *             projective_dynamics, lbfgs h0 = pd, ncg precond = pd) and reused by every
+ *             iteration and every later step while the objective, the matrix and its
+ *             version are unchanged (a release makes a new pattern: one new
+ *             factorization; solvers/linsys/updown.c has the rank update/downdate of
+ *             such a factor). An objective without the op (not a step problem: tests'
+ *             analytic problems, Poisson) gets its Hessian at the first iterate,
+ *             projected by the Hessian fix, factored once per minimization.
  * Iteration   local step: pᵢ = proj(Gᵢx) for every constraint (inside the objective's
  *             gradient: P = wᵢ(F − proj(F)) per tet, k(‖d‖ − L)d/‖d‖ per spring);
  *             global step: x⁺ = L⁻¹ b(x), b = M y + w(Σ wᵢGᵢᵀpᵢ + f). Because
@@ -50,6 +52,7 @@
 #include <string.h>
 
 #include "descent.h"
+#include "pd_factor.h"
 #include "external.h" /* eo_external_inverted */
 
 typedef struct pdlg_state {
@@ -59,13 +62,7 @@ typedef struct pdlg_state {
     double *dF, *dG;          /* m columns of n each (ring) */
     double *gram, *rhs, *chol, *theta; /* m×m, m, m×m, m */
     int count, head, have_prev;
-    /* the factored matrix: own copy A, and what it was made from */
-    eo_csc *A;
-    const eo_objective *obj;
-    const eo_csc *src;
-    unsigned long version;
-    const eo_linsolve *ls;
-    int analyzed, factored;
+    eo_pd_factor pf;          /* L factored once (pd_factor.h, shared with projective_dynamics) */
     eo_ctx *ctx;
 } pdlg_state;
 
@@ -81,7 +78,7 @@ static void pdlg_free(pdlg_state *st, eo_ctx *ctx)
 {
     eo_free(ctx, st->buf);
     st->buf = NULL;
-    eo_csc_destroy(&st->A);
+    eo_pd_factor_deinit(ctx, &st->pf);
 }
 
 static int pdlg_setup(void *vst, const void *params, int n, eo_ctx *ctx)
@@ -97,6 +94,8 @@ static int pdlg_setup(void *vst, const void *params, int n, eo_ctx *ctx)
     memset(st, 0, sizeof *st);
     st->ctx = ctx;
     if (n < 0) return eo_error(ctx, EO_ERR_INVALID, "pd_local_global: n = %d < 0", n);
+    int rc = eo_pd_factor_init(ctx, n, "pd_local_global", &st->pf);
+    if (rc < 0) return rc;
     const size_t nn = (size_t)(n > 0 ? n : 1), m = (size_t)pp->window;
     st->buf = eo_calloc(ctx, (8 + 2 * m) * nn + 2 * m * m + 2 * m, sizeof(double));
     if (!st->buf) return eo_error(ctx, EO_ERR_NOMEM, "pd_local_global: out of memory (n = %d, window %zu)", n, m);
@@ -115,79 +114,6 @@ static int pdlg_setup(void *vst, const void *params, int n, eo_ctx *ctx)
 }
 
 static void pdlg_destroy(void *vst, eo_ctx *ctx) { pdlg_free(vst, ctx); }
-
-static int same_pattern(const eo_csc *A, const eo_csc *B)
-{
-    return A && B && A->n == B->n && A->nnz == B->nnz &&
-           memcmp(A->colptr, B->colptr, ((size_t)A->n + 1) * sizeof(int)) == 0 &&
-           memcmp(A->rowind, B->rowind, (size_t)A->nnz * sizeof(int)) == 0;
-}
-
-/* Copy M into the own matrix A (analysis on a new pattern) and factor it. */
-static int load_factor(pdlg_state *st, const eo_solver_ctx *sc, const eo_csc *M, eo_solve_result *res, int *reason)
-{
-    int rc;
-    if (!M || M->n != st->n)
-        return eo_error(sc->ctx, EO_ERR_INVALID, "pd_local_global: matrix has n = %d, objective has n = %d",
-                        M ? M->n : -1, st->n);
-    if (same_pattern(st->A, M) && st->analyzed && st->ls == sc->linear) {
-        memcpy(st->A->val, M->val, (size_t)M->nnz * sizeof(double));
-    } else {
-        st->analyzed = 0;
-        eo_csc_destroy(&st->A);
-        rc = eo_csc_clone(sc->ctx, M, &st->A);
-        if (rc < 0) return rc;
-        rc = eo_linsolve_analyze(sc->linear, st->A);
-        if (rc < 0) {
-            res->status = rc;
-            *reason = EO_DIVERGED_LINSOLVE;
-            return EO_OK;
-        }
-        st->analyzed = 1;
-        st->ls = sc->linear;
-    }
-    rc = eo_linsolve_factor(sc->linear, st->A);
-    res->n_factor++;
-    if (rc < 0) {
-        res->status = rc;
-        *reason = EO_DIVERGED_LINSOLVE;
-    } else if (rc == EO_WARN_NOT_PD) {
-        *reason = EO_DIVERGED_NOT_PD;
-    } else {
-        st->factored = 1;
-    }
-    return EO_OK;
-}
-
-/* Factor the objective's constant matrix unless the factors in the linear solver are
- * already its. An objective without one (not a step problem) gets its Hessian at the
- * first iterate x, clamped, factored for this minimization only. Returns a negative
- * status, or EO_OK with *reason < 0 if it cannot be factored. */
-static int ensure_factor(pdlg_state *st, const eo_solver_ctx *sc, const double *x, eo_solve_result *res,
-                         int *reason)
-{
-    eo_csc *L = NULL;
-    unsigned long ver = 0;
-    int rc = eo_objective_constant_hessian(sc->obj, &L, &ver);
-    if (rc == EO_ERR_UNSUPPORTED) {
-        st->factored = 0;
-        st->obj = NULL;
-        rc = eo_objective_hessian(sc->obj, x, EO_PROJ_CLAMP, &L);
-        if (rc < 0) return rc;
-        return load_factor(st, sc, L, res, reason);
-    }
-    if (rc < 0) return rc;
-    if (st->factored && st->obj == sc->obj && st->src == L && st->version == ver && st->ls == sc->linear)
-        return EO_OK;
-    st->factored = 0;
-    st->obj = NULL;
-    rc = load_factor(st, sc, L, res, reason);
-    if (rc < 0 || !st->factored) return rc;
-    st->obj = sc->obj;
-    st->src = L;
-    st->version = ver;
-    return EO_OK;
-}
 
 /* Anderson: push the differences of (f, G) against the previous iterate's, then
  * θ = argmin ‖f − ΔF θ‖ and xt = xg − ΔG θ. Returns 1 if xt holds an accelerated point. */
@@ -298,8 +224,9 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
     rc = eo_objective_gradient(obj, x, &g, st->grad);
     if (rc < 0) goto done;
     gn = gn0 = isfinite(g) ? eo_norm2(n, st->grad) : NAN;
-    rc = ensure_factor(st, sc, x, res, &reason);
+    rc = eo_pd_factor_prepare(&st->pf, sc, x, res);
     if (rc < 0) goto done;
+    if (!st->pf.factored) reason = st->pf.fail_reason ? st->pf.fail_reason : EO_DIVERGED_LINSOLVE;
     anderson_clear(st);
     for (k = 0;; k++) {
         eo_iter_info info = {.iteration = k, .g = g, .grad_norm = gn, .decrement = NAN, .alpha = NAN,
@@ -311,12 +238,10 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
         if (!reason) reason = sc->stop->check(sc->stop_params, &si);
         if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget) reason = EO_DIVERGED_TIME_BUDGET;
         if (!reason) { /* global step: d = −L⁻¹∇g */
-            int src = eo_linsolve_solve(sc->linear, st->grad, st->d);
-            if (src < 0) {
-                res->status = src;
-                reason = EO_DIVERGED_LINSOLVE;
-            } else if (src == EO_WARN_NOT_PD) {
-                reason = EO_DIVERGED_NOT_PD;
+            info.shift = st->pf.shift;
+            int sr = eo_pd_factor_solve(&st->pf, sc, st->grad, st->d, res);
+            if (sr < 0) {
+                reason = sr;
             } else {
                 for (int i = 0; i < n; i++) st->d[i] = -st->d[i];
                 const double dg = eo_dot(n, st->grad, st->d);
