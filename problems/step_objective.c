@@ -179,6 +179,8 @@ void eo_stepi_velocity(const eo_step *st, const double *x, double *v)
         st->integ->velocity(st->n_full, st->h, st->x, st->v, x, v);
 }
 
+static void step_velocity(const void *vctx, const double *x, double *v) { eo_stepi_velocity(vctx, x, v); }
+
 int eo_stepi_damping_stiffness(eo_step *st)
 {
     if (!st->damping || !eo_term_damping_needs_stiffness(st->damping)) return EO_OK;
@@ -237,7 +239,7 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
         if ((rc = eo_stepi_damping_stiffness(st)) < 0) return rc;
         damping_begin(st);
     }
-    if (st->friction) eo_term_friction_lag(st->friction, &st->sys, st->x, st->v, h, st->integ);
+    if (st->friction) eo_term_friction_lag(st->friction, &st->sys, st->x, h, st->integ->force_n, step_velocity, st);
     if (st->linear) {
         /* c = fₙ = −∇(E_el + gravity potential)(xₙ) − C vₙ (damping) */
         memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));

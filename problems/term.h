@@ -109,12 +109,14 @@ void eo_term_damping_apply(eo_term *t, const eo_sys *s, const double *u, double 
 int eo_term_collision_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out);
 /* Lagged, smoothed Coulomb friction against the obstacles with friction μ > 0
  * (term_friction.c). EO_OK with *out NULL: no obstacle has friction. Per step:
- * eo_term_friction_lag at xₙ, vₙ (contacts, normal forces, tangent planes, the slip
- * velocity map of the integrator; recomputed from scratch each time). */
-struct eo_integrator_type;
+ * eo_term_friction_lag at xₙ (contacts, normal forces, tangent planes) with the step's
+ * end-of-step velocity map vel(vctx, x, v) on n_full vectors (the one the step uses,
+ * history-aware for BDF2; affine in x), recomputed from scratch each time. force_n: the
+ * integrator's linear term carries fₙ (the friction weight is doubled). */
+typedef void (*eo_velocity_map)(const void *vctx, const double *x, double *v);
 int eo_term_friction_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out);
-void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, const double *vn, double h,
-                          const struct eo_integrator_type *integ);
+void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, double h, int force_n,
+                          eo_velocity_map vel, const void *vctx);
 /* Register one 3×3 block per vertex with the assembler (dofs: n_full ints, filled with
  * the free index of every coordinate, -1 constrained): for the per-vertex terms
  * (penalty contact, friction). */

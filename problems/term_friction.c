@@ -7,7 +7,7 @@
  *     λ = k d(xₙ)      the penalty normal force magnitude at xₙ (N), kept for the step,
  *     n = n(xₙ)        the outward normal there, P = I − n nᵀ, kept for the step.
  *
- * The slip is measured by the integrator's own end-of-step velocity: its velocity map
+ * The slip is measured by the step's own end-of-step velocity (BDF2's uses xₙ₋₁): its velocity map
  * is affine, vₙ₊₁(x) = α (x − x̂) (backward Euler α = 1/h, x̂ = xₙ; Newmark α = 2/h,
  * x̂ = xₙ + h vₙ/2; found by evaluating the map twice), and
  *
@@ -52,6 +52,7 @@ typedef struct friction_data {
     contact *c;                    /* cap = (obstacles with friction) · nv */
     double *xa;                    /* n_full: the anchor x̂ (vₙ₊₁(x̂) = 0) */
     double *work;                  /* n_full */
+    double *va;                    /* n_full: vₙ₊₁(xₙ + 1) */
     double s;                      /* hα */
     double wfac;                   /* 2 with a linear term fₙ (Newmark), else 1 */
     int n_full;
@@ -141,6 +142,7 @@ static void destroy(eo_term *t, eo_ctx *ctx)
     eo_free(ctx, d->c);
     eo_free(ctx, d->xa);
     eo_free(ctx, d->work);
+    eo_free(ctx, d->va);
     eo_free(ctx, d->dofs);
     eo_free(ctx, d);
 }
@@ -154,18 +156,17 @@ static const eo_term_ops friction_ops = {
     .destroy = destroy,
 };
 
-void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, const double *vn, double h,
-                          const eo_integrator_type *integ)
+void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, double h, int force_n,
+                          eo_velocity_map vel, const void *vctx)
 {
     friction_data *d = t->data;
     const int nf = s->n_full;
-    /* vₙ₊₁(x) = α (x − x̂): at x = xₙ (work) and at xₙ + 1 (xa) */
-    integ->velocity(nf, h, xn, vn, xn, d->work);
+    /* vₙ₊₁(x) = α (x − x̂): at x = xₙ + 1 (va) and at x = xₙ (work) */
     for (int j = 0; j < nf; j++) d->xa[j] = xn[j] + 1;
-    double v1;
-    integ->velocity(1, h, xn, vn, d->xa, &v1);
-    const double alpha = v1 - d->work[0];
-    d->wfac = integ->force_n ? 2 : 1;
+    vel(vctx, d->xa, d->va);
+    vel(vctx, xn, d->work);
+    const double alpha = d->va[0] - d->work[0];
+    d->wfac = force_n ? 2 : 1;
     if (alpha > 0 && isfinite(alpha)) {
         d->s = h * alpha;
         for (int j = 0; j < nf; j++) d->xa[j] = xn[j] - d->work[j] / alpha;
@@ -206,11 +207,12 @@ int eo_term_friction_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_
         d->c = eo_malloc(s->ctx, (size_t)d->cap * sizeof *d->c);
         d->xa = eo_calloc(s->ctx, (size_t)s->n_full, sizeof(double));
         d->work = eo_calloc(s->ctx, (size_t)s->n_full, sizeof(double));
+        d->va = eo_calloc(s->ctx, (size_t)s->n_full, sizeof(double));
         d->s = d->wfac = 1;
         d->dofs = eo_malloc(s->ctx, (size_t)s->n_full * sizeof(int));
     }
     (*out)->data = d;
-    if (!d || !d->c || !d->xa || !d->work || !d->dofs) {
+    if (!d || !d->c || !d->xa || !d->work || !d->va || !d->dofs) {
         eo_term_destroy(s->ctx, out);
         return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (friction)");
     }

@@ -11,6 +11,11 @@
  *    μ = 0.3 < tan θ it slides with acceleration g (sin θ − μ cos θ) within 1e-6: a block of
  *    tets under backward_euler, a particle under newmark (the slip is measured by the
  *    integrator's vₙ₊₁, the friction weight doubled for its trapezoidal rule);
+ *  - the same slope under bdf2 (particle), and the order of a curved slide: a particle
+ *    launched along x on the plane with gravity tilted into y curves while friction
+ *    brakes it; the end position after 0.4 s converges at order 2 under bdf2 (the slip
+ *    measured by BDF2's history velocity, not backward Euler's) and order 1 under
+ *    backward Euler;
  *  - a block dropped on a sphere obstacle: on top it comes to rest with the contact
  *    forces balancing M g; a particle on the sphere 20° from the top rests with μ = 0.6 >
  *    tan 20° (normal force M g cos 20°) and slides off without friction;
@@ -242,22 +247,79 @@ static void test_slope(void)
     /* newmark conserves energy: a block of tets keeps the vibration of its landing on
      * the penalty springs (rocking, bouncing), which modulates the lagged normal force;
      * a particle started at its resting depth has none */
-    const char *integ[2] = {"backward_euler", "newmark"}, *body[2] = {"block", "particle"};
-    for (int i = 0; i < 2; i++) {
+    const char *integ[3] = {"backward_euler", "newmark", "bdf2"}, *body[3] = {"block", "particle", "particle"};
+    for (int i = 0; i < 3; i++) {
         double a, v, dx;
         /* μ = 0.8 > tan 30° = 0.577: stops */
-        if (slope(integ[i], i, 0.8, theta, &a, &v, &dx)) {
+        if (slope(integ[i], i > 0, 0.8, theta, &a, &v, &dx)) {
             printf("slope %s %s, mu 0.8 > tan 30: com acceleration %.3e m/s^2, max speed at 1 s %.2e m/s, travel over "
                    "[0.5, 1] s %.2e m\n", integ[i], body[i], a, v, dx);
             CHECK(v < 1e-4 && fabs(dx) < 1e-4, "%s: stuck block moves: speed %g, travel %g", integ[i], v, dx);
         }
         /* μ = 0.3 < tan 30°: slides with a = g (sin θ − μ cos θ) */
         const double mu = 0.3, expect = g * (sin(theta) - mu * cos(theta));
-        if (slope(integ[i], i, mu, theta, &a, &v, &dx)) {
+        if (slope(integ[i], i > 0, mu, theta, &a, &v, &dx)) {
             printf("slope %s %s, mu 0.3 < tan 30: com acceleration %.6f m/s^2, g (sin - mu cos) = %.6f (rel. error %.2e), "
                    "travel %.3f m\n", integ[i], body[i], a, expect, fabs(a - expect) / expect, dx);
             CHECK(fabs(a - expect) < 1e-6 * expect, "%s: sliding acceleration %g vs %g", integ[i], a, expect);
         }
+    }
+}
+
+/* ------------------------------------------------------------------ curved slide, order */
+
+/* A 1 kg particle on the plane z = 0 (stiffness 1e5, started at its resting depth),
+ * gravity (0, 2, −9.81), initial velocity (2, 0, 0), μ = 0.3: its end position after
+ * 0.4 s at step dt (x, y into p). */
+static int curved_slide(const char *integrator, double dt, double p[2])
+{
+    char json[2048];
+    const double g = 9.81;
+    const int n = (int)lround(0.4 / dt);
+    snprintf(json, sizeof json,
+             "{\"mesh\": {\"points\": [[0, 0, %.17g]]}, \"point_mass\": 1,"
+             " \"material\": {\"model\": \"stable_neo_hookean\", \"E\": 1e6, \"nu\": 0.3, \"density\": 1000},"
+             " \"mass\": \"lumped\", \"gravity\": [0, 2, %.17g], \"initial\": {\"velocity\": [2, 0, 0]},"
+             " \"collisions\": [{\"plane\": {\"point\": [0, 0, 0], \"normal\": [0, 0, 1]}, \"stiffness\": 1e5,"
+             " \"friction\": 0.3, \"eps_v\": 1e-4}],"
+             " \"time\": {\"integrator\": \"%s\", \"dt\": %.17g, \"steps\": %d},"
+             " \"solver\": {\"tol\": 1e-16, \"max_iters\": 100}}",
+             -g / 1e5, -g, integrator, dt, n);
+    eo_ctx *ctx = eo_test_ctx();
+    eo_sim *s = NULL;
+    int ok = eo_test_sim_open(&s, ctx, NULL, json, NULL) == 0;
+    for (int k = 0; ok && k < n; k++) {
+        eo_sim_step_result r;
+        ok = eo_test_sim_step(s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason);
+        CHECK(ok, "curved slide %s dt %g step %d: %s", integrator, dt, k, eo_reason_name(r.reason));
+    }
+    if (ok) {
+        const double *x = eo_step_x(eo_sim_step_problem(s));
+        p[0] = x[0], p[1] = x[1];
+    }
+    eo_sim_destroy(&s);
+    eo_test_ctx_done(&ctx);
+    return ok;
+}
+
+static void test_curved_slide_order(void)
+{
+    const char *integ[2] = {"bdf2", "backward_euler"};
+    const double expect[2] = {2, 1};
+    for (int i = 0; i < 2; i++) {
+        double p[4][2];
+        const double dt0 = 0.01;
+        int ok = 1;
+        for (int l = 0; l < 4 && ok; l++) ok = curved_slide(integ[i], dt0 / (1 << l), p[l]);
+        if (!ok) continue;
+        /* order from three successive differences (no reference solution needed) */
+        const double d1 = hypot(p[1][0] - p[0][0], p[1][1] - p[0][1]);
+        const double d2 = hypot(p[2][0] - p[1][0], p[2][1] - p[1][1]);
+        const double d3 = hypot(p[3][0] - p[2][0], p[3][1] - p[2][1]);
+        const double q1 = log2(d1 / d2), q2 = log2(d2 / d3);
+        printf("curved slide %s: end (%.9f, %.9f), differences %.3e %.3e %.3e, orders %.3f %.3f\n", integ[i],
+               p[3][0], p[3][1], d1, d2, d3, q1, q2);
+        CHECK(fabs(q2 - expect[i]) < 0.15, "curved slide %s: order %.3f, expected %g", integ[i], q2, expect[i]);
     }
 }
 
@@ -381,6 +443,7 @@ int main(void)
     test_errors();
     test_fd_obstacles();
     test_slope();
+    test_curved_slide_order();
     test_on_sphere();
     return eo_test_finish("test_contact");
 }
