@@ -350,43 +350,13 @@ static int elements_41(gmsh_reader *r)
     return eo_scan_expect(s, "$EndElements");
 }
 
-/* Skip a section whose "$Name" was consumed: up to the line starting "$EndName". */
-static int skip_section(gmsh_reader *r, const char *name, size_t len)
-{
-    eo_scan *s = &r->s;
-    char end[80];
-    snprintf(end, sizeof end, "$End%.*s", (int)(len > 61 ? 60 : len - 1), name + 1);
-    long start = s->line;
-    for (;;) {
-        eo_scan_skip_line(s);
-        if (!eo_scan_skip(s))
-            return eo_scan_error(s, EO_ERR_PARSE, "expected '%s' closing the section opened on line %ld, got end of file",
-                                 end, start);
-        if (eo_scan_accept(s, end)) return EO_OK;
-    }
-}
-
 static int read_gmsh(eo_ctx *ctx, const char *text, size_t len, const char *file, eo_mesh **out, eo_mesh_src *src)
 {
     gmsh_reader r = {.ctx = ctx, .src = src};
     eo_scan *s = &r.s;
     eo_scan_init(s, ctx, file, text, len, 0);
-    int rc = EO_OK, ftype, dsize;
-    double version;
-    if ((rc = eo_scan_expect(s, "$MeshFormat")) < 0) goto fail;
-    if ((rc = eo_scan_double(s, "format version", &version)) < 0) goto fail;
-    if (!(version >= 2.0 && version < 3.0) && version != 4.1) {
-        rc = eo_scan_error(s, EO_ERR_UNSUPPORTED, "expected MSH version 2.2 or 4.1, got %g", version);
-        goto fail;
-    }
-    r.v41 = version == 4.1;
-    if ((rc = eo_scan_int(s, "file type", 0, 1, &ftype)) < 0) goto fail;
-    if (ftype != 0) {
-        rc = eo_scan_error(s, EO_ERR_UNSUPPORTED, "binary .msh files are not supported; expected ASCII (file type 0)");
-        goto fail;
-    }
-    if ((rc = eo_scan_int(s, "data size", 1, 64, &dsize)) < 0) goto fail;
-    if ((rc = eo_scan_expect(s, "$EndMeshFormat")) < 0) goto fail;
+    int rc = EO_OK;
+    if ((rc = eo_scan_gmsh_format(s, &r.v41)) < 0) goto fail;
     for (;;) {
         const char *t;
         size_t n;
@@ -399,7 +369,7 @@ static int read_gmsh(eo_ctx *ctx, const char *text, size_t len, const char *file
             rc = entities_41(&r);
         } else if (t[0] == '$' && n > 1 && !(n > 4 && memcmp(t, "$End", 4) == 0)) {
             s->p += n;
-            rc = skip_section(&r, t, n);
+            rc = eo_scan_gmsh_skip_section(s, t, n);
         } else {
             rc = eo_scan_fail(s, "a section such as '$Nodes' or '$Elements'");
         }

@@ -237,20 +237,6 @@ static int tr_elements(tri_reader *r, int v41)
     return eo_scan_expect(s, "$EndElements");
 }
 
-static int tr_skip_section(eo_scan *s, const char *name, size_t len)
-{
-    char end[80];
-    snprintf(end, sizeof end, "$End%.*s", (int)(len > 61 ? 60 : len - 1), name + 1);
-    long start = s->line;
-    for (;;) {
-        eo_scan_skip_line(s);
-        if (!eo_scan_skip(s))
-            return eo_scan_error(s, EO_ERR_PARSE, "expected '%s' closing the section opened on line %ld, got end of file",
-                                 end, start);
-        if (eo_scan_accept(s, end)) return EO_OK;
-    }
-}
-
 int eo_trimesh_read_gmsh(eo_ctx *ctx, const char *path, eo_trimesh **out)
 {
     *out = NULL;
@@ -261,29 +247,15 @@ int eo_trimesh_read_gmsh(eo_ctx *ctx, const char *path, eo_trimesh **out)
     tri_reader r = {.ctx = ctx};
     eo_scan *s = &r.s;
     eo_scan_init(s, ctx, path, text, len, 0);
-    double version;
-    int ftype, dsize, v41;
-    if ((rc = eo_scan_expect(s, "$MeshFormat")) < 0) goto done;
-    if ((rc = eo_scan_double(s, "format version", &version)) < 0) goto done;
-    if (!(version >= 2.0 && version < 3.0) && version != 4.1) {
-        rc = eo_scan_error(s, EO_ERR_UNSUPPORTED, "expected MSH version 2.2 or 4.1, got %g", version);
-        goto done;
-    }
-    v41 = version == 4.1;
-    if ((rc = eo_scan_int(s, "file type", 0, 1, &ftype)) < 0) goto done;
-    if (ftype != 0) {
-        rc = eo_scan_error(s, EO_ERR_UNSUPPORTED, "binary .msh files are not supported; expected ASCII (file type 0)");
-        goto done;
-    }
-    if ((rc = eo_scan_int(s, "data size", 1, 16, &dsize)) < 0) goto done;
-    if ((rc = eo_scan_expect(s, "$EndMeshFormat")) < 0) goto done;
+    int v41;
+    if ((rc = eo_scan_gmsh_format(s, &v41)) < 0) goto done;
     while (eo_scan_skip(s)) {
         const char *tok;
         size_t n;
         eo_scan_word(s, "section", &tok, &n);
         if (n == 6 && !strncmp(tok, "$Nodes", 6)) rc = tr_nodes(&r, v41);
         else if (n == 9 && !strncmp(tok, "$Elements", 9)) rc = tr_elements(&r, v41);
-        else if (n > 1 && tok[0] == '$') rc = tr_skip_section(s, tok, n);
+        else if (n > 1 && tok[0] == '$') rc = eo_scan_gmsh_skip_section(s, tok, n);
         else rc = eo_scan_error(s, EO_ERR_PARSE, "expected a $Section, got '%.*s'", (int)(n > 40 ? 40 : n), tok);
         if (rc < 0) goto done;
     }

@@ -334,3 +334,33 @@ void eo_tagmap_deinit(eo_ctx *ctx, eo_tagmap *map)
     eo_free(ctx, map->vals);
     memset(map, 0, sizeof *map);
 }
+
+int eo_scan_gmsh_format(eo_scan *s, int *v41)
+{
+    int rc, ftype, dsize;
+    double version;
+    if ((rc = eo_scan_expect(s, "$MeshFormat")) < 0) return rc;
+    if ((rc = eo_scan_double(s, "format version", &version)) < 0) return rc;
+    if (!(version >= 2.0 && version < 3.0) && version != 4.1)
+        return eo_scan_error(s, EO_ERR_UNSUPPORTED, "expected MSH version 2.2 or 4.1, got %g", version);
+    *v41 = version == 4.1;
+    if ((rc = eo_scan_int(s, "file type", 0, 1, &ftype)) < 0) return rc;
+    if (ftype != 0)
+        return eo_scan_error(s, EO_ERR_UNSUPPORTED, "binary .msh files are not supported; expected ASCII (file type 0)");
+    if ((rc = eo_scan_int(s, "data size", 1, 64, &dsize)) < 0) return rc;
+    return eo_scan_expect(s, "$EndMeshFormat");
+}
+
+int eo_scan_gmsh_skip_section(eo_scan *s, const char *name, size_t len)
+{
+    char end[80];
+    snprintf(end, sizeof end, "$End%.*s", (int)(len > 61 ? 60 : len - 1), name + 1);
+    long start = s->line;
+    for (;;) {
+        eo_scan_skip_line(s);
+        if (!eo_scan_skip(s))
+            return eo_scan_error(s, EO_ERR_PARSE, "expected '%s' closing the section opened on line %ld, got end of file",
+                                 end, start);
+        if (eo_scan_accept(s, end)) return EO_OK;
+    }
+}

@@ -75,6 +75,12 @@ int eo_scan_error(eo_scan *s, int status, const char *fmt, ...)
 #endif
     ;
 
+/* Gmsh (.msh, both readers): the "$MeshFormat … $EndMeshFormat" header, ASCII 2.2 or
+ * 4.1 only (*v41 set for 4.1); and a section whose "$Name" token (name, len) was
+ * consumed, skipped up to the line starting "$EndName". */
+int eo_scan_gmsh_format(eo_scan *s, int *v41);
+int eo_scan_gmsh_skip_section(eo_scan *s, const char *name, size_t len);
+
 typedef struct eo_tagmap {
     long min, span;  /* dense: index = dense[tag - min] */
     int *dense;
