@@ -60,72 +60,11 @@ static const eo_cfg_raw_doc suite_raw_docs[] = {
     {NULL, NULL, NULL},
 };
 
-/* The JSON Schema of a list of documented sections (the same construction as the scene
- * schema, eo_config_schema). */
-static json_t *node_path(json_t *root, const char *path);
-static void put(json_t *node, json_t *s, const char *summary);
-
-static json_t *docs_schema(const eo_cfg_doc *docs, const eo_cfg_raw_doc *raw, const char *title)
-{
-    json_t *root = json_pack("{s:s, s:s, s:s, s:{}, s:b}", "$schema", "https://json-schema.org/draft/2020-12/schema",
-                             "title", title, "type", "object", "properties", "additionalProperties", 0);
-    for (const eo_cfg_doc *d = docs; d->path; d++)
-        put(node_path(root, d->path), eo_params_schema(d->params, d->summary), d->summary);
-    for (const eo_cfg_raw_doc *d = raw; d->path; d++)
-        put(node_path(root, d->path), d->schema ? json_loads(d->schema, 0, NULL) : NULL, d->summary);
-    return root;
-}
-
-/* The schema node at a dotted path ("N" = list items), created as needed. */
-static json_t *node_path(json_t *root, const char *path)
-{
-    json_t *node = root;
-    char buf[128];
-    snprintf(buf, sizeof buf, "%s", path);
-    for (char *save = NULL, *c = strtok_r(buf, ".", &save); c; c = strtok_r(NULL, ".", &save)) {
-        if (strcmp(c, "N") == 0) {
-            json_object_set_new(node, "type", json_string("array"));
-            if (!json_object_get(node, "items"))
-                json_object_set_new(node, "items", json_pack("{s:s, s:{}, s:b}", "type", "object", "properties",
-                                                             "additionalProperties", 0));
-            node = json_object_get(node, "items");
-            continue;
-        }
-        json_t *props = json_object_get(node, "properties");
-        if (!props) {
-            json_object_set_new(node, "type", json_string("object"));
-            json_object_set_new(node, "properties", props = json_object());
-            json_object_set_new(node, "additionalProperties", json_false());
-        }
-        if (!json_object_get(props, c)) json_object_set_new(props, c, json_object());
-        node = json_object_get(props, c);
-    }
-    return node;
-}
-
-/* Merge schema s (consumed, may be NULL) into node. */
-static void put(json_t *node, json_t *s, const char *summary)
-{
-    if (s) {
-        const char *k;
-        json_t *v;
-        json_object_foreach(s, k, v) {
-            if (strcmp(k, "properties") == 0 && json_object_get(node, "properties"))
-                json_object_update(json_object_get(node, "properties"), v);
-            else
-                json_object_set(node, k, v);
-        }
-        json_decref(s);
-    }
-    if (!json_object_get(node, "description") && summary)
-        json_object_set_new(node, "description", json_string(summary));
-}
-
 static int print_schema(const char *what)
 {
     json_t *j = NULL;
     if (strcmp(what, "scene") == 0) j = eo_config_schema();
-    else if (strcmp(what, "suite") == 0) j = docs_schema(suite_docs, suite_raw_docs, "elastopt benchmark suite");
+    else if (strcmp(what, "suite") == 0) j = eo_cfg_docs_schema(suite_docs, suite_raw_docs, "elastopt benchmark suite", NULL);
     else {
         fprintf(stderr, "elastopt help: --schema takes 'scene' or 'suite', not '%s'\n", what);
         return EO_EXIT_BAD_INPUT;

@@ -126,20 +126,20 @@ static void merge(json_t *dst, json_t *src)
     }
 }
 
-json_t *eo_config_schema(void)
+json_t *eo_cfg_docs_schema(const eo_cfg_doc *docs, const eo_cfg_raw_doc *raw, const char *title,
+                           const char *description)
 {
-    json_t *root = json_pack("{s:s, s:s, s:s, s:s}", "$schema", "https://json-schema.org/draft/2020-12/schema",
-                             "title", "elastopt scene", "description",
-                             "A scene configuration of elastopt (generated from the descriptor tables by "
-                             "`elastopt help --schema scene`).",
-                             "type", "object");
-    for (const eo_cfg_doc *d = eo_config_docs(); d && d->path; d++) {
+    json_t *root = json_pack("{s:s, s:s, s:s}", "$schema", "https://json-schema.org/draft/2020-12/schema", "title",
+                             title, "type", "object");
+    if (!root) return NULL;
+    if (description) json_object_set_new(root, "description", json_string(description));
+    for (const eo_cfg_doc *d = docs; d && d->path; d++) {
         json_t *node = d->path[0] ? node_at(root, d->path) : root;
         json_t *s = eo_params_schema(d->params, d->summary);
         merge(node, s);
         json_decref(s);
     }
-    for (const eo_cfg_raw_doc *d = raw_docs; d->path; d++) {
+    for (const eo_cfg_raw_doc *d = raw; d && d->path; d++) {
         json_t *node = node_at(root, d->path);
         if (d->schema) {
             json_t *s = json_loads(d->schema, 0, NULL);
@@ -150,6 +150,15 @@ json_t *eo_config_schema(void)
         }
         if (!json_object_get(node, "description")) json_object_set_new(node, "description", json_string(d->summary));
     }
+    return root;
+}
+
+json_t *eo_config_schema(void)
+{
+    json_t *root = eo_cfg_docs_schema(eo_config_docs(), raw_docs, "elastopt scene",
+                                      "A scene configuration of elastopt (generated from the descriptor tables by "
+                                      "`elastopt help --schema scene`).");
+    if (!root) return NULL;
     /* each materials entry takes the material keys too */
     json_t *mat_items = node_at(root, "materials.N");
     json_t *ms = eo_params_schema(eo_material_opts_desc, NULL);

@@ -265,6 +265,11 @@ EO_API const eo_cfg_raw_doc *eo_config_raw_docs(void);
 /// JSON Schema (draft 2020-12) of a scene document, generated from eo_config_docs and
 /// the registries (docs/scene.schema.json is its output). New reference.
 EO_API json_t *eo_config_schema(void);
+/// JSON Schema (draft 2020-12) of any documented tree: params sections `docs` and raw
+/// keys `raw` (either may be NULL), dotted paths with "N" for list items, every object
+/// closed (additionalProperties false). eo_config_schema and the suite schema use it.
+EO_API json_t *eo_cfg_docs_schema(const eo_cfg_doc *docs, const eo_cfg_raw_doc *raw, const char *title,
+                                  const char *description);
 
 typedef enum eo_bc_select { EO_BC_BOX, EO_BC_PLANE, EO_BC_MARKER, EO_BC_TAG, EO_BC_SURFACE, EO_BC_NEAREST } eo_bc_select;
 /// Where a `tag` selector found its tag.
