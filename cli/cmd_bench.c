@@ -21,6 +21,7 @@ typedef struct progress_state {
     int tty;
     int last_scene, last_config;
     const char *last_phase;
+    double scene_start;   /* elapsed time when the current scene started */
 } progress_state;
 
 static void fmt_dur(double s, char *buf, size_t n)
@@ -37,12 +38,21 @@ static void on_progress(const eo_bench_progress *p, void *user)
     /* one line per change of scene/configuration/phase (a terminal gets \r updates) */
     int changed = p->scene != ps->last_scene || p->config != ps->last_config || p->phase != ps->last_phase;
     if (!changed && !ps->tty) return;
+    if (p->scene != ps->last_scene) ps->scene_start = p->elapsed;
     ps->last_scene = p->scene;
     ps->last_config = p->config;
     ps->last_phase = p->phase;
     char el[32], eta[32];
     fmt_dur(p->elapsed, el, sizeof el);
     fmt_dur(p->eta, eta, sizeof eta);
+    if (strcmp(p->phase, "done") == 0) { /* one line per finished scene, also on a terminal */
+        char took[32];
+        fmt_dur(p->elapsed - ps->scene_start, took, sizeof took);
+        fprintf(stderr, "%s[%3.0f%%] scene %d/%d %s done in %s  elapsed %s, left ~%s\n", ps->tty ? "\r\033[K" : "",
+                100 * p->fraction, p->scene + 1, p->nscenes, p->scene_name, took, el, eta);
+        fflush(stderr);
+        return;
+    }
     fprintf(stderr, "%s[%3.0f%%] scene %d/%d %s", ps->tty ? "\r\033[K" : "", 100 * p->fraction, p->scene + 1,
             p->nscenes, p->scene_name);
     if (p->config >= 0) fprintf(stderr, "  config %d/%d %s", p->config + 1, p->nconfigs, p->config_name);
@@ -98,9 +108,12 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     o.progress = quiet ? NULL : on_progress;
     o.user = &ps;
     if (profile) o.profile = on_profile;
-    if (!quiet)
+    if (!quiet) {
         fprintf(stderr, "bench %s: %d scene(s) x %d configuration(s) -> %s\n", suite_path, eo_bench_suite_nscenes(s),
                 eo_bench_suite_nconfigs(s), dir);
+        for (int i = 0; i < eo_bench_suite_nskipped(s); i++)
+            fprintf(stderr, "bench: optional scene not run: %s\n", eo_bench_suite_skipped(s, i));
+    }
     eo_bench_summary sum;
     rc = eo_bench_run(ctx, s, &o, &sum);
     if (!quiet && ps.tty) fprintf(stderr, "\n");
