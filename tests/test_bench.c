@@ -268,15 +268,24 @@ static eo_bench_suite *load_ok(eo_ctx *ctx, const char *dir, const char *name, c
     return s;
 }
 
-static int run_ok(eo_ctx *ctx, eo_bench_suite *s, const char *out)
+/* Load the suite `text` (written as dir/name.json) and run it into `out` = dir/name;
+ * the suite (NULL if it did not load or run) for the caller to destroy. */
+static eo_bench_suite *run_text(eo_ctx *ctx, const char *dir, const char *name, const char *text, char *out,
+                                size_t n)
 {
+    char file[200];
+    snprintf(file, sizeof file, "%s.json", name);
+    snprintf(out, n, "%s/%s", dir, name);
+    eo_bench_suite *s = load_ok(ctx, dir, file, text);
+    if (!s) return NULL;
     eo_bench_run_opts o = eo_bench_run_opts_default();
     o.out_dir = out;
     eo_bench_summary sum;
     int rc = eo_bench_run(ctx, s, &o, &sum);
     CHECK(rc == 0, "run: %s", eo_ctx_message(ctx));
     CHECK(sum.ref_failures == 0 && sum.nan == 0, "reference failures %d, NaN %d", sum.ref_failures, sum.nan);
-    return rc;
+    if (rc < 0) eo_bench_suite_destroy(&s);
+    return s;
 }
 
 /* select = largest_motion on a cube thrown up at v0 = 0.5 m/s under g = 9.81 (Newmark:
@@ -296,11 +305,11 @@ static void run_select_motion(const char *dir, int horizon, int want0)
              " \"configs\": [{\"name\": \"n\", \"set\": {\"solver.optimizer\": \"newton\"}}]}",
              horizon);
     eo_ctx *ctx = eo_test_ctx();
-    eo_bench_suite *s = load_ok(ctx, dir, "sel.json", text);
-    char out[4200];
-    snprintf(out, sizeof out, "%s/sel%d", dir, horizon);
+    char out[4200], name[32];
+    snprintf(name, sizeof name, "sel%d", horizon);
+    eo_bench_suite *s = run_text(ctx, dir, name, text, out, sizeof out);
     static csv_tab t;
-    if (s && run_ok(ctx, s, out) == 0 && csv_read(out, "reference.csv", &t) == 0) {
+    if (s && csv_read(out, "reference.csv", &t) == 0) {
         CHECK(t.nrow == horizon, "reference.csv has %d rows, expected the %d steps of the horizon", t.nrow, horizon);
         const double v0 = 0.5, g = 9.81, h = 0.01;
         int measured[3], nm = 0;
@@ -347,11 +356,10 @@ static void test_select_correction(const char *dir)
         "   \"set\": {\"mesh.generate.cells\": [4, 1, 1], \"time.dt\": 0.02}}],"
         " \"configs\": [{\"name\": \"n\", \"set\": {\"solver.optimizer\": \"newton\"}}]}";
     eo_ctx *ctx = eo_test_ctx();
-    eo_bench_suite *s = load_ok(ctx, dir, "corr.json", text);
     char out[4200];
-    snprintf(out, sizeof out, "%s/corr", dir);
+    eo_bench_suite *s = run_text(ctx, dir, "corr", text, out, sizeof out);
     static csv_tab t;
-    if (s && run_ok(ctx, s, out) == 0 && csv_read(out, "reference.csv", &t) == 0) {
+    if (s && csv_read(out, "reference.csv", &t) == 0) {
         CHECK(t.nrow == 7, "reference.csv has %d rows, expected skip + horizon = 7", t.nrow);
         int best = -1, meas = -1;
         double bc = -1;
@@ -381,11 +389,10 @@ static void test_fixed_budget(const char *dir)
         " \"configs\": [{\"name\": \"n\", \"set\": {\"solver.optimizer\": \"newton\"}},"
         "   {\"name\": \"gd\", \"set\": {\"solver.optimizer\": \"gradient_descent\"}}]}";
     eo_ctx *ctx = eo_test_ctx();
-    eo_bench_suite *s = load_ok(ctx, dir, "fixed.json", text);
     char out[4200];
-    snprintf(out, sizeof out, "%s/fixed", dir);
+    eo_bench_suite *s = run_text(ctx, dir, "fixed", text, out, sizeof out);
     static csv_tab t;
-    if (s && run_ok(ctx, s, out) == 0 && csv_read(out, "fixed.csv", &t) == 0) {
+    if (s && csv_read(out, "fixed.csv", &t) == 0) {
         /* scene c: 2 configurations x 3 budgets x 3 frames; scene d: only budget 2 */
         CHECK(t.nrow == 2 * 3 * 3 + 2 * 3, "fixed.csv: %d rows, expected 24", t.nrow);
         int d2 = 0;

@@ -33,6 +33,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "bench_impl.h"
 #include "elastopt/io.h"
@@ -1651,8 +1652,10 @@ int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *
         r.units_total += scene_units(s, s->sc + i, run_repeats(opts, s->sc[i].repeats), traj_steps_estimate(s->sc + i));
     read_loadavg(out.load_start, sizeof out.load_start);
     r.t0 = out.t_start = eo_wtime();
+    const clock_t c0 = clock();
     for (int i = 0; i < s->nsc; i++) EO_TRY(rc = run_scene(&r, i));
     out.t_end = eo_wtime();
+    out.cpu_seconds = (double)(clock() - c0) / CLOCKS_PER_SEC;
     read_loadavg(out.load_end, sizeof out.load_end);
     sum->seconds = out.t_end - out.t_start;
     EO_TRY(rc = eo_afile_commit(ctx, &cf));

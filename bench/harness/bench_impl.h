@@ -145,6 +145,7 @@ typedef struct bench_out {
     int plots;
     bench_scene_res *res; /* nsc */
     double t_start, t_end;
+    double cpu_seconds;   /* processor time of the run (clock()): the wall time of an unloaded machine */
     char load_start[64], load_end[64];
     eo_bench_summary *sum;
     int gnuplot;          /* 1 if gnuplot was found */

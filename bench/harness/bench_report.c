@@ -376,7 +376,7 @@ int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si)
     fprintf(f, "set xrange [left:*]\n");
     fprintf(f, "set logscale xy\nset grid xtics ytics mxtics mytics lc rgb '#e5e5e5'\n");
     fprintf(f, "set format y '1e%%L'\nset format x '%%g'\n");
-    fprintf(f, "set xlabel 'solve time of the step (s), median of the timed repeats'\n");
+    fprintf(f, "set xlabel 'solve time of the step (s), median of the timed repeats; the start x0 (time 0) is drawn at the left edge'\n");
     fprintf(f, "set ylabel 'relative energy error (g - g*) / |g0 - g*|'\n");
     fprintf(f, "set yrange [%g:3]\n", s->o.target / 10);
     fprintf(f, "set key inside left bottom opaque box spacing 1.05 font ',10'\n");
@@ -744,11 +744,12 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", gmtime(&now));
     fprintf(f, "# Optimizer benchmark: %s\n\n", s->path);
     if (s->o.description[0]) fprintf(f, "%s\n\n", s->o.description);
-    fprintf(f, "Run %s, %.1f s wall time, %d scene(s) × %d configuration(s), %d timed repeat(s) per run unless "
+    fprintf(f, "Run %s, %.1f s wall time (%.1f s processor time: on a loaded machine, an estimate of the wall time "
+               "unloaded), %d scene(s) × %d configuration(s), %d timed repeat(s) per run unless "
                "a scene says otherwise (median, min–max spread; an untimed warm-up run of at most %d iteration(s) "
                "first). Outputs: `curves.csv`, `summary.csv`, "
                "`reference.csv`, `trajectory.csv`, `fixed.csv`, `plots/`.\n\n",
-            date, b->sum->seconds, s->nsc, s->ncf, b->repeats, s->o.warmup_iters);
+            date, b->sum->seconds, b->cpu_seconds, s->nsc, s->ncf, b->repeats, s->o.warmup_iters);
     if (s->nskipped) {
         fprintf(f, "**Scenes not run** (optional, their files could not be read):\n\n");
         for (int i = 0; i < s->nskipped; i++) fprintf(f, "- %s\n", s->skipped[i]);
