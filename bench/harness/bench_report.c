@@ -652,7 +652,7 @@ static void describe_steps(FILE *f, const bench_scene *bs, const bench_scene_res
     fprintf(f, "Measured step%s ", bs->steps > 1 ? "s" : "");
     for (int k = 0; k < bs->steps; k++) fprintf(f, "%s%d", k ? ", " : "", sr->meas[k] + 1);
     if (bs->select == BENCH_SELECT_FIRST) {
-        fprintf(f, " (the first %d after %d reference-only step%s)", bs->steps, bs->skip, bs->skip == 1 ? "" : "s");
+        if (bs->skip) fprintf(f, " (after %d reference-only step%s)", bs->skip, bs->skip == 1 ? "" : "s");
     } else {
         const int mot = bs->select == BENCH_SELECT_MOTION;
         const double *sc = mot ? sr->motion : sr->correction;
@@ -663,8 +663,11 @@ static void describe_steps(FILE *f, const bench_scene *bs, const bench_scene_res
             for (int m = 0; m < bs->steps; m++) in |= sr->meas[m] == k;
             if (!in && sc[k] > out) out = sc[k], outk = k;
         }
-        fprintf(f, " of steps %d–%d: the %d consecutive steps of largest total %s (", bs->skip + 1, sr->nref,
-                bs->steps, mot ? "per-step motion" : "correction (distance from the starting guess to x*)");
+        const char *what = mot ? "per-step motion" : "correction (distance from the starting guess to x*)";
+        if (bs->steps == 1) fprintf(f, " of steps %d–%d: the step of largest %s (", bs->skip + 1, sr->nref, what);
+        else
+            fprintf(f, " of steps %d–%d: the %d consecutive steps of largest total %s (", bs->skip + 1, sr->nref,
+                    bs->steps, what);
         for (int k = 0; k < bs->steps; k++) fprintf(f, "%s%.3g", k ? ", " : "", sc[sr->meas[k]]);
         fprintf(f, " m RMS");
         if (outk >= 0) fprintf(f, "; the largest outside: step %d, %.3g m", outk + 1, out);
