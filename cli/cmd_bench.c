@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 #include <unistd.h>
 
 #include "cli.h"
@@ -21,6 +22,8 @@ typedef struct progress_state {
     int tty;
     int last_scene, last_config;
     const char *last_phase;
+    double scene_start;   /* elapsed time when the current scene started */
+    clock_t scene_cpu;    /* processor time then */
 } progress_state;
 
 static void fmt_dur(double s, char *buf, size_t n)
@@ -37,12 +40,26 @@ static void on_progress(const eo_bench_progress *p, void *user)
     /* one line per change of scene/configuration/phase (a terminal gets \r updates) */
     int changed = p->scene != ps->last_scene || p->config != ps->last_config || p->phase != ps->last_phase;
     if (!changed && !ps->tty) return;
+    if (p->scene != ps->last_scene) {
+        ps->scene_start = p->elapsed;
+        ps->scene_cpu = clock();
+    }
     ps->last_scene = p->scene;
     ps->last_config = p->config;
     ps->last_phase = p->phase;
     char el[32], eta[32];
     fmt_dur(p->elapsed, el, sizeof el);
     fmt_dur(p->eta, eta, sizeof eta);
+    if (strcmp(p->phase, "done") == 0) { /* one line per finished scene, also on a terminal */
+        char took[32], cpu[32];
+        fmt_dur(p->elapsed - ps->scene_start, took, sizeof took);
+        fmt_dur((double)(clock() - ps->scene_cpu) / CLOCKS_PER_SEC, cpu, sizeof cpu);
+        fprintf(stderr, "%s[%3.0f%%] scene %d/%d %s done in %s (processor %s)  elapsed %s, left ~%s\n",
+                ps->tty ? "\r\033[K" : "", 100 * p->fraction, p->scene + 1, p->nscenes, p->scene_name, took, cpu, el,
+                eta);
+        fflush(stderr);
+        return;
+    }
     fprintf(stderr, "%s[%3.0f%%] scene %d/%d %s", ps->tty ? "\r\033[K" : "", 100 * p->fraction, p->scene + 1,
             p->nscenes, p->scene_name);
     if (p->config >= 0) fprintf(stderr, "  config %d/%d %s", p->config + 1, p->nconfigs, p->config_name);
@@ -98,20 +115,25 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     o.progress = quiet ? NULL : on_progress;
     o.user = &ps;
     if (profile) o.profile = on_profile;
-    if (!quiet)
+    if (!quiet) {
         fprintf(stderr, "bench %s: %d scene(s) x %d configuration(s) -> %s\n", suite_path, eo_bench_suite_nscenes(s),
                 eo_bench_suite_nconfigs(s), dir);
+        for (int i = 0; i < eo_bench_suite_nskipped(s); i++)
+            fprintf(stderr, "bench: optional scene not run: %s\n", eo_bench_suite_skipped(s, i));
+    }
     eo_bench_summary sum;
+    const clock_t c0 = clock();
     rc = eo_bench_run(ctx, s, &o, &sum);
+    const double cpu = (double)(clock() - c0) / CLOCKS_PER_SEC;
     if (!quiet && ps.tty) fprintf(stderr, "\n");
     eo_bench_suite_destroy(&s);
     if (rc < 0) return eo_cli_fail(ctx, rc);
     int bad = sum.ref_failures || sum.nan || sum.required_failures;
     if (!quiet)
-        printf("bench: %d runs in %.1f s; reference failures %d, NaN %d, non-finite stops %d, required failures %d, "
-               "plots %d -> %s/report.md\n",
-               sum.runs, sum.seconds, sum.ref_failures, sum.nan, sum.nonfinite, sum.required_failures, sum.plots_made,
-               dir);
+        printf("bench: %d runs in %.1f s (processor %.1f s); reference failures %d, NaN %d, non-finite stops %d, "
+               "required failures %d, plots %d -> %s/report.md\n",
+               sum.runs, sum.seconds, cpu, sum.ref_failures, sum.nan, sum.nonfinite, sum.required_failures,
+               sum.plots_made, dir);
     return bad ? EO_EXIT_NOT_CONVERGED : EO_EXIT_OK;
 }
 

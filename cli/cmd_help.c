@@ -40,13 +40,19 @@ static void print_section(const eo_cfg_doc *d)
 
 /* The benchmark suite's documented sections (bench.h). */
 static const eo_cfg_doc suite_docs[] = {
-    {"", eo_bench_opts_desc, "top-level suite keys (also: thresholds, budgets, require_converged, scenes, configs, matrix)"},
+    {"", eo_bench_opts_desc,
+     "top-level suite keys (also: thresholds, budgets, iter_budgets, require_converged, scenes, configs, matrix)"},
     {"scenes.N", eo_bench_scene_desc, "a benchmark scene: a built-in scene or a scene file, with overrides"},
     {NULL, NULL, NULL},
 };
 static const eo_cfg_raw_doc suite_raw_docs[] = {
     {"thresholds", VEC_NUM, "relative energy errors of the time table (default [1e-2, 1e-3, 1e-4, 1e-6, 1e-8])"},
     {"budgets", VEC_NUM, "time budgets (s) of the 'error reached at' table (default [0.01, 0.1, 1])"},
+    {"iter_budgets", "{\"type\": \"array\", \"items\": {\"type\": \"integer\", \"minimum\": 1, \"maximum\": 1000000}, "
+                     "\"maxItems\": 16}",
+     "iterations per frame of the fixed-budget runs over the measured window (default none)"},
+    {"scenes.N.iter_budgets", "{\"type\": \"array\", \"items\": {\"type\": \"integer\", \"minimum\": 1}, \"maxItems\": 16}",
+     "the suite's iter_budgets run on this scene (a subset; default all, [] = none)"},
     {"require_converged", NAMES, "configuration names that must converge on every step of every scene (else exit 1)"},
     {"scenes.N.set", SET_OBJ, "overrides of the scene config: {\"dotted.key\": value, ...}"},
     {"scenes.N.vary", "{\"type\": \"array\", \"items\": {\"type\": \"object\", \"additionalProperties\": " SET_OBJ "}}",

@@ -33,6 +33,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "bench_impl.h"
 #include "elastopt/io.h"
@@ -41,6 +42,11 @@
 #include "elastopt/sim.h"
 
 #define SZ(T, f) sizeof(((T *)0)->f)
+
+static const char *const select_choices[] = {"first", "largest_motion", "largest_correction", NULL};
+static const char *const select_choices_scene[] = {"suite", "first", "largest_motion", "largest_correction", NULL};
+static const char *const traj_choices[] = {"scene", "window", NULL};
+static const char *const traj_choices_scene[] = {"suite", "scene", "window", NULL};
 
 const eo_param_desc eo_bench_opts_desc[] = {
     {.key = "description", .kind = EO_PARAM_STRING, .offset = offsetof(eo_bench_opts, description),
@@ -65,9 +71,21 @@ const eo_param_desc eo_bench_opts_desc[] = {
      .range = EO_RANGE_MIN, .help = "measured time steps per scene"},
     {.key = "skip", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, skip), .def.i = 0, .min = 0,
      .range = EO_RANGE_MIN, .help = "reference-only time steps before the measured ones"},
+    {.key = "select", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_bench_opts, select),
+     .size = SZ(eo_bench_opts, select), .def.s = "first", .choices = select_choices,
+     .help = "measured steps: first (the `steps` after `skip`), largest_motion (the `steps` consecutive reference "
+             "steps among the `horizon` after `skip` with the largest total mass-weighted RMS motion), "
+             "largest_correction (largest total distance from each step's starting guess to its minimizer: impacts)"},
+    {.key = "horizon", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, horizon), .def.i = 0, .min = 0,
+     .range = EO_RANGE_MIN,
+     .help = "reference steps after `skip` that select chooses from (0 = steps; select = first ignores it)"},
     {.key = "trajectory", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_bench_opts, trajectory), .def.i = 1,
-     .help = "run every configuration over the whole scene (skip + steps, from its initial state) with its own "
+     .help = "run every configuration over the scene (see trajectory_start) with its own "
              "stopping rule, up to the first step the rule does not meet"},
+    {.key = "trajectory_start", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_bench_opts, trajectory_start),
+     .size = SZ(eo_bench_opts, trajectory_start), .def.s = "scene", .choices = traj_choices,
+     .help = "where trajectory runs start: scene (its initial state) or window (the reference state before the "
+             "first measured step); they end after the last measured step"},
     {.key = "warmup_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_opts, warmup_iters), .def.i = 3,
      .min = 0, .range = EO_RANGE_MIN,
      .help = "iterations of the untimed warm-up run before the timed repeats (0 = no warm-up)"},
@@ -99,6 +117,17 @@ const eo_param_desc eo_bench_scene_desc[] = {
      .help = "iteration cap of the curve runs (-1 = the suite's)"},
     {.key = "repeats", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_scene_opts, repeats), .def.i = -1,
      .max = BENCH_MAX_REPEATS, .range = EO_RANGE_MAX, .help = "timed repeats of every run on this scene (-1 = the suite's)"},
+    {.key = "select", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_bench_scene_opts, select),
+     .size = SZ(eo_bench_scene_opts, select), .def.s = "suite", .choices = select_choices_scene,
+     .help = "measured steps (suite = the suite's select)"},
+    {.key = "horizon", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_scene_opts, horizon), .def.i = -1,
+     .help = "reference steps after skip to select from (-1 = the suite's)"},
+    {.key = "trajectory_start", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_bench_scene_opts, trajectory_start),
+     .size = SZ(eo_bench_scene_opts, trajectory_start), .def.s = "suite", .choices = traj_choices_scene,
+     .help = "where trajectory runs start (suite = the suite's trajectory_start)"},
+    {.key = "optional", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_bench_scene_opts, optional), .def.i = 0,
+     .help = "drop the scene at load, with a note, if a file it names cannot be read (e.g. the shared meshes are "
+             "absent)"},
     {0},
 };
 
@@ -320,10 +349,28 @@ static int number_list(eo_ctx *ctx, eo_cfg *cfg, const char *key, double *out, i
     return EO_OK;
 }
 
+/* A list of positive integers at `key` (iteration budgets). */
+static int int_list(eo_ctx *ctx, eo_cfg *cfg, const char *key, int *out, int *n)
+{
+    json_t *v = eo_cfg_get(cfg, key);
+    if (!v) return EO_OK;
+    if (!json_is_array(v) || json_array_size(v) > BENCH_MAX_LIST)
+        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of at most %d positive integers", BENCH_MAX_LIST);
+    *n = 0;
+    size_t i;
+    json_t *e;
+    json_array_foreach(v, i, e) {
+        if (!json_is_integer(e) || json_integer_value(e) < 1 || json_integer_value(e) > 1000000)
+            return suite_err(ctx, cfg, key, EO_ERR_RANGE, "item %zu is not an integer in [1, 1000000]", i);
+        out[(*n)++] = (int)json_integer_value(e);
+    }
+    return EO_OK;
+}
+
 /* Expand one `scenes` entry (with its `vary` product). */
 static int load_scene_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int idx)
 {
-    static const char *const extra[] = {"set", "vary", NULL};
+    static const char *const extra[] = {"set", "vary", "iter_budgets", NULL};
     char path[64], sub[96];
     snprintf(path, sizeof path, "scenes.%d", idx);
     bench_scene b;
@@ -345,6 +392,40 @@ static int load_scene_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int idx
     b.max_iters = b.o.max_iters >= 1 ? b.o.max_iters : s->o.max_iters;
     b.time_budget = b.o.time_budget > 0 ? b.o.time_budget : s->o.time_budget;
     b.repeats = b.o.repeats >= 1 ? b.o.repeats : s->o.repeats;
+    const char *sel = strcmp(b.o.select, "suite") ? b.o.select : s->o.select;
+    b.select = !strcmp(sel, "largest_motion") ? BENCH_SELECT_MOTION
+               : !strcmp(sel, "largest_correction") ? BENCH_SELECT_CORRECTION
+                                                     : BENCH_SELECT_FIRST;
+    b.horizon = b.o.horizon >= 0 ? b.o.horizon : s->o.horizon;
+    if (b.select == BENCH_SELECT_FIRST || b.horizon < b.steps) {
+        if (b.select != BENCH_SELECT_FIRST && b.horizon > 0) {
+            snprintf(sub, sizeof sub, "%s.horizon", path);
+            return suite_err(ctx, cfg, b.o.horizon >= 0 ? sub : "horizon", EO_ERR_RANGE,
+                             "horizon %d is below the %d measured steps it must hold", b.horizon, b.steps);
+        }
+        b.horizon = b.steps;
+    }
+    b.traj_window = !strcmp(strcmp(b.o.trajectory_start, "suite") ? b.o.trajectory_start : s->o.trajectory_start,
+                            "window");
+    /* the scene's iter_budgets: a subset of the suite's (default: all of them) */
+    for (int j = 0; j < s->nibud; j++) b.ibud_on[j] = 1;
+    b.nibud_on = s->nibud;
+    snprintf(sub, sizeof sub, "%s.iter_budgets", path);
+    if (eo_cfg_get(cfg, sub)) {
+        int own[BENCH_MAX_LIST], nown = 0;
+        if ((rc = int_list(ctx, cfg, sub, own, &nown)) < 0) return rc;
+        b.nibud_on = 0;
+        for (int j = 0; j < s->nibud; j++) {
+            b.ibud_on[j] = 0;
+            for (int q = 0; q < nown; q++) b.ibud_on[j] |= own[q] == s->ibud[j];
+            b.nibud_on += b.ibud_on[j];
+        }
+        for (int q = 0; q < nown; q++) {
+            int in = 0;
+            for (int j = 0; j < s->nibud; j++) in |= own[q] == s->ibud[j];
+            if (!in) return suite_err(ctx, cfg, sub, EO_ERR_RANGE, "%d is not in the suite's iter_budgets", own[q]);
+        }
+    }
     snprintf(sub, sizeof sub, "%s.set", path);
     char **base = NULL;
     int nbase = 0;
@@ -610,6 +691,23 @@ static int check_scene(eo_ctx *ctx, eo_bench_suite *s, bench_scene *b)
     return rc;
 }
 
+/* Drop optional scene i (its check failed with EO_ERR_IO), keeping the message. */
+static int skip_scene(eo_ctx *ctx, eo_bench_suite *s, int i)
+{
+    char **p = eo_realloc(ctx, s->skipped, (size_t)(s->nskipped + 1) * sizeof(char *));
+    if (!p) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    s->skipped = p;
+    size_t len = strlen(s->sc[i].name) + strlen(eo_ctx_message(ctx)) + 3;
+    char *msg = eo_malloc(ctx, len);
+    if (!msg) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    snprintf(msg, len, "%s: %s", s->sc[i].name, eo_ctx_message(ctx));
+    s->skipped[s->nskipped++] = msg;
+    free_set(ctx, s->sc[i].set, s->sc[i].nset);
+    memmove(s->sc + i, s->sc + i + 1, (size_t)(s->nsc - i - 1) * sizeof *s->sc);
+    s->nsc--;
+    return EO_OK;
+}
+
 void eo_bench_suite_destroy(eo_bench_suite **ps)
 {
     eo_ctx *ctx = ps && *ps ? (*ps)->ctx : NULL;
@@ -623,14 +721,16 @@ void eo_bench_suite_destroy(eo_bench_suite **ps)
     eo_free(ctx, s->sc);
     eo_free(ctx, s->cf);
     eo_free(ctx, s->req);
+    for (int i = 0; i < s->nskipped; i++) eo_free(ctx, s->skipped[i]);
+    eo_free(ctx, s->skipped);
     eo_free(ctx, s);
     *ps = NULL;
 }
 
 int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out)
 {
-    static const char *const top[] = {"thresholds", "budgets", "require_converged", "scenes", "configs", "matrix",
-                                      NULL};
+    static const char *const top[] = {"thresholds", "budgets", "iter_budgets", "require_converged", "scenes",
+                                      "configs", "matrix", NULL};
     *out = NULL;
     eo_cfg *cfg = NULL;
     int rc;
@@ -650,6 +750,7 @@ int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out)
     EO_TRY(rc = eo_cfg_section(ctx, cfg, "", eo_bench_opts_desc, &s->o, top));
     EO_TRY(rc = number_list(ctx, cfg, "thresholds", s->thr, &s->nthr));
     EO_TRY(rc = number_list(ctx, cfg, "budgets", s->bud, &s->nbud));
+    EO_TRY(rc = int_list(ctx, cfg, "iter_budgets", s->ibud, &s->nibud));
     for (int i = 0; i < s->nthr; i++)
         if (s->thr[i] <= s->o.target) {
             rc = suite_err(ctx, cfg, "thresholds", EO_ERR_RANGE,
@@ -728,7 +829,20 @@ int eo_bench_suite_load(eo_ctx *ctx, const char *path, eo_bench_suite **out)
     }
     EO_TRY(rc = eo_cfg_finish(ctx, cfg));
     for (int i = 0; i < s->ncf; i++) EO_TRY(rc = check_config(ctx, s, s->cf + i));
-    for (int i = 0; i < s->nsc; i++) EO_TRY(rc = check_scene(ctx, s, s->sc + i));
+    for (int i = 0; i < s->nsc; i++) {
+        rc = check_scene(ctx, s, s->sc + i);
+        if (rc == EO_ERR_IO && s->sc[i].o.optional) { /* e.g. the shared meshes are absent: drop it */
+            EO_TRY(rc = skip_scene(ctx, s, i));
+            i--;
+            continue;
+        }
+        EO_TRY(rc);
+    }
+    if (!s->nsc) {
+        rc = eo_error(ctx, EO_ERR_INVALID, "%s: every scene is optional and was dropped (first: %s)", s->path,
+                      s->skipped[0]);
+        goto fail;
+    }
     eo_cfg_destroy(&cfg);
     *out = s;
     return EO_OK;
@@ -748,6 +862,11 @@ const char *eo_bench_suite_scene_name(const eo_bench_suite *s, int i)
 const char *eo_bench_suite_config_name(const eo_bench_suite *s, int i)
 {
     return i >= 0 && i < s->ncf ? s->cf[i].name : NULL;
+}
+int eo_bench_suite_nskipped(const eo_bench_suite *s) { return s->nskipped; }
+const char *eo_bench_suite_skipped(const eo_bench_suite *s, int i)
+{
+    return i >= 0 && i < s->nskipped ? s->skipped[i] : NULL;
 }
 
 eo_bench_run_opts eo_bench_run_opts_default(void)
@@ -877,7 +996,7 @@ typedef struct run_ctx {
     bench_out *out;
     int repeats, si;
     double t0, units_total, units_done;
-    FILE *curves, *traj;
+    FILE *curves, *traj, *fixed;
 } run_ctx;
 
 static void progress(run_ctx *r, int si, int ci, const char *phase)
@@ -901,11 +1020,23 @@ static int run_repeats(const eo_bench_run_opts *ro, int own)
     return n < 1 ? 1 : n > BENCH_MAX_REPEATS ? BENCH_MAX_REPEATS : n;
 }
 
-static double scene_units(const eo_bench_suite *s, const bench_scene *b, int repeats)
+/* Steps of a scene's trajectory runs before the measured steps are known: the window's
+ * length if it is contiguous (select = first, or a window start), else up to the horizon. */
+static int traj_steps_estimate(const bench_scene *b)
 {
-    /* reference, curves (warm-up + repeats), trajectories over the whole scene */
-    return (double)b->nt * (b->steps + b->skip) * (1 + (s->o.trajectory ? s->ncf : 0)) +
-           (double)b->nt * b->steps * s->ncf * (repeats + 1);
+    if (b->traj_window) return b->select == BENCH_SELECT_FIRST ? b->steps : b->steps + 1;
+    return b->skip + (b->select == BENCH_SELECT_FIRST ? b->steps : b->horizon);
+}
+
+/* Work units of a scene (tets x step solves) for the progress fraction: reference,
+ * curves (warm-up + repeats), trajectories, fixed budgets (a fraction of a solve each). */
+static double scene_units(const eo_bench_suite *s, const bench_scene *b, int repeats, int traj_steps)
+{
+    double u = (double)b->nt * (b->skip + b->horizon) +
+               (double)b->nt * b->steps * s->ncf * (repeats + 1) +
+               (double)b->nt * b->steps * s->ncf * 0.3 * b->nibud_on;
+    if (s->o.trajectory) u += (double)b->nt * traj_steps * s->ncf;
+    return u;
 }
 
 /* One CSV number with its leading comma; a non-finite value (not reached, not
@@ -1019,7 +1150,8 @@ static int run_curves(run_ctx *r, eo_sim *sim, eo_solver *sv, int n, const doubl
     return EO_OK;
 }
 
-static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int is_traj, double ref_disp)
+static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int is_traj, double ref_disp,
+                      const int *meas)
 {
     for (int j = 0; j < s->nthr; j++) {
         double tot[BENCH_MAX_REPEATS];
@@ -1073,12 +1205,15 @@ static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int i
                 p->first_bad_reason = p->st[k].reason;
             }
     }
+    /* the failing step counted from the scene's start */
+    const int bad = p->first_bad_step >= 0 ? p->first_bad_step : 0;
+    const int scene_step = is_traj ? p->traj_first + bad : meas[bad < p->nsteps ? bad : 0];
     if (p->nonfinite) {
         snprintf(p->status, sizeof p->status, "non-finite");
         snprintf(p->reason, sizeof p->reason, "%s (step %d: %s)",
                  p->nan ? "NaN or non-finite positions returned"
                         : "non-finite g or gradient met, run stopped; returned positions finite",
-                 (p->first_bad_step >= 0 ? p->first_bad_step : 0) + 1,
+                 scene_step + 1,
                  p->first_bad_step >= 0 ? eo_reason_name(p->first_bad_reason) : "curve run");
     } else if (p->first_bad_step < 0 && is_traj && p->traj_max_dist > ELSEWHERE * fmax(ref_disp, 1e-12)) {
         snprintf(p->status, sizeof p->status, "elsewhere");
@@ -1091,11 +1226,45 @@ static void aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int i
         snprintf(p->reason, sizeof p->reason, "%s", is_traj ? "converged on every step" : "reached target on every step");
     } else {
         snprintf(p->status, sizeof p->status, "stopped");
-        snprintf(p->reason, sizeof p->reason, "step %d: %s", p->first_bad_step + 1, eo_reason_name(p->first_bad_reason));
+        snprintf(p->reason, sizeof p->reason, "step %d: %s", scene_step + 1, eo_reason_name(p->first_bad_reason));
     }
 }
 
-/* One scene: reference, curves of every configuration, trajectories. */
+/* Stops the solver at iterate `*limit` (fixed iteration budget runs; warm-up runs). */
+static int fixed_iter(const eo_iter_info *it, void *user)
+{
+    return it->iteration >= *(const int *)user;
+}
+
+/* Measured steps of a scene from the reference's per-step scores (motion or
+ * correction): the block of `S` consecutive steps among skip .. nref−1 with the largest
+ * total score (ties: the earlier block; a failed reference step, NaN, disqualifies its
+ * blocks), so the trajectory and fixed-budget runs over the window cost S steps;
+ * select = first: skip .. skip + S − 1. */
+static void select_steps(const bench_scene *b, int nref, const double *motion, const double *correction, int *meas)
+{
+    const int S = b->steps;
+    int start = b->skip;
+    if (b->select != BENCH_SELECT_FIRST) {
+        const double *score = b->select == BENCH_SELECT_MOTION ? motion : correction;
+        double best = -INFINITY;
+        for (int k = b->skip; k + S <= nref; k++) {
+            double sum = 0;
+            for (int m = 0; m < S; m++) sum += isnan(score[k + m]) ? -INFINITY : score[k + m];
+            if (sum > best) best = sum, start = k;
+        }
+    }
+    for (int m = 0; m < S; m++) meas[m] = start + m;
+}
+
+/* x* of scene step k in the free coordinates of the prepared step (the reference frame
+ * after step k). */
+static void ref_xstar(eo_step *st, int n, const double *frame_next, double *xstar)
+{
+    for (int i = 0; i < n; i++) xstar[i] = frame_next[eo_step_free_to_full(st, i)];
+}
+
+/* One scene: reference, curves of every configuration, trajectories, fixed budgets. */
 static int run_scene(run_ctx *r, int si)
 {
     eo_ctx *ctx = r->ctx;
@@ -1107,8 +1276,10 @@ static int run_scene(run_ctx *r, int si)
     eo_solver *sv = NULL;
     eo_afile *datf = NULL;
     double *mem = NULL;
+    bench_ref *allref = NULL;
     int rc;
-    const int S = b->steps, NF = b->skip + b->steps; /* measured steps; steps of the whole scene */
+    /* measured steps; reference steps (skip + horizon: the steps to select from) */
+    const int S = b->steps, NR = b->skip + b->horizon;
     r->si = si;
     sr->tmin = INFINITY;
     progress(r, si, -1, "reference");
@@ -1122,20 +1293,26 @@ static int run_scene(run_ctx *r, int si)
     r->repeats = run_repeats(r->ro, b->repeats);
     sr->repeats = r->repeats;
     const int nv = sc->mesh->nv, nf = 3 * nv, cap = b->max_iters + 2, R = r->repeats;
-    /* frames (x, v) 0..NF of the reference, x* per measured step, guess, x, wM,
-     * recording buffers; measured step m starts from frame skip + m */
-    size_t need = (size_t)(NF + 1) * 2 * nf + (size_t)S * nf + 3 * (size_t)nf + 64 +
-                  (size_t)(R + 1) * 5 * (size_t)cap + (size_t)NF + 1;
+    /* frames (x, v) 0..NR of the reference, x* of the current step, guess, x, wM, tmp,
+     * times, motion and correction per reference step, recording buffers; the reference
+     * step k starts from frame k and ends in frame k + 1 */
+    size_t need = (size_t)(NR + 1) * 2 * nf + 4 * (size_t)nf + 64 + (size_t)(NR + 1) + (size_t)NR +
+                  (size_t)(R + 1) * 5 * (size_t)cap;
     mem = eo_malloc(ctx, need * sizeof(double));
     sr->ref = eo_calloc(ctx, (size_t)S, sizeof *sr->ref);
+    sr->meas = eo_calloc(ctx, (size_t)S, sizeof *sr->meas);
+    sr->motion = eo_calloc(ctx, 2 * (size_t)NR, sizeof *sr->motion);
     sr->pair = eo_calloc(ctx, (size_t)s->ncf, sizeof *sr->pair);
-    if (!mem || !sr->ref || !sr->pair) {
+    allref = eo_calloc(ctx, (size_t)NR, sizeof *allref);
+    if (!mem || !sr->ref || !sr->meas || !sr->motion || !sr->pair || !allref) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (bench scene %s)", b->name);
         goto fail;
     }
-    double *fx = mem, *fv = fx + (size_t)(NF + 1) * nf, *xs = fv + (size_t)(NF + 1) * nf;
-    double *x0 = xs + (size_t)S * nf, *x = x0 + nf, *wM = x + nf, *tmp = wM + nf;
-    double *ft = tmp + 64, *recmem = ft + NF + 1;
+    sr->correction = sr->motion + NR;
+    sr->nref = NR;
+    double *fx = mem, *fv = fx + (size_t)(NR + 1) * nf, *xsm = fv + (size_t)(NR + 1) * nf;
+    double *x0 = xsm + nf, *x = x0 + nf, *wM = x + nf, *tmp = wM + nf;
+    double *ft = tmp + 64, *ftime = ft + NR + 1, *recmem = ftime + NR; /* ftime: solve time per window frame */
     rec_buf w, rep[BENCH_MAX_REPEATS];
     for (int q = -1; q < R; q++) {
         rec_buf *b2 = q < 0 ? &w : rep + q;
@@ -1146,6 +1323,8 @@ static int run_scene(run_ctx *r, int si)
         b2->pe = q == 0 ? p + 4 * (size_t)cap : NULL; /* position error: first timed repeat */
     }
     const double *vmass = eo_step_vertex_mass(st);
+    double mtot = 0;
+    for (int v = 0; v < nv; v++) mtot += vmass[v];
 
     /* ---- reference */
     eo_solver_opts rso;
@@ -1167,41 +1346,53 @@ static int run_scene(run_ctx *r, int si)
     sr->start_minJ = stats.min_J;
     sr->start_inverted = stats.inverted;
     sr->start_elastic = stats.elastic;
-    for (int k = 0; k < NF; k++) {
-        int m = k - b->skip; /* measured index, < 0 while skipping */
+    for (int k = 0; k < NR; k++) {
         eo_sim_get_state(sim, fx + (size_t)k * nf, fv + (size_t)k * nf, &ft[k], NULL);
         EO_TRY(rc = eo_sim_prepare(sim, &obj, &guess));
         const int n = obj->n;
         double g0;
         EO_TRY(rc = eo_objective_value(obj, guess, &g0));
+        memcpy(x0, guess, (size_t)n * sizeof(double));
         rs = (ref_state){.tol = s->o.ref_tol * fmax(fabs(g0), 1e-300), .gscale = fmax(fabs(g0), 1e-300),
                          .dec = NAN, .prev_g = INFINITY, .prev_dec = INFINITY};
         eo_sim_step_result res;
         EO_TRY(rc = eo_sim_step(sim, &res));
-        if (m >= 0) {
-            bench_ref *q = sr->ref + m;
-            q->t = ft[k] + sc->time.dt;
-            q->g0 = g0;
-            q->gstar = res.g;
-            q->dec = rs.dec;
-            q->time = res.time;
-            q->iters = res.iterations;
-            q->reason = rs.stopped ? EO_CONVERGED_DECREMENT : res.reason;
-            q->converged = rs.stopped || res.reason > 0;
-            q->rounding = rs.rounding;
-            q->n = n;
-            q->floor = 2.2e-16 * fmax(fabs(g0), fabs(res.g)) / fmax(fabs(g0 - res.g), 1e-300);
-            /* x*: the free coordinates of the accepted state */
-            const double *xa = eo_step_x(st);
-            for (int i = 0; i < n; i++) xs[(size_t)m * nf + i] = xa[eo_step_free_to_full(st, i)];
-            if (!q->converged) r->out->sum->ref_failures++;
-        } else if (!(rs.stopped || res.reason > 0)) {
-            r->out->sum->ref_failures++;
+        bench_ref *q = allref + k;
+        q->t = ft[k] + sc->time.dt;
+        q->g0 = g0;
+        q->gstar = res.g;
+        q->dec = rs.dec;
+        q->time = res.time;
+        q->iters = res.iterations;
+        q->reason = rs.stopped ? EO_CONVERGED_DECREMENT : res.reason;
+        q->converged = rs.stopped || res.reason > 0;
+        q->rounding = rs.rounding;
+        q->n = n;
+        q->floor = 2.2e-16 * fmax(fabs(g0), fabs(res.g)) / fmax(fabs(g0 - res.g), 1e-300);
+        q->ip_reason = -1000; /* the Ipopt check: not run */
+        if (!q->converged) r->out->sum->ref_failures++;
+        /* per-step scores: the motion of the step and the distance from its start guess
+         * to x* (free coordinates; constrained vertices contribute 0), both m RMS */
+        const double *xa = eo_step_x(st);
+        sr->motion[k] = rms_dist(nv, vmass, xa, fx + (size_t)k * nf);
+        double c2 = 0;
+        for (int i = 0; i < n; i++) {
+            int fi = eo_step_free_to_full(st, i);
+            double d = xa[fi] - x0[i];
+            c2 += vmass[fi / 3] * d * d;
         }
+        sr->correction[k] = mtot > 0 ? sqrt(c2 / mtot) : NAN;
+        if (!q->converged || eo_sim_index(sim) == k) sr->motion[k] = sr->correction[k] = NAN;
     }
     eo_sim_set_iter_callback(sim, NULL, NULL);
-    eo_sim_get_state(sim, fx + (size_t)NF * nf, fv + (size_t)NF * nf, &ft[NF], NULL);
-    for (int m = 0; m < S; m++) sr->ref[m].ip_reason = -1000; /* not run */
+    eo_sim_get_state(sim, fx + (size_t)NR * nf, fv + (size_t)NR * nf, &ft[NR], NULL);
+    select_steps(b, NR, sr->motion, sr->correction, sr->meas);
+    for (int m = 0; m < S; m++) sr->ref[m] = allref[sr->meas[m]];
+    sr->win0 = sr->meas[0];
+    sr->win1 = sr->meas[S - 1];
+    /* the trajectory runs: scene steps t0 .. win1 */
+    const int t0 = b->traj_window ? sr->win0 : 0, NT = sr->win1 + 1 - t0, NW = sr->win1 + 1 - sr->win0;
+    r->units_total += scene_units(s, b, R, NT) - scene_units(s, b, R, traj_steps_estimate(b)); /* now known */
     const void *ipopt_type = NULL;
     if (s->o.ipopt_check && eo_registry_find(ctx, EO_KIND_OPTIMIZER, "ipopt", &ipopt_type) == EO_OK) {
         eo_solver_opts io;
@@ -1212,31 +1403,37 @@ static int run_scene(run_ctx *r, int si)
         io.time_budget = 0;
         EO_TRY(rc = eo_solver_create(ctx, &io, NULL, &sv));
         for (int m = 0; m < S; m++) {
-            const size_t fr = (size_t)(b->skip + m) * nf;
-            EO_TRY(rc = eo_sim_set_state(sim, fx + fr, fv + fr, ft[b->skip + m], b->skip + m));
+            const int k = sr->meas[m];
+            const size_t fr = (size_t)k * nf;
+            EO_TRY(rc = eo_sim_set_state(sim, fx + fr, fv + fr, ft[k], k));
             EO_TRY(rc = eo_sim_prepare(sim, &obj, &guess));
             const int n = obj->n;
             for (int i = 0; i < n; i++) wM[i] = vmass[eo_step_free_to_full(st, i) / 3];
             memcpy(x0, guess, (size_t)n * sizeof(double));
+            ref_xstar(st, n, fx + fr + nf, xsm);
             eo_solve_result ir;
             EO_TRY(rc = eo_sim_trial(sim, sv, x0, x, NULL, NULL, NULL, &ir));
             bench_ref *q = sr->ref + m;
-            const double *xstar = xs + (size_t)m * nf;
-            double de = fabs(q->g0 - q->gstar), pe0 = mnorm_diff(n, wM, x0, xstar);
+            double de = fabs(q->g0 - q->gstar), pe0 = mnorm_diff(n, wM, x0, xsm);
             q->ip_reason = ir.reason;
             q->ip_iters = ir.iterations;
             q->ip_time = ir.time;
             q->ip_de = (ir.g - q->gstar) / (de > 0 ? de : fmax(fabs(q->gstar), 1e-300));
-            q->ip_pe = all_finite(n, x) ? mnorm_diff(n, wM, x, xstar) / (pe0 > 0 ? pe0 : 1) : NAN;
+            q->ip_pe = all_finite(n, x) ? mnorm_diff(n, wM, x, xsm) / (pe0 > 0 ? pe0 : 1) : NAN;
         }
         eo_solver_destroy(&sv);
     }
-    sr->ref_disp = rms_dist(nv, vmass, fx + (size_t)NF * nf, fx);
+    sr->ref_disp = rms_dist(nv, vmass, fx + (size_t)(sr->win1 + 1) * nf, fx + (size_t)t0 * nf);
+    sr->win_disp = rms_dist(nv, vmass, fx + (size_t)(sr->win1 + 1) * nf, fx + (size_t)sr->win0 * nf);
+    EO_TRY(rc = eo_sim_set_state(sim, fx + (size_t)(sr->win1 + 1) * nf, fv + (size_t)(sr->win1 + 1) * nf,
+                                 ft[sr->win1 + 1], sr->win1 + 1));
     EO_TRY(rc = eo_step_stats_compute(st, &stats));
     sr->end_minJ = stats.min_J;
     sr->end_inverted = stats.inverted;
     sr->end_elastic = stats.elastic;
-    r->units_done += (double)b->nt * (b->steps + b->skip);
+    r->units_done += (double)b->nt * NR;
+    sr->allref = allref; /* kept for reference.csv */
+    allref = NULL;
 
     /* ---- plot data */
     char name[200], path[1400];
@@ -1251,9 +1448,10 @@ static int run_scene(run_ctx *r, int si)
         const bench_config *c = s->cf + ci;
         bench_pair *p = sr->pair + ci;
         p->nsteps = S;
-        p->ntraj = NF;
+        p->ntraj = NT;
+        p->traj_first = t0;
         p->st = eo_calloc(ctx, (size_t)S, sizeof *p->st);
-        p->tr = eo_calloc(ctx, (size_t)NF, sizeof *p->tr);
+        p->tr = eo_calloc(ctx, (size_t)NT, sizeof *p->tr);
         if (!p->st || !p->tr) {
             rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory");
             goto fail;
@@ -1269,41 +1467,48 @@ static int run_scene(run_ctx *r, int si)
         progress(r, si, ci, "curves");
         EO_TRY(rc = eo_solver_create(ctx, &cso, ccfg, &sv));
         for (int k = 0; k < S; k++) {
-            const size_t fr = (size_t)(b->skip + k) * nf;
-            EO_TRY(rc = eo_sim_set_state(sim, fx + fr, fv + fr, ft[b->skip + k], b->skip + k));
+            const int ks = sr->meas[k];
+            const size_t fr = (size_t)ks * nf;
+            EO_TRY(rc = eo_sim_set_state(sim, fx + fr, fv + fr, ft[ks], ks));
             EO_TRY(rc = eo_sim_prepare(sim, &obj, &guess));
             int n = obj->n;
             memcpy(x0, guess, (size_t)n * sizeof(double));
             for (int i = 0; i < n; i++) wM[i] = vmass[eo_step_free_to_full(st, i) / 3];
-            EO_TRY(rc = run_curves(r, sim, sv, n, x0, x, sr->ref + k, xs + (size_t)k * nf, wM, &w, rep, p->st + k,
-                                   budget));
+            ref_xstar(st, n, fx + fr + nf, xsm);
+            EO_TRY(rc = run_curves(r, sim, sv, n, x0, x, sr->ref + k, xsm, wM, &w, rep, p->st + k, budget));
             write_curve(r, eo_afile_fp(datf), b, c, k, rep, R, p->st + k, tmp);
             r->units_done += (double)b->nt * (R + 1);
             progress(r, si, ci, "curves");
         }
         if (r->ro->profile) r->ro->profile(b->name, c->name, eo_solver_get_profile(sv), r->ro->profile_user);
         eo_solver_destroy(&sv);
-        /* trajectory with the configuration's own stopping rule, from the scene's initial
-         * state over all its steps, up to the first step the rule does not meet */
+        /* trajectory with the configuration's own stopping rule, from scene step t0 to
+         * the last measured step, up to the first step the rule does not meet; an untimed
+         * warm-up of at most warmup_iters iterations on the first step first */
         if (s->o.trajectory) {
             progress(r, si, ci, "trajectory");
             eo_solver_opts tso = so;
             tso.time_budget = budget;
             EO_TRY(rc = eo_sim_set_solver(sim, &tso, ccfg));
-            EO_TRY(rc = eo_sim_set_state(sim, fx, fv, ft[0], 0));
-            for (int k = 0; k < NF; k++) {
+            EO_TRY(rc = eo_sim_set_state(sim, fx + (size_t)t0 * nf, fv + (size_t)t0 * nf, ft[t0], t0));
+            if (s->o.warmup_iters > 0) {
+                int left = s->o.warmup_iters;
+                eo_solve_result wr;
+                EO_TRY(rc = eo_sim_trial(sim, NULL, NULL, x, fixed_iter, &left, NULL, &wr));
+            }
+            for (int k = t0; k <= sr->win1; k++) {
                 eo_sim_step_result res;
                 EO_TRY(rc = eo_sim_step(sim, &res));
                 /* a step whose new state was not finite is undone by the sim */
                 const int rejected = eo_sim_index(sim) == k;
-                bench_traj_res *t = p->tr + k;
+                bench_traj_res *t = p->tr + (k - t0);
                 t->iters = res.iterations;
                 t->reason = res.reason;
                 t->time = res.time;
                 t->g = res.g;
                 t->nan = rejected || isnan(res.g);
                 t->nonfinite = t->nan || res.reason == EO_DIVERGED_NONFINITE;
-                p->traj_done = k + 1;
+                p->traj_done = k - t0 + 1;
                 if (rejected) {
                     t->dist = NAN;
                     break;
@@ -1314,14 +1519,73 @@ static int run_scene(run_ctx *r, int si)
                 eo_bench_csv_num(r->traj, t->time);
                 eo_bench_csv_num(r->traj, t->g);
                 eo_bench_csv_num(r->traj, t->dist);
-                eo_bench_csv_num(r->traj, rms_dist(nv, vmass, fx + (size_t)(k + 1) * nf, fx));
+                eo_bench_csv_num(r->traj, rms_dist(nv, vmass, fx + (size_t)(k + 1) * nf, fx + (size_t)t0 * nf));
                 fputc('\n', r->traj);
                 if (!(t->reason > 0)) break;
             }
-            r->units_done += (double)b->nt * NF;
+            r->units_done += (double)b->nt * NT;
+        }
+        /* fixed iteration budgets over the measured window: exactly k iterations per
+         * frame (stopping rule disabled; the sim's iteration callback stops the solver
+         * at iterate k), the solver's time per frame and the distance to the reference.
+         * One solver for every budget, warmed up once (untimed). */
+        if (b->nibud_on) {
+            progress(r, si, ci, "fixed");
+            int kmax = 0;
+            for (int j = 0; j < s->nibud; j++)
+                if (b->ibud_on[j]) kmax = s->ibud[j] > kmax ? s->ibud[j] : kmax;
+            eo_solver_opts fso = so;
+            fso.tol = 1e-300;
+            fso.max_iters = kmax + 1;
+            fso.time_budget = budget;
+            EO_TRY(rc = eo_sim_set_solver(sim, &fso, ccfg));
+            const size_t fr = (size_t)sr->win0 * nf;
+            EO_TRY(rc = eo_sim_set_state(sim, fx + fr, fv + fr, ft[sr->win0], sr->win0));
+            if (s->o.warmup_iters > 0) {
+                int left = s->o.warmup_iters < kmax ? s->o.warmup_iters : kmax;
+                eo_solve_result wr;
+                EO_TRY(rc = eo_sim_trial(sim, NULL, NULL, x, fixed_iter, &left, NULL, &wr));
+            }
+            int limit = 0;
+            eo_sim_set_iter_callback(sim, fixed_iter, &limit);
+            for (int j = 0; j < s->nibud; j++) {
+                if (!b->ibud_on[j]) continue;
+                bench_fixed_res *fz = p->fixed + j;
+                limit = s->ibud[j];
+                rc = eo_sim_set_state(sim, fx + fr, fv + fr, ft[sr->win0], sr->win0);
+                for (int k = sr->win0; rc >= 0 && k <= sr->win1; k++) {
+                    eo_sim_step_result res;
+                    if ((rc = eo_sim_step(sim, &res)) < 0) break;
+                    const int rejected = eo_sim_index(sim) == k, f = k - sr->win0;
+                    ftime[f] = res.time;
+                    fz->frames = f + 1;
+                    fz->iters += res.iterations;
+                    if (res.iterations < limit && !fz->short_frames++) fz->first_short_reason = res.reason;
+                    if (rejected || isnan(res.g)) fz->nan = 1;
+                    if (fz->nan || res.reason == EO_DIVERGED_NONFINITE) fz->nonfinite = 1;
+                    double d = rejected ? NAN : rms_dist(nv, vmass, eo_step_x(st), fx + (size_t)(k + 1) * nf);
+                    if (!rejected) {
+                        fz->max_dist = fmax(fz->max_dist, d);
+                        fz->final_dist = d;
+                    }
+                    fprintf(r->fixed, "%s,%s,%d,%d,%.6g,%d,%s", b->name, c->name, limit, k + 1, ft[k + 1],
+                            res.iterations, eo_reason_name(res.reason));
+                    eo_bench_csv_num(r->fixed, res.time);
+                    eo_bench_csv_num(r->fixed, d);
+                    eo_bench_csv_num(r->fixed, rms_dist(nv, vmass, fx + (size_t)(k + 1) * nf, fx + fr));
+                    fputc('\n', r->fixed);
+                    if (rejected) break;
+                }
+                if (rc < 0) break;
+                fz->ms_med = eo_bench_median(fz->frames, ftime, &fz->ms_min, &fz->ms_max); /* first 64 frames */
+                if (fz->frames < NW) fz->final_dist = NAN;
+                r->units_done += (double)b->nt * S * 0.3;
+            }
+            eo_sim_set_iter_callback(sim, NULL, NULL);
+            EO_TRY(rc);
         }
         eo_cfg_destroy(&ccfg);
-        aggregate(s, R, p, s->o.trajectory, sr->ref_disp);
+        aggregate(s, R, p, s->o.trajectory, sr->ref_disp, sr->meas);
         r->out->sum->runs++;
         if (p->nonfinite) r->out->sum->nonfinite++;
         if (p->nan) r->out->sum->nan++;
@@ -1329,8 +1593,10 @@ static int run_scene(run_ctx *r, int si)
             if (s->req[q] == ci && strcmp(p->status, "converged") != 0) r->out->sum->required_failures++;
         fflush(r->curves);
         fflush(r->traj);
+        fflush(r->fixed);
     }
     EO_TRY(rc = eo_afile_commit(ctx, &datf));
+    progress(r, si, -1, "done");
     rc = EO_OK;
 fail:
     eo_afile_abort(ctx, &datf);
@@ -1340,6 +1606,7 @@ fail:
     eo_sim_destroy(&sim);
     eo_cfg_destroy(&scfg);
     eo_free(ctx, mem);
+    eo_free(ctx, allref);
     return rc;
 }
 
@@ -1362,7 +1629,7 @@ int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *
     r.out = &out;
     out.repeats = run_repeats(opts, s->o.repeats); /* the suite's; scenes may set their own */
     out.plots = opts->plots >= 0 ? opts->plots : s->o.plots;
-    eo_afile *cf = NULL, *tf = NULL;
+    eo_afile *cf = NULL, *tf = NULL, *xf = NULL;
     int rc;
     char path[1200];
     out.res = eo_calloc(ctx, (size_t)s->nsc, sizeof *out.res);
@@ -1373,19 +1640,27 @@ int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *
     EO_TRY(rc = eo_afile_open(ctx, path, &cf));
     snprintf(path, sizeof path, "%s/trajectory.csv", opts->out_dir);
     EO_TRY(rc = eo_afile_open(ctx, path, &tf));
+    snprintf(path, sizeof path, "%s/fixed.csv", opts->out_dir);
+    EO_TRY(rc = eo_afile_open(ctx, path, &xf));
     r.curves = eo_afile_fp(cf);
     r.traj = eo_afile_fp(tf);
+    r.fixed = eo_afile_fp(xf);
+    fprintf(r.fixed, "scene,config,iter_budget,step,t,iterations,reason,solve_time,dist_rms,ref_disp_rms\n");
     fprintf(r.curves, "scene,step,config,iteration,time,time_min,time_max,g,rel_energy_err,rel_pos_err,grad_norm,reason\n");
     fprintf(r.traj, "scene,config,step,t,iterations,reason,solve_time,g,dist_rms,ref_disp_rms\n");
-    for (int i = 0; i < s->nsc; i++) r.units_total += scene_units(s, s->sc + i, run_repeats(opts, s->sc[i].repeats));
+    for (int i = 0; i < s->nsc; i++)
+        r.units_total += scene_units(s, s->sc + i, run_repeats(opts, s->sc[i].repeats), traj_steps_estimate(s->sc + i));
     read_loadavg(out.load_start, sizeof out.load_start);
     r.t0 = out.t_start = eo_wtime();
+    const clock_t c0 = clock();
     for (int i = 0; i < s->nsc; i++) EO_TRY(rc = run_scene(&r, i));
     out.t_end = eo_wtime();
+    out.cpu_seconds = (double)(clock() - c0) / CLOCKS_PER_SEC;
     read_loadavg(out.load_end, sizeof out.load_end);
     sum->seconds = out.t_end - out.t_start;
     EO_TRY(rc = eo_afile_commit(ctx, &cf));
     EO_TRY(rc = eo_afile_commit(ctx, &tf));
+    EO_TRY(rc = eo_afile_commit(ctx, &xf));
     if (out.plots) {
         out.gnuplot = system("command -v gnuplot >/dev/null 2>&1") == 0;
         if (out.gnuplot) {
@@ -1400,8 +1675,12 @@ int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *
 fail:
     eo_afile_abort(ctx, &cf);
     eo_afile_abort(ctx, &tf);
+    eo_afile_abort(ctx, &xf);
     for (int i = 0; i < s->nsc; i++) {
         bench_scene_res *sr = out.res + i;
+        eo_free(ctx, sr->meas);
+        eo_free(ctx, sr->motion);
+        eo_free(ctx, sr->allref);
         for (int c = 0; sr->pair && c < s->ncf; c++) {
             eo_free(ctx, sr->pair[c].st);
             eo_free(ctx, sr->pair[c].tr);

@@ -8,6 +8,7 @@
 #include "elastopt/bench.h"
 
 enum { BENCH_MAX_LIST = 16, BENCH_MAX_REPEATS = 16 };
+enum { BENCH_SELECT_FIRST, BENCH_SELECT_MOTION, BENCH_SELECT_CORRECTION };
 
 typedef struct bench_scene {
     char name[160];
@@ -16,6 +17,11 @@ typedef struct bench_scene {
     char **set;           /* "key=<json>" overrides, eo_malloc'd */
     int nset;
     int steps, skip, max_iters, repeats;
+    int select;           /* BENCH_SELECT_* */
+    int horizon;          /* reference steps after skip to choose from (>= steps) */
+    int traj_window;      /* trajectory from the reference state before the first measured step */
+    unsigned char ibud_on[BENCH_MAX_LIST]; /* which of the suite's iter_budgets run on this scene */
+    int nibud_on;
     double time_budget;
     int nt, nv;           /* mesh size, known after the load check */
     char model[32];
@@ -37,6 +43,10 @@ struct eo_bench_suite {
     int nthr;
     double bud[BENCH_MAX_LIST];
     int nbud;
+    int ibud[BENCH_MAX_LIST];  /* fixed iteration budgets per frame */
+    int nibud;
+    char **skipped;       /* optional scenes dropped at load: "name: message" */
+    int nskipped;
     bench_scene *sc;
     int nsc, capsc;
     bench_config *cf;
@@ -68,19 +78,32 @@ typedef struct bench_traj_res {
     int nonfinite, nan;
 } bench_traj_res;
 
+/* Fixed iteration budget runs of one (scene, configuration, budget) over the window. */
+typedef struct bench_fixed_res {
+    int frames;           /* frames run (the window, or fewer after a non-finite state) */
+    int iters;            /* iterations over the frames run */
+    int short_frames;     /* frames that stopped before the budget (the solver's own reason) */
+    int first_short_reason;
+    double ms_med, ms_min, ms_max; /* solve time per frame (s): median, min, max over frames */
+    double max_dist, final_dist;   /* RMS distance to the reference (m) */
+    int nonfinite, nan;
+} bench_fixed_res;
+
 /* Aggregated result of one (scene, configuration). */
 typedef struct bench_pair {
     int nsteps;           /* measured steps */
-    int ntraj;            /* steps of the whole scene (skip + nsteps) */
+    int ntraj;            /* steps of the trajectory run (scene steps traj_first ..) */
+    int traj_first;       /* scene step (0-based) the trajectory starts with */
     bench_step_res *st;   /* nsteps */
-    bench_traj_res *tr;   /* ntraj (trajectory from the scene's initial state) */
+    bench_traj_res *tr;   /* ntraj */
+    bench_fixed_res fixed[BENCH_MAX_LIST]; /* per iter_budgets entry */
     int traj_done;        /* frames run */
     double ttt_med[BENCH_MAX_LIST], ttt_min[BENCH_MAX_LIST], ttt_max[BENCH_MAX_LIST];
     double eab_med[BENCH_MAX_LIST];
     int steps_reached;
     int nonfinite, nan;
     int traj_converged;   /* steps converged in the trajectory run */
-    int first_bad_step, first_bad_reason; /* scene step (trajectory) or measured step */
+    int first_bad_step, first_bad_reason; /* trajectory index (scene step traj_first + it) or measured step */
     double traj_time, traj_max_dist, traj_final_dist;
     char status[16];      /* converged | stopped | non-finite */
     char reason[160];
@@ -98,9 +121,16 @@ typedef struct bench_ref {
 } bench_ref;
 
 typedef struct bench_scene_res {
-    bench_ref *ref;       /* steps */
+    bench_ref *ref;       /* steps: the measured ones (with the Ipopt check) */
+    bench_ref *allref;    /* nref: every reference step (Ipopt check not filled in) */
+    int *meas;            /* steps: scene step (0-based) of each measured step, increasing */
+    int nref;             /* reference steps run (skip + steps, or skip + horizon) */
+    double *motion;       /* nref: per-step RMS motion of the reference (m) */
+    double *correction;   /* nref: RMS distance from each step's start guess to x* (m) */
+    int win0, win1;       /* measured window: scene steps meas[0] .. meas[steps-1] (inclusive) */
     bench_pair *pair;     /* ncf */
-    double ref_disp;      /* RMS displacement of the reference over the whole scene */
+    double ref_disp;      /* RMS displacement of the reference over the trajectory run's steps */
+    double win_disp;      /* RMS displacement of the reference over the measured window */
     double tmin;          /* smallest positive iterate time (plot's left edge) */
     int repeats;          /* timed repeats of every run on this scene */
     double start_minJ, end_minJ, start_elastic, end_elastic;
@@ -115,6 +145,7 @@ typedef struct bench_out {
     int plots;
     bench_scene_res *res; /* nsc */
     double t_start, t_end;
+    double cpu_seconds;   /* processor time of the run (clock()): the wall time of an unloaded machine */
     char load_start[64], load_end[64];
     eo_bench_summary *sum;
     int gnuplot;          /* 1 if gnuplot was found */

@@ -125,7 +125,12 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
         fprintf(f, ",t_%s_median,t_%s_min,t_%s_max,ratio_%s", lab, lab, lab, lab);
     }
     for (int j = 0; j < s->nbud; j++) fprintf(f, ",err_at_%gs", s->bud[j]);
-    fprintf(f, ",final_rel_err,traj_converged,traj_time,traj_max_dist,traj_final_dist\n");
+    fprintf(f, ",final_rel_err,traj_converged,traj_time,traj_max_dist,traj_final_dist,traj_rel_dist");
+    for (int j = 0; j < s->nibud; j++)
+        fprintf(f, ",fixed_%d_time_per_frame,fixed_%d_time_min,fixed_%d_time_max,fixed_%d_iters_per_frame,"
+                   "fixed_%d_max_dist,fixed_%d_rel_dist",
+                s->ibud[j], s->ibud[j], s->ibud[j], s->ibud[j], s->ibud[j], s->ibud[j]);
+    fprintf(f, "\n");
     for (int si = 0; si < s->nsc; si++) {
         const bench_scene_res *sr = b->res + si;
         const bench_pair *base = sr->pair + s->baseline;
@@ -154,6 +159,20 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
             eo_bench_csv_num(f, s->o.trajectory ? p->traj_time : NAN);
             eo_bench_csv_num(f, s->o.trajectory ? p->traj_max_dist : NAN);
             eo_bench_csv_num(f, s->o.trajectory ? p->traj_final_dist : NAN);
+            eo_bench_csv_num(f, s->o.trajectory ? p->traj_max_dist / fmax(sr->ref_disp, 1e-300) : NAN);
+            for (int j = 0; j < s->nibud; j++) {
+                const bench_fixed_res *z = p->fixed + j;
+                if (!z->frames) { /* not run on this scene */
+                    fputs(",,,,,,", f);
+                    continue;
+                }
+                eo_bench_csv_num(f, z->ms_med);
+                eo_bench_csv_num(f, z->ms_min);
+                eo_bench_csv_num(f, z->ms_max);
+                eo_bench_csv_num(f, z->frames ? (double)z->iters / z->frames : NAN);
+                eo_bench_csv_num(f, z->nan ? NAN : z->max_dist);
+                eo_bench_csv_num(f, z->nan ? NAN : z->max_dist / fmax(sr->win_disp, 1e-300));
+            }
             fputc('\n', f);
         }
     }
@@ -164,17 +183,26 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
     rc = eo_afile_open(ctx, path, &af);
     if (rc < 0) return rc;
     f = eo_afile_fp(af);
-    fprintf(f, "scene,step,t,n,iterations,reason,converged,rounding_floor,solve_time,g0,gstar,decrement,rel_err_floor,"
+    fprintf(f, "scene,step,scene_step,measured,t,n,iterations,reason,converged,rounding_floor,solve_time,g0,gstar,"
+               "decrement,rel_err_floor,motion,correction,"
                "ipopt_reason,ipopt_iterations,ipopt_time,ipopt_rel_energy_diff,ipopt_rel_pos_diff\n");
     for (int si = 0; si < s->nsc; si++)
-        for (int k = 0; k < s->sc[si].steps; k++) {
-            const bench_ref *q = b->res[si].ref + k;
-            fprintf(f, "%s,%d,%.6g,%d,%d,%s,%d,%d", s->sc[si].name, k + 1, q->t, q->n, q->iters,
-                    eo_reason_name(q->reason), q->converged, q->rounding);
+        for (int k = 0, m = 0; k < b->res[si].nref; k++) {
+            /* every reference step; `step` numbers the measured ones (1..steps) */
+            const bench_scene_res *sr = b->res + si;
+            const int meas = m < s->sc[si].steps && sr->meas[m] == k;
+            const bench_ref *q = meas ? sr->ref + m : sr->allref + k;
+            fprintf(f, "%s,", s->sc[si].name);
+            if (meas) fprintf(f, "%d", m + 1);
+            fprintf(f, ",%d,%d,%.6g,%d,%d,%s,%d,%d", k + 1, meas, q->t, q->n, q->iters, eo_reason_name(q->reason),
+                    q->converged, q->rounding);
+            m += meas;
             eo_bench_csv_num(f, q->time);
             fprintf(f, ",%.17g,%.17g", q->g0, q->gstar);
             eo_bench_csv_num(f, q->dec);
             eo_bench_csv_num(f, q->floor);
+            eo_bench_csv_num(f, sr->motion[k]);
+            eo_bench_csv_num(f, sr->correction[k]);
             if (q->ip_reason == -1000) fputs(",,,,,", f);
             else {
                 fprintf(f, ",%s,%d", eo_reason_name(q->ip_reason), q->ip_iters);
@@ -312,9 +340,13 @@ int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si)
     fastest(b, si, h, &first, &second);
     fmt_thr(s->thr[h], lab, sizeof lab);
     char title[600];
+    char vsb[160] = "";
+    const double tb = sr->pair[s->baseline].ttt_med[h];
+    if (first >= 0 && first != s->baseline && second != s->baseline)
+        snprintf(vsb, sizeof vsb, isfinite(tb) ? ", %.2fx faster than the baseline" : ", the baseline never", tb / sr->pair[first].ttt_med[h]);
     if (first >= 0 && second >= 0)
-        snprintf(title, sizeof title, "fastest to %s: %s (%.2fx faster than %s)", lab, s->cf[first].name,
-                 sr->pair[second].ttt_med[h] / sr->pair[first].ttt_med[h], s->cf[second].name);
+        snprintf(title, sizeof title, "fastest to %s: %s (%.2fx faster than the next, %s%s)", lab, s->cf[first].name,
+                 sr->pair[second].ttt_med[h] / sr->pair[first].ttt_med[h], s->cf[second].name, vsb);
     else if (first >= 0)
         snprintf(title, sizeof title, "fastest to %s: %s (the only one)", lab, s->cf[first].name);
     else
@@ -344,7 +376,7 @@ int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si)
     fprintf(f, "set xrange [left:*]\n");
     fprintf(f, "set logscale xy\nset grid xtics ytics mxtics mytics lc rgb '#e5e5e5'\n");
     fprintf(f, "set format y '1e%%L'\nset format x '%%g'\n");
-    fprintf(f, "set xlabel 'solve time of the step (s), median of the timed repeats'\n");
+    fprintf(f, "set xlabel 'solve time of the step (s), median of the timed repeats; the start x0 (time 0) is drawn at the left edge'\n");
     fprintf(f, "set ylabel 'relative energy error (g - g*) / |g0 - g*|'\n");
     fprintf(f, "set yrange [%g:3]\n", s->o.target / 10);
     fprintf(f, "set key inside left bottom opaque box spacing 1.05 font ',10'\n");
@@ -393,30 +425,31 @@ int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si)
     return rc;
 }
 
-/* Pareto chart over all scenes: x = geometric mean of the trajectory solve time per step
- * run / the baseline's (a trajectory stops at its first failing step, so the time per
- * step compares runs of different lengths), y = geometric mean of the max trajectory
- * distance / the reference displacement. */
-int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
+/* The own-stopping-rule summary over every scene (the Pareto chart and its headline
+ * table): x[c] = geometric mean over the scenes of the trajectory solve time per step
+ * over the baseline's (a trajectory stops at its first failing step, so the time per
+ * step compares runs of different lengths), y[c] = geometric mean of the largest
+ * trajectory distance over the reference motion, n[c] scenes counted, conv[c] = 1 if c
+ * converged on every scene, front[c] = 1 if c converged everywhere and no other such
+ * configuration is both faster and closer. */
+typedef struct pareto_pts {
+    double *x, *y;
+    int *n, *conv, *front;
+} pareto_pts;
+
+static int pareto_compute(eo_ctx *ctx, const bench_out *b, pareto_pts *pp)
 {
     const eo_bench_suite *s = b->s;
-    if (!s->o.trajectory) return EO_ERR_UNSUPPORTED;
-    char path[1400];
-    snprintf(path, sizeof path, "%s/plots/pareto.dat", b->dir);
-    eo_afile *af = NULL;
-    int rc = eo_afile_open(ctx, path, &af);
-    if (rc < 0) return rc;
-    FILE *f = eo_afile_fp(af);
-    fprintf(f, "# number  time_ratio_geomean  rel_traj_err_geomean (clipped to 100)  all_converged  scenes  config\n");
-    double *xs = eo_malloc(ctx, 2 * (size_t)s->ncf * sizeof(double));
-    int *ok = eo_calloc(ctx, (size_t)s->ncf, sizeof(int));
-    if (!xs || !ok) {
-        eo_free(ctx, xs);
-        eo_free(ctx, ok);
-        eo_afile_abort(ctx, &af);
+    pp->x = eo_malloc(ctx, 2 * (size_t)s->ncf * sizeof(double));
+    pp->n = eo_calloc(ctx, 3 * (size_t)s->ncf, sizeof(int));
+    if (!pp->x || !pp->n) {
+        eo_free(ctx, pp->x);
+        eo_free(ctx, pp->n);
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
     }
-    double *ys = xs + s->ncf;
+    pp->y = pp->x + s->ncf;
+    pp->conv = pp->n + s->ncf;
+    pp->front = pp->conv + s->ncf;
     for (int c = 0; c < s->ncf; c++) {
         double lx = 0, ly = 0;
         int n = 0, conv = 1;
@@ -431,64 +464,178 @@ int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
             ly += log(fmax(d, 1e-16));
             n++;
         }
-        xs[c] = n ? exp(lx / n) : NAN;
-        ys[c] = n ? exp(ly / n) : NAN;
-        ok[c] = conv;
-        if (n) fprintf(f, "%d %.6e %.6e %d %d \"%s\"\n", c + 1, xs[c], fmin(ys[c], 100), conv, n, s->cf[c].name);
+        pp->x[c] = n ? exp(lx / n) : NAN;
+        pp->y[c] = n ? exp(ly / n) : NAN;
+        pp->n[c] = n;
+        pp->conv[c] = conv && n > 0;
     }
-    fprintf(f, "\n\n# Pareto front among the configurations that converged everywhere (none of them is both "
-               "faster and more accurate)\n");
-    for (int c = 0; c < s->ncf; c++) { /* sorted by time: the candidates in order of x */
-        int best = -1;
-        for (int d = 0; d < s->ncf; d++) {
-            if (ok[d] != 1 || isnan(xs[d])) continue;
-            if (best < 0 || xs[d] < xs[best]) best = d;
-        }
-        if (best < 0) break;
-        ok[best] = 2; /* visited */
+    for (int c = 0; c < s->ncf; c++) {
+        if (!pp->conv[c]) continue;
         int dominated = 0;
         for (int d = 0; d < s->ncf; d++)
-            if (d != best && ok[d] >= 1 && !isnan(xs[d]) && xs[d] <= xs[best] && ys[d] <= ys[best] &&
-                (xs[d] < xs[best] || ys[d] < ys[best]))
+            if (d != c && pp->conv[d] && pp->x[d] <= pp->x[c] && pp->y[d] <= pp->y[c] &&
+                (pp->x[d] < pp->x[c] || pp->y[d] < pp->y[c]))
                 dominated = 1;
-        if (!dominated) fprintf(f, "%.6e %.6e\n", xs[best], fmin(ys[best], 100));
+        pp->front[c] = !dominated;
     }
-    eo_free(ctx, xs);
-    eo_free(ctx, ok);
-    rc = eo_afile_commit(ctx, &af);
+    return EO_OK;
+}
+
+static void pareto_free(eo_ctx *ctx, pareto_pts *pp)
+{
+    eo_free(ctx, pp->x);
+    eo_free(ctx, pp->n);
+}
+
+/* The fastest configuration that converged everywhere (-1 if none) and the closest. */
+static void pareto_winners(const eo_bench_suite *s, const pareto_pts *pp, int *fast, int *close)
+{
+    *fast = *close = -1;
+    for (int c = 0; c < s->ncf; c++) {
+        if (!pp->conv[c]) continue;
+        if (*fast < 0 || pp->x[c] < pp->x[*fast]) *fast = c;
+        if (*close < 0 || pp->y[c] < pp->y[*close]) *close = c;
+    }
+}
+
+/* Pareto chart over all scenes: x, y of pareto_compute, named as the report's "Own
+ * stopping rule" headline table; colour = optimizer family (as in the scene plots),
+ * filled circle = converged on every scene, open triangle = failed somewhere; points at
+ * the same place share one label. */
+int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b)
+{
+    const eo_bench_suite *s = b->s;
+    if (!s->o.trajectory) return EO_ERR_UNSUPPORTED;
+    pareto_pts pp;
+    int rc = pareto_compute(ctx, b, &pp);
     if (rc < 0) return rc;
+    cfg_style *sty = eo_malloc(ctx, (size_t)s->ncf * sizeof *sty);
+    int *lab = eo_malloc(ctx, (size_t)s->ncf * sizeof(int));
+    if (!sty || !lab) {
+        eo_free(ctx, sty);
+        eo_free(ctx, lab);
+        pareto_free(ctx, &pp);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    }
+    cfg_styles(s, sty);
+    char path[1400];
+    snprintf(path, sizeof path, "%s/plots/pareto.dat", b->dir);
+    eo_afile *af = NULL;
+    rc = eo_afile_open(ctx, path, &af);
+    if (rc < 0) goto done;
+    FILE *f = eo_afile_fp(af);
+    fprintf(f, "# number  traj_time_ratio  traj_dist_ratio (clipped to 100)  converged_everywhere  scenes  rgb  config\n");
+    for (int c = 0; c < s->ncf; c++) {
+        lab[c] = -1;
+        if (!pp.n[c]) continue;
+        unsigned rgb = 0;
+        sscanf(style_colour(s, sty, c) + 1, "%x", &rgb);
+        fprintf(f, "%d %.6e %.6e %d %d %u \"%s\"\n", c + 1, pp.x[c], fmin(pp.y[c], 100), pp.conv[c], pp.n[c], rgb,
+                s->cf[c].name);
+    }
+    fprintf(f, "\n\n# Pareto front among the configurations that converged everywhere\n");
+    for (int k = 0; k < s->ncf; k++) { /* in order of x */
+        int best = -1;
+        for (int c = 0; c < s->ncf; c++)
+            if (pp.front[c] == 1 && (best < 0 || pp.x[c] < pp.x[best])) best = c;
+        if (best < 0) break;
+        pp.front[best] = 2;
+        fprintf(f, "%.6e %.6e\n", pp.x[best], fmin(pp.y[best], 100));
+    }
+    /* labels: points within ~3% in x and ~10% in y share one label "1,2,3" */
+    fprintf(f, "\n\n# labels\n");
+    for (int c = 0; c < s->ncf; c++) {
+        if (!pp.n[c] || lab[c] >= 0) continue;
+        char text[400];
+        size_t k = (size_t)snprintf(text, sizeof text, "%d", c + 1);
+        for (int d = c + 1; d < s->ncf; d++)
+            if (pp.n[d] && lab[d] < 0 && fabs(log10(pp.x[d] / pp.x[c])) < 0.012 &&
+                fabs(log10(fmin(pp.y[d], 100) / fmin(pp.y[c], 100))) < 0.04 && k + 8 < sizeof text) {
+                lab[d] = c;
+                k += (size_t)snprintf(text + k, sizeof text - k, ",%d", d + 1);
+            }
+        lab[c] = c;
+        fprintf(f, "%.6e %.6e \"%s\"\n", pp.x[c], fmin(pp.y[c], 100), text);
+    }
+    rc = eo_afile_commit(ctx, &af);
+    if (rc < 0) goto done;
     snprintf(path, sizeof path, "%s/plots/pareto.gp", b->dir);
     rc = eo_afile_open(ctx, path, &af);
-    if (rc < 0) return rc;
+    if (rc < 0) goto done;
     f = eo_afile_fp(af);
+    int fast, close;
+    pareto_winners(s, &pp, &fast, &close);
     fprintf(f, "set terminal png size 1500,950 font 'DejaVu Sans,11' noenhanced\n");
     fprintf(f, "set output 'pareto.png'\n");
-    fprintf(f, "set rmargin at screen 0.70\n");
-    fprintf(f, "# configurations by number (points are labelled with the number)\n");
+    fprintf(f, "set rmargin at screen 0.70\nset lmargin at screen 0.08\nset bmargin at screen 0.10\n");
+    fprintf(f, "# configurations by number (points are labelled with the number), coloured by optimizer family\n");
     for (int c = 0; c < s->ncf; c++)
-        fprintf(f, "set label %d \"%2d  %s\" at screen 0.72, screen %.4f left font ',10'\n", c + 1, c + 1,
-                s->cf[c].name, 0.92 - 0.8 * c / (s->ncf > 20 ? s->ncf : 20));
-    fprintf(f, "set title \"Speed against accuracy over %d scene(s), each configuration with its own stopping rule\\n"
-               "lower left is better; the line joins the Pareto-optimal configurations\"\n", s->nsc);
+        fprintf(f, "set label %d \"%2d  %s%s\" at screen 0.72, screen %.4f left font ',10' tc rgb '%s'\n", c + 1, c + 1,
+                s->cf[c].name, c == s->baseline ? " (baseline)" : "", 0.92 - 0.8 * c / (s->ncf > 20 ? s->ncf : 20),
+                style_colour(s, sty, c));
+    char t2[400] = "no configuration converged on every step of every scene";
+    if (fast >= 0)
+        snprintf(t2, sizeof t2, "fastest converged everywhere: %s (%.2fx the baseline's time); closest: %s (%.1e)",
+                 s->cf[fast].name, pp.x[fast], s->cf[close].name, pp.y[close]);
+    fprintf(f, "set title \"Own stopping rule over %d scene(s) (the report's 'Own stopping rule' table): lower left is "
+               "better\\n%s\"\n", s->nsc, t2);
     fprintf(f, "set logscale xy\nset grid lc rgb '#dddddd'\nset format y '1e%%L'\n");
-    fprintf(f, "set xlabel \"traj. time per step / baseline's (%s): the report's 'traj. time' column, own stopping "
-               "rule, geometric mean over scenes (not the headline's time to an accuracy)\"\n",
+    fprintf(f, "set xlabel \"traj. time / baseline (solve time per step over %s's; geometric mean over the scenes)\"\n",
             s->cf[s->baseline].name);
-    fprintf(f, "set ylabel \"traj. dist / reference displacement: the 'traj. dist' column (geometric mean; clipped "
-               "at 100)\"\n");
+    fprintf(f, "set ylabel \"traj. dist / ref. motion (m/m; geometric mean over the scenes, clipped at 100)\"\n");
     fprintf(f, "set key top left box opaque\nset offsets graph 0.05, graph 0.1, graph 0.1, graph 0.05\n");
-
-    fprintf(f, "plot 'pareto.dat' index 1 using 1:2 with lines lc rgb '#999999' lw 2 title 'Pareto front of the converged configurations', \\\n"
-               "  'pareto.dat' index 0 using ($4==1?$2:1/0):3 with points pt 7 ps 1.6 lc rgb '#1f77b4' "
-               "title 'converged on every step of every scene', \\\n"
-               "  'pareto.dat' index 0 using ($4==0?$2:1/0):3 with points pt 9 ps 1.6 lc rgb '#d62728' "
+    fprintf(f, "plot 'pareto.dat' index 1 using 1:2 with lines lc rgb '#999999' lw 2 title 'Pareto front of the "
+               "configurations that converged everywhere', \\\n"
+               "  'pareto.dat' index 0 using ($4==1?$2:1/0):3:6 with points pt 7 ps 1.8 lc rgb variable "
+               "title 'converged on every step of every scene (colour: optimizer family)', \\\n"
+               "  'pareto.dat' index 0 using ($4==0?$2:1/0):3:6 with points pt 8 ps 1.8 lw 2 lc rgb variable "
                "title 'failed or stopped somewhere', \\\n"
-               "  'pareto.dat' index 0 using 2:3:(sprintf('%%d', $1)) with labels offset char 0.9,0.5 left font ',9' "
-               "notitle\n");
+               "  'pareto.dat' index 2 using 1:2:3 with labels offset char 1.0,0.6 left font ',9' notitle\n");
     fprintf(f, "set terminal svg size 1500,950 font 'DejaVu Sans,11' noenhanced\nset output 'pareto.svg'\nreplot\n");
     rc = eo_afile_commit(ctx, &af);
+    if (rc >= 0) rc = run_gnuplot(ctx, b->dir, "pareto");
+done:
+    eo_afile_abort(ctx, &af);
+    eo_free(ctx, sty);
+    eo_free(ctx, lab);
+    pareto_free(ctx, &pp);
+    return rc;
+}
+
+/* The report's "Own stopping rule" headline table: the Pareto chart's numbers. */
+static int write_pareto_table(eo_ctx *ctx, FILE *f, const bench_out *b)
+{
+    const eo_bench_suite *s = b->s;
+    pareto_pts pp;
+    int rc = pareto_compute(ctx, b, &pp);
     if (rc < 0) return rc;
-    return run_gnuplot(ctx, b->dir, "pareto");
+    int fast, close;
+    pareto_winners(s, &pp, &fast, &close);
+    fprintf(f, "### Own stopping rule (the Pareto chart)\n\n"
+               "Each configuration over the trajectory runs of every scene with its own stopping rule: `traj. time / "
+               "baseline` = geometric mean over the scenes of its solve time per step over the baseline's; `traj. "
+               "dist / ref. motion` = geometric mean of its largest distance to the reference trajectory over the "
+               "reference's motion. Pareto = converged everywhere and no such configuration is both faster and "
+               "closer.");
+    if (fast >= 0)
+        fprintf(f, " Fastest that converged everywhere: **%s** (%.2f× the baseline's time); closest: **%s**.",
+                s->cf[fast].name, pp.x[fast], s->cf[close].name);
+    fprintf(f, "\n\n| # | configuration | traj. time / baseline | traj. dist / ref. motion | scenes converged | Pareto |\n"
+               "|---|---|---|---|---|---|\n");
+    for (int c = 0; c < s->ncf; c++) {
+        int nconv = 0;
+        for (int si = 0; si < s->nsc; si++) nconv += strcmp(b->res[si].pair[c].status, "converged") == 0;
+        char xa[32] = "—", ya[32] = "—";
+        if (pp.n[c]) {
+            snprintf(xa, sizeof xa, "%.2f", pp.x[c]);
+            snprintf(ya, sizeof ya, "%.1e", pp.y[c]);
+        }
+        fprintf(f, "| %d | %s | %s | %s | %d/%d | %s |\n", c + 1, s->cf[c].name, xa, ya, nconv, s->nsc,
+                pp.front[c] ? "yes" : "");
+    }
+    fprintf(f, "\n");
+    pareto_free(ctx, &pp);
+    return EO_OK;
 }
 
 /* ---------------------------------------------------------------- report.md */
@@ -497,6 +644,89 @@ static const char *env_or(const char *name, const char *def)
 {
     const char *v = getenv(name);
     return v && *v ? v : def;
+}
+
+/* Which steps are measured and why. */
+static void describe_steps(FILE *f, const bench_scene *bs, const bench_scene_res *sr)
+{
+    fprintf(f, "Measured step%s ", bs->steps > 1 ? "s" : "");
+    for (int k = 0; k < bs->steps; k++) fprintf(f, "%s%d", k ? ", " : "", sr->meas[k] + 1);
+    if (bs->select == BENCH_SELECT_FIRST) {
+        if (bs->skip) fprintf(f, " (after %d reference-only step%s)", bs->skip, bs->skip == 1 ? "" : "s");
+    } else {
+        const int mot = bs->select == BENCH_SELECT_MOTION;
+        const double *sc = mot ? sr->motion : sr->correction;
+        double out = -INFINITY; /* the largest score not measured */
+        int outk = -1;
+        for (int k = bs->skip; k < sr->nref; k++) {
+            int in = 0;
+            for (int m = 0; m < bs->steps; m++) in |= sr->meas[m] == k;
+            if (!in && sc[k] > out) out = sc[k], outk = k;
+        }
+        const char *what = mot ? "per-step motion" : "correction (distance from the starting guess to x*)";
+        if (bs->steps == 1) fprintf(f, " of steps %d–%d: the step of largest %s (", bs->skip + 1, sr->nref, what);
+        else
+            fprintf(f, " of steps %d–%d: the %d consecutive steps of largest total %s (", bs->skip + 1, sr->nref,
+                    bs->steps, what);
+        for (int k = 0; k < bs->steps; k++) fprintf(f, "%s%.3g", k ? ", " : "", sc[sr->meas[k]]);
+        fprintf(f, " m RMS");
+        if (outk >= 0) fprintf(f, "; the largest outside: step %d, %.3g m", outk + 1, out);
+        fprintf(f, ")");
+    }
+    fprintf(f, "; reference motion over the measured window %.3g m RMS%s.\n\n", sr->win_disp,
+            bs->traj_window ? "; trajectory runs start before the first measured step (window)"
+                            : "; trajectory runs start at t = 0");
+}
+
+/* The fixed-iteration-budget table of a scene: time per frame and trajectory error per
+ * budget, beside the own stopping rule's trajectory. */
+static void write_fixed_table(FILE *f, const bench_out *b, int si)
+{
+    const eo_bench_suite *s = b->s;
+    const bench_scene_res *sr = b->res + si;
+    char a[64], lo[64], hi[64];
+    fprintf(f, "Fixed iteration budget over the measured window (steps %d–%d): ms per frame, median (min–max over "
+               "the frames) / largest distance to the reference, relative to its motion over the window (%.3g m)%s.\n\n",
+            sr->win0 + 1, sr->win1 + 1, sr->win_disp,
+            s->o.trajectory ? "; last column: the configuration's own stopping rule (trajectory run: ms per frame / "
+                              "largest distance relative to the reference motion over its steps)"
+                            : "");
+    const bench_scene *bs = s->sc + si;
+    fprintf(f, "| configuration |");
+    for (int j = 0; j < s->nibud; j++)
+        if (bs->ibud_on[j]) fprintf(f, " %d it./frame |", s->ibud[j]);
+    if (s->o.trajectory) fprintf(f, " own rule |");
+    fprintf(f, "\n|---|");
+    for (int j = 0; j < bs->nibud_on + (s->o.trajectory ? 1 : 0); j++) fprintf(f, "---|");
+    fprintf(f, "\n");
+    for (int c = 0; c < s->ncf; c++) {
+        const bench_pair *p = sr->pair + c;
+        fprintf(f, "| %s |", s->cf[c].name);
+        for (int j = 0; j < s->nibud; j++) {
+            const bench_fixed_res *z = p->fixed + j;
+            if (!bs->ibud_on[j]) continue;
+            if (!z->frames) {
+                fprintf(f, " — |");
+                continue;
+            }
+            fmt_ms(z->ms_med, a, sizeof a);
+            fmt_ms(z->ms_min, lo, sizeof lo);
+            fmt_ms(z->ms_max, hi, sizeof hi);
+            if (z->nan) fprintf(f, " %s (%s–%s) / **NaN**", a, lo, hi);
+            else fprintf(f, " %s (%s–%s) / %.1e", a, lo, hi, z->max_dist / fmax(sr->win_disp, 1e-300));
+            if (z->short_frames)
+                fprintf(f, "; %d of %d frame%s stopped early (%s)", z->short_frames, z->frames, z->frames > 1 ? "s" : "",
+                        eo_reason_name(z->first_short_reason));
+            fprintf(f, " |");
+        }
+        if (s->o.trajectory) {
+            fmt_ms(p->traj_done ? p->traj_time / p->traj_done : NAN, a, sizeof a);
+            fprintf(f, " %s / %.1e%s |", a, p->traj_max_dist / fmax(sr->ref_disp, 1e-300),
+                    strcmp(p->status, "converged") ? " (not converged)" : "");
+        }
+        fprintf(f, "\n");
+    }
+    fprintf(f, "\n");
 }
 
 int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
@@ -517,11 +747,17 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", gmtime(&now));
     fprintf(f, "# Optimizer benchmark: %s\n\n", s->path);
     if (s->o.description[0]) fprintf(f, "%s\n\n", s->o.description);
-    fprintf(f, "Run %s, %.1f s wall time, %d scene(s) × %d configuration(s), %d timed repeat(s) per run unless "
+    fprintf(f, "Run %s, %.1f s wall time (%.1f s processor time: on a loaded machine, an estimate of the wall time "
+               "unloaded), %d scene(s) × %d configuration(s), %d timed repeat(s) per run unless "
                "a scene says otherwise (median, min–max spread; an untimed warm-up run of at most %d iteration(s) "
                "first). Outputs: `curves.csv`, `summary.csv`, "
-               "`reference.csv`, `trajectory.csv`, `plots/`.\n\n",
-            date, b->sum->seconds, s->nsc, s->ncf, b->repeats, s->o.warmup_iters);
+               "`reference.csv`, `trajectory.csv`, `fixed.csv`, `plots/`.\n\n",
+            date, b->sum->seconds, b->cpu_seconds, s->nsc, s->ncf, b->repeats, s->o.warmup_iters);
+    if (s->nskipped) {
+        fprintf(f, "**Scenes not run** (optional, their files could not be read):\n\n");
+        for (int i = 0; i < s->nskipped; i++) fprintf(f, "- %s\n", s->skipped[i]);
+        fprintf(f, "\n");
+    }
     fprintf(f, "## Machine and build\n\n");
     fprintf(f, "| | |\n|---|---|\n");
     fprintf(f, "| CPU | %s |\n| cores online | %ld |\n| OpenMP max threads | %d (element loops serial: "
@@ -540,14 +776,29 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
                "relative energy error (g − g*)/|g₀ − g*| ≤ %g, after %d iterations, after %s s per step "
                "unless the scene says otherwise, or when g has not decreased for 20 iterations: `stagnated`). Times to a threshold are log-interpolated between iterates and "
                "summed over the %s measured step(s); \"error at budget\" is the worst step's error of the last "
-               "iterate within the budget. Ratios are to the baseline **%s** measured in the same run. The "
-               "trajectory runs start from the scene's initial state and run every step of the scene (skipped and "
-               "measured) with each configuration's own stopping rule, up to the first step that rule does not "
+               "iterate within the budget. Ratios are to the baseline **%s** measured in the same run. "
+               "Measured steps: the `steps` after `skip` (select `first`), or the `steps` consecutive ones among "
+               "the `horizon` reference steps after `skip` with the largest total per-step motion (`largest_motion`: "
+               "mass-weighted RMS of x(tₖ₊₁) − x(tₖ)) or correction (`largest_correction`: mass-weighted RMS distance "
+               "from the step's starting guess to x*; it finds impacts); each scene names its steps, and "
+               "reference.csv lists both scores for every reference step. The "
+               "trajectory runs start from the scene's initial state (or, for a scene with trajectory start "
+               "`window`, from the reference state before its first measured step; an untimed warm-up of at most "
+               "`warmup_iters` iterations first) and run every step up to the last measured one "
+               "with each configuration's own stopping rule, up to the first step that rule does not "
                "meet; their distance to the reference trajectory is the mass-weighted RMS over vertices (the "
                "table gives the largest over the frames run, and the trajectory's total solve time). Step numbers "
-               "in the status table count from the scene's start. `rel. floor` in the reference table is "
-               "2.2e-16·|g|/|g₀ − g*|: relative errors below it are rounding noise.\n\n",
-            s->o.ref_tol, s->o.target, s->o.max_iters, "the suite's time_budget", "scene's", s->cf[s->baseline].name);
+               "count from the scene's start. `rel. floor` in the reference table is "
+               "2.2e-16·|g|/|g₀ − g*|: relative errors below it are rounding noise.%s\n\n",
+            s->o.ref_tol, s->o.target, s->o.max_iters, "the suite's time_budget", "scene's", s->cf[s->baseline].name,
+            s->nibud ? " **Fixed iteration budget**: each configuration also runs the measured window (from the "
+                       "reference state before the first measured step through the last one) with exactly k "
+                       "iterations per frame for each k of `iter_budgets` (stopping rule off; a frame stops "
+                       "earlier only on the solver's own failure: line search, stagnation at the rounding level, "
+                       "non-finite), after an untimed warm-up; the tables give the median solve time per frame "
+                       "(min–max over the frames) and the largest distance to the reference over the window, "
+                       "relative to the reference's motion over the window (`fixed.csv` has every frame)."
+                     : ""); 
     if (!b->plots) fprintf(f, "Plots were disabled for this run.\n\n");
     else if (!b->gnuplot) fprintf(f, "**gnuplot was not found: no plots** (`apt-get install gnuplot-nox`).\n\n");
 
@@ -598,6 +849,13 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
         }
         fprintf(f, "\n");
     }
+    if (s->o.trajectory) {
+        rc = write_pareto_table(ctx, f, b);
+        if (rc < 0) {
+            eo_afile_abort(ctx, &af);
+            return rc;
+        }
+    }
     if (b->plots && b->gnuplot && s->o.trajectory)
         fprintf(f, "![speed/accuracy Pareto chart](plots/pareto.png)\n\n");
 
@@ -639,14 +897,15 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
         fprintf(f, "### %s\n\n", bs->name);
         fprintf(f, "%s `%s`", bs->file[0] ? "file" : "built-in scene", bs->file[0] ? bs->o.file : bs->o.scene);
         for (int k = 0; k < bs->nset; k++) fprintf(f, ", `%s`", bs->set[k]);
-        fprintf(f, ". %d tets, %d vertices; %d measured step(s) after %d skipped; time budget %g s per solve "
-                   "(unless a configuration sets its own); %d timed repeat(s).\n\n",
-                bs->nt, bs->nv, bs->steps, bs->skip, bs->time_budget, sr->repeats);
+        fprintf(f, ". %d tets, %d vertices; time budget %g s per solve (unless a configuration sets its own); %d "
+                   "timed repeat(s).\n\n",
+                bs->nt, bs->nv, bs->time_budget, sr->repeats);
+        describe_steps(f, bs, sr);
         if (sr->plotted) fprintf(f, "![%s](plots/%s.png)\n\n", bs->name, fname);
         fprintf(f, "Reference: ");
         for (int k = 0; k < bs->steps; k++) {
             const bench_ref *q = sr->ref + k;
-            fprintf(f, "%sstep %d: %d it., %s, λ²/2 = %.1e, rel. floor %.0e", k ? "; " : "", k + 1, q->iters,
+            fprintf(f, "%sstep %d: %d it., %s, λ²/2 = %.1e, rel. floor %.0e", k ? "; " : "", sr->meas[k] + 1, q->iters,
                     q->rounding ? "converged to the rounding floor" : q->converged ? "converged" : eo_reason_name(q->reason),
                     q->dec, q->floor);
             if (q->ip_reason != -1000)
@@ -712,17 +971,19 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             fprintf(f, "\n");
         }
         fprintf(f, "\n");
+        if (bs->nibud_on) write_fixed_table(f, b, si);
     }
 
     /* ---- failures */
+
     fprintf(f, "## Failures and their reasons\n\n");
     int nf = 0;
     for (int si = 0; si < s->nsc; si++) {
-        for (int k = 0; k < s->sc[si].steps; k++)
-            if (!b->res[si].ref[k].converged) {
+        for (int k = 0; k < b->res[si].nref; k++)
+            if (!b->res[si].allref[k].converged) {
                 fprintf(f, "- **reference** on %s step %d: %s (λ²/2 = %.2e after %d iterations)\n", s->sc[si].name,
-                        k + 1, eo_reason_name(b->res[si].ref[k].reason), b->res[si].ref[k].dec,
-                        b->res[si].ref[k].iters);
+                        k + 1, eo_reason_name(b->res[si].allref[k].reason), b->res[si].allref[k].dec,
+                        b->res[si].allref[k].iters);
                 nf++;
             }
         for (int c = 0; c < s->ncf; c++) {
@@ -730,7 +991,13 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             if (!strcmp(p->status, "converged")) continue;
             fprintf(f, "- %s on %s: %s — %s", s->cf[c].name, s->sc[si].name, p->status, p->reason);
             /* curve run of the failing step, if it is a measured one */
-            int m = s->o.trajectory ? p->first_bad_step - s->sc[si].skip : p->first_bad_step;
+            int m = p->first_bad_step;
+            if (s->o.trajectory) { /* trajectory index -> measured index (-1: not a measured step) */
+                const int k = p->traj_first + p->first_bad_step;
+                m = -1;
+                for (int q = 0; q < p->nsteps; q++)
+                    if (b->res[si].meas[q] == k) m = q;
+            }
             if (p->first_bad_step >= 0 && m >= 0 && m < p->nsteps) {
                 const bench_step_res *q = p->st + m;
                 fprintf(f, " (curve run of that step: %s after %d iterations, rel. error %.1e)",
@@ -742,6 +1009,14 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
         }
     }
     if (!nf) fprintf(f, "None.\n");
+    fprintf(f, "\nConverged on every step of every scene%s: ", s->o.trajectory ? " (own stopping rule)" : "");
+    int nall = 0;
+    for (int c = 0; c < s->ncf; c++) {
+        int bad = 0;
+        for (int si = 0; si < s->nsc; si++) bad += strcmp(b->res[si].pair[c].status, "converged") != 0;
+        if (!bad) fprintf(f, "%s%s", nall++ ? ", " : "", s->cf[c].name);
+    }
+    fprintf(f, "%s.\n", nall ? "" : "none");
     for (int q = 0; q < s->nreq; q++) {
         int bad = 0;
         for (int si = 0; si < s->nsc; si++) bad += strcmp(b->res[si].pair[s->req[q]].status, "converged") != 0;

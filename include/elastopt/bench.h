@@ -29,7 +29,24 @@
 ///     from the scene's initial state) with its OWN stopping rule (trajectory run), up
 ///     to the first step that rule does not meet, and measures the mass-weighted RMS
 ///     distance of its positions to the reference trajectory per frame,
-///     √(Σᵥ mᵥ‖xᵥ − x*ᵥ‖² / Σᵥ mᵥ) (m).
+///     √(Σᵥ mᵥ‖xᵥ − x*ᵥ‖² / Σᵥ mᵥ) (m). With `trajectory_start` = "window" the run
+///     starts instead from the reference state before the first measured step and ends
+///     after the last one (the measured window: cheap on long scenes);
+///  4. for each `iter_budgets` entry k, runs each configuration over the measured window
+///     (from the reference state before its first step) with exactly k iterations per
+///     frame (stopping rule disabled; fewer only if the solver stops itself: line search
+///     failure, stagnation at the rounding level, non-finite), recording the solve time
+///     per frame and the distance to the reference trajectory (fixed.csv; the report's
+///     "fixed iteration budget" table; summary.csv fixed_<k>_* columns).
+/// Measured steps (`select`): "first" = the `steps` steps after `skip`; "largest_motion"
+/// = the reference runs skip + horizon steps and the `steps` consecutive ones of them
+/// (after `skip`) with the largest total per-step motion √(Σᵥ mᵥ‖xᵥ(tₖ₊₁) − xᵥ(tₖ)‖² / Σᵥ mᵥ)
+/// are measured (consecutive, so the window runs below cost `steps` steps);
+/// "largest_correction" = the same with the distance from the step's starting guess x₀
+/// to its minimizer x* (mass-weighted RMS over the free vertices: the work the step
+/// problem asks for; it singles out impacts, where the motion itself is not the largest).
+/// reference.csv lists motion and correction of every reference step and marks the
+/// measured ones.
 /// Status of a configuration on a scene: converged (own rule satisfied on every step of
 /// the trajectory run, within 1% of the reference motion), elsewhere (own rule
 /// satisfied, but farther: another stationary point), stopped (with the first failing
@@ -51,17 +68,25 @@
 ///
 /// Suite keys (top level; `eo_bench_opts_desc`):
 ///   description, repeats, baseline, target, ref_tol, ref_max_iters, max_iters,
-///   time_budget, steps, skip, trajectory, warmup_iters, curve_rows, plots, ipopt_check
+///   time_budget, steps, skip, select, horizon, trajectory, trajectory_start,
+///   warmup_iters, curve_rows, plots, ipopt_check
 ///   thresholds  list of relative energy errors for the time table (default
 ///               [1e-2, 1e-3, 1e-4, 1e-6, 1e-8])
+///   iter_budgets  list of iterations per frame for the fixed-budget runs (integers
+///               >= 1, e.g. [1, 3, 10]; default none)
 ///   budgets     list of time budgets (s) for the "error reached at" table
 ///               (default [0.01, 0.1, 1])
 ///   require_converged  list of configuration names that must converge on every step
 ///               of every scene (exit status 1 otherwise)
 ///   scenes      list; each entry `eo_bench_scene_desc` (name, scene | file, steps, skip,
-///               time_budget, max_iters, repeats) + "set": {"key": value, ...} overrides of the
+///               select, horizon, trajectory_start, time_budget, max_iters, repeats,
+///               optional) + "iter_budgets": a subset of the suite's list run on this
+///               scene (default all) + "set": {"key": value, ...} overrides of the
 ///               scene config + optional "vary": [{"label": {set}, ...}, ...] whose
 ///               product expands the entry into scenes named name-label-label...
+///               An `optional` scene whose files cannot be read (EO_ERR_IO: e.g. the
+///               shared meshes folder is absent) is dropped at load with a note
+///               (eo_bench_suite_nskipped / eo_bench_suite_skipped, the report).
 ///   configs     list; each entry {"name": ..., "set": {"solver.key": value, ...}}
 ///               (only solver.* keys: a configuration changes the solver, not the scene;
 ///               its solver.time_budget, if set, replaces the scene's budget for it)
@@ -96,7 +121,16 @@ typedef struct eo_bench_opts {
     double time_budget;     ///< seconds per minimization (curve and trajectory runs). Default 10.
     int steps;              ///< measured steps per scene. Default 2.
     int skip;               ///< reference-only steps before the measured ones. Default 0.
+    char select[32];        ///< which steps are measured: "first" (the `steps` after `skip`),
+                            ///< "largest_motion", "largest_correction" (the `steps`
+                            ///< consecutive ones of largest total score among the horizon
+                            ///< reference steps after `skip`). Default "first".
+    int horizon;            ///< reference steps after `skip` to choose from (select != first);
+                            ///< 0 = `steps`. Default 0.
     int trajectory;         ///< run the trajectory comparison. Default true.
+    char trajectory_start[16]; ///< "scene" (from the scene's initial state through the last
+                            ///< measured step) or "window" (from the reference state before
+                            ///< the first measured step). Default "scene".
     int warmup_iters;       ///< iterations of the untimed warm-up run. Default 3.
     int curve_rows;         ///< curves.csv: every iteration up to this one, then 50 per
                             ///< decade of iteration count (0 = every iteration). Default 200.
@@ -118,6 +152,10 @@ typedef struct eo_bench_scene_opts {
     double time_budget;     ///< Default -1.
     int max_iters;          ///< Default -1.
     int repeats;            ///< timed repeats on this scene. Default -1.
+    char select[32];        ///< as the suite's; "suite" = the suite's. Default "suite".
+    int horizon;            ///< Default -1.
+    char trajectory_start[16]; ///< as the suite's; "suite" = the suite's. Default "suite".
+    int optional;           ///< drop the scene at load if its files cannot be read. Default false.
 } eo_bench_scene_opts;
 EO_API extern const eo_param_desc eo_bench_scene_desc[];
 
@@ -136,12 +174,16 @@ EO_API int eo_bench_suite_nscenes(const eo_bench_suite *s);
 EO_API int eo_bench_suite_nconfigs(const eo_bench_suite *s);
 EO_API const char *eo_bench_suite_scene_name(const eo_bench_suite *s, int i);
 EO_API const char *eo_bench_suite_config_name(const eo_bench_suite *s, int i);
+/// Optional scenes dropped at load (their files could not be read): count, and the i-th
+/// as "name: message" (borrowed; NULL out of range).
+EO_API int eo_bench_suite_nskipped(const eo_bench_suite *s);
+EO_API const char *eo_bench_suite_skipped(const eo_bench_suite *s, int i);
 
 /// Progress report: scene i of n, configuration j of m (-1 while the reference runs),
 /// fraction done in [0, 1] and estimated seconds left (< 0 unknown).
 typedef struct eo_bench_progress {
     int scene, nscenes, config, nconfigs;
-    const char *scene_name, *config_name, *phase;  ///< phase: "reference", "curves", "trajectory"
+    const char *scene_name, *config_name, *phase;  ///< phase: "reference", "curves", "trajectory", "fixed", "done" (scene finished)
     double elapsed, fraction, eta;
 } eo_bench_progress;
 typedef void (*eo_bench_progress_fn)(const eo_bench_progress *p, void *user);
