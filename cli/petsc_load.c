@@ -1,0 +1,95 @@
+/* Loading the PETSc / MPI backend module (petsc_load.h).
+ *
+ * Why dlopen with RTLD_DEEPBIND instead of linking: libelastopt links Ipopt, and Debian's
+ * Ipopt links the sequential MUMPS (libdmumps_seq), which defines dmumps_c and the other
+ * MUMPS entry points under the same names as the parallel MUMPS (libdmumps) that PETSc
+ * uses, and also MPI_Init, MPI_Comm_rank, mpi_allreduce_ ... as stubs. In one global
+ * symbol scope one of the two MUMPS (and the MPI stubs) would serve both callers. The
+ * module is therefore not linked against libelastopt or Ipopt, and is opened with
+ * RTLD_LOCAL | RTLD_DEEPBIND: PETSc, parallel MUMPS and Open MPI's Fortran bindings
+ * resolve inside the module's own dependency tree first (where the sequential MUMPS is
+ * absent), while Ipopt keeps resolving to the sequential MUMPS in the global scope. The
+ * eo_* symbols the module uses come from the libelastopt already loaded by the CLI.
+ * (Sanitizer runtimes refuse RTLD_DEEPBIND: sanitizer builds use -Dpetsc=disabled.) */
+#define _GNU_SOURCE
+#include "petsc_load.h"
+
+#include <dlfcn.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "eo_build_config.h"
+#include "elastopt/plugin.h"
+
+static int g_rank = 0, g_size = 1;
+static int (*g_agree)(int);
+
+int eo_cli_rank(void) { return g_rank; }
+int eo_cli_size(void) { return g_size; }
+int eo_cli_agree(int ok) { return g_agree ? g_agree(ok) : ok; }
+
+#if EO_HAVE_PETSC
+/* The module: $ELASTOPT_PETSC_MODULE, else beside the build tree's CLI
+ * (build/cli/elastopt -> build/petsc/), else the installed one. */
+static int module_path(char *out, size_t n)
+{
+    const char *env = getenv("ELASTOPT_PETSC_MODULE");
+    if (env) {
+        snprintf(out, n, "%s", env);
+        return *env != 0;
+    }
+    char exe[4096];
+    ssize_t len = readlink("/proc/self/exe", exe, sizeof exe - 1);
+    if (len > 0) {
+        exe[len] = 0;
+        char *slash = strrchr(exe, '/');
+        if (slash) {
+            *slash = 0;
+            snprintf(out, n, "%s/../petsc/elastopt_petsc.so", exe);
+            if (access(out, R_OK) == 0) return 1;
+        }
+    }
+    snprintf(out, n, "%s/elastopt_petsc.so", EO_PETSC_MODULE_DIR);
+    return access(out, R_OK) == 0;
+}
+#endif
+
+int eo_cli_petsc_load(eo_ctx *ctx, int *argc, char **argv)
+{
+#if EO_HAVE_PETSC
+    char path[4200];
+    if (!module_path(path, sizeof path)) return 0; /* not installed: no backend */
+    void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
+    if (!h) {
+        fprintf(stderr, "elastopt: error: cannot load the PETSc backend %s: %s\n", path, dlerror());
+        return 2;
+    }
+    int (*init)(eo_ctx *, int);
+    int (*start)(int *, char **, int *, int *);
+    *(void **)(&init) = dlsym(h, EO_PLUGIN_SYMBOL);
+    *(void **)(&start) = dlsym(h, "eo_petsc_cli_start");
+    *(void **)(&g_agree) = dlsym(h, "eo_petsc_cli_agree");
+    if (!init || !start || !g_agree) {
+        fprintf(stderr, "elastopt: error: %s is not the PETSc backend module\n", path);
+        g_agree = NULL;
+        return 2;
+    }
+    if (init(ctx, EO_ABI_VERSION) < 0) {
+        fprintf(stderr, "elastopt: error: PETSc backend %s: %s\n", path, eo_ctx_message(ctx));
+        g_agree = NULL;
+        return 2;
+    }
+    if (start(argc, argv, &g_rank, &g_size) < 0) {
+        fprintf(stderr, "elastopt: error: the PETSc backend could not start MPI\n");
+        return 2;
+    }
+    if (g_rank != 0) { /* one voice: rank 0 prints */
+        if (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)) return 2;
+    }
+#else
+    (void)ctx, (void)argc, (void)argv;
+#endif
+    return 0;
+}
