@@ -19,6 +19,7 @@
  * Every decision is taken on values reduced over the ranks, so all ranks take the same
  * path. The callback sees the iterate gathered on every rank (only when one is set). */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "petsc_backend.h"
@@ -159,6 +160,25 @@ static int solve_once(pn_state *s, eo_ctx *ctx, double c, const double eps, doub
     EO_PC(KSPGetConvergedReason(s->ksp, &kr));
     EO_PC(KSPGetIterationNumber(s->ksp, &it));
     *its += (int)it;
+    if (kr == KSP_DIVERGED_INDEFINITE_PC) {
+        /* the AMG preconditioner (not the matrix) lost definiteness: CG cannot use it,
+         * GMRES can; the descent test below still judges the matrix */
+        KSPType type;
+        EO_PC(KSPGetType(s->ksp, &type));
+        char saved[32];
+        snprintf(saved, sizeof saved, "%s", type);
+        if (c > 0) EO_PC(MatShift(A, c));
+        EO_PC(KSPSetType(s->ksp, KSPGMRES));
+        EO_PC(VecScale(s->G, -1));
+        e = KSPSolve(s->ksp, s->G, s->P);
+        VecScale(s->G, -1);
+        EO_PC(KSPSetType(s->ksp, saved));
+        if (c > 0) EO_PC(MatDiagonalSet(A, s->D, INSERT_VALUES));
+        if (e) return EO_OK;
+        EO_PC(KSPGetConvergedReason(s->ksp, &kr));
+        EO_PC(KSPGetIterationNumber(s->ksp, &it));
+        *its += (int)it;
+    }
     if (kr < 0) return EO_OK;
     double dg, pn;
     EO_PC(VecDot(s->G, s->P, &dg));
