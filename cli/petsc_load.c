@@ -18,10 +18,12 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "eo_build_config.h"
 #include "elastopt/plugin.h"
+#include "petsc/petsc_options.h"
 
 static int g_rank = 0, g_size = 1;
 static int (*g_agree)(int);
@@ -31,6 +33,7 @@ int eo_cli_size(void) { return g_size; }
 int eo_cli_agree(int ok) { return g_agree ? g_agree(ok) : ok; }
 
 #if EO_HAVE_PETSC
+
 /* The module: $ELASTOPT_PETSC_MODULE, else beside the build tree's CLI
  * (build/cli/elastopt -> build/petsc/), else the installed one. */
 static int module_path(char *out, size_t n)
@@ -56,10 +59,57 @@ static int module_path(char *out, size_t n)
 }
 #endif
 
+/* Does text name a method of the backend? */
+static int mentions(const char *text)
+{
+    return strstr(text, "petsc") || strstr(text, "snes_") || strstr(text, "tao_");
+}
+
+static int file_mentions(const char *path)
+{
+    struct stat st;
+    char run[4200];
+    if (stat(path, &st) != 0) return 0;
+    if (S_ISDIR(st.st_mode)) { /* --restart DIR: the run's configuration */
+        snprintf(run, sizeof run, "%s/run.json", path);
+        path = run;
+        if (stat(path, &st) != 0) return 0;
+    }
+    if (!S_ISREG(st.st_mode) || st.st_size > (4 << 20)) return 0;
+    FILE *f = fopen(path, "rb");
+    if (!f) return 0;
+    char *buf = malloc((size_t)st.st_size + 1);
+    size_t n = buf ? fread(buf, 1, (size_t)st.st_size, f) : 0;
+    fclose(f);
+    if (!buf) return 0;
+    buf[n] = 0;
+    int m = mentions(buf) != 0;
+    free(buf);
+    return m;
+}
+
+/* Loading PETSc and its libraries costs about 0.3 s, so the module is loaded only when
+ * it can be used: under an MPI launcher, for `list` and `help` (they show its methods),
+ * when ELASTOPT_PETSC=1, or when an argument or a file named on the command line (scene,
+ * suite, --restart folder) mentions petsc, snes_ or tao_. */
+static int wanted(int argc, char **argv)
+{
+    const char *vars[] = {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE", "MPI_LOCALNRANKS", NULL};
+    for (int i = 0; vars[i]; i++)
+        if (getenv(vars[i])) return 1;
+    const char *force = getenv("ELASTOPT_PETSC");
+    if (force && *force) return strcmp(force, "0") != 0;
+    if (argc > 1 && (strcmp(argv[1], "list") == 0 || strcmp(argv[1], "help") == 0)) return 1;
+    for (int i = 1; i < argc; i++)
+        if (mentions(argv[i]) || eo_petsc_option_word(argv[i]) || file_mentions(argv[i])) return 1;
+    return 0;
+}
+
 int eo_cli_petsc_load(eo_ctx *ctx, int *argc, char **argv)
 {
 #if EO_HAVE_PETSC
     char path[4200];
+    if (!wanted(*argc, argv)) return 0;
     if (!module_path(path, sizeof path)) return 0; /* not installed: no backend */
     void *h = dlopen(path, RTLD_NOW | RTLD_LOCAL | RTLD_DEEPBIND);
     if (!h) {

@@ -13,6 +13,7 @@
 
 #include "elastopt/plugin.h"
 #include "petsc_backend.h"
+#include "petsc_options.h"
 
 static const char *const ksp_names[] = {"preonly", "cg", "minres", "gmres", NULL};
 static const char *const pc_names[] = {"mumps", "gamg", "hypre", "bjacobi_icc", "jacobi", NULL};
@@ -149,14 +150,6 @@ static int launched(void)
     return 0;
 }
 
-static int petsc_option_word(const char *a)
-{
-    static const char *const pre[] = {"-ksp_", "-pc_", "-mat_", "-snes_", "-tao_", "-log_", "-info", "-options_",
-                                      "-malloc", "-on_error", "-sub_", "-mg_", "-memory_view", NULL};
-    for (int i = 0; pre[i]; i++)
-        if (strncmp(a, pre[i], strlen(pre[i])) == 0) return 1;
-    return 0;
-}
 
 /* Remove PETSc options (-ksp_*, -pc_*, -log_view, ... and a value that follows one)
  * from argv, keep them for PetscInitialize; start PETSc now under an MPI launcher.
@@ -166,7 +159,7 @@ __attribute__((visibility("default"))) int eo_petsc_cli_start(int *argc, char **
     int out = 1;
     size_t len = strlen(g_options);
     for (int i = 1; i < *argc; i++) {
-        if (petsc_option_word(argv[i])) {
+        if (eo_petsc_option_word(argv[i])) {
             len += (size_t)snprintf(g_options + len, len < sizeof g_options ? sizeof g_options - len : 0, " %s",
                                     argv[i]);
             if (i + 1 < *argc && (argv[i + 1][0] != '-' || strtod(argv[i + 1], NULL) != 0))
