@@ -70,11 +70,20 @@ static int start(void)
     PetscBool on = PETSC_FALSE;
     PetscInitialized(&on);
     if (on) return 0;
-    if (PetscInitializeNoArguments()) return -1;
+    /* the command line's PETSc options go in as PetscInitialize's argv, so that the ones
+     * read at start-up (-log_view, -malloc_debug, ...) take effect */
+    static char buf[sizeof g_options], *args[256];
+    int argc = 0;
+    args[argc++] = "elastopt";
+    snprintf(buf, sizeof buf, "%s", g_options);
+    for (char *save = NULL, *tok = strtok_r(buf, " ", &save); tok && argc < 255; tok = strtok_r(NULL, " ", &save))
+        args[argc++] = tok;
+    args[argc] = NULL;
+    char **argv = args;
+    if (PetscInitialize(&argc, &argv, NULL, NULL)) return -1;
     g_started = 1;
     atexit(finalize);
     PetscPushErrorHandler(PetscReturnErrorHandler, NULL);
-    if (g_options[0]) PetscOptionsInsertString(NULL, g_options);
     return 0;
 }
 
