@@ -10,7 +10,8 @@
  * resolve inside the module's own dependency tree first (where the sequential MUMPS is
  * absent), while Ipopt keeps resolving to the sequential MUMPS in the global scope. The
  * eo_* symbols the module uses come from the libelastopt already loaded by the CLI.
- * (Sanitizer runtimes refuse RTLD_DEEPBIND: sanitizer builds use -Dpetsc=disabled.) */
+ * (Sanitizer runtimes refuse RTLD_DEEPBIND: a sanitizer build's CLI does not load the
+ * module, and the backend's test skips.) */
 #define _GNU_SOURCE
 #include "petsc_load.h"
 
@@ -25,6 +26,14 @@
 #include "elastopt/plugin.h"
 #include "petsc/petsc_options.h"
 
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define EO_NO_DEEPBIND 1 /* the sanitizer runtimes refuse RTLD_DEEPBIND */
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+#define EO_NO_DEEPBIND 1
+#endif
+#endif
+
 static int g_rank = 0, g_size = 1;
 static int (*g_agree)(int);
 
@@ -32,7 +41,7 @@ int eo_cli_rank(void) { return g_rank; }
 int eo_cli_size(void) { return g_size; }
 int eo_cli_agree(int ok) { return g_agree ? g_agree(ok) : ok; }
 
-#if EO_HAVE_PETSC
+#if EO_HAVE_PETSC && !defined(EO_NO_DEEPBIND)
 
 /* The module: $ELASTOPT_PETSC_MODULE, else beside the build tree's CLI
  * (build/cli/elastopt -> build/petsc/), else the installed one. */
@@ -107,7 +116,7 @@ static int wanted(int argc, char **argv)
 
 int eo_cli_petsc_load(eo_ctx *ctx, int *argc, char **argv)
 {
-#if EO_HAVE_PETSC
+#if EO_HAVE_PETSC && !defined(EO_NO_DEEPBIND)
     char path[4200];
     if (!wanted(*argc, argv)) return 0;
     if (!module_path(path, sizeof path)) return 0; /* not installed: no backend */
