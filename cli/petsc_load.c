@@ -66,7 +66,6 @@ static int module_path(char *out, size_t n)
     snprintf(out, n, "%s/elastopt_petsc.so", EO_PETSC_MODULE_DIR);
     return access(out, R_OK) == 0;
 }
-#endif
 
 /* Does text name a method of the backend? */
 static int mentions(const char *text)
@@ -113,6 +112,8 @@ static int wanted(int argc, char **argv)
         if (mentions(argv[i]) || eo_petsc_option_word(argv[i]) || file_mentions(argv[i])) return 1;
     return 0;
 }
+
+#endif
 
 int eo_cli_petsc_load(eo_ctx *ctx, int *argc, char **argv)
 {

@@ -302,7 +302,7 @@ done:
     if (part) eo_dist_end(&s->d);
     SNESDestroy(&snes);
     TaoDestroy(&tao);
-    res->reason = reason ? reason : (rc < 0 ? EO_DIVERGED_EXTERNAL : EO_DIVERGED_EXTERNAL);
+    res->reason = reason ? reason : EO_DIVERGED_EXTERNAL;
     res->time = eo_wtime() - s->t0;
     res->n_value = obj->n_value - nv0;
     res->n_gradient = obj->n_gradient - ng0;
