@@ -383,7 +383,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_run_dir rd = {0};
     signals sig;
     int rc, nrec = 0, nframes = 0, first = 0, have_signals = 0, agreed = 0;
-    char rank_tmp[64] = "";
+    char rank_tmp[1100] = "";
     char dir[1024], path[1400], pvd_file[300], errtext[1024] = "";
     static run_origin org; /* big (PATH_MAX); one per process */
     memset(&org, 0, sizeof org);
@@ -425,10 +425,12 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "--restart is not supported under mpirun yet");
             goto fail;
         }
-        snprintf(rank_tmp, sizeof rank_tmp, "/tmp/elastopt-rank%d-XXXXXX", eo_cli_rank());
+        const char *tmpdir = getenv("TMPDIR");
+        snprintf(rank_tmp, sizeof rank_tmp, "%s/elastopt-rank%d-XXXXXX", tmpdir && *tmpdir ? tmpdir : "/tmp",
+                 eo_cli_rank());
         if (!mkdtemp(rank_tmp)) {
             rank_tmp[0] = 0;
-            rc = eo_error(ctx, EO_ERR_IO, "rank %d: cannot make a scratch folder in /tmp", eo_cli_rank());
+            rc = eo_error(ctx, EO_ERR_IO, "rank %d: cannot make a scratch folder in $TMPDIR or /tmp", eo_cli_rank());
             goto fail;
         }
         snprintf(dir, sizeof dir, "%s", rank_tmp);
