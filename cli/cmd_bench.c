@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "petsc_load.h"
 #include "elastopt/bench.h"
 #include "profile.h"
 
@@ -94,6 +95,9 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         else suite_path = argv[i];
     }
     if (!suite_path) return eo_cli_usage_error(&eo_cmd_bench, "missing SUITE.json");
+    if (eo_cli_size() > 1) /* every rank would write the same report; PETSc methods run on one rank */
+        return eo_cli_usage_error(&eo_cmd_bench, "runs on one MPI rank (the PETSc optimizers run there too): "
+                                                 "start it without mpirun");
     char dir[1200];
     if (out) {
         snprintf(dir, sizeof dir, "%s", out);

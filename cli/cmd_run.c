@@ -50,9 +50,11 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <ftw.h>
 #include <unistd.h>
 
 #include "eo_build_config.h"
+#include "petsc_load.h"
 #include "elastopt/io.h"
 #include "elastopt/machine.h"
 #include "elastopt/sim.h"
@@ -344,6 +346,12 @@ static int read_run_json(eo_ctx *ctx, const char *dir, run_origin *o, json_t **d
 
 /* ---------------------------------------------------------------- the command */
 
+static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
+{
+    (void)sb, (void)flag, (void)ftw;
+    return remove(path);
+}
+
 static int run(eo_ctx *ctx, int argc, char **argv)
 {
     eo_cli_scene_args a = {0};
@@ -374,7 +382,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     json_t *run_doc = NULL;
     eo_run_dir rd = {0};
     signals sig;
-    int rc, nrec = 0, nframes = 0, first = 0, have_signals = 0;
+    int rc, nrec = 0, nframes = 0, first = 0, have_signals = 0, agreed = 0;
+    char rank_tmp[1100] = "";
     char dir[1024], path[1400], pvd_file[300], errtext[1024] = "";
     static run_origin org; /* big (PATH_MAX); one per process */
     memset(&org, 0, sizeof org);
@@ -411,6 +420,21 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     else if (out_dir) snprintf(dir, sizeof dir, "%s", out_dir);
     else if (sc->output.dir[0]) snprintf(dir, sizeof dir, "%s", sc->output.dir);
     else snprintf(dir, sizeof dir, "out/%s", org.name);
+    if (eo_cli_rank() != 0) { /* under MPI, rank 0 writes the run; the others a private scratch folder */
+        if (restart) {
+            rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "--restart is not supported under mpirun yet");
+            goto fail;
+        }
+        const char *tmpdir = getenv("TMPDIR");
+        snprintf(rank_tmp, sizeof rank_tmp, "%s/elastopt-rank%d-XXXXXX", tmpdir && *tmpdir ? tmpdir : "/tmp",
+                 eo_cli_rank());
+        if (!mkdtemp(rank_tmp)) {
+            rank_tmp[0] = 0;
+            rc = eo_error(ctx, EO_ERR_IO, "rank %d: cannot make a scratch folder in $TMPDIR or /tmp", eo_cli_rank());
+            goto fail;
+        }
+        snprintf(dir, sizeof dir, "%s", rank_tmp);
+    }
     const eo_mesh *m = sc->mesh;
     const int nsteps = sc->time.steps;
     const size_t nf = (size_t)(3 * m->nv > 0 ? 3 * m->nv : 1);
@@ -446,7 +470,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     signals_install(&sig);
     have_signals = 1;
     EO_TRY(rc = eo_run_dir_open(ctx, dir, &rd));
-    const int frames = sc->output.vtu && sc->output.every > 0;
+    const int frames = sc->output.vtu && sc->output.every > 0 && eo_cli_rank() == 0;
     snprintf(pvd_file, sizeof pvd_file, "%s.pvd", org.name);
     snprintf(path, sizeof path, "%s/%s", dir, pvd_file);
     if (frames) EO_TRY(rc = eo_pvd_create(ctx, path, &pvd));
@@ -521,6 +545,13 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     summary_info si = {.dir = dir, .name = org.name, .pvd_file = frames ? pvd_file : NULL, .status = "running",
                        .restarted_at = first};
     EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
+
+    /* ---- every rank ready (under MPI: one rank's failure ends all of them, with exit 2) */
+    agreed = 1;
+    if (!eo_cli_agree(1)) {
+        rc = eo_error(ctx, EO_ERR_IO, "another MPI rank could not set up the run");
+        goto fail;
+    }
 
     /* ---- the steps */
     run_state rs = {.csv = csv, .sim = sim};
@@ -632,6 +663,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     rc = signo ? 128 + signo : all_converged ? EO_EXIT_OK : EO_EXIT_NOT_CONVERGED;
     goto done;
 fail:
+    if (!agreed) eo_cli_agree(0);
     eo_cli_progress_done(&pg);
     eo_cli_fail(ctx, rc);
     rc = EO_EXIT_BAD_INPUT;
@@ -649,6 +681,7 @@ done:
     eo_cfg_destroy(&cfg);
     eo_sim_destroy(&sim);
     json_decref(run_doc);
+    if (rank_tmp[0]) nftw(rank_tmp, remove_entry, 8, FTW_DEPTH | FTW_PHYS);
     return rc;
 }
 

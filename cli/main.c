@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "eo_build_config.h"
 #include "elastopt/plugin.h"
+#include "petsc_load.h"
 
 extern const eo_cli_command eo_cmd_list, eo_cmd_help;
 extern const eo_cli_command eo_cmd_material;
@@ -101,6 +102,7 @@ int main(int argc, char **argv)
         return EO_EXIT_BAD_INPUT;
     }
     int prc = load_plugins(pctx, &argc, argv);
+    if (!prc) prc = eo_cli_petsc_load(pctx, &argc, argv); /* the PETSc / MPI backend, if built */
     eo_ctx_destroy(&pctx);
     if (prc) return prc;
     if (argc < 2) {

@@ -64,6 +64,7 @@ struct eo_step {
     eo_csc *Mi;
     unsigned long Mi_pattern;
     double *fin;                /* 2·n_full: xₙ, x̃ of the free coordinates */
+    const eo_step_part *part;   /* partitioned evaluation (eo_step_set_part), NULL: whole */
 };
 
 /* step_bc.c */

@@ -22,6 +22,23 @@ void eo_stepi_scatter_free(eo_step *st, const double *x)
     for (int i = 0; i < st->nfree; i++) st->xw[st->free2full[i]] = x[i];
 }
 
+/* With a part set, only the coordinates of the part's vertices are read and written. */
+static void scatter_part(eo_step *st, const double *x)
+{
+    const eo_step_part *p = st->part;
+    for (int q = 0; q < p->nv; q++)
+        for (int c = 0; c < 3; c++) {
+            const int j = 3 * p->verts[q] + c, i = st->full2free[j];
+            if (i >= 0) st->xw[j] = x[i];
+        }
+}
+
+static void scatter(eo_step *st, const double *x)
+{
+    if (st->part) scatter_part(st, x);
+    else eo_stepi_scatter_free(st, x);
+}
+
 static double sum_energy(eo_step *st, const double *xfull)
 {
     double e = 0;
@@ -32,7 +49,7 @@ static double sum_energy(eo_step *st, const double *xfull)
 static int op_value(void *data, const double *x, double *g)
 {
     eo_step *st = data;
-    eo_stepi_scatter_free(st, x);
+    scatter(st, x);
     *g = sum_energy(st, st->xw);
     return EO_OK;
 }
@@ -40,23 +57,49 @@ static int op_value(void *data, const double *x, double *g)
 static int op_gradient(void *data, const double *x, double *g, double *grad)
 {
     eo_step *st = data;
-    eo_stepi_scatter_free(st, x);
-    memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
+    const eo_step_part *p = st->part;
+    scatter(st, x);
+    if (p)
+        for (int q = 0; q < p->nv; q++)
+            for (int c = 0; c < 3; c++) st->gfull[3 * p->verts[q] + c] = 0;
+    else
+        memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
     double e = 0;
     for (int i = 0; i < st->nterms; i++) {
         e += st->terms[i]->ops->gradient(st->terms[i], &st->sys, st->xw, st->gfull);
         if (!(e < INFINITY)) break;
     }
     *g = isfinite(e) ? e : INFINITY;
-    for (int i = 0; i < st->nfree; i++) grad[i] = st->gfull[st->free2full[i]];
+    if (p) {
+        for (int q = 0; q < p->nv; q++)
+            for (int c = 0; c < 3; c++) {
+                const int j = 3 * p->verts[q] + c, i = st->full2free[j];
+                if (i >= 0) grad[i] = st->gfull[j];
+            }
+    } else {
+        for (int i = 0; i < st->nfree; i++) grad[i] = st->gfull[st->free2full[i]];
+    }
     return EO_OK;
+}
+
+/* Zero the Hessian columns of the part's free coordinates (the only ones its terms add to). */
+static void zero_part_columns(eo_step *st)
+{
+    const eo_step_part *p = st->part;
+    eo_csc *H = eo_assembler_matrix(st->as);
+    for (int q = 0; q < p->nv; q++)
+        for (int c = 0; c < 3; c++) {
+            const int i = st->full2free[3 * p->verts[q] + c];
+            if (i >= 0) memset(H->val + H->colptr[i], 0, (size_t)(H->colptr[i + 1] - H->colptr[i]) * sizeof(double));
+        }
 }
 
 static int op_hessian(void *data, const double *x, eo_proj proj, eo_csc **H)
 {
     eo_step *st = data;
-    eo_stepi_scatter_free(st, x);
-    eo_assembler_zero(st->as);
+    scatter(st, x);
+    if (st->part) zero_part_columns(st);
+    else eo_assembler_zero(st->as);
     for (int i = 0; i < st->nterms; i++) {
         int rc = st->terms[i]->ops->hessian(st->terms[i], &st->sys, st->xw, proj);
         if (rc < 0) return rc;
@@ -103,9 +146,12 @@ static int op_metric_diag(void *data, double *d)
 static int op_inverted_count(void *data, const double *x)
 {
     eo_step *st = data;
-    eo_stepi_scatter_free(st, x);
+    scatter(st, x);
     int n = 0;
-    for (int k = 0; k < st->nt; k++) n += eo_tet_is_inverted(eo_stepi_tet_J(st, st->xw, k));
+    if (st->part)
+        for (int q = 0; q < st->part->nt; q++) n += eo_tet_is_inverted(eo_stepi_tet_J(st, st->xw, st->part->tets[q]));
+    else
+        for (int k = 0; k < st->nt; k++) n += eo_tet_is_inverted(eo_stepi_tet_J(st, st->xw, k));
     return n;
 }
 
@@ -158,6 +204,39 @@ const eo_objective_ops eo_stepi_ops = {
     .element_residual = op_element_residual,
 };
 
+
+/* ---------------------------------------------------------------- partitioned evaluation */
+
+int eo_step_set_part(eo_step *st, const eo_step_part *part)
+{
+    if (part) {
+        if (st->integ->explicit_step)
+            return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "partitioned evaluation: integrator %s is explicit",
+                            st->integ->info.name);
+        if (st->spring || st->damping)
+            return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "partitioned evaluation: the scene has %s, which has no "
+                            "partitioned form yet", st->spring ? "springs" : "damping");
+        for (int q = 0; q < part->nt; q++)
+            if (part->tets[q] < 0 || part->tets[q] >= st->nt)
+                return eo_error(st->ctx, EO_ERR_INVALID, "partitioned evaluation: tet %d out of range", part->tets[q]);
+        for (int q = 0; q < part->nv; q++)
+            if (part->verts[q] < 0 || part->verts[q] >= st->nv)
+                return eo_error(st->ctx, EO_ERR_INVALID, "partitioned evaluation: vertex %d out of range",
+                                part->verts[q]);
+    }
+    st->part = part;
+    st->sys.part_tets = part ? part->tets : NULL;
+    st->sys.part_nt = part ? part->nt : 0;
+    st->sys.vown = part ? part->vown : NULL;
+    return EO_OK;
+}
+
+eo_step *eo_step_of_objective(const eo_objective *obj)
+{
+    return obj && obj->ops == &eo_stepi_ops ? obj->data : NULL;
+}
+
+unsigned long eo_step_pattern_id(const eo_step *st) { return st->pattern_id; }
 
 /* ---------------------------------------------------------------- one step */
 

@@ -47,7 +47,19 @@ typedef struct eo_sys {
     int parallel;               /* 1: use OpenMP in element loops */
     const unsigned char *proj_of; /* nt: per-tet projection during a hessian_masked call
                                      (overrides the hessian's proj for tets), else NULL */
+    /* partitioned evaluation (eo_step_set_part, a distributed backend): the terms add
+     * only the tets part_tets[0..part_nt) and the nodal contributions of the vertices
+     * with vown[v] = 1; NULL = everything (the default) */
+    const int *part_tets;
+    int part_nt;
+    const unsigned char *vown;
 } eo_sys;
+
+/* Tets of the current part (all tets without one): i-th tet and their count. */
+static inline int eo_sys_ntets(const eo_sys *s) { return s->part_tets ? s->part_nt : s->nt; }
+static inline int eo_sys_tet(const eo_sys *s, int i) { return s->part_tets ? s->part_tets[i] : i; }
+/* 1 if this part evaluates the nodal terms of vertex v. */
+static inline int eo_sys_vertex_on(const eo_sys *s, int v) { return !s->vown || s->vown[v]; }
 
 typedef struct eo_term eo_term;
 

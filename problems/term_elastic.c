@@ -14,7 +14,8 @@
  * thread count and no allocation or atomic is needed. The energy is a plain reduction.
  * Serial Hessian assembly (the default) is one pass: each tet's 12×12 matrix goes from
  * the kernel's output straight into the CSC (eo_assembler_add_scaled, 3×3 blocks),
- * without the element buffer. */
+ * without the element buffer. With a part set (eo_sys.part_tets) the loops run over the
+ * part's tets only. */
 #include <math.h>
 #include <string.h>
 
@@ -35,11 +36,12 @@ static void eval_tet(const eo_sys *s, int k, const double *x, eo_eval_what what,
 static double energy(eo_term *t, const eo_sys *s, const double *x)
 {
     double e = 0;
-    const int nt = s->nt;
+    const int nt = eo_sys_ntets(s);
 #if defined(_OPENMP)
 #pragma omp parallel for reduction(+ : e) schedule(static) if (s->parallel)
 #endif
-    for (int k = 0; k < nt; k++) {
+    for (int i = 0; i < nt; i++) {
+        const int k = eo_sys_tet(s, i);
         if (skip(s, k)) continue;
         eo_tet_out out;
         eval_tet(s, k, x, EO_EVAL_ENERGY, EO_PROJ_NONE, &out);
@@ -53,14 +55,15 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
 {
     double e = 0;
     const double w = t->weight;
-    for (int b0 = 0; b0 < s->nt; b0 += s->block) {
-        int nb = s->nt - b0 < s->block ? s->nt - b0 : s->block;
+    const int nt = eo_sys_ntets(s);
+    for (int b0 = 0; b0 < nt; b0 += s->block) {
+        int nb = nt - b0 < s->block ? nt - b0 : s->block;
         double eb = 0;
 #if defined(_OPENMP)
 #pragma omp parallel for reduction(+ : eb) schedule(static) if (s->parallel)
 #endif
         for (int j = 0; j < nb; j++) {
-            int k = b0 + j;
+            int k = eo_sys_tet(s, b0 + j);
             if (skip(s, k)) continue;
             eo_tet_out out;
             eval_tet(s, k, x, EO_EVAL_GRAD, EO_PROJ_NONE, &out);
@@ -69,7 +72,7 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
         }
         e += eb; /* a non-finite e is returned after all forces are scattered */
         for (int j = 0; j < nb; j++) {
-            int k = b0 + j;
+            int k = eo_sys_tet(s, b0 + j);
             if (skip(s, k)) continue;
             const int *tet = s->mesh->tets + 4 * k;
             const double *ge = s->elem_g + 12 * j;
@@ -83,8 +86,10 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
 static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
 {
     const double w = t->weight;
+    const int nt = eo_sys_ntets(s);
     if (!s->parallel) { /* one pass: evaluate and scatter each tet, no element buffer */
-        for (int k = 0; k < s->nt; k++) {
+        for (int i = 0; i < nt; i++) {
+            const int k = eo_sys_tet(s, i);
             if (skip(s, k)) continue;
             eo_tet_out out;
             eval_tet(s, k, x, EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[k] : proj, &out);
@@ -92,13 +97,13 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
         }
         return EO_OK;
     }
-    for (int b0 = 0; b0 < s->nt; b0 += s->block) {
-        int nb = s->nt - b0 < s->block ? s->nt - b0 : s->block;
+    for (int b0 = 0; b0 < nt; b0 += s->block) {
+        int nb = nt - b0 < s->block ? nt - b0 : s->block;
 #if defined(_OPENMP)
 #pragma omp parallel for schedule(static) if (s->parallel)
 #endif
         for (int j = 0; j < nb; j++) {
-            int k = b0 + j;
+            int k = eo_sys_tet(s, b0 + j);
             if (skip(s, k)) continue;
             eo_tet_out out;
             eval_tet(s, k, x, EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[k] : proj, &out);
@@ -106,7 +111,7 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
             for (int q = 0; q < 144; q++) He[q] = w * out.hess[q];
         }
         for (int j = 0; j < nb; j++) {
-            int k = b0 + j;
+            int k = eo_sys_tet(s, b0 + j);
             if (skip(s, k)) continue;
             eo_assembler_add(s->as, s->tet_group, k, s->elem_H + 144 * j);
         }

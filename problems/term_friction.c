@@ -82,21 +82,21 @@ static double f0(double y, double eps)
 
 static double energy(eo_term *t, const eo_sys *s, const double *x)
 {
-    (void)s;
     const friction_data *d = t->data;
     double e = 0, u[3];
-    for (int i = 0; i < d->nc; i++) e += d->c[i].mul * f0(slip(d, d->c + i, x, u), d->c[i].eps);
+    for (int i = 0; i < d->nc; i++)
+        if (eo_sys_vertex_on(s, d->c[i].v)) e += d->c[i].mul * f0(slip(d, d->c + i, x, u), d->c[i].eps);
     return t->weight * d->wfac * e / d->s;
 }
 
 static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
 {
-    (void)s;
     const friction_data *d = t->data;
     const double w = t->weight * d->wfac;
     double e = 0, u[3];
     for (int i = 0; i < d->nc; i++) {
         const contact *c = d->c + i;
+        if (!eo_sys_vertex_on(s, c->v)) continue;
         double y = slip(d, c, x, u);
         e += c->mul * f0(y, c->eps);
         double phi = y < c->eps ? 2 / c->eps - y / (c->eps * c->eps) : 1 / y;
@@ -112,6 +112,7 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
     double He[9], u[3];
     for (int i = 0; i < d->nc; i++) {
         const contact *c = d->c + i;
+        if (!eo_sys_vertex_on(s, c->v)) continue;
         double y = slip(d, c, x, u), phi, q;
         if (y < c->eps) {
             phi = 2 / c->eps - y / (c->eps * c->eps);

@@ -14,7 +14,7 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
     const gravity_data *d = t->data;
     double e = 0;
     for (int v = 0; v < s->nv; v++)
-        e -= s->vmass[v] * (d->g[0] * x[3 * v] + d->g[1] * x[3 * v + 1] + d->g[2] * x[3 * v + 2]);
+        if (eo_sys_vertex_on(s, v)) e -= s->vmass[v] * (d->g[0] * x[3 * v] + d->g[1] * x[3 * v + 1] + d->g[2] * x[3 * v + 2]);
     return t->weight * e;
 }
 
@@ -22,7 +22,7 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *gra
 {
     const gravity_data *d = t->data;
     for (int v = 0; v < s->nv; v++)
-        for (int c = 0; c < 3; c++) grad[3 * v + c] -= t->weight * s->vmass[v] * d->g[c];
+        for (int c = 0; c < 3 && eo_sys_vertex_on(s, v); c++) grad[3 * v + c] -= t->weight * s->vmass[v] * d->g[c];
     return energy(t, s, x);
 }
 

@@ -7,7 +7,8 @@
  * Point masses (s->pmass, scene point_mass / point_masses) are part of s->vmass and are
  * added on the diagonal of the consistent mass too.
  * The consistent Hessian is constant: its values in the fixed pattern are computed once
- * per pattern (prepare) and added with one vector loop per assembly. */
+ * per pattern (prepare) and added with one vector loop per assembly (with a part set,
+ * eo_sys.part_tets, the part's tet matrices are assembled instead). */
 #include <string.h>
 
 #include "term.h"
@@ -25,6 +26,7 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
     double e = 0;
     if (d->lumped) {
         for (int v = 0; v < s->nv; v++) {
+            if (!eo_sys_vertex_on(s, v)) continue;
             double q = 0;
             for (int c = 0; c < 3; c++) {
                 double dd = x[3 * v + c] - xt[3 * v + c];
@@ -34,7 +36,8 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
         }
         return 0.5 * e;
     }
-    for (int k = 0; k < s->nt; k++) {
+    for (int i = 0; i < eo_sys_ntets(s); i++) {
+        const int k = eo_sys_tet(s, i);
         const int *tet = s->mesh->tets + 4 * k;
         double sum[3] = {0, 0, 0}, q = 0;
         for (int a = 0; a < 4; a++)
@@ -46,7 +49,8 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
         e += s->rho[k] * s->vol[k] / 20.0 * (q + sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
     }
     for (int v = 0; s->pmass && v < s->nv; v++)
-        for (int c = 0; c < 3; c++) e += s->pmass[v] * (x[3 * v + c] - xt[3 * v + c]) * (x[3 * v + c] - xt[3 * v + c]);
+        for (int c = 0; c < 3 && eo_sys_vertex_on(s, v); c++)
+            e += s->pmass[v] * (x[3 * v + c] - xt[3 * v + c]) * (x[3 * v + c] - xt[3 * v + c]);
     return 0.5 * e;
 }
 
@@ -57,14 +61,15 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
     double e = 0;
     if (d->lumped) {
         for (int v = 0; v < s->nv; v++)
-            for (int c = 0; c < 3; c++) {
+            for (int c = 0; c < 3 && eo_sys_vertex_on(s, v); c++) {
                 double dd = x[3 * v + c] - xt[3 * v + c];
                 e += s->vmass[v] * dd * dd;
                 g[3 * v + c] += s->vmass[v] * dd;
             }
         return 0.5 * e;
     }
-    for (int k = 0; k < s->nt; k++) {
+    for (int i = 0; i < eo_sys_ntets(s); i++) {
+        const int k = eo_sys_tet(s, i);
         const int *tet = s->mesh->tets + 4 * k;
         double dd[12], sum[3] = {0, 0, 0}, q = 0;
         for (int a = 0; a < 4; a++)
@@ -79,7 +84,7 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
             for (int c = 0; c < 3; c++) g[3 * tet[a] + c] += m * (dd[3 * a + c] + sum[c]);
     }
     for (int v = 0; s->pmass && v < s->nv; v++)
-        for (int c = 0; c < 3; c++) {
+        for (int c = 0; c < 3 && eo_sys_vertex_on(s, v); c++) {
             double dd = x[3 * v + c] - xt[3 * v + c];
             e += s->pmass[v] * dd * dd;
             g[3 * v + c] += s->pmass[v] * dd;
@@ -127,7 +132,20 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
     if (d->lumped) {
         for (int j = 0; j < s->n_full; j++) {
             int i = s->full2free[j];
-            if (i >= 0) eo_assembler_add_diag(s->as, i, s->vmass[j / 3]);
+            if (i >= 0 && eo_sys_vertex_on(s, j / 3)) eo_assembler_add_diag(s->as, i, s->vmass[j / 3]);
+        }
+        return EO_OK;
+    }
+    if (s->part_tets || s->vown) { /* a part: its tets' mass matrices, its vertices' point masses */
+        double Ke[144];
+        for (int i = 0; i < eo_sys_ntets(s); i++) {
+            const int k = eo_sys_tet(s, i);
+            tet_mass_matrix(s->rho[k] * s->vol[k] / 20.0, Ke);
+            eo_assembler_add(s->as, s->tet_group, k, Ke);
+        }
+        for (int j = 0; s->pmass && j < s->n_full; j++) {
+            int i = s->full2free[j];
+            if (i >= 0 && eo_sys_vertex_on(s, j / 3)) eo_assembler_add_diag(s->as, i, s->pmass[j / 3]);
         }
         return EO_OK;
     }

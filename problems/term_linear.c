@@ -9,13 +9,15 @@
 static double energy(eo_term *t, const eo_sys *s, const double *x)
 {
     double e = 0;
-    for (int j = 0; j < s->n_full; j++) e -= t->vec[j] * x[j];
+    for (int j = 0; j < s->n_full; j++)
+        if (eo_sys_vertex_on(s, j / 3)) e -= t->vec[j] * x[j];
     return t->weight * e;
 }
 
 static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
 {
-    for (int j = 0; j < s->n_full; j++) g[j] -= t->weight * t->vec[j];
+    for (int j = 0; j < s->n_full; j++)
+        if (eo_sys_vertex_on(s, j / 3)) g[j] -= t->weight * t->vec[j];
     return energy(t, s, x);
 }
 

@@ -6,7 +6,8 @@ cd "$(dirname "$0")/.."
 pkgs=(meson ninja-build pkg-config gcc liblapacke-dev libopenblas-dev libsuitesparse-dev
       libnlopt-dev coinor-libipopt-dev libhypre-dev libjansson-dev gnuplot-nox valgrind python3-jsonschema
       g++ libtet1.5-dev   # g++ + libtet1.5-dev: TetGen for surface meshes (-Dtetgen)
-      python3-numpy python3-cffi python3-scipy)  # the Python package (python/elastopt)
+      python3-numpy python3-cffi python3-scipy   # the Python package (python/elastopt)
+      petsc-dev openmpi-bin libopenmpi-dev)      # the PETSc / MPI backend (-Dpetsc) and its mpirun tests
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

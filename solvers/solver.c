@@ -32,6 +32,7 @@ struct eo_solver {
 };
 
 static const char *const linesearch_auto[] = {"auto", NULL};
+static const char *const backend_names[] = {"native", "petsc", NULL};
 
 #define OPTS_STR(field) .size = sizeof(((eo_solver_opts *)0)->field)
 
@@ -61,6 +62,10 @@ const eo_param_desc eo_solver_opts_desc[] = {
      .help = "iteration cap per minimization (reason diverged_max_iters)"},
     {.key = "time_budget", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_solver_opts, time_budget),
      .def.d = 0, .min = 0, .range = EO_RANGE_MIN, .help = "seconds per minimization, 0 = none"},
+    {.key = "backend", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_solver_opts, backend), OPTS_STR(backend),
+     .def.s = "native", .choices = backend_names,
+     .help = "native, or petsc: the optimizer distributed over MPI ranks by the PETSc backend (newton runs as "
+             "petsc_newton; snes_* and tao_* as they are); needs a build with -Dpetsc"},
     {0},
 };
 
@@ -157,6 +162,25 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, eo_so
         goto fail;
     }
 
+    /* backend petsc: the distributed version of the optimizer */
+    if (strcmp(s->opts.backend, "petsc") == 0) {
+        const void *t = NULL;
+        char name[40];
+        snprintf(name, sizeof name, "petsc_%s", s->opts.optimizer);
+        if (strlen(name) < sizeof s->opts.optimizer && eo_registry_lookup(ctx, &eo_reg_optimizer, name, &t) >= 0) {
+            memcpy(s->opts.optimizer, name, strlen(name) + 1);
+        } else if (strncmp(s->opts.optimizer, "petsc_", 6) != 0 && strncmp(s->opts.optimizer, "snes_", 5) != 0 &&
+                   strncmp(s->opts.optimizer, "tao_", 4) != 0) {
+            rc = eo_error(ctx, EO_ERR_UNKNOWN_NAME,
+                          "key 'solver.backend': petsc has no version of optimizer '%s'%s", s->opts.optimizer,
+                          eo_registry_lookup(ctx, &eo_reg_optimizer, "petsc_newton", &t) >= 0
+                              ? " (it runs newton as petsc_newton, and snes_newtonls, snes_newtontr, tao_nls, "
+                                "tao_ntr, tao_lmvm, tao_bqnls)"
+                              : " (the PETSc backend is not loaded: build with meson -Dpetsc=enabled; the CLI "
+                                "loads it by itself)");
+            goto fail;
+        }
+    }
     /* resolve the selected methods; the linear solver only if the optimizer needs one */
     for (size_t i = 0; i < N_KINDS; i++) {
         if (i == SLOT_LINEAR && !((const eo_optimizer_type *)s->type[SLOT_OPT])->needs_linear)

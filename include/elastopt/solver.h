@@ -585,6 +585,12 @@ typedef struct eo_solver_opts {
     double tol;            ///< stopping tolerance, see the file comment (default 1e-10)
     int max_iters;         ///< iteration cap → EO_DIVERGED_MAX_ITERS (default 100)
     double time_budget;    ///< seconds per minimization, 0 = none (default 0)
+    /// "native" (default) or "petsc": run `optimizer` distributed with the PETSc / MPI
+    /// backend (its version petsc_<optimizer>, e.g. petsc_newton; the backend's own
+    /// snes_* and tao_* optimizers run as they are). The backend is a module the CLI
+    /// loads when built with -Dpetsc (README "PETSc / MPI backend"); without it
+    /// eo_solver_create fails with EO_ERR_UNKNOWN_NAME naming the option.
+    char backend[16];
 } eo_solver_opts;
 EO_API extern const eo_param_desc eo_solver_opts_desc[];
 

@@ -195,6 +195,34 @@ EO_API int eo_step_full_to_free(const eo_step *st, int j);
 /// Lumped mass of each vertex (nv), borrowed.
 EO_API const double *eo_step_vertex_mass(const eo_step *st);
 
+/// Partitioned evaluation, for distributed backends (the PETSc module, petsc/): while a
+/// part is set, the step objective's value, gradient, hessian and inverted_count add only
+///  - the tets tets[0..nt) (elastic energy, consistent mass), and
+///  - the nodal terms (lumped mass, point masses, gravity, the linear term of newmark,
+///    contact, friction) of the vertices v with vown[v] = 1,
+/// so summing the results of parts that together hold every tet once and own every vertex
+/// once gives the whole objective (up to rounding). x is read only at the free
+/// coordinates of verts[0..nv) (every vertex of the part's tets; owned vertices belong
+/// to a tet of the part), the gradient is written only there (other entries
+/// unspecified), and the Hessian (the step's matrix and pattern) is zeroed and assembled
+/// only in the columns of those coordinates. The arrays are borrowed until the part is
+/// cleared (eo_step_set_part(st, NULL)); eo_step_begin/end and the statistics always see
+/// the whole problem, so set a part only around the evaluations that want it.
+/// Returns EO_OK, or EO_ERR_UNSUPPORTED for a scene with terms that have no partitioned
+/// form (springs, damping) or an explicit integrator.
+typedef struct eo_step_part {
+    int nt;                       ///< tets of this part
+    const int *tets;              ///< nt tet indices
+    int nv;                       ///< vertices touched by the part
+    const int *verts;             ///< nv vertex indices (each once)
+    const unsigned char *vown;    ///< mesh nv flags: 1 = this part adds the vertex's nodal terms
+} eo_step_part;
+EO_API int eo_step_set_part(eo_step *st, const eo_step_part *part);
+/// The step engine whose objective obj is, or NULL if obj is not a step objective.
+EO_API eo_step *eo_step_of_objective(const eo_objective *obj);
+/// Changes whenever the free set and the Hessian pattern are rebuilt (a release).
+EO_API unsigned long eo_step_pattern_id(const eo_step *st);
+
 /// Diagnostics of the current state.
 typedef struct eo_step_stats {
     double com[3];          ///< centre of mass

@@ -1,0 +1,20 @@
+/* The PETSc / MPI backend module (petsc/, built with -Dpetsc) as seen by the CLI: loaded
+ * at start with its own symbol scope; under an MPI launcher it starts MPI and the ranks
+ * other than 0 print nothing and write no output files. Without the module every rank
+ * function below answers as a single process. */
+#ifndef EO_CLI_PETSC_LOAD_H
+#define EO_CLI_PETSC_LOAD_H
+
+#include "elastopt/ctx.h"
+
+/* Load the module if it was built (ELASTOPT_PETSC_MODULE names another file), take the
+ * PETSc options (-ksp_*, -pc_*, -log_view, ...) out of argv. Returns 0, or 2 after
+ * printing an error (a module that exists but cannot be loaded or started). */
+int eo_cli_petsc_load(eo_ctx *ctx, int *argc, char **argv);
+/* Rank and number of processes (0 and 1 without MPI). */
+int eo_cli_rank(void);
+int eo_cli_size(void);
+/* 1 if ok is 1 on every rank (collective over all ranks when there are several). */
+int eo_cli_agree(int ok);
+
+#endif

@@ -1,0 +1,221 @@
+/* The PETSc backend module (petsc_backend.h): plug-in entry point, PETSc start and end,
+ * the shared parameters and the KSP configuration, and the three functions the CLI finds
+ * with dlsym (eo_petsc_cli_start, eo_petsc_cli_agree, eo_petsc_cli_abort).
+ *
+ * PETSc is started (PetscInitialize, which starts MPI unless the host already did) when
+ * the CLI runs under an MPI launcher, else at the first minimization that needs it (an
+ * MPI singleton); it is finalized at exit. PETSc's error handler is replaced by the
+ * returning one: errors come back as eo statuses with a message, nothing is printed
+ * except what PETSc options ask for (-log_view, -ksp_monitor, ...). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "elastopt/plugin.h"
+#include "petsc_backend.h"
+#include "petsc_options.h"
+
+static const char *const ksp_names[] = {"preonly", "cg", "minres", "gmres", NULL};
+static const char *const pc_names[] = {"mumps", "gamg", "hypre", "bjacobi_icc", "jacobi", NULL};
+static const char *const part_names[] = {"ptscotch", "slab", NULL};
+
+#define PP_STR(field) .size = sizeof(((eo_petsc_params *)0)->field)
+const eo_param_desc eo_petsc_params_desc[] = {
+    {.key = "ksp", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_petsc_params, ksp), PP_STR(ksp),
+     .def.s = "preonly", .choices = ksp_names,
+     .help = "Krylov method of the Newton system (PETSc KSP): preonly (with pc = mumps: a direct solve), cg, "
+             "minres, gmres"},
+    {.key = "pc", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_petsc_params, pc), PP_STR(pc), .def.s = "mumps",
+     .choices = pc_names,
+     .help = "preconditioner: mumps (MUMPS Cholesky/LDL^T, direct), gamg (smoothed aggregation AMG with the "
+             "rigid-body modes), hypre (BoomerAMG), bjacobi_icc (block Jacobi, ICC(0) per rank), jacobi"},
+    {.key = "rtol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_petsc_params, rtol), .def.d = 1e-10, .min = 0,
+     .max = 1, .range = EO_RANGE_OPEN, .help = "relative residual tolerance of an iterative Newton solve"},
+    {.key = "max_lin_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_petsc_params, max_lin_iters),
+     .def.i = 10000, .min = 1, .max = 100000000, .range = EO_RANGE_CLOSED,
+     .help = "iteration cap of an iterative Newton solve"},
+    {.key = "partitioner", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_petsc_params, partitioner),
+     PP_STR(partitioner), .def.s = "ptscotch", .choices = part_names,
+     .help = "how the tets are split over the ranks: ptscotch (PETSc MatPartitioning on the face graph) or "
+             "slab (equal slabs along the longest axis)"},
+    {.key = "options", .kind = EO_PARAM_STRING, .offset = offsetof(eo_petsc_params, options), PP_STR(options),
+     .def.s = "", .help = "PETSc options for experts, e.g. \"-ksp_monitor -log_view\" (also PETSC_OPTIONS and "
+                          "the command line)"},
+    {0},
+};
+
+/* ---------------------------------------------------------------- start / end */
+
+static int g_started;               /* we called PetscInitialize */
+static char g_options[4096];        /* PETSc options from the command line */
+
+static void finalize(void)
+{
+    if (g_started) {
+        PetscFinalize();
+        g_started = 0;
+    }
+}
+
+int eo_petsc_fail(eo_ctx *ctx, PetscErrorCode ierr, const char *what)
+{
+    const char *text = NULL;
+    PetscErrorMessage(ierr, &text, NULL);
+    return eo_error(ctx, EO_ERR_LINSOLVE, "petsc: %s failed: %s (PETSc error %d)", what, text ? text : "?",
+                    (int)ierr);
+}
+
+static int start(void)
+{
+    PetscBool on = PETSC_FALSE;
+    PetscInitialized(&on);
+    if (on) return 0;
+    /* the command line's PETSc options go in as PetscInitialize's argv, so that the ones
+     * read at start-up (-log_view, -malloc_debug, ...) take effect */
+    static char buf[sizeof g_options], *args[256];
+    int argc = 0;
+    args[argc++] = "elastopt";
+    snprintf(buf, sizeof buf, "%s", g_options);
+    for (char *save = NULL, *tok = strtok_r(buf, " ", &save); tok && argc < 255; tok = strtok_r(NULL, " ", &save))
+        args[argc++] = tok;
+    args[argc] = NULL;
+    char **argv = args;
+    if (PetscInitialize(&argc, &argv, NULL, NULL)) return -1;
+    g_started = 1;
+    atexit(finalize);
+    PetscPushErrorHandler(PetscReturnErrorHandler, NULL);
+    return 0;
+}
+
+int eo_petsc_ensure(eo_ctx *ctx)
+{
+    if (start() < 0) return eo_error(ctx, EO_ERR_UNSUPPORTED, "petsc: PetscInitialize failed (MPI could not start)");
+    return EO_OK;
+}
+
+/* ---------------------------------------------------------------- KSP */
+
+int eo_petsc_ksp_configure(eo_ctx *ctx, KSP ksp, const eo_petsc_params *p, eo_dist *d, const char *prefix)
+{
+    (void)d;
+    int rc = EO_OK;
+    PC pc;
+    if (p->options[0]) EO_PC(PetscOptionsInsertString(NULL, p->options));
+    if (prefix) EO_PC(KSPSetOptionsPrefix(ksp, prefix));
+    EO_PC(KSPGetPC(ksp, &pc));
+    const int direct = strcmp(p->pc, "mumps") == 0;
+    if (strcmp(p->ksp, "preonly") == 0 && !direct)
+        return eo_error(ctx, EO_ERR_INVALID, "petsc: ksp = preonly needs pc = mumps (a direct solve); pc = %s is a "
+                        "preconditioner: use ksp = cg, minres or gmres", p->pc);
+    EO_PC(KSPSetType(ksp, strcmp(p->ksp, "cg") == 0       ? KSPCG
+                          : strcmp(p->ksp, "minres") == 0 ? KSPMINRES
+                          : strcmp(p->ksp, "gmres") == 0  ? KSPGMRES
+                                                          : KSPPREONLY));
+    if (direct) {
+        EO_PC(PCSetType(pc, PCCHOLESKY));
+        EO_PC(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+    } else if (strcmp(p->pc, "gamg") == 0) {
+        EO_PC(PCSetType(pc, PCGAMG));
+        /* the Newton matrices of one minimization share their pattern and change slowly:
+         * keep the prolongators between setups (measured on the 108k-tet twist, 1 rank:
+         * setups were 3/4 of the time, 9 s each under load) */
+        EO_PC(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE));
+        /* Chebyshev smoothing with a 1.3 safety factor on the eigenvalue estimate
+         * (PETSc's 1.1 made the preconditioner indefinite on the inverted scene; CG then
+         * stops with DIVERGED_INDEFINITE_PC and the solve is redone with GMRES) */
+        static const char *const def[][2] = {{"mg_levels_ksp_chebyshev_esteig", "0,0.1,0,1.3"}};
+        for (size_t i = 0; i < sizeof def / sizeof def[0]; i++) {
+            char key[96];
+            PetscBool set = PETSC_FALSE;
+            snprintf(key, sizeof key, "-%s%s", prefix ? prefix : "", def[i][0]);
+            EO_PC(PetscOptionsHasName(NULL, NULL, key, &set));
+            if (!set) EO_PC(PetscOptionsSetValue(NULL, key, def[i][1]));
+        }
+    } else if (strcmp(p->pc, "hypre") == 0) {
+        EO_PC(PCSetType(pc, PCHYPRE));
+        EO_PC(PCHYPRESetType(pc, "boomeramg"));
+    } else if (strcmp(p->pc, "bjacobi_icc") == 0) {
+        EO_PC(PCSetType(pc, PCBJACOBI));
+        PetscBool set = PETSC_FALSE;
+        char key[64];
+        snprintf(key, sizeof key, "-%ssub_pc_type", prefix ? prefix : "");
+        EO_PC(PetscOptionsHasName(NULL, NULL, key, &set));
+        if (!set) EO_PC(PetscOptionsSetValue(NULL, key, "icc"));
+    } else {
+        EO_PC(PCSetType(pc, PCJACOBI));
+    }
+    EO_PC(KSPSetTolerances(ksp, p->rtol, 1e-300, 1e10, p->max_lin_iters));
+    EO_PC(KSPSetErrorIfNotConverged(ksp, PETSC_FALSE));
+    EO_PC(KSPSetFromOptions(ksp)); /* experts' -ksp_type, -pc_type, ... win */
+fail:
+    return rc;
+}
+
+/* ---------------------------------------------------------------- CLI helpers */
+
+/* Is this process started by an MPI launcher? */
+static int launched(void)
+{
+    const char *vars[] = {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_SIZE", "MPI_LOCALNRANKS", NULL};
+    for (int i = 0; vars[i]; i++)
+        if (getenv(vars[i])) return 1;
+    return 0;
+}
+
+
+/* Remove PETSc options (-ksp_*, -pc_*, -log_view, ... and a value that follows one)
+ * from argv, keep them for PetscInitialize; start PETSc now under an MPI launcher.
+ * rank/size: of PETSC_COMM_WORLD (0/1 when not launched). Returns 0 or -1 (cannot start). */
+__attribute__((visibility("default"))) int eo_petsc_cli_start(int *argc, char **argv, int *rank, int *size)
+{
+    int out = 1;
+    size_t len = strlen(g_options);
+    for (int i = 1; i < *argc; i++) {
+        if (eo_petsc_option_word(argv[i])) {
+            len += (size_t)snprintf(g_options + len, len < sizeof g_options ? sizeof g_options - len : 0, " %s",
+                                    argv[i]);
+            if (i + 1 < *argc && (argv[i + 1][0] != '-' || strtod(argv[i + 1], NULL) != 0))
+                len += (size_t)snprintf(g_options + len, len < sizeof g_options ? sizeof g_options - len : 0, " %s",
+                                        argv[++i]);
+            continue;
+        }
+        argv[out++] = argv[i];
+    }
+    *argc = out;
+    argv[out] = NULL;
+    *rank = 0;
+    *size = 1;
+    if (!launched() && !g_options[0]) return 0;
+    if (start() < 0) return -1;
+    MPI_Comm_rank(PETSC_COMM_WORLD, rank);
+    MPI_Comm_size(PETSC_COMM_WORLD, size);
+    return 0;
+}
+
+/* 1 if ok on every rank (collective when PETSc runs on more than one rank). */
+__attribute__((visibility("default"))) int eo_petsc_cli_agree(int ok)
+{
+    PetscBool on = PETSC_FALSE;
+    PetscInitialized(&on);
+    int size = 1;
+    if (on) MPI_Comm_size(PETSC_COMM_WORLD, &size);
+    if (size == 1) return ok;
+    int all = 0;
+    MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
+    return all;
+}
+
+/* ---------------------------------------------------------------- registration */
+
+EO_PLUGIN_ENTRY(ctx)
+{
+    const eo_optimizer_type *all[] = {&eo_optimizer_petsc_newton, &eo_optimizer_snes_newtonls,
+                                      &eo_optimizer_snes_newtontr, &eo_optimizer_tao_nls,
+                                      &eo_optimizer_tao_ntr, &eo_optimizer_tao_lmvm,
+                                      &eo_optimizer_tao_bqnls, NULL};
+    for (int i = 0; all[i]; i++) {
+        int rc = eo_register(ctx, EO_KIND_OPTIMIZER, all[i]);
+        if (rc < 0) return rc;
+    }
+    return EO_OK;
+}

@@ -1,0 +1,123 @@
+/* The PETSc / MPI backend (private to petsc/): a plug-in module (elastopt_petsc.so, loaded
+ * by the CLI with its own symbol scope, see README "PETSc / MPI backend") that registers
+ * optimizers running the step problem of eo_sim distributed over the ranks of
+ * PETSC_COMM_WORLD:
+ *
+ *   petsc_newton        our Newton (Hessian fixes none/shift/clamp/abs with the shift
+ *                       loop, our line searches backtracking/nonmonotone/none, our stopping
+ *                       rules) on PETSc vectors, the Newton system through KSP
+ *   snes_newtonls, snes_newtontr      PETSc SNES on ∇g = 0 with g as the line-search merit
+ *   tao_nls, tao_ntr, tao_lmvm, tao_bqnls   PETSc TAO on min g
+ *
+ * Every rank runs the same eo_sim (the scene, its state and the per-step protocol are
+ * replicated); inside a minimization each rank evaluates the energy, gradient and
+ * (projected) Hessian of its own tets and owned vertices only (eo_step_set_part, the same
+ * terms and material kernels as the serial engine), into a distributed Vec / MPIAIJ Mat
+ * (block size 3, preallocated from the pattern); at the end the minimizer is gathered to
+ * every rank so the driver accepts the same step everywhere.
+ *
+ * The mesh is split once per step engine by PETSc's MatPartitioning (PT-Scotch) on the
+ * tet dual graph (faces), or by coordinate slabs (solver.<name>.partitioner). */
+#ifndef EO_PETSC_BACKEND_H
+#define EO_PETSC_BACKEND_H
+
+#include <petscksp.h>
+
+#include "elastopt/solver.h"
+#include "elastopt/step.h"
+
+/* Parameters shared by every PETSc optimizer (config section solver.<name>). */
+typedef struct eo_petsc_params {
+    char ksp[16];          /* preonly | cg | minres | gmres (default preonly) */
+    char pc[16];           /* mumps | gamg | hypre | bjacobi_icc | jacobi (default mumps) */
+    double rtol;           /* KSP relative tolerance for iterative solves (default 1e-10) */
+    int max_lin_iters;     /* KSP iteration cap (default 10000) */
+    char partitioner[16];  /* ptscotch | slab (default ptscotch) */
+    char options[256];     /* PETSc options for experts, e.g. "-ksp_monitor" (default "") */
+} eo_petsc_params;
+extern const eo_param_desc eo_petsc_params_desc[];
+
+/* The distributed problem behind one optimizer instance: partition of the current step
+ * engine, numbering of the free coordinates, vectors, matrix, scatters. Rebuilt when the
+ * step engine or its pattern (free set) changes. */
+typedef struct eo_dist {
+    eo_ctx *ctx;
+    MPI_Comm comm;
+    int rank, size;
+    eo_step *st;                /* the step engine it was built for */
+    int nt_mesh, nv_mesh;
+    unsigned long pattern;      /* eo_step_pattern_id it was numbered for */
+    int have_pattern;
+    char partitioner[16];
+    const eo_petsc_params *params;  /* of the running minimization (borrowed) */
+    /* partition (per step engine) */
+    int *tet_owner;             /* nt */
+    int *vert_owner;            /* nv */
+    int *my_tets, n_my_tets;
+    int *my_verts, n_my_verts;  /* vertices of my tets */
+    unsigned char *vown;        /* nv */
+    eo_step_part part;
+    /* numbering (per pattern) */
+    int n;                      /* free coordinates (global) */
+    int nown, rstart;           /* owned rows, first global row */
+    int *perm;                  /* n: free index -> global row */
+    int nl;                     /* local free coordinates (of my_verts) */
+    int *lfree;                 /* nl free indices */
+    PetscInt *lglob;            /* nl global rows */
+    double *xrep, *grep;        /* n: replicated x for the step objective, its gradient */
+    Vec xl;                     /* sequential, nl */
+    VecScatter to_local;        /* global -> xl */
+    Vec xall;                   /* sequential, n: the whole vector on every rank */
+    VecScatter to_all;
+    /* Hessian: rows of my entries, gathered from the step's CSC */
+    int nrows;
+    PetscInt *rows;             /* nrows global rows */
+    int *rowptr;                /* nrows+1 */
+    PetscInt *cols;             /* entries: global columns */
+    int *pos;                   /* entries: positions in the CSC values */
+    PetscScalar *vals;          /* entries: scratch */
+    Mat A;
+    Vec coords;                 /* rest coordinates of the owned rows (GAMG rigid-body modes) */
+    MatNullSpace rbm;
+    long n_value, n_gradient, n_hessian;
+} eo_dist;
+
+/* Build or update for the objective obj (a step objective; EO_ERR_UNSUPPORTED else). */
+int eo_dist_setup(eo_dist *d, eo_ctx *ctx, eo_objective *obj, const eo_petsc_params *p);
+void eo_dist_destroy(eo_dist *d);
+/* Vectors laid out like the distributed free coordinates. */
+int eo_dist_vec(eo_dist *d, Vec *v);
+/* X <- x (replicated free coordinates); x <- X (gathered on every rank). */
+int eo_dist_from_rep(eo_dist *d, const double *x, Vec X);
+int eo_dist_to_rep(eo_dist *d, Vec X, double *x);
+/* g(X) (summed over the ranks; +INF where undefined); with G: ∇g(X). */
+int eo_dist_value(eo_dist *d, eo_objective *obj, Vec X, double *g);
+int eo_dist_gradient(eo_dist *d, eo_objective *obj, Vec X, double *g, Vec G);
+/* d->A = ∇²g(X) with per-element projection proj (assembled). */
+int eo_dist_hessian(eo_dist *d, eo_objective *obj, Vec X, eo_proj proj);
+/* Inverted tets at X over all ranks. */
+int eo_dist_inverted(eo_dist *d, eo_objective *obj, Vec X);
+/* Begin / end of a minimization: set / clear the step's part. */
+int eo_dist_begin(eo_dist *d);
+void eo_dist_end(eo_dist *d);
+
+/* KSP set up from the params (+ the options string, + the PETSc options database). */
+int eo_petsc_ksp_configure(eo_ctx *ctx, KSP ksp, const eo_petsc_params *p, eo_dist *d, const char *prefix);
+
+/* PETSc initialized (PetscInitialize once, MPI singleton if not launched by mpirun). */
+int eo_petsc_ensure(eo_ctx *ctx);
+/* Map a PETSc error code to an eo status with a message. */
+int eo_petsc_fail(eo_ctx *ctx, PetscErrorCode ierr, const char *what);
+#define EO_PC(call)                                                                      \
+    do {                                                                                 \
+        PetscErrorCode eo_ierr_ = (call);                                                \
+        if (eo_ierr_) {                                                                  \
+            rc = eo_petsc_fail(ctx, eo_ierr_, #call);                                    \
+            goto fail;                                                                   \
+        }                                                                                \
+    } while (0)
+
+extern const eo_optimizer_type eo_optimizer_petsc_newton, eo_optimizer_snes_newtonls, eo_optimizer_snes_newtontr,
+    eo_optimizer_tao_nls, eo_optimizer_tao_ntr, eo_optimizer_tao_lmvm, eo_optimizer_tao_bqnls;
+
+#endif
