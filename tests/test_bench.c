@@ -450,8 +450,8 @@ static void test_optional(const char *dir)
 
 /* The shipped suites load (every scene config and configuration resolved at load) and
  * have the shape the README describes: `real` of their scenes read ../shared/meshes and
- * are optional (dropped with a note where the folder is absent; liu2017's are not
- * optional, so it is not checked then). */
+ * are optional (dropped with a note where the folder is absent; liu2017 has no other
+ * scenes, so without the folder it is refused: every scene dropped). */
 static void test_shipped_suites(void)
 {
     const char *src = getenv("EO_SOURCE_ROOT");
@@ -464,19 +464,25 @@ static void test_shipped_suites(void)
     FILE *mf = fopen(mesh, "r");
     const int have_meshes = mf != NULL;
     if (mf) fclose(mf);
-    else printf("%s absent: the real-mesh scenes are dropped, liu2017.json not checked\n", mesh);
+    else printf("%s absent: the real-mesh scenes are dropped, liu2017.json refused\n", mesh);
     static const struct {
         const char *file;
         int scenes, real, configs;
     } want[] = {{"standard.json", 19, 3, 17}, {"full.json", 65, 41, 46}, {"hard.json", 11, 3, 19},
-                {"hard-smoke.json", 10, 1, 15}, {"smoke.json", 5, 0, 4}, {"liu2017.json", 8, 8, 7}};
+                {"hard-smoke.json", 10, 1, 15}, {"smoke.json", 5, 0, 4}, {"liu2017.json", 8, 8, 4}};
     for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
-        if (strcmp(want[i].file, "liu2017.json") == 0 && !have_meshes) continue;
         char path[4200];
         snprintf(path, sizeof path, "%s/bench/%s", src, want[i].file);
         eo_ctx *ctx = eo_test_ctx();
         eo_bench_suite *s = NULL;
         int rc = eo_bench_suite_load(ctx, path, &s);
+        if (want[i].real == want[i].scenes && !have_meshes) {
+            CHECK(rc == EO_ERR_INVALID && strstr(eo_ctx_message(ctx), "every scene is optional and was dropped"),
+                  "%s without the meshes: rc %d, %s", want[i].file, rc, eo_ctx_message(ctx));
+            eo_bench_suite_destroy(&s);
+            eo_test_ctx_done(&ctx);
+            continue;
+        }
         CHECK(rc == 0, "%s: %s", want[i].file, eo_ctx_message(ctx));
         if (s) {
             const int nsc = have_meshes ? want[i].scenes : want[i].scenes - want[i].real;

@@ -2,7 +2,8 @@
 # elastopt bench on bench/smoke.json (suite 'bench-smoke'): exit status 0, every output
 # file, the CSV columns, a status and reason for every configuration, no NaN anywhere,
 # every reference step converged, Newton's relative energy error down to <= 1e-6 on
-# every step, plots when gnuplot is installed, and a bad suite refused with exit 2.
+# every step, plots when gnuplot is installed (an SVG beside each PNG, one panel per
+# measured step, no gnuplot message), and a bad suite refused with exit 2.
 set -u
 EXE="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"
 SRC="${EO_SOURCE_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}"
@@ -101,6 +102,14 @@ if command -v gnuplot > /dev/null 2>&1; then
   n=$(ls "$OUT/run/plots/"*.png 2> /dev/null | wc -l)
   [ "$n" -ge 2 ] && ok || bad "expected PNG plots, found $n"
   grep -q "plots/pareto.png" "$OUT/run/report.md" && ok || bad "report does not link the Pareto chart"
+  # an SVG beside every PNG, and gnuplot said nothing (its log is kept only when not empty)
+  for png in "$OUT/run/plots/"*.png; do
+    [ -s "${png%.png}.svg" ] && grep -q "</svg>" "${png%.png}.svg" && ok || bad "no SVG beside $png"
+  done
+  logs=$(ls "$OUT/run/plots/"*.log 2> /dev/null)
+  [ -z "$logs" ] && ok || { bad "gnuplot wrote messages: $logs"; cat $logs >&2; }
+  # the scene plots: one panel per measured step (cantilever-snh has 2), one legend
+  [ "$(grep -c '^# panel ' "$OUT/run/plots/cantilever-snh.gp")" -eq 4 ] && ok || bad "cantilever-snh.gp: not 2 panels x 2 terminals"
 fi
 
 # a bad suite: exit 2, nothing written, the message lists the valid keys
