@@ -14,8 +14,9 @@
  * set_coordinates op, i.e. not AMG), the order-n/3 matrix L₁ is factored instead and
  * every solve is three solves with it, one per coordinate (Liu, Bouaziz & Kavan 2017
  * solve their Laplacian the same way): about 1/27 of the factorization flops and 1/3 of
- * the solve flops. Measured on the standard suite's 50k-tet bar (solver.linear cholmod,
- * one BLAS thread): see README "Projective dynamics and first-order methods".
+ * the solve flops. Measured on the standard suite's 50k-tet bar (E = 1e9, solver.linear
+ * cholmod, one BLAS thread, CPU time under load): numeric factorization 0.86 s -> 0.10 s,
+ * lbfgs h0 = pd to relative energy error 1e-6 (79 iterations) 1.63 s -> 0.91 s.
  * The objective's own factor: when solver.linear is a CHOLMOD method and the objective
  * offers constant_factor / constant_solve (objective.h), those are used instead (the step
  * objective's factor of L over all coordinates, kept across releases and pins by rank
