@@ -106,7 +106,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->free2full = eo_malloc(ctx, nf * sizeof(int));
     st->tet_dofs = eo_malloc(ctx, 12 * nt * sizeof(int));
     st->sys.block = BLOCK;
-    st->pd_mode = EO_PD_FACTOR_UPDOWN;
+    st->pd_mode = EO_PD_FACTOR_AUTO;
     st->sys.elem_g = eo_malloc(ctx, 12 * (size_t)BLOCK * sizeof(double));
     st->sys.elem_H = eo_malloc(ctx, 144 * (size_t)BLOCK * sizeof(double));
     if (!st->Dminv || !st->psi_rest || !st->vol || !st->rho || !st->vmass || !st->tet_type || !st->tet_coef || !st->x ||

@@ -422,7 +422,7 @@ static void stretch_run(int mode, double *traj)
     const int nf = 3 * eo_step_mesh(st)->nv, nsteps = eo_sim_scene(s)->time.steps;
     /* states before the last two steps (a ring), and the current one */
     double *xs = malloc(3 * (size_t)nf * sizeof(double)), *vs = malloc(3 * (size_t)nf * sizeof(double)), ts[3];
-    int is[3], n_prev = eo_test_sim_obj(s)->n, pending = 0, done = 0, ok = 1;
+    int is[3], n_prev = eo_test_sim_obj(s)->n, n_first = n_prev, pending = 0, done = 0, ok = 1;
     for (int k = 0; k < nsteps; k++) {
         eo_sim_get_state(s, xs + (size_t)(k % 2) * nf, vs + (size_t)(k % 2) * nf, &ts[k % 2], &is[k % 2]);
         eo_sim_step_result r;
@@ -465,10 +465,18 @@ static void stretch_run(int mode, double *traj)
         if (n != n_prev && !pending) pending = n_prev;
         n_prev = n;
     }
-    if (mode == EO_PD_FACTOR_UPDOWN) {
-        eo_step_pd_info in;
-        eo_step_pd_info_get(st, &in);
+    eo_step_pd_info in;
+    eo_step_pd_info_get(st, &in);
+    if (mode == EO_PD_FACTOR_UPDOWN)
         CHECK(done && in.n_factor == 1 && in.n_updown == 3, "updown: %ld factorizations, %ld updates", in.n_factor,
+              in.n_updown);
+    if (mode == EO_PD_FACTOR_AUTO) { /* the release: update iff rank·nnz(L) ≤ factorization flops */
+        double fl = 0, lnz = 0;
+        eo_updown_costs(eo_step_pd_updown(st), &fl, &lnz);
+        const int rel = 2 * (eo_test_sim_obj(s)->n - n_first) / 3, upd = rel * lnz <= fl;
+        printf("  sim auto: release of rank %d, flops/nnz(L) = %.1f: %s (%ld factorization(s), %ld update(s))\n",
+               rel, fl / lnz, upd ? "updated" : "factored afresh", in.n_factor, in.n_updown);
+        CHECK(in.n_factor == 2 - upd && in.n_updown == upd, "auto: %ld factorizations, %ld updates", in.n_factor,
               in.n_updown);
     }
     CHECK(ok, "stretch mode %d: every step converges", mode);
@@ -487,22 +495,22 @@ static void check_updown_sim(void)
     const int steps = eo_sim_scene(s)->time.steps;
     eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
-    double *tr[3];
-    for (int m = 0; m < 3; m++) tr[m] = calloc((size_t)steps * nf, sizeof(double));
+    double *tr[4];
+    for (int m = 0; m < 4; m++) tr[m] = calloc((size_t)steps * nf, sizeof(double));
     stretch_run(EO_PD_FACTOR_UPDOWN, tr[2]);
     stretch_run(EO_PD_FACTOR_REFACTOR, tr[1]);
     stretch_run(EO_PD_FACTOR_OFF, tr[0]);
-    double d1 = 0, d2 = 0, motion = 0;
+    stretch_run(EO_PD_FACTOR_AUTO, tr[3]);
+    double d[4] = {0, 0, 0, 0}, motion = 0;
     for (size_t q = 0; q < (size_t)steps * nf; q++) {
         motion = fmax(motion, fabs(tr[0][q] - tr[0][q % nf]));
-        d1 = fmax(d1, fabs(tr[1][q] - tr[0][q]));
-        d2 = fmax(d2, fabs(tr[2][q] - tr[0][q]));
+        for (int m = 1; m < 4; m++) d[m] = fmax(d[m], fabs(tr[m][q] - tr[0][q]));
     }
     printf("  stretch trajectory (%d steps, release at 0.3 s), max |x - x_off| / max motion: refactor %.2e, "
-           "updown %.2e\n", steps, d1 / motion, d2 / motion);
-    CHECK(motion > 1e-3 && d1 <= 1e-9 * motion && d2 <= 1e-9 * motion, "trajectories: %g %g (motion %g)", d1, d2,
-          motion);
-    for (int m = 0; m < 3; m++) free(tr[m]);
+           "updown %.2e, auto %.2e\n", steps, d[1] / motion, d[2] / motion, d[3] / motion);
+    CHECK(motion > 1e-3 && d[1] <= 1e-9 * motion && d[2] <= 1e-9 * motion && d[3] <= 1e-9 * motion,
+          "trajectories: %g %g %g (motion %g)", d[1], d[2], d[3], motion);
+    for (int m = 0; m < 4; m++) free(tr[m]);
 }
 
 /* ---- the default stopping rule relative_decrement gets λ₀ and the previous λ ---------- */

@@ -163,6 +163,10 @@ EO_API const unsigned char *eo_updown_free_set(const eo_updown *u);
 EO_API int eo_updown_factor_dense(eo_updown *u, double *LD);
 /// Columns passed to cholmod_updown so far.
 EO_API long eo_updown_columns(const eo_updown *u);
+/// Flops of a numeric factorization and nonzeros of L, from the symbolic analysis
+/// (CHOLMOD's Common->fl and ->lnz): a rank-r update/downdate passes over at most r·lnz
+/// entries, so r ≤ flops/lnz is where it cannot cost more than a new factorization.
+EO_API void eo_updown_costs(const eo_updown *u, double *flops, double *lnz);
 /// Free; sets *u = NULL; accepts NULL.
 EO_API void eo_updown_destroy(eo_updown **u);
 

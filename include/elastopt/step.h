@@ -203,18 +203,21 @@ EO_API const double *eo_step_vertex_mass(const eo_step *st);
 /// the vertex matrix L₁ is factored instead and a solve is one pass with 3 right-hand
 /// sides. The factor is of Ã(S) = [L_SS 0; 0 diag(L_CC)] for the free set S (eo_updown,
 /// linsolve.h): its free block is the eliminated matrix of the current constraints.
-///   EO_PD_FACTOR_UPDOWN    (default) a change of the constrained set (a release, or a
-///                          pin when the state is set back) is a rank update/downdate of
-///                          the factor, rank 2 per changed vertex (per coordinate if not
-///                          isotropic); a fresh factorization only for the first step and
-///                          when the integrator weight changes
+///   EO_PD_FACTOR_AUTO      (default) a change of the constrained set (a release, or a
+///                          pin when the state is set back) of rank r = 2 per changed
+///                          vertex (per coordinate if not isotropic) is a rank update/
+///                          downdate of the factor when r·nnz(L) ≤ the flops of a
+///                          factorization (the update cannot cost more), else a fresh
+///                          factorization
+///   EO_PD_FACTOR_UPDOWN    always the update/downdate; a fresh factorization only for the
+///                          first step and when the integrator weight changes
 ///   EO_PD_FACTOR_REFACTOR  a fresh factorization at every change (the reference the
 ///                          update is compared against)
 ///   EO_PD_FACTOR_OFF       no own factor: the optimizers factor constant_hessian (the
 ///                          eliminated L) with solver.linear, once per constrained set
 /// Scenes with damping, obstacles or friction terms get no own factor (their rest
 /// Hessians are not part of L_all): they behave as EO_PD_FACTOR_OFF.
-enum { EO_PD_FACTOR_OFF = 0, EO_PD_FACTOR_REFACTOR = 1, EO_PD_FACTOR_UPDOWN = 2 };
+enum { EO_PD_FACTOR_OFF = 0, EO_PD_FACTOR_REFACTOR = 1, EO_PD_FACTOR_UPDOWN = 2, EO_PD_FACTOR_AUTO = 3 };
 /// Set the mode (takes effect at the next constant_factor; a mode change drops the
 /// factor). EO_OK or EO_ERR_RANGE.
 EO_API int eo_step_set_pd_factor(eo_step *st, int mode);

@@ -44,6 +44,7 @@ struct eo_updown {
     double *full_val;
     long n_updown_cols;     /* columns passed to cholmod_updown in total */
     cholmod_dense *X, *Y, *E; /* cholmod_solve2's solution and workspace, kept between solves */
+    double fl, lnz;         /* the analysis' factorization flops and nnz(L) */
 };
 
 static int chm_fail(eo_updown *u, const char *what)
@@ -67,6 +68,8 @@ static int factor_fresh(eo_updown *u)
     cholmod_free_factor(&u->L, &u->c);
     u->L = cholmod_analyze(&u->At, &u->c);
     if (!u->L) return chm_fail(u, "analyze");
+    u->fl = u->c.fl;
+    u->lnz = u->c.lnz;
     if (!cholmod_factorize(&u->At, u->L, &u->c)) return chm_fail(u, "factorize");
     if (u->c.status == CHOLMOD_NOT_POSDEF)
         return eo_error(u->ctx, EO_ERR_INVALID, "updown: matrix not positive definite (column %d)", (int)u->L->minor);
@@ -353,3 +356,9 @@ int eo_updown_factor_dense(eo_updown *u, double *LD)
 }
 
 long eo_updown_columns(const eo_updown *u) { return u->n_updown_cols; }
+
+void eo_updown_costs(const eo_updown *u, double *flops, double *lnz)
+{
+    if (flops) *flops = u->fl;
+    if (lnz) *lnz = u->lnz;
+}
