@@ -15,6 +15,7 @@
  * by 3×3 blocks instead, with one offset per block: 16 ints per tet instead of 144
  * (block_maps), the same sums in the same order per entry. */
 #include "elastopt/sparse.h"
+#include <math.h>
 
 #include <stdlib.h>
 #include <string.h>
@@ -49,6 +50,75 @@ int eo_csc_clone(eo_ctx *ctx, const eo_csc *A, eo_csc **out)
     memcpy((*out)->rowind, A->rowind, (size_t)A->nnz * sizeof(int));
     memcpy((*out)->val, A->val, (size_t)A->nnz * sizeof(double));
     return EO_OK;
+}
+
+int eo_csc_kron_i3(eo_ctx *ctx, const eo_csc *A, double tol, eo_csc **A1)
+{
+    if (!A || A->n % 3 != 0 || A->n == 0) return 0;
+    const int m = A->n / 3;
+    double amax = 0;
+    for (int q = 0; q < A->nnz; q++) amax = fmax(amax, fabs(A->val[q]));
+    if (!isfinite(amax)) return 0;
+    const double thr = tol * amax;
+    double *w = eo_malloc(ctx, (size_t)m * sizeof(double));
+    int *mark = eo_malloc(ctx, (size_t)m * sizeof(int));
+    if (!w || !mark) {
+        eo_free(ctx, w);
+        eo_free(ctx, mark);
+        return eo_error(ctx, EO_ERR_NOMEM, "out of memory (block matrix of order %d)", A->n);
+    }
+    for (int I = 0; I < m; I++) mark[I] = -1;
+    int ok = 1, nnz1 = 0;
+    for (int J = 0; J < m && ok; J++) {
+        /* column 3J: the multiples of the blocks (I, J), from its rows 3I */
+        int big = 0;
+        for (int q = A->colptr[3 * J]; q < A->colptr[3 * J + 1] && ok; q++) {
+            const int i = A->rowind[q];
+            if (i % 3 == 0) {
+                mark[i / 3] = J;
+                w[i / 3] = A->val[q];
+                big += fabs(A->val[q]) > thr;
+                nnz1++;
+            } else if (fabs(A->val[q]) > thr) {
+                ok = 0;
+            }
+        }
+        for (int c = 1; c < 3 && ok; c++) { /* columns 3J+1, 3J+2: the same multiples on rows 3I+c */
+            int matched = 0;
+            for (int q = A->colptr[3 * J + c]; q < A->colptr[3 * J + c + 1] && ok; q++) {
+                const int i = A->rowind[q], I = i / 3;
+                const double v = A->val[q];
+                if (i % 3 == c && mark[I] == J) {
+                    if (fabs(v - w[I]) > thr) ok = 0;
+                    matched += fabs(w[I]) > thr;
+                } else if (fabs(v) > thr) {
+                    ok = 0;
+                }
+            }
+            if (matched != big) ok = 0;
+        }
+    }
+    int rc = 0;
+    if (ok) {
+        eo_csc *B = NULL;
+        rc = eo_csc_create(ctx, m, nnz1, &B);
+        if (rc == EO_OK) {
+            int p = 0;
+            for (int J = 0; J < m; J++) {
+                for (int q = A->colptr[3 * J]; q < A->colptr[3 * J + 1]; q++)
+                    if (A->rowind[q] % 3 == 0) {
+                        B->rowind[p] = A->rowind[q] / 3;
+                        B->val[p++] = A->val[q];
+                    }
+                B->colptr[J + 1] = p;
+            }
+            *A1 = B;
+            rc = 1;
+        }
+    }
+    eo_free(ctx, w);
+    eo_free(ctx, mark);
+    return rc;
 }
 
 void eo_csc_destroy(eo_csc **A)

@@ -50,6 +50,7 @@ void eo_step_destroy(eo_step **pst)
     for (int i = 0; i < st->nterms; i++) eo_term_destroy(ctx, &st->terms[i]);
     eo_assembler_destroy(&st->as);
     eo_pd_matrix_deinit(ctx, &st->pd);
+    eo_stepi_pd_deinit(st);
     eo_linsolve_destroy(&st->mls);
     eo_csc_destroy(&st->Mc);
     eo_free(ctx, st->ework);
@@ -60,7 +61,7 @@ void eo_step_destroy(eo_step **pst)
     eo_free(ctx, st->fin);
     eo_free(ctx, st->vp);
     void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
-                      st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->vbc,
+                      st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->inv_x, st->vbc,
                       st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->sys.elem_g,
                       st->sys.elem_H};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++) eo_free(ctx, arrays[i]);
@@ -98,16 +99,18 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->gfull = eo_malloc(ctx, nf * sizeof(double));
     st->vnew = eo_malloc(ctx, nf * sizeof(double));
     st->guess = eo_malloc(ctx, nf * sizeof(double));
+    st->inv_x = eo_malloc(ctx, nf * sizeof(double));
     st->vbc = eo_malloc(ctx, nv * sizeof(int));
     st->vbc_new = eo_malloc(ctx, nv * sizeof(int));
     st->full2free = eo_malloc(ctx, nf * sizeof(int));
     st->free2full = eo_malloc(ctx, nf * sizeof(int));
     st->tet_dofs = eo_malloc(ctx, 12 * nt * sizeof(int));
     st->sys.block = BLOCK;
+    st->pd_mode = EO_PD_FACTOR_AUTO;
     st->sys.elem_g = eo_malloc(ctx, 12 * (size_t)BLOCK * sizeof(double));
     st->sys.elem_H = eo_malloc(ctx, 144 * (size_t)BLOCK * sizeof(double));
     if (!st->Dminv || !st->psi_rest || !st->vol || !st->rho || !st->vmass || !st->tet_type || !st->tet_coef || !st->x ||
-        !st->v || !st->x0 || !st->xw || !st->gfull || !st->vnew || !st->guess || !st->vbc ||
+        !st->v || !st->x0 || !st->xw || !st->gfull || !st->vnew || !st->guess || !st->inv_x || !st->vbc ||
         !st->vbc_new || !st->full2free || !st->free2full || !st->tet_dofs || !st->sys.elem_g ||
         !st->sys.elem_H) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (step of %d tets)", m->nt);

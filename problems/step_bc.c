@@ -81,6 +81,7 @@ static int build_pattern(eo_step *st)
 {
     eo_ctx *ctx = st->ctx;
     int nfree = 0;
+    st->inv_valid = 0;
     for (int j = 0; j < st->n_full; j++) {
         if (st->vbc[j / 3] >= 0) {
             st->full2free[j] = -1;
@@ -120,6 +121,32 @@ static int build_pattern(eo_step *st)
     return EO_OK;
 }
 
+
+int eo_stepi_pd_matrix_all(eo_step *st, eo_csc **A)
+{
+    *A = NULL;
+    /* the pattern with every vertex free (vbc_new, scratch outside update_constraints,
+     * keeps the active set), L assembled into it, then the active set's pattern again
+     * (the same free map and pattern as before: build_pattern is deterministic) */
+    memcpy(st->vbc_new, st->vbc, (size_t)st->nv * sizeof(int));
+    for (int v = 0; v < st->nv; v++) st->vbc[v] = -1;
+    int rc = build_pattern(st);
+    if (rc >= 0) {
+        eo_pd_matrix all = {0};
+        eo_csc *L = NULL;
+        unsigned long ver = 0;
+        rc = eo_pd_matrix_get(&all, &st->sys, st->terms, st->nterms, st->pattern_id, st->w, &L, &ver);
+        if (rc >= 0) {
+            *A = all.L; /* taken over */
+            all.L = NULL;
+        }
+        eo_pd_matrix_deinit(st->ctx, &all);
+    }
+    memcpy(st->vbc, st->vbc_new, (size_t)st->nv * sizeof(int));
+    int rc2 = build_pattern(st);
+    if (rc >= 0 && rc2 < 0) eo_csc_destroy(A);
+    return rc < 0 ? rc : rc2;
+}
 
 int eo_stepi_update_constraints(eo_step *st, double t, int *changed)
 {

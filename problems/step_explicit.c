@@ -62,6 +62,7 @@ static int factor_mass(eo_step *st)
 static int explicit_accel(void *data, double t, const double *x, const double *v, double *a)
 {
     eo_step *st = data;
+    st->inv_valid = 0;
     memcpy(st->xw, x, (size_t)st->n_full * sizeof(double));
     for (int q = 0; q < st->nv; q++) {
         if (st->vbc[q] < 0) continue;

@@ -65,6 +65,18 @@ struct eo_step {
     unsigned long Mi_pattern;
     double *fin;                /* 2·n_full: xₙ, x̃ of the free coordinates */
     const eo_step_part *part;   /* partitioned evaluation (eo_step_set_part), NULL: whole */
+    /* op inverted_count: the count of the last op_gradient (the elastic term counts while
+     * it evaluates) and its x; valid until the step's prescribed positions or pattern change */
+    double *inv_x;              /* n_full (the first nfree used) */
+    int inv_count, inv_valid;
+    /* objective ops constant_factor / constant_solve: the own factor of L (step_pd.c) */
+    int pd_mode;                /* EO_PD_FACTOR_* */
+    eo_csc *pd_all;             /* L_all, or L₁ when scalar */
+    double pd_w;                /* integrator weight pd_all was assembled with */
+    eo_updown *pd_u;
+    unsigned char *pd_free;     /* free set of the variables of pd_all (scratch) */
+    double *pd_b, *pd_x;        /* n_full each: right-hand sides and solutions */
+    eo_step_pd_info pd_info;
 };
 
 /* step_bc.c */
@@ -86,6 +98,13 @@ double eo_stepi_theta(const eo_step *st);
 /* K₀ of Rayleigh damping: the clamped Hessian of the elastic terms at st->x (xₙ) into
  * the damping term (no-op without β). */
 int eo_stepi_damping_stiffness(eo_step *st);
+/* L over all coordinates (the PD matrix of the pattern with every vertex free), into a
+ * new *A owned by the caller; the pattern of the current constraints is rebuilt after. */
+int eo_stepi_pd_matrix_all(eo_step *st, eo_csc **A);
+/* step_pd.c: the objective ops constant_factor / constant_solve, and cleanup */
+int eo_stepi_pd_factor(void *data);
+int eo_stepi_pd_solve(void *data, const double *b, double *x);
+void eo_stepi_pd_deinit(eo_step *st);
 /* step_stats.c */
 double eo_stepi_tet_J(const eo_step *st, const double *x, int k);
 

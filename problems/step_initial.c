@@ -85,6 +85,7 @@ int eo_step_reset(eo_step *st)
     }
     memcpy(st->x0, st->x, (size_t)st->n_full * sizeof(double));
     st->t = 0;
+    st->inv_valid = 0;
     st->index = 0;
     /* constrained vertices start at their prescribed state */
     eo_stepi_active_set(st, 0, st->vbc_new);
@@ -108,6 +109,7 @@ int eo_step_set_state(eo_step *st, const double *x, const double *v, double t)
     memcpy(st->x, x, (size_t)st->n_full * sizeof(double));
     memcpy(st->v, v, (size_t)st->n_full * sizeof(double));
     st->t = t;
+    st->inv_valid = 0;
     st->erestart = 1;
     st->hist_valid = 0;
     return EO_OK;

@@ -65,8 +65,10 @@ static int op_gradient(void *data, const double *x, double *g, double *grad)
     else
         memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
     double e = 0;
+    int elastic_done = 0;
     for (int i = 0; i < st->nterms; i++) {
         e += st->terms[i]->ops->gradient(st->terms[i], &st->sys, st->xw, st->gfull);
+        elastic_done |= st->terms[i] == st->elastic;
         if (!(e < INFINITY)) break;
     }
     *g = isfinite(e) ? e : INFINITY;
@@ -78,6 +80,11 @@ static int op_gradient(void *data, const double *x, double *g, double *grad)
             }
     } else {
         for (int i = 0; i < st->nfree; i++) grad[i] = st->gfull[st->free2full[i]];
+        if (elastic_done && st->inv_x) { /* remembered for op_inverted_count at the same x */
+            memcpy(st->inv_x, x, (size_t)st->nfree * sizeof(double));
+            st->inv_count = eo_term_elastic_inverted(st->elastic);
+            st->inv_valid = 1;
+        }
     }
     return EO_OK;
 }
@@ -146,6 +153,10 @@ static int op_metric_diag(void *data, double *d)
 static int op_inverted_count(void *data, const double *x)
 {
     eo_step *st = data;
+    /* the iterate whose gradient was just evaluated (the optimizers' usual question);
+     * the remembered count is of the whole problem, so not while a part is set */
+    if (!st->part && st->inv_valid && memcmp(st->inv_x, x, (size_t)st->nfree * sizeof(double)) == 0)
+        return st->inv_count;
     scatter(st, x);
     int n = 0;
     if (st->part)
@@ -202,6 +213,8 @@ const eo_objective_ops eo_stepi_ops = {
     .n_elements = op_n_elements,
     .hessian_masked = op_hessian_masked,
     .element_residual = op_element_residual,
+    .constant_factor = eo_stepi_pd_factor,
+    .constant_solve = eo_stepi_pd_solve,
 };
 
 
@@ -301,6 +314,7 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
 {
     const double h = st->h, t1 = st->t + h;
     int rc;
+    st->inv_valid = 0; /* new prescribed positions */
     /* constrained set at tₙ₊₁; rebuild the pattern if it changed */
     if ((rc = eo_stepi_update_constraints(st, t1, NULL)) < 0) return rc;
     const double w = st->w = eo_stepi_weight(st), theta = eo_stepi_theta(st);
@@ -364,6 +378,7 @@ int eo_step_end(eo_step *st, const double *x)
         return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "integrator %s is explicit: advance with eo_step_advance",
                         st->integ->info.name);
     const double h = st->h, t1 = st->t + h, theta = eo_stepi_theta(st);
+    st->inv_valid = 0;
     eo_stepi_scatter_free(st, x);
     if (theta != 1) /* the minimizer is the stage z: xₙ₊₁ = xₙ + (z − xₙ)/θ */
         for (int j = 0; j < st->n_full; j++) st->xw[j] = st->x[j] + (st->xw[j] - st->x[j]) / theta;

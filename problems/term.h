@@ -94,6 +94,9 @@ struct eo_term {
  * eo_term_destroy). */
 int eo_term_inertia_create(eo_sys *s, int lumped, eo_term **out);
 int eo_term_elastic_create(eo_sys *s, eo_term **out);
+/* Inverted tets (eo_tet_is_inverted, every tet of the mesh) at the x of the elastic
+ * term's last gradient evaluation (counted there for free). */
+int eo_term_elastic_inverted(const eo_term *t);
 int eo_term_gravity_create(eo_sys *s, const double g[3], eo_term **out);
 int eo_term_linear_create(eo_sys *s, eo_term **out);
 /* Springs: the edges of the tets of an edge-model region (`material.model = "spring"`,

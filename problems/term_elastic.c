@@ -51,26 +51,40 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
     return t->weight * e;
 }
 
+/* The term's data: the inverted count of the last gradient evaluation. */
+typedef struct elastic_data {
+    int inverted;
+} elastic_data;
+
 static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
 {
     double e = 0;
     const double w = t->weight;
     const int nt = eo_sys_ntets(s);
+    int inv = 0;
     for (int b0 = 0; b0 < nt; b0 += s->block) {
         int nb = nt - b0 < s->block ? nt - b0 : s->block;
         double eb = 0;
+        int ib = 0;
 #if defined(_OPENMP)
-#pragma omp parallel for reduction(+ : eb) schedule(static) if (s->parallel)
+#pragma omp parallel for reduction(+ : eb, ib) schedule(static) if (s->parallel)
 #endif
         for (int j = 0; j < nb; j++) {
             int k = eo_sys_tet(s, b0 + j);
-            if (skip(s, k)) continue;
+            if (skip(s, k)) { /* an edge material: counted, not evaluated */
+                double x12[12];
+                eo_gather12(x, s->mesh->tets + 4 * k, x12);
+                ib += eo_tet_is_inverted(eo_tet_J(s->Dminv + 9 * k, x12));
+                continue;
+            }
             eo_tet_out out;
             eval_tet(s, k, x, EO_EVAL_GRAD, EO_PROJ_NONE, &out);
             eb += out.energy - s->vol[k] * s->psi_rest[k];
+            ib += eo_tet_is_inverted(out.J);
             memcpy(s->elem_g + 12 * j, out.grad, sizeof out.grad);
         }
         e += eb; /* a non-finite e is returned after all forces are scattered */
+        inv += ib;
         for (int j = 0; j < nb; j++) {
             int k = eo_sys_tet(s, b0 + j);
             if (skip(s, k)) continue;
@@ -80,8 +94,11 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
                 for (int c = 0; c < 3; c++) g[3 * tet[a] + c] += w * ge[3 * a + c];
         }
     }
+    ((elastic_data *)t->data)->inverted = inv;
     return isfinite(e) ? w * e : INFINITY;
 }
+
+int eo_term_elastic_inverted(const eo_term *t) { return ((const elastic_data *)t->data)->inverted; }
 
 static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
 {
@@ -159,8 +176,8 @@ static int pd_hessian(eo_term *t, const eo_sys *s)
 
 static void destroy(eo_term *t, eo_ctx *ctx)
 {
-    (void)t;
-    (void)ctx;
+    eo_free(ctx, t->data);
+    t->data = NULL;
 }
 
 static const eo_term_ops elastic_ops = {
@@ -174,5 +191,11 @@ static const eo_term_ops elastic_ops = {
 
 int eo_term_elastic_create(eo_sys *s, eo_term **out)
 {
-    return eo_term_alloc(s, &elastic_ops, 0, out);
+    int rc = eo_term_alloc(s, &elastic_ops, 0, out);
+    if (rc < 0) return rc;
+    if (!((*out)->data = eo_calloc(s->ctx, 1, sizeof(elastic_data)))) {
+        eo_term_destroy(s->ctx, out);
+        return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (term elastic)");
+    }
+    return EO_OK;
 }

@@ -218,22 +218,27 @@ static void check_lbfgs_faster(void)
     CHECK(it[1] < it[0], "L-BFGS-PD %d iterations, plain PD %d", it[1], it[0]);
 }
 
-/* ---- one factorization per pattern over time steps ------------------------------------ */
+/* ---- one factorization per scene (own factor, releases by update) or per pattern
+ * (solver.linear on the eliminated L) over time steps ------------------------------------ */
 
-static void check_factor_count(void)
+/* stretch: right end pulled until 0.2 s, held, released at 0.3 s (new pattern). Runs the
+ * 40 steps with the step's PD factor mode `mode`; positions after every step into traj
+ * (steps × 3nv). */
+static void factor_count_run(int mode, double *traj)
 {
+    static const char *names[] = {"off (solver.linear)", "refactor", "updown"};
     eo_ctx *ctx = eo_test_ctx();
     eo_sim *s = NULL;
-    /* stretch: right end pulled until 0.2 s, held, released at 0.3 s (new pattern) */
     const char *ov[] = {"solver.optimizer=projective_dynamics", "solver.projective_dynamics.lbfgs_history=5",
-                        "solver.max_iters=2000", "time.steps=40", NULL};
+                        "solver.max_iters=2000", "solver.tol=1e-12", "time.steps=40", NULL};
     CHECK(eo_test_sim_open(&s, ctx, "stretch", NULL, ov) == 0, "open stretch");
+    eo_step *st = eo_sim_step_problem(s);
+    CHECK(eo_step_set_pd_factor(st, mode) == EO_OK, "mode %d", mode);
     long total = 0, before = -1;
     eo_objective *obj = eo_test_sim_obj(s); /* the engine's objective: n of the last step built */
     int n0 = obj->n, released_at = -1, ok = 1;
-    unsigned long ver0 = 0;
-    eo_csc *L;
-    CHECK(eo_objective_constant_hessian(eo_test_sim_obj(s), &L, &ver0) == EO_OK, "L");
+    const int nf = 3 * eo_step_mesh(st)->nv;
+    const eo_linsolve_stats *ls = eo_linsolve_get_stats(eo_solver_get_linsolve(eo_sim_solver(s)));
     for (int k = 0; k < eo_sim_scene(s)->time.steps; k++) {
         eo_sim_step_result r;
         int rc = eo_test_sim_step(s, NULL, NULL, &r);
@@ -241,25 +246,63 @@ static void check_factor_count(void)
         if (!(rc == 0 && eo_reason_is_converged(r.reason)))
             fprintf(stderr, "step %d: rc %d %s\n", k, rc, eo_reason_name(r.reason));
         total += r.n_factor;
+        memcpy(traj + (size_t)k * nf, eo_step_x(st), (size_t)nf * sizeof(double));
         if (obj->n != n0 && released_at < 0) {
             released_at = k;
             before = total - r.n_factor;
         }
         if (k == 10) {
-            const eo_linsolve_stats *ls = eo_linsolve_get_stats(eo_solver_get_linsolve(eo_sim_solver(s)));
-            CHECK(ls->n_factor == 1, "linsolve: %ld factorizations in 11 steps", ls->n_factor);
-            CHECK(total == 1, "%ld factorizations in 11 steps", total);
+            CHECK(ls->n_factor == (mode == EO_PD_FACTOR_OFF), "%s: linsolve: %ld factorizations in 11 steps",
+                  names[mode], ls->n_factor);
+            CHECK(total == 1, "%s: %ld factorizations in 11 steps", names[mode], total);
         }
     }
-    unsigned long ver1 = 0;
-    CHECK(eo_objective_constant_hessian(eo_test_sim_obj(s), &L, &ver1) == EO_OK && ver1 != ver0, "new version after release");
-    printf("  stretch, 40 steps: %ld factorizations (%ld before the release at step %d)\n", total, before,
-           released_at);
-    CHECK(ok, "every step converges");
-    CHECK(released_at > 0 && before == 1 && total == 2, "one factorization per pattern: %ld before, %ld total",
-          before, total);
+    eo_step_pd_info info;
+    eo_step_pd_info_get(st, &info);
+    printf("  stretch, 40 steps, PD factor %-19s: %ld factorization(s) (%ld before the release at step %d); "
+           "own factor: %ld factorization(s), %ld update(s) of rank %ld, %s, order %d\n",
+           names[mode], total, before, released_at, info.n_factor, info.n_updown, info.rank,
+           info.scalar ? "vertex matrix L1" : "coordinates", info.n);
+    CHECK(ok, "%s: every step converges", names[mode]);
+    CHECK(released_at > 0 && before == 1, "%s: one factorization before the release: %ld", names[mode], before);
+    /* off / refactor: one per pattern; updown: one per scene, the release an update */
+    CHECK(total == (mode == EO_PD_FACTOR_UPDOWN ? 1 : 2), "%s: %ld factorizations", names[mode], total);
+    if (mode != EO_PD_FACTOR_OFF) {
+        CHECK(info.scalar == 1 && info.n == nf / 3, "%s: the vertex matrix L1 is factored (order %d)", names[mode],
+              info.n);
+        CHECK(info.n_factor == total && info.n_updown == (mode == EO_PD_FACTOR_UPDOWN), "%s: %ld / %ld",
+              names[mode], info.n_factor, info.n_updown);
+        CHECK(ls->n_factor == 0, "%s: solver.linear factored %ld times", names[mode], ls->n_factor);
+    }
     eo_sim_destroy(&s);
     eo_test_ctx_done(&ctx);
+}
+
+static void check_factor_count(void)
+{
+    enum { STEPS = 40 };
+    eo_ctx *ctx = eo_test_ctx();
+    eo_sim *s = NULL;
+    CHECK(eo_test_sim_open(&s, ctx, "stretch", NULL, NULL) == 0, "open stretch");
+    const size_t nf = 3 * (size_t)eo_step_mesh(eo_sim_step_problem(s))->nv;
+    eo_sim_destroy(&s);
+    eo_test_ctx_done(&ctx);
+    double *tr[3];
+    for (int m = 0; m < 3; m++) {
+        tr[m] = calloc(STEPS * nf, sizeof(double));
+        factor_count_run(m, tr[m]);
+    }
+    /* the same trajectory whichever way the factor is kept (each step to tol 1e-12) */
+    double d[2] = {0, 0}, motion = 0;
+    for (size_t q = 0; q < STEPS * nf; q++) {
+        motion = fmax(motion, fabs(tr[0][q] - tr[0][q % nf]));
+        for (int m = 1; m < 3; m++) d[m - 1] = fmax(d[m - 1], fabs(tr[m][q] - tr[0][q]));
+    }
+    printf("  stretch trajectory, max |x - x_off| / max motion: refactor %.2e, updown %.2e\n", d[0] / motion,
+           d[1] / motion);
+    CHECK(d[0] <= 1e-9 * motion && d[1] <= 1e-9 * motion, "trajectories differ: %g, %g (motion %g)", d[0], d[1],
+          motion);
+    for (int m = 0; m < 3; m++) free(tr[m]);
 }
 
 /* ---- analytic objective without the op; no allocation inside minimize ------------------ */

@@ -109,6 +109,7 @@ static void check_scene(const char *scene, const char *model, const char *extra,
     eo_solve_result rn, rp, ra, rc0;
     trace tp = {0}, ta = {0};
     double g_cold = NAN;
+    long warm_factor = 0;
     if (warm > 0) {
         /* Newton from x0 itself stops at another stationary point (measured: g 114.1 against
          * 111.8 on the inverted cube, whose reflected elements sit on the kink σ₂ + σ₃ = 0 of
@@ -120,6 +121,7 @@ static void check_scene(const char *scene, const char *model, const char *extra,
         solve_with(ctx, obj, x0, xa, newton_json, &rc0, NULL);
         g_cold = rc0.g;
         solve_with(ctx, obj, x0, xp, js, &rc0, NULL);
+        warm_factor = rc0.n_factor;
         CHECK(solve_with(ctx, obj, xp, xn, newton_json, &rn, NULL) == 0 && eo_reason_is_converged(rn.reason),
               "%s %s newton (from %d local/global iterations): %s", scene, model, warm, eo_reason_name(rn.reason));
     } else {
@@ -153,7 +155,9 @@ static void check_scene(const char *scene, const char *model, const char *extra,
     CHECK(ea <= 1e-8, "%s %s: Anderson vs Newton %g", scene, model, ea);
     CHECK(ra.iterations < rp.iterations, "%s %s: Anderson %d iterations, plain %d", scene, model, ra.iterations,
           rp.iterations);
-    CHECK(rp.n_factor == 1 && ra.n_factor == 1, "%s: %ld / %ld factorizations", scene, rp.n_factor, ra.n_factor);
+    /* L is factored once for the step (the objective's own factor serves every solver) */
+    CHECK(warm_factor + rp.n_factor + ra.n_factor == 1, "%s: %ld + %ld + %ld factorizations", scene, warm_factor,
+          rp.n_factor, ra.n_factor);
     CHECK(motion > 1e-4, "%s: the step moves (%g)", scene, motion);
     free(x0);
     free(xn);
@@ -387,6 +391,197 @@ static void check_updown(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* ---- the step's own factor through a simulation: the stretched bar's release is a rank
+ * update of the factor, equal to a fresh factorization; setting the state back before
+ * the release pins the end again (a downdate); the trajectory is the same as with a
+ * fresh factorization at every change or with solver.linear on the eliminated L -------- */
+
+static const char *stretch_ov[] = {"material.model=pd_volume", "solver.optimizer=pd_local_global",
+                                   "solver.pd_local_global.anderson=true", "solver.stop=gradient",
+                                   "solver.tol=1e-11", "solver.max_iters=100000", "time.steps=34", NULL};
+
+static double own_vs_fresh(eo_ctx *ctx, eo_step *st)
+{
+    eo_updown *u = eo_step_pd_updown(st), *fresh = NULL;
+    if (!u) return INFINITY;
+    const eo_csc *A = eo_updown_matrix(u);
+    if (eo_updown_create(ctx, A, eo_updown_free_set(u), &fresh) != EO_OK) return INFINITY;
+    double d = factor_diff(u, fresh, A->n);
+    eo_updown_destroy(&fresh);
+    return d;
+}
+
+/* the 34 steps of the stretched bar with PD factor mode `mode`, positions into traj */
+static void stretch_run(int mode, double *traj)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    eo_sim *s = NULL;
+    CHECK(eo_test_sim_open(&s, ctx, "stretch", NULL, stretch_ov) == 0, "open stretch");
+    eo_step *st = eo_sim_step_problem(s);
+    CHECK(eo_step_set_pd_factor(st, mode) == EO_OK, "mode %d", mode);
+    const int nf = 3 * eo_step_mesh(st)->nv, nsteps = eo_sim_scene(s)->time.steps;
+    /* states before the last two steps (a ring), and the current one */
+    double *xs = malloc(3 * (size_t)nf * sizeof(double)), *vs = malloc(3 * (size_t)nf * sizeof(double)), ts[3];
+    int is[3], n_prev = eo_test_sim_obj(s)->n, n_first = n_prev, pending = 0, done = 0, ok = 1;
+    for (int k = 0; k < nsteps; k++) {
+        eo_sim_get_state(s, xs + (size_t)(k % 2) * nf, vs + (size_t)(k % 2) * nf, &ts[k % 2], &is[k % 2]);
+        eo_sim_step_result r;
+        ok &= eo_test_sim_step(s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason);
+        memcpy(traj + (size_t)k * nf, eo_step_x(st), (size_t)nf * sizeof(double));
+        const int n = eo_test_sim_obj(s)->n; /* of the next step */
+        if (pending && !done && mode == EO_PD_FACTOR_UPDOWN) {
+            /* step k was the first after the release: its factor was updated, not redone */
+            done = 1;
+            eo_step_pd_info in;
+            eo_step_pd_info_get(st, &in);
+            const double d = own_vs_fresh(ctx, st);
+            const int nrel = (n - pending) / 3;
+            printf("  sim updown, release (step %d): %d free coordinates -> %d, rank %d, factor vs fresh %.2e; "
+                   "%ld factorization(s), %ld update(s)\n", k, pending, n, in.last_rank, d, in.n_factor,
+                   in.n_updown);
+            CHECK(d <= 1e-10, "release: updated factor vs fresh %g", d);
+            CHECK(in.n_factor == 1 && in.n_updown == 1 && in.last_rank == 2 * nrel,
+                  "release: %ld factorizations, %ld updates, rank %d (%d released vertices)", in.n_factor,
+                  in.n_updown, in.last_rank, nrel);
+            /* back to the state before step k − 1 (its end still pinned): the next step
+             * pins it again, a downdate */
+            const int q = (k + 1) % 2;
+            eo_sim_get_state(s, xs + 2 * (size_t)nf, vs + 2 * (size_t)nf, &ts[2], &is[2]);
+            CHECK(eo_sim_set_state(s, xs + (size_t)q * nf, vs + (size_t)q * nf, ts[q], is[q]) == EO_OK, "set back");
+            ok &= eo_test_sim_step(s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason);
+            const double dx = rel_err(nf, eo_step_x(st), traj + (size_t)(k - 1) * nf);
+            eo_step_pd_info_get(st, &in);
+            const double d2 = own_vs_fresh(ctx, st);
+            printf("  sim updown, state set back to step %d (pinned again): rank %d, factor vs fresh %.2e; %ld "
+                   "factorization(s), %ld update(s); the step redone vs the first time %.2e\n", k - 1,
+                   in.last_rank, d2, in.n_factor, in.n_updown, dx);
+            CHECK(d2 <= 1e-10, "pin: updated factor vs fresh %g", d2);
+            CHECK(in.n_factor == 1 && in.n_updown == 2 && in.last_rank == 2 * nrel,
+                  "pin: %ld factorizations, %ld updates, rank %d", in.n_factor, in.n_updown, in.last_rank);
+            CHECK(dx <= 1e-9, "the redone step differs by %g", dx);
+            /* forward again: the next step releases once more (a third update) */
+            CHECK(eo_sim_set_state(s, xs + 2 * (size_t)nf, vs + 2 * (size_t)nf, ts[2], is[2]) == EO_OK, "forward");
+        }
+        if (n != n_prev && !pending) pending = n_prev;
+        n_prev = n;
+    }
+    eo_step_pd_info in;
+    eo_step_pd_info_get(st, &in);
+    if (mode == EO_PD_FACTOR_UPDOWN)
+        CHECK(done && in.n_factor == 1 && in.n_updown == 3, "updown: %ld factorizations, %ld updates", in.n_factor,
+              in.n_updown);
+    if (mode == EO_PD_FACTOR_AUTO) { /* the release: update iff rank·nnz(L) ≤ factorization flops */
+        double fl = 0, lnz = 0;
+        eo_updown_costs(eo_step_pd_updown(st), &fl, &lnz);
+        const int rel = 2 * (eo_test_sim_obj(s)->n - n_first) / 3, upd = rel * lnz <= fl;
+        printf("  sim auto: release of rank %d, flops/nnz(L) = %.1f: %s (%ld factorization(s), %ld update(s))\n",
+               rel, fl / lnz, upd ? "updated" : "factored afresh", in.n_factor, in.n_updown);
+        CHECK(in.n_factor == 2 - upd && in.n_updown == upd, "auto: %ld factorizations, %ld updates", in.n_factor,
+              in.n_updown);
+    }
+    CHECK(ok, "stretch mode %d: every step converges", mode);
+    free(xs);
+    free(vs);
+    eo_sim_destroy(&s);
+    eo_test_ctx_done(&ctx);
+}
+
+static void check_updown_sim(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    eo_sim *s = NULL;
+    CHECK(eo_test_sim_open(&s, ctx, "stretch", NULL, stretch_ov) == 0, "open stretch");
+    const size_t nf = 3 * (size_t)eo_step_mesh(eo_sim_step_problem(s))->nv;
+    const int steps = eo_sim_scene(s)->time.steps;
+    eo_sim_destroy(&s);
+    eo_test_ctx_done(&ctx);
+    double *tr[4];
+    for (int m = 0; m < 4; m++) tr[m] = calloc((size_t)steps * nf, sizeof(double));
+    stretch_run(EO_PD_FACTOR_UPDOWN, tr[2]);
+    stretch_run(EO_PD_FACTOR_REFACTOR, tr[1]);
+    stretch_run(EO_PD_FACTOR_OFF, tr[0]);
+    stretch_run(EO_PD_FACTOR_AUTO, tr[3]);
+    double d[4] = {0, 0, 0, 0}, motion = 0;
+    for (size_t q = 0; q < (size_t)steps * nf; q++) {
+        motion = fmax(motion, fabs(tr[0][q] - tr[0][q % nf]));
+        for (int m = 1; m < 4; m++) d[m] = fmax(d[m], fabs(tr[m][q] - tr[0][q]));
+    }
+    printf("  stretch trajectory (%d steps, release at 0.3 s), max |x - x_off| / max motion: refactor %.2e, "
+           "updown %.2e, auto %.2e\n", steps, d[1] / motion, d[2] / motion, d[3] / motion);
+    CHECK(motion > 1e-3 && d[1] <= 1e-9 * motion && d[2] <= 1e-9 * motion && d[3] <= 1e-9 * motion,
+          "trajectories: %g %g %g (motion %g)", d[1], d[2], d[3], motion);
+    for (int m = 0; m < 4; m++) free(tr[m]);
+}
+
+/* ---- the default stopping rule relative_decrement gets λ₀ and the previous λ ---------- */
+
+typedef struct dec_trace {
+    int n;
+    double dec[20000];
+    int reason;
+} dec_trace;
+
+static int on_dec(const eo_iter_info *info, void *user)
+{
+    dec_trace *t = user;
+    if (t->n < 20000) t->dec[t->n++] = info->decrement;
+    t->reason = info->reason;
+    return 0;
+}
+
+static void check_relative_stop(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    eo_sim *s = NULL;
+    const char *ov[] = {"material.model=pd_arap", NULL};
+    CHECK(eo_test_sim_open(&s, ctx, "twist", NULL, ov) == 0, "open twist");
+    for (int k = 0; k < 5; k++) {
+        eo_sim_step_result r;
+        eo_test_sim_step(s, NULL, NULL, &r);
+    }
+    eo_objective *obj = eo_test_sim_obj(s);
+    const int n = obj->n;
+    double *x0 = malloc((size_t)n * sizeof(double)), *x = malloc((size_t)n * sizeof(double));
+    memcpy(x0, eo_test_sim_guess(s), (size_t)n * sizeof(double));
+    const double tol = 1e-4;
+    char js[256];
+    snprintf(js, sizeof js, "{\"optimizer\": \"pd_local_global\", \"tol\": %g, \"max_iters\": 100000}", tol);
+    dec_trace *t = calloc(1, sizeof *t);
+    eo_solver_opts o;
+    eo_cfg *cfg = NULL;
+    eo_solver *sv = NULL;
+    eo_solve_result r;
+    char json[512];
+    snprintf(json, sizeof json, "{\"solver\": %s}", js);
+    eo_solver_opts_default(&o);
+    int rc = eo_cfg_load(ctx, NULL, json, &cfg);
+    if (rc >= 0) rc = eo_solver_opts_load(ctx, cfg, &o);
+    if (rc >= 0) rc = eo_solver_create(ctx, &o, cfg, &sv);
+    CHECK(rc >= 0 && strcmp(eo_solver_get_opts(sv)->stop, "relative_decrement") == 0, "default stop rule: %s",
+          sv ? eo_solver_get_opts(sv)->stop : "?");
+    memcpy(x, x0, (size_t)n * sizeof(double));
+    if (rc >= 0) rc = eo_solver_minimize(sv, obj, x, on_dec, t, &r);
+    const int k = t->n - 1;
+    const double d0 = t->dec[0], lim = tol * tol * d0;
+    printf("  relative_decrement (tol %g): %d iterations, %s; decrement %.3e -> %.3e (limit tol^2 lambda0^2/2 = "
+           "%.3e, previous %.3e)\n", tol, r.iterations, eo_reason_name(r.reason), d0, t->dec[k], lim,
+           k > 0 ? t->dec[k - 1] : NAN);
+    CHECK(rc == 0 && r.reason == EO_CONVERGED_DECREMENT, "pd_local_global relative_decrement: %s",
+          eo_reason_name(r.reason));
+    /* stopped at the first iterate below tol²·λ₀²/2, relative to λ₀: not at the absolute
+     * λ²/2 ≤ tol it falls back to without λ₀ (which the first decrement already meets) */
+    CHECK(k > 0 && t->dec[k] <= lim && t->dec[k - 1] > lim, "stopped at %d: %g (limit %g, previous %g)", k,
+          t->dec[k], lim, k > 0 ? t->dec[k - 1] : NAN);
+    CHECK(d0 <= tol, "the absolute rule would have stopped at once (lambda0^2/2 = %g)", d0);
+    free(t);
+    free(x0);
+    free(x);
+    eo_solver_destroy(&sv);
+    eo_cfg_destroy(&cfg);
+    eo_sim_destroy(&s);
+    eo_test_ctx_done(&ctx);
+}
+
 int main(void)
 {
     printf("pd_local_global against Newton on its own energy:\n");
@@ -396,7 +591,9 @@ int main(void)
     check_scene("inverted", "pd_arap", NULL, 0, 300);
     check_steps();
     check_chain();
+    check_relative_stop();
     printf("rank update / downdate:\n");
     check_updown();
+    check_updown_sim();
     return eo_test_finish("test_pd_local_global");
 }

@@ -150,11 +150,23 @@ EO_API int eo_updown_set_free(eo_updown *u, const unsigned char *is_free, int *r
 EO_API int eo_updown_refactor(eo_updown *u);
 /// x = Ã(S)⁻¹ b (n values each, distinct arrays).
 EO_API int eo_updown_solve(eo_updown *u, const double *b, double *x);
+/// X = Ã(S)⁻¹ B for nrhs right-hand sides at once (B, X column-major n×nrhs, distinct):
+/// one pass over the factor for all of them. Allocates only when nrhs differs from the
+/// previous call's (CHOLMOD's solution and workspace are kept).
+EO_API int eo_updown_solve_multi(eo_updown *u, int nrhs, const double *b, double *x);
+/// The matrix A of create (own copy, borrowed) and the current free set S (n bytes,
+/// borrowed): what a fresh factorization of Ã(S) needs (eo_updown_create(ctx, A, S, ..)).
+EO_API const eo_csc *eo_updown_matrix(const eo_updown *u);
+EO_API const unsigned char *eo_updown_free_set(const eo_updown *u);
 /// The factor as a dense n×n row-major matrix (permuted order; strictly lower part L,
 /// diagonal D of LDLᵀ), for comparisons in tests.
 EO_API int eo_updown_factor_dense(eo_updown *u, double *LD);
 /// Columns passed to cholmod_updown so far.
 EO_API long eo_updown_columns(const eo_updown *u);
+/// Flops of a numeric factorization and nonzeros of L, from the symbolic analysis
+/// (CHOLMOD's Common->fl and ->lnz): a rank-r update/downdate passes over at most r·lnz
+/// entries, so r ≤ flops/lnz is where it cannot cost more than a new factorization.
+EO_API void eo_updown_costs(const eo_updown *u, double *flops, double *lnz);
 /// Free; sets *u = NULL; accepts NULL.
 EO_API void eo_updown_destroy(eo_updown **u);
 

@@ -86,6 +86,21 @@ typedef struct eo_objective_ops {
     /// `hessian` is invalid afterwards. EO_ERR_UNSUPPORTED where there is no inertia term
     /// (the static integrator).
     int (*inertia)(void *data, eo_objective_inertia *out);
+    /// Optional (with constant_hessian): the objective's OWN factorization of L, for the
+    /// optimizers that apply L⁻¹ (lbfgs h0 = pd, ncg precond = pd, projective_dynamics,
+    /// pd_local_global; solvers/optim/pd_factor.c uses it when solver.linear is a
+    /// CHOLMOD method). constant_factor brings it up to date with the current L: the step
+    /// objective factors L once per scene over ALL coordinates and follows a change of the
+    /// constrained set (a release, a pin) by CHOLMOD rank updates/downdates instead of a
+    /// new factorization (problems/step_pd.c). Returns the number of fresh numeric
+    /// factorizations it did (0: the factor was current or updated in place; 1);
+    /// EO_ERR_UNSUPPORTED when it offers none in its current state (the caller then
+    /// factors constant_hessian itself); another negative status on failure
+    /// (EO_ERR_INVALID: L not positive definite).
+    int (*constant_factor)(void *data);
+    /// x = L⁻¹ b (n values each, distinct arrays) with that factor, after constant_factor
+    /// returned EO_OK and until the objective changes. No allocation.
+    int (*constant_solve)(void *data, const double *b, double *x);
 } eo_objective_ops;
 
 typedef struct eo_objective {
@@ -134,6 +149,13 @@ static inline int eo_objective_hessian_masked(eo_objective *o, const double *x,
     if (!o->ops->hessian_masked) return EO_ERR_UNSUPPORTED;
     o->n_hessian++;
     return o->ops->hessian_masked(o->data, x, proj_of, H);
+}
+/// The objective's own factorization of its constant matrix (ops->constant_factor):
+/// fresh factorizations done (0 or 1), EO_ERR_UNSUPPORTED if it has none, or an error.
+static inline int eo_objective_constant_factor(eo_objective *o)
+{
+    if (!o->ops->constant_factor || !o->ops->constant_solve) return EO_ERR_UNSUPPORTED;
+    return o->ops->constant_factor(o->data);
 }
 /// The inertia part of a step objective (ops->inertia); EO_ERR_UNSUPPORTED if none.
 static inline int eo_objective_inertia_get(eo_objective *o, eo_objective_inertia *out)

@@ -361,15 +361,17 @@ typedef struct eo_gradient_descent_params {
 typedef struct eo_lbfgs_params {
     int history;         ///< stored pairs m (default 8)
     char h0[16];         ///< initial inverse Hessian: "scaled_identity" (γI), "lumped_mass"
-                         ///< (γD⁻¹, D = objective metric) or "pd" (L⁻¹, L the objective's
-                         ///< constant_hessian factored once with solver.linear) (lumped_mass)
+                         ///< (γD⁻¹, D = objective metric), "pd" (L⁻¹, L the objective's
+                         ///< constant_hessian factored once, pd_factor.h) or "auto" (pd where
+                         ///< the objective has constant_hessian, else lumped_mass) (default auto)
 } eo_lbfgs_params;
 
 /// Nonlinear conjugate gradients (config `solver.ncg.*`).
 typedef struct eo_ncg_params {
     char beta[16];       ///< "pr_plus" (Polak–Ribière+), "fr" (Fletcher–Reeves), "hz"
                          ///< (Hager–Zhang) (default pr_plus)
-    char precond[16];    ///< "none", "lumped_mass" (D⁻¹) or "pd" (L⁻¹) (default lumped_mass)
+    char precond[16];    ///< "none", "lumped_mass" (D⁻¹), "pd" (L⁻¹) or "auto" (pd where the
+                         ///< objective has constant_hessian, else lumped_mass) (default auto)
     int restart;         ///< restart with p = −P⁻¹∇g every `restart` iterations, 0 = every
                          ///< n (number of variables) (default 0)
     double powell;       ///< restart when |∇gₖᵀP⁻¹∇gₖ₋₁| ≥ powell·∇gₖᵀP⁻¹∇gₖ, 0 = never (0.2)

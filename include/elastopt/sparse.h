@@ -69,6 +69,18 @@ EO_API void eo_csc_to_dense(const eo_csc *A, double *D);
 /// Returns EO_OK or EO_ERR_INVALID with the offending column in the message.
 EO_API int eo_csc_check(eo_ctx *ctx, const eo_csc *A);
 
+/// A = A₁ ⊗ I₃? For A of order n = 3m (upper triangle CSC as above) in which every 3×3
+/// block (I, J) is a multiple a·I₃ — entries off the blocks' diagonals at most
+/// tol·max|A| in magnitude, the three diagonal copies equal to within tol·max|A| —
+/// returns 1 and the m×m matrix A₁ of the multiples (same invariants, rows of column J
+/// = the block rows stored in column 3J, values taken from there) in a new *A1 (owned
+/// by the caller). The projective-dynamics matrix of a mesh is of this form (isotropic
+/// element blocks k·GᵀG = k·(BᵀB) ⊗ I₃, mass M₁ ⊗ I₃), and factoring A₁ instead of A
+/// takes about 1/27 of the flops and each solve (three right-hand sides of order m)
+/// about 1/3. Returns 0 (*A1 untouched) when A is not of this form or n is not a
+/// multiple of 3, EO_ERR_NOMEM.
+EO_API int eo_csc_kron_i3(eo_ctx *ctx, const eo_csc *A, double tol, eo_csc **A1);
+
 /// Both triangles of a symmetric matrix, for methods that need whole rows
 /// (Gauss–Seidel, SOR, QR). Column j of the full matrix equals row j, rows sorted.
 /// The pattern is built once (`_create`); `_fill` gathers values: val[q] = A->val[src[q]].

@@ -222,6 +222,49 @@ EO_API int eo_step_set_part(eo_step *st, const eo_step_part *part);
 EO_API eo_step *eo_step_of_objective(const eo_objective *obj);
 /// Changes whenever the free set and the Hessian pattern are rebuilt (a release).
 EO_API unsigned long eo_step_pattern_id(const eo_step *st);
+/// The step objective's own factorization of its projective-dynamics matrix L
+/// (problems/pd_matrix.c), offered to the optimizers that apply L⁻¹ through the
+/// objective ops constant_factor / constant_solve (objective.h; used when solver.linear
+/// is a CHOLMOD method). L is assembled once over ALL coordinates (L_all, pattern of the
+/// whole mesh); when L_all = L₁ ⊗ I₃ (every term isotropic: elasticity, springs, mass)
+/// the vertex matrix L₁ is factored instead and a solve is one pass with 3 right-hand
+/// sides. The factor is of Ã(S) = [L_SS 0; 0 diag(L_CC)] for the free set S (eo_updown,
+/// linsolve.h): its free block is the eliminated matrix of the current constraints.
+///   EO_PD_FACTOR_AUTO      (default) a change of the constrained set (a release, or a
+///                          pin when the state is set back) of rank r = 2 per changed
+///                          vertex (per coordinate if not isotropic) is a rank update/
+///                          downdate of the factor when r·nnz(L) ≤ the flops of a
+///                          factorization (the update cannot cost more), else a fresh
+///                          factorization
+///   EO_PD_FACTOR_UPDOWN    always the update/downdate; a fresh factorization only for the
+///                          first step and when the integrator weight changes
+///   EO_PD_FACTOR_REFACTOR  a fresh factorization at every change (the reference the
+///                          update is compared against)
+///   EO_PD_FACTOR_OFF       no own factor: the optimizers factor constant_hessian (the
+///                          eliminated L) with solver.linear, once per constrained set
+/// Scenes with damping, obstacles or friction terms get no own factor (their rest
+/// Hessians are not part of L_all): they behave as EO_PD_FACTOR_OFF.
+enum { EO_PD_FACTOR_OFF = 0, EO_PD_FACTOR_REFACTOR = 1, EO_PD_FACTOR_UPDOWN = 2, EO_PD_FACTOR_AUTO = 3 };
+/// Set the mode (takes effect at the next constant_factor; a mode change drops the
+/// factor). EO_OK or EO_ERR_RANGE.
+EO_API int eo_step_set_pd_factor(eo_step *st, int mode);
+/// Counters of the own PD factor.
+typedef struct eo_step_pd_info {
+    int mode;             ///< EO_PD_FACTOR_*
+    int factored;         ///< a factor exists
+    int scalar;           ///< 1: L_all = L₁ ⊗ I₃, the vertex matrix L₁ is factored
+    int n;                ///< order of the factored matrix (vertices, or coordinates)
+    long n_factor;        ///< fresh factorizations (analysis + numeric)
+    long n_updown;        ///< constraint changes applied by update/downdate
+    long rank;            ///< columns of all updates and downdates so far
+    int last_rank;        ///< of the last change
+    long n_solve;         ///< solves (each with 3 right-hand sides when scalar)
+    double t_factor, t_updown, t_build;  ///< seconds: factorizations, updates, assembly of L_all
+} eo_step_pd_info;
+EO_API void eo_step_pd_info_get(const eo_step *st, eo_step_pd_info *out);
+/// The factor (borrowed; NULL before the first constant_factor), e.g. to compare it with
+/// a fresh factorization: eo_updown_create(ctx, eo_updown_matrix(u), eo_updown_free_set(u), ..).
+EO_API eo_updown *eo_step_pd_updown(eo_step *st);
 
 /// Diagnostics of the current state.
 typedef struct eo_step_stats {

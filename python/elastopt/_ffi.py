@@ -72,6 +72,8 @@ typedef struct eo_objective_ops {
     int (*hessian_masked)(void *data, const double *x, const unsigned char *proj_of, eo_csc **H);
     int (*element_residual)(void *data, const double *v, double *r);
     int (*inertia)(void *data, void *out);
+    int (*constant_factor)(void *data);
+    int (*constant_solve)(void *data, const double *b, double *x);
 } eo_objective_ops;
 typedef struct eo_objective {
     int n; const eo_objective_ops *ops; void *data; long n_value, n_gradient, n_hessian;

@@ -43,6 +43,8 @@ struct eo_updown {
     int *full_colptr, *full_rowind; /* full (both triangles) pattern of A */
     double *full_val;
     long n_updown_cols;     /* columns passed to cholmod_updown in total */
+    cholmod_dense *X, *Y, *E; /* cholmod_solve2's solution and workspace, kept between solves */
+    double fl, lnz;         /* the analysis' factorization flops and nnz(L) */
 };
 
 static int chm_fail(eo_updown *u, const char *what)
@@ -66,6 +68,8 @@ static int factor_fresh(eo_updown *u)
     cholmod_free_factor(&u->L, &u->c);
     u->L = cholmod_analyze(&u->At, &u->c);
     if (!u->L) return chm_fail(u, "analyze");
+    u->fl = u->c.fl;
+    u->lnz = u->c.lnz;
     if (!cholmod_factorize(&u->At, u->L, &u->c)) return chm_fail(u, "factorize");
     if (u->c.status == CHOLMOD_NOT_POSDEF)
         return eo_error(u->ctx, EO_ERR_INVALID, "updown: matrix not positive definite (column %d)", (int)u->L->minor);
@@ -160,6 +164,9 @@ void eo_updown_destroy(eo_updown **pu)
     eo_ctx *ctx = u->ctx;
     if (u->started) {
         cholmod_free_factor(&u->L, &u->c);
+        cholmod_free_dense(&u->X, &u->c);
+        cholmod_free_dense(&u->Y, &u->c);
+        cholmod_free_dense(&u->E, &u->c);
         cholmod_finish(&u->c);
     }
     eo_csc_destroy(&u->A);
@@ -309,22 +316,27 @@ int eo_updown_refactor(eo_updown *u)
     return EO_OK;
 }
 
-int eo_updown_solve(eo_updown *u, const double *b, double *x)
+int eo_updown_solve_multi(eo_updown *u, int nrhs, const double *b, double *x)
 {
+    if (nrhs < 1) return eo_error(u->ctx, EO_ERR_INVALID, "updown: %d right-hand sides", nrhs);
     cholmod_dense B;
     memset(&B, 0, sizeof B);
     B.nrow = B.d = (size_t)u->n;
-    B.ncol = 1;
-    B.nzmax = (size_t)u->n;
+    B.ncol = (size_t)nrhs;
+    B.nzmax = (size_t)u->n * (size_t)nrhs;
     B.x = (void *)b;
     B.xtype = CHOLMOD_REAL;
     B.dtype = CHOLMOD_DOUBLE;
-    cholmod_dense *X = cholmod_solve(CHOLMOD_A, u->L, &B, &u->c);
-    if (!X) return chm_fail(u, "solve");
-    memcpy(x, X->x, (size_t)u->n * sizeof(double));
-    cholmod_free_dense(&X, &u->c);
+    /* the solution and workspace are reused from the previous solve of the same width */
+    if (!cholmod_solve2(CHOLMOD_A, u->L, &B, NULL, &u->X, NULL, &u->Y, &u->E, &u->c)) return chm_fail(u, "solve");
+    memcpy(x, u->X->x, (size_t)u->n * (size_t)nrhs * sizeof(double));
     return EO_OK;
 }
+
+int eo_updown_solve(eo_updown *u, const double *b, double *x) { return eo_updown_solve_multi(u, 1, b, x); }
+
+const eo_csc *eo_updown_matrix(const eo_updown *u) { return u->A; }
+const unsigned char *eo_updown_free_set(const eo_updown *u) { return u->free_; }
 
 int eo_updown_factor_dense(eo_updown *u, double *LD)
 {
@@ -344,3 +356,9 @@ int eo_updown_factor_dense(eo_updown *u, double *LD)
 }
 
 long eo_updown_columns(const eo_updown *u) { return u->n_updown_cols; }
+
+void eo_updown_costs(const eo_updown *u, double *flops, double *lnz)
+{
+    if (flops) *flops = u->fl;
+    if (lnz) *lnz = u->lnz;
+}

@@ -43,9 +43,11 @@
  *             Safeguard: x_AA is accepted only if g(x_AA) < g(x_k); otherwise the
  *             plain iterate G(x_k) is taken (one more evaluation) and the history is
  *             cleared, which keeps g monotone and the method globally convergent.
- * Stopping    the configured rule at every iterate: gradient (‖∇g‖ relative) or
+ * Stopping    the configured rule at every iterate: gradient (‖∇g‖ relative),
  *             newton_decrement with λ²/2 = ∇gᵀL⁻¹∇g/2 (an estimate of g − g* only as
- *             good as L is of ∇²g).
+ *             good as L is of ∇²g), or relative_decrement (the default: λ_k ≤ tol·λ₀,
+ *             with λ₀ of the first iteration and the previous λ for its plateau test,
+ *             passed in eo_stop_info as the descent loop does).
  * Memory      workspace (7 + 2m vectors of n, m² + 2m scalars) in setup, the copy of L
  *             once per new matrix; nothing inside the iterations. */
 #include <stddef.h>
@@ -209,6 +211,7 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
     const double t0 = eo_wtime();
     const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
     double g = NAN, gn = NAN, gn0 = NAN, g_prev = NAN, step_norm = NAN, last_dec = NAN, gn_best = INFINITY;
+    double dec0 = NAN, dec_prev = NAN; /* λ₀²/2 and the previous iteration's, for relative_decrement */
     int rc = EO_OK, reason = 0, k = 0, stalled = 0;
     memset(res, 0, sizeof *res);
     res->decrement = NAN;
@@ -233,7 +236,8 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
                              .ls_evals = 0, .shift = 0, .inverted = eo_external_inverted(sc, x), .reason = 0,
                              .x = x};
         eo_stop_info si = {.iteration = k, .g = g, .g_prev = g_prev, .grad_norm = gn, .grad_norm0 = gn0,
-                           .decrement = NAN, .step_norm = step_norm, .x_norm = eo_norm2(n, x), .tol = sc->tol};
+                           .decrement = NAN, .decrement0 = dec0, .decrement_prev = dec_prev,
+                           .step_norm = step_norm, .x_norm = eo_norm2(n, x), .tol = sc->tol};
         if (!reason && (!isfinite(g) || !isfinite(gn))) reason = EO_DIVERGED_NONFINITE;
         if (!reason) reason = sc->stop->check(sc->stop_params, &si);
         if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget) reason = EO_DIVERGED_TIME_BUDGET;
@@ -249,6 +253,7 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
                     reason = EO_DIVERGED_NOT_DESCENT;
                 } else {
                     info.decrement = last_dec = -dg / 2;
+                    if (k == 0) si.decrement0 = dec0 = last_dec;
                     if (sc->stop->needs_direction) {
                         si.decrement = info.decrement;
                         reason = sc->stop->check(sc->stop_params, &si);
@@ -327,6 +332,7 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
         g_prev = g;
         g = gt;
         gn = isfinite(g) ? eo_norm2(n, st->grad) : NAN;
+        dec_prev = last_dec;
         last_dec = NAN;
         stalled = (g < g_prev || gn < gn_best) ? 0 : stalled + 1;
     }

@@ -8,14 +8,16 @@
  *             Pauly, "Projective Dynamics", SIGGRAPH 2014). An objective without the op
  *             gets L = ∇²g(x₀) at the first iterate of each minimization, assembled
  *             as the Hessian fix asks (clamp by default).
- * Factor      L is factored ONCE with solver.linear and the factors are reused by
- *             every iteration and every later minimization while the objective, the
- *             matrix pointer and its version are unchanged: one factorization per
- *             constrained set of a scene, solves only afterwards. The factorization
- *             is the Hessian fix's (its op `factor` with want_direction = 0, solver.h):
- *             a matrix found not positive definite is shifted, L + cI, by the shift
- *             loop all fixes share (solvers/hessfix/shift_loop.c; EO_DIVERGED_NOT_PD
- *             above shift_max).
+ * Factor      the constant L through eo_pd_factor (pd_factor.h, shared with lbfgs
+ *             h0 = pd, ncg precond = pd and pd_local_global): the step objective's own
+ *             factor when solver.linear is a CHOLMOD method (one factorization per scene,
+ *             releases and pins by rank updates/downdates), else L (or L₁ when L =
+ *             L₁ ⊗ I₃) factored ONCE with solver.linear and reused while the objective,
+ *             the matrix pointer and its version are unchanged; a matrix found not
+ *             positive definite is shifted, L + cI, by the shift loop all fixes share
+ *             (solvers/hessfix/shift_loop.c; EO_DIVERGED_NOT_PD above shift_max).
+ *             Without a constant L, ∇²g(x₀) is factored through the Hessian fix (its op
+ *             `factor` with want_direction = 0, solver.h).
  * Direction   lbfgs_history = 0:  p = −L⁻¹∇g.
  *             For a PD-expressible energy E = Σ k/2‖Gx − proj(Gx)‖², ∇g = L x − b(x)
  *             and x + p = L⁻¹ b(x) is exactly the local/global iteration; for any
@@ -42,6 +44,7 @@
 
 #include "descent.h"
 #include "lbfgs_memory.h"
+#include "pd_factor.h"
 
 typedef struct pd_state {
     eo_descent_ws w;
@@ -51,9 +54,6 @@ typedef struct pd_state {
     double *q;                /* n */
     /* the factored matrix: own copy A, and what it was made from */
     eo_csc *A;
-    const eo_objective *obj;  /* objective whose constant_hessian A is (NULL: none reusable) */
-    const eo_csc *src;
-    unsigned long version;
     const eo_linsolve *ls;    /* linear solver holding the analysis of A */
     int analyzed, factored;
     int fail_reason;          /* negative reason when no usable factorization */
@@ -64,8 +64,9 @@ typedef struct pd_state {
     const eo_solver_ctx *sc;
     const double *x;
     eo_solve_result *res;
-    const eo_csc *L;          /* constant matrix being factored, NULL: Hessian at x */
     eo_hessfix_env env;
+    eo_pd_factor pf;          /* the constant L (objective op constant_hessian) */
+    int use_pf;               /* this minimization solves with pf */
 } pd_state;
 
 static const eo_param_desc pd_desc[] = {
@@ -82,6 +83,7 @@ static void pd_free(pd_state *st, eo_ctx *ctx)
     eo_free(ctx, st->store);
     st->store = NULL;
     eo_csc_destroy(&st->A);
+    eo_pd_factor_deinit(ctx, &st->pf);
 }
 
 static int pd_setup(void *vst, const void *params, int n, eo_ctx *ctx)
@@ -107,7 +109,7 @@ static int pd_setup(void *vst, const void *params, int n, eo_ctx *ctx)
     st->q = st->store + mem;
     st->m = (int)m;
     st->n = n;
-    return EO_OK;
+    return eo_pd_factor_init(ctx, n, "projective_dynamics", &st->pf);
 }
 
 static void pd_destroy(void *vst, eo_ctx *ctx) { pd_free(vst, ctx); }
@@ -154,22 +156,18 @@ static int load(pd_state *st, const eo_solver_ctx *sc, const eo_csc *src, eo_sol
     return EO_OK;
 }
 
-/* eo_hessfix_assemble_fn: the constant matrix L (any projection), or the Hessian at x₀
- * as the fix asks, copied into the own matrix A. */
+/* eo_hessfix_assemble_fn: the Hessian at x₀ as the fix asks, copied into the own
+ * matrix A. */
 static int pd_assemble(void *user, eo_proj proj, const unsigned char *proj_of, eo_csc **out,
                        int *reason)
 {
     pd_state *st = user;
     const eo_solver_ctx *sc = st->sc;
-    const eo_csc *src = st->L;
-    if (!src) {
-        eo_csc *H = NULL;
-        int rc = proj_of ? eo_objective_hessian_masked(sc->obj, st->x, proj_of, &H)
-                         : eo_objective_hessian(sc->obj, st->x, proj, &H);
-        if (rc < 0) return rc;
-        src = H;
-    }
-    int rc = load(st, sc, src, st->res, reason);
+    eo_csc *H = NULL;
+    int rc = proj_of ? eo_objective_hessian_masked(sc->obj, st->x, proj_of, &H)
+                     : eo_objective_hessian(sc->obj, st->x, proj, &H);
+    if (rc < 0) return rc;
+    rc = load(st, sc, H, st->res, reason);
     if (rc < 0) return rc;
     *out = st->A;
     return EO_OK;
@@ -218,35 +216,24 @@ static int pd_begin(void *vst, const void *params, const eo_solver_ctx *sc, cons
         rc = sc->hessfix->begin(sc->hessfix_state, sc->hessfix_params, &st->env);
         if (rc < 0) return rc;
     }
-    eo_csc *L = NULL;
-    unsigned long ver = 0;
-    rc = eo_objective_constant_hessian(sc->obj, &L, &ver);
-    if (rc == EO_OK) {
-        if (st->factored && st->obj == sc->obj && st->src == L && st->version == ver &&
-            st->ls == sc->linear && st->A && st->A->n == st->n)
-            return EO_OK; /* the factors of the previous minimization are still L's */
-        st->obj = NULL;
-        st->L = L;
-        rc = factor(st, sc);
-        st->L = NULL;
+    st->use_pf = sc->obj->ops->constant_hessian != NULL;
+    if (st->use_pf) { /* the constant L: once per scene (pd_factor.h) */
+        rc = eo_pd_factor_prepare(&st->pf, sc, x, res);
         if (rc < 0) return rc;
-        if (st->factored) {
-            st->obj = sc->obj;
-            st->src = L;
-            st->version = ver;
-        }
+        st->factored = st->pf.factored;
+        st->fail_reason = st->pf.fail_reason;
+        st->shift = st->pf.shift;
+        st->projected = 0;
         return EO_OK;
     }
-    if (rc != EO_ERR_UNSUPPORTED) return rc;
     /* no constant matrix: the Hessian at the first iterate, as the fix asks */
-    st->obj = NULL;
-    st->L = NULL;
     return factor(st, sc);
 }
 
 /* r = A⁻¹ b (b and r distinct). Returns a negative reason on failure, else 0. */
-static int solve(const eo_solver_ctx *sc, const double *b, double *r, eo_solve_result *res)
+static int solve(pd_state *st, const eo_solver_ctx *sc, const double *b, double *r, eo_solve_result *res)
 {
+    if (st->use_pf) return eo_pd_factor_solve(&st->pf, sc, b, r, res);
     int rc = eo_linsolve_solve(sc->linear, b, r);
     if (rc < 0) {
         res->status = rc;
@@ -275,7 +262,7 @@ static int pd_direction(void *vst, const void *params, const eo_solver_ctx *sc, 
     if (h->count > 0) {
         for (int i = 0; i < n; i++) q[i] = grad[i];
         eo_lbfgs_memory_first_loop(h, q);
-        int reason = solve(sc, q, p, res); /* r = L⁻¹ q */
+        int reason = solve(st, sc, q, p, res); /* r = L⁻¹ q */
         if (reason) {
             out->reason = reason;
             return EO_OK;
@@ -286,7 +273,7 @@ static int pd_direction(void *vst, const void *params, const eo_solver_ctx *sc, 
         eo_lbfgs_memory_clear(h); /* not a descent direction: plain PD step */
         res->n_fallback++;
     }
-    int reason = solve(sc, grad, p, res);
+    int reason = solve(st, sc, grad, p, res);
     if (reason) {
         out->reason = reason;
         return EO_OK;
