@@ -1526,32 +1526,31 @@ static int run_scene(run_ctx *r, int si)
             r->units_done += (double)b->nt * NT;
         }
         /* fixed iteration budgets over the measured window: exactly k iterations per
-         * frame (stopping rule disabled; the sim's iteration callback stops the solver
-         * at iterate k), the solver's time per frame and the distance to the reference.
-         * One solver for every budget, warmed up once (untimed). */
+         * frame (stopping rule disabled; the solver's iteration cap max_iters = k, which
+         * stops it before a (k+1)-th direction, solvers/optim/descent.c), the solver's
+         * time per frame and the distance to the reference. One solver per budget, each
+         * warmed up (untimed) on the window's first step before its timed frames. */
         if (b->nibud_on) {
             progress(r, si, ci, "fixed");
-            int kmax = 0;
-            for (int j = 0; j < s->nibud; j++)
-                if (b->ibud_on[j]) kmax = s->ibud[j] > kmax ? s->ibud[j] : kmax;
-            eo_solver_opts fso = so;
-            fso.tol = 1e-300;
-            fso.max_iters = kmax + 1;
-            fso.time_budget = budget;
-            EO_TRY(rc = eo_sim_set_solver(sim, &fso, ccfg));
             const size_t fr = (size_t)sr->win0 * nf;
-            EO_TRY(rc = eo_sim_set_state(sim, fx + fr, fv + fr, ft[sr->win0], sr->win0));
-            if (s->o.warmup_iters > 0) {
-                int left = s->o.warmup_iters < kmax ? s->o.warmup_iters : kmax;
-                eo_solve_result wr;
-                EO_TRY(rc = eo_sim_trial(sim, NULL, NULL, x, fixed_iter, &left, NULL, &wr));
-            }
-            int limit = 0;
-            eo_sim_set_iter_callback(sim, fixed_iter, &limit);
+            int limit_cb = 0; /* backstop for optimizers with their own loops (nlopt counts evaluations) */
             for (int j = 0; j < s->nibud; j++) {
                 if (!b->ibud_on[j]) continue;
                 bench_fixed_res *fz = p->fixed + j;
-                limit = s->ibud[j];
+                const int limit = s->ibud[j];
+                eo_solver_opts fso = so;
+                fso.tol = 1e-300;
+                fso.max_iters = limit;
+                fso.time_budget = budget;
+                EO_TRY(rc = eo_sim_set_solver(sim, &fso, ccfg));
+                EO_TRY(rc = eo_sim_set_state(sim, fx + fr, fv + fr, ft[sr->win0], sr->win0));
+                if (s->o.warmup_iters > 0) {
+                    int left = s->o.warmup_iters < limit ? s->o.warmup_iters : limit;
+                    eo_solve_result wr;
+                    EO_TRY(rc = eo_sim_trial(sim, NULL, NULL, x, fixed_iter, &left, NULL, &wr));
+                }
+                limit_cb = limit;
+                eo_sim_set_iter_callback(sim, fixed_iter, &limit_cb);
                 rc = eo_sim_set_state(sim, fx + fr, fv + fr, ft[sr->win0], sr->win0);
                 for (int k = sr->win0; rc >= 0 && k <= sr->win1; k++) {
                     eo_sim_step_result res;

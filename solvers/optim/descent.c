@@ -9,10 +9,14 @@
  *   k > 0, a rule with needs_direction and an optimizer with decrement_estimate:
  *     the rule tested with the estimate λ̃²/2 (newton: from the factor already computed)
  *                                         → e.g. EO_CONVERGED_DECREMENT, no new direction
+ *   stagnation (below)                    → EO_DIVERGED_STAGNATED
+ *   k = max_iters                         → EO_DIVERGED_MAX_ITERS, before a new direction:
+ *     at the cap the direction (newton: a Hessian and a factorization) could only turn
+ *     "max_iters" into "converged", so only the estimate above can (a run of k
+ *     iterations costs k directions: the fixed iteration budgets of the benchmark)
  *   p_k = direction(x_k)   (optimizer)    → its reason if none (not PD, linear solve)
  *   ∇g_kᵀp_k ≥ 0 or non-finite            → EO_DIVERGED_NOT_DESCENT
  *   λ_k²/2 = −α₀∇g_kᵀp_k/2;  stop rule with direction → e.g. EO_CONVERGED_DECREMENT
- *   k = max_iters                         → EO_DIVERGED_MAX_ITERS
  *   line search from x_k along p_k, first trial α₀ → x_{k+1} and, from searches that
  *     evaluate gradients (wolfe, exact), ∇g(x_{k+1}) (else one more gradient call)
  *     accepted when the search returns EO_OK, or a warning but g(x_{k+1}) < g_k;
@@ -39,8 +43,9 @@
  *   took 30-50 steps per 10% new record of ‖∇g‖ after 2300 iterations, and stopped
  *   stagnated at 3e-6 relative with a fixed window of 25; it needs no such window at
  *   the true floor, 3e-11 relative, reached by Newton).
- * The last record carries the reason. Converged reasons are checked before the
- * iteration cap, so a run that converges exactly at k = max_iters says so.
+ * The last record carries the reason. Converged reasons without a direction (and the
+ * decrement estimate) are checked before the iteration cap, so a run that converges
+ * exactly at k = max_iters by them says so.
  * Nothing here allocates. */
 #include "descent.h"
 #include "external.h" /* eo_external_inverted */
@@ -152,6 +157,11 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                 }
             }
         }
+        /* the cap before the direction: at k = max_iters a new direction (a Hessian and a
+         * factorization for newton) would only decide between two ways of stopping */
+        if (!reason && (stalled >= EO_DESCENT_STALL_LIMIT + k / 10 || weak >= EO_DESCENT_WEAK_LIMIT + k / 10))
+            reason = EO_DIVERGED_STAGNATED;
+        if (!reason && k >= sc->max_iters) reason = EO_DIVERGED_MAX_ITERS;
         if (!reason) {
             eo_direction_out d = {.alpha0 = 1, .shift = 0, .reason = 0};
             rc = ops->direction(st, params, sc, x, g, grad, p, &d, res);
@@ -177,9 +187,6 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                 }
             }
         }
-        if (!reason && (stalled >= EO_DESCENT_STALL_LIMIT + k / 10 || weak >= EO_DESCENT_WEAK_LIMIT + k / 10))
-            reason = EO_DIVERGED_STAGNATED;
-        if (!reason && k >= sc->max_iters) reason = EO_DIVERGED_MAX_ITERS;
         if (reason) {
             info.reason = reason;
             eo_solver_report(sc, t0, &info);
