@@ -1,92 +1,202 @@
-# twist-2-turns: relative energy error against solve time
+# twist-2-turns: relative energy error against solve time, one panel per measured step
 # colour = optimizer family (baseline black), dash = line search, point = Hessian fix;
 # in colour: the baseline, the fastest and the best of each family (at most 8)
-set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
+if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {
+    set terminal pngcairo size 1745,740 font 'DejaVu Sans,10' noenhanced
+} else {
+    set terminal png size 1745,740 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
+}
 set output 'twist-2-turns.png'
-set title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4, 2 step(s), median of 2\nfastest to 1e-06: newton_tr (1.11x faster than pd_local_global-anderson)"
 left = 0.0001  # the start point x0 (time 0) is drawn at the left edge
-set xrange [left:*]
+stats 'twist-2-turns.dat' using 1 nooutput
+right = STATS_max > left ? 10**ceil(log10(STATS_max)) : 10*left
+set xrange [left:right]
+set yrange [1e-11:3]
 set logscale xy
-set grid xtics ytics mxtics mytics lc rgb '#e5e5e5'
+set grid xtics ytics lc rgb '#d8d8d8'
+set mxtics 10
+set mytics 10
 set format y '1e%L'
 set format x '%g'
-set xlabel 'solve time of the step (s), median of the timed repeats'
-set ylabel 'relative energy error (g - g*) / |g0 - g*|'
-set yrange [1e-11:3]
-set key inside left bottom opaque box spacing 1.05 font ',10'
-set arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead lc rgb '#999999' dt 3
-set label '1e-02' at graph 1, first 0.01 offset char 0.5,0 left font ',9' tc rgb '#777777'
-set arrow from graph 0, first 0.001 to graph 1, first 0.001 nohead lc rgb '#999999' dt 3
-set label '1e-03' at graph 1, first 0.001 offset char 0.5,0 left font ',9' tc rgb '#777777'
-set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt 3
-set label '1e-04' at graph 1, first 0.0001 offset char 0.5,0 left font ',9' tc rgb '#777777'
-set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt 3
-set label '1e-06' at graph 1, first 1e-06 offset char 0.5,0 left font ',9' tc rgb '#777777'
-set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt 3
-set label '1e-08' at graph 1, first 1e-08 offset char 0.5,0 left font ',9' tc rgb '#777777'
-set rmargin 8
-plot \
-  'twist-2-turns.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 title '22 other configurations', \
-  'twist-2-turns.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 27 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 40 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 41 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 42 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 43 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 54 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 55 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 56 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 57 using ($1>0?$1:left):2 with linespoints lc rgb '#c8c8c8' dt 1 lw 0.8 pt 7 ps 0.2 notitle, \
-  'twist-2-turns.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.4 pt 7 ps 0.6 title 'newton-clamp-backtracking (baseline)', \
-  'twist-2-turns.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.4 pt 7 ps 0.6 notitle, \
-  'twist-2-turns.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.8 pt 15 ps 0.6 title 'newton-project_on_demand-backtracking', \
-  'twist-2-turns.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.8 pt 15 ps 0.6 notitle, \
-  'twist-2-turns.dat' index 44 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 3 lw 3.2 pt 7 ps 0.6 title 'newton_tr (fastest)', \
-  'twist-2-turns.dat' index 45 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 3 lw 3.2 pt 7 ps 0.6 notitle, \
-  'twist-2-turns.dat' index 46 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 5 lw 1.8 pt 13 ps 0.6 title 'lbfgs-wolfe', \
-  'twist-2-turns.dat' index 47 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 5 lw 1.8 pt 13 ps 0.6 notitle, \
-  'twist-2-turns.dat' index 48 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 5 lw 1.8 pt 13 ps 0.6 title 'ncg-wolfe', \
-  'twist-2-turns.dat' index 49 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 5 lw 1.8 pt 13 ps 0.6 notitle, \
-  'twist-2-turns.dat' index 50 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.8 pt 13 ps 0.6 title 'pd_local_global-anderson', \
-  'twist-2-turns.dat' index 51 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.8 pt 13 ps 0.6 notitle, \
-  'twist-2-turns.dat' index 52 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.8 pt 13 ps 0.6 title 'nlopt-lbfgs', \
-  'twist-2-turns.dat' index 53 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.8 pt 13 ps 0.6 notitle, \
-  'twist-2-turns.dat' index 58 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.8 pt 7 ps 0.6 title 'pd-lbfgs5-backtracking', \
-  'twist-2-turns.dat' index 59 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.8 pt 7 ps 0.6 notitle
-set terminal svg size 1400,850 font 'DejaVu Sans,11' noenhanced
-set output 'twist-2-turns.svg'
-replot
+set arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-2' at graph 1, first 0.01 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 0.001 to graph 1, first 0.001 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.27x faster than the next, newton_tr; 13.11x faster than the baseline" font ',12'
 
+# panel 1: measured step 9
+set lmargin at screen 0.0516
+set rmargin at screen 0.3954
+set tmargin at screen 0.8919
+set bmargin at screen 0.0811
+set title 'step 9 (t = 0.45 s)' offset 0,-0.4
+set ylabel 'relative energy error (g - g*) / |g0 - g*|'
+set format y '1e%L'
+set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
+plot \
+  'twist-2-turns.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '11 other configurations (grey)', \
+  'twist-2-turns.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'twist-2-turns.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
+  'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton_tr', \
+  'twist-2-turns.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
+  'twist-2-turns.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 2 title 'ncg-wolfe', \
+  'twist-2-turns.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 4 ps 0.8 pi 4 title 'pd_local_global-anderson', \
+  'twist-2-turns.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 7 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
+  'twist-2-turns.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'nlopt-lbfgs', \
+  keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  wolfe', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
+  keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
+  keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
+  keyentry with points lc rgb '#555555' pt 15 ps 1.0 title '  progressive', \
+  keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
+
+# panel 2: measured step 10
+set lmargin at screen 0.4183
+set rmargin at screen 0.7622
+set tmargin at screen 0.8919
+set bmargin at screen 0.0811
+set title 'step 10 (t = 0.5 s)' offset 0,-0.4
+set ylabel ''
+set format y ''
+set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
+unset key
+plot \
+  'twist-2-turns.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '11 other configurations (grey)', \
+  'twist-2-turns.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 27 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
+  'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton_tr', \
+  'twist-2-turns.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
+  'twist-2-turns.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 2 title 'ncg-wolfe', \
+  'twist-2-turns.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 4 ps 0.8 pi 4 title 'pd_local_global-anderson', \
+  'twist-2-turns.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 7 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
+  'twist-2-turns.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'nlopt-lbfgs'
+unset multiplot
+
+# ---- the same figure as SVG
+reset
+set terminal svg size 1745,740 font 'DejaVu Sans,10' noenhanced
+set output 'twist-2-turns.svg'
+left = 0.0001  # the start point x0 (time 0) is drawn at the left edge
+stats 'twist-2-turns.dat' using 1 nooutput
+right = STATS_max > left ? 10**ceil(log10(STATS_max)) : 10*left
+set xrange [left:right]
+set yrange [1e-11:3]
+set logscale xy
+set grid xtics ytics lc rgb '#d8d8d8'
+set mxtics 10
+set mytics 10
+set format y '1e%L'
+set format x '%g'
+set arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-2' at graph 1, first 0.01 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 0.001 to graph 1, first 0.001 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.27x faster than the next, newton_tr; 13.11x faster than the baseline" font ',12'
+
+# panel 1: measured step 9
+set lmargin at screen 0.0516
+set rmargin at screen 0.3954
+set tmargin at screen 0.8919
+set bmargin at screen 0.0811
+set title 'step 9 (t = 0.45 s)' offset 0,-0.4
+set ylabel 'relative energy error (g - g*) / |g0 - g*|'
+set format y '1e%L'
+set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
+plot \
+  'twist-2-turns.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '11 other configurations (grey)', \
+  'twist-2-turns.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'twist-2-turns.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
+  'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton_tr', \
+  'twist-2-turns.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
+  'twist-2-turns.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 2 title 'ncg-wolfe', \
+  'twist-2-turns.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 4 ps 0.8 pi 4 title 'pd_local_global-anderson', \
+  'twist-2-turns.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 7 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
+  'twist-2-turns.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'nlopt-lbfgs', \
+  keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  wolfe', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
+  keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
+  keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
+  keyentry with points lc rgb '#555555' pt 15 ps 1.0 title '  progressive', \
+  keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
+
+# panel 2: measured step 10
+set lmargin at screen 0.4183
+set rmargin at screen 0.7622
+set tmargin at screen 0.8919
+set bmargin at screen 0.0811
+set title 'step 10 (t = 0.5 s)' offset 0,-0.4
+set ylabel ''
+set format y ''
+set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
+unset key
+plot \
+  'twist-2-turns.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '11 other configurations (grey)', \
+  'twist-2-turns.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 27 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
+  'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton_tr', \
+  'twist-2-turns.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
+  'twist-2-turns.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 2 title 'ncg-wolfe', \
+  'twist-2-turns.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 4 ps 0.8 pi 4 title 'pd_local_global-anderson', \
+  'twist-2-turns.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 7 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
+  'twist-2-turns.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'nlopt-lbfgs'
+unset multiplot
