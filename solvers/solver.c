@@ -41,7 +41,7 @@ const eo_param_desc eo_solver_opts_desc[] = {
      OPTS_STR(optimizer), .def.s = "newton", .registry = &eo_reg_optimizer,
      .help = "optimizer minimizing each step problem"},
     {.key = "hessian_fix", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, hessian_fix),
-     OPTS_STR(hessian_fix), .def.s = "clamp", .registry = &eo_reg_hessfix,
+     OPTS_STR(hessian_fix), .def.s = "project_on_demand", .registry = &eo_reg_hessfix,
      .help = "how Newton makes its Hessian positive definite"},
     {.key = "linesearch", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linesearch),
      OPTS_STR(linesearch), .def.s = "auto", .registry = &eo_reg_linesearch, .choices = linesearch_auto,

@@ -431,7 +431,7 @@ static void test_config(void)
     CHECK(eo_cfg_load(ctx, NULL, text, &cfg) == EO_OK, "%s", eo_ctx_message(ctx));
     eo_solver_opts o;
     eo_solver_opts_default(&o);
-    CHECK(strcmp(o.optimizer, "newton") == 0 && strcmp(o.hessian_fix, "clamp") == 0 &&
+    CHECK(strcmp(o.optimizer, "newton") == 0 && strcmp(o.hessian_fix, "project_on_demand") == 0 &&
               o.tol == 1e-10 && o.max_iters == 100 && strcmp(o.linear, "cholmod") == 0,
           "defaults");
     CHECK(eo_solver_opts_load(ctx, cfg, &o) == EO_OK, "%s", eo_ctx_message(ctx));

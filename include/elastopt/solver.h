@@ -577,7 +577,7 @@ EO_API int eo_solver_report(const eo_solver_ctx *sc, double t0, eo_iter_info *in
 /// Solver choice: config section `solver` (descriptor eo_solver_opts_desc).
 typedef struct eo_solver_opts {
     char optimizer[32];    ///< registered optimizer (default "newton")
-    char hessian_fix[32];  ///< registered Hessian fix (default "clamp")
+    char hessian_fix[32];  ///< registered Hessian fix (default "project_on_demand")
     char linesearch[32];   ///< registered line search, or "auto" (default): the
                            ///< optimizer's choice (eo_optimizer_type.linesearch),
                            ///< replaced by the resolved name in eo_solver_get_opts
