@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Digest of an `elastopt bench` results folder (its summary.csv), in Markdown.
 
-    python3 scripts/bench-digest.py bench/results/standard [--scenes PATTERN] [--fixed]
+    python3 scripts/bench-digest.py bench/results/standard [--scenes PATTERN] [--fixed] [--all]
 
-Prints, per configuration: the scenes on which it reached each accuracy (1e-2 and 1e-6)
+Prints, per configuration: the scenes on which it reached each accuracy (1e-2 and 1e-6, or every
+threshold of the suite with --all or when those two are not both measured)
 and the median, min and max over those scenes of its time to that accuracy divided by the
 baseline's time measured in the same run (ratio < 1: faster than the baseline); then, per
 scene, the fastest configuration at 1e-2 and at 1e-6 with its time, the next best and the
@@ -41,7 +42,10 @@ def main(argv):
     configs = list(dict.fromkeys(r["config"] for r in rows))
     base = next((r["config"] for r in rows if r.get("baseline") == "1"), configs[0])
     by = {(r["scene"], r["config"]): r for r in rows}
-    accs = ["1e-02", "1e-06"]
+    have = [m.group(1) for k in rows[0] for m in [re.match(r"t_(.+)_median$", k)] if m]
+    accs = [a for a in ("1e-02", "1e-06") if a in have]
+    if "--all" in argv or len(accs) < 2:
+        accs = have  # e.g. liu2017: 1e-2, 1e-3, 1e-4
     print(f"{folder}: {len(scenes)} scenes x {len(configs)} configurations; baseline {base}\n")
     print("| configuration | " + " | ".join(
         f"reached {a} | ratio to baseline at {a}: median [min, max]" for a in accs) + " |")
