@@ -114,6 +114,13 @@ int eo_petsc_ksp_configure(eo_ctx *ctx, KSP ksp, const eo_petsc_params *p, eo_di
     if (direct) {
         EO_PC(PCSetType(pc, PCCHOLESKY));
         EO_PC(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+        /* the global inertia of the factor (newton.c: a negative pivot = not positive
+         * definite, as CHOLMOD says) needs the root node factored without ScaLAPACK */
+        char key[96];
+        PetscBool set = PETSC_FALSE;
+        snprintf(key, sizeof key, "-%smat_mumps_icntl_13", prefix ? prefix : "");
+        EO_PC(PetscOptionsHasName(NULL, NULL, key, &set));
+        if (!set) EO_PC(PetscOptionsSetValue(NULL, key, "1"));
     } else if (strcmp(p->pc, "gamg") == 0) {
         EO_PC(PCSetType(pc, PCGAMG));
         /* the Newton matrices of one minimization share their pattern and change slowly:

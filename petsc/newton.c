@@ -5,7 +5,8 @@
  *
  * with the same pieces as `newton` (solvers/optim/newton.c, descent.c):
  *  - Hessian fix (solver.hessian_fix): none (H, −∇g when H is not PD / p not descent),
- *    shift (H + cI), clamp / abs (per-element projected H, the shift loop as safeguard);
+ *    shift (H + cI), clamp / abs (per-element projected H, the shift loop as safeguard),
+ *    project_on_demand (H first; clamp + the shift loop when that fails, per direction);
  *    the shift loop of solvers/hessfix/shift_loop.c: c from the carried c_next, on
  *    failure c ← max(shift_init·s, shift_grow·c), s = mean |H_ii|, give up above
  *    shift_max·s (diverged_not_pd); after success c_next = c/shift_shrink (0 below
@@ -111,9 +112,10 @@ static int prepare(pn_state *s, const eo_solver_ctx *sc, const eo_petsc_params *
         return eo_error(ctx, EO_ERR_UNSUPPORTED, "petsc_newton: line search '%s' needs gradient products inside "
                         "the search; use backtracking, nonmonotone or none", ls);
     const char *hf = eo_method_info_of(sc->hessfix)->name;
-    if (strcmp(hf, "none") != 0 && strcmp(hf, "shift") != 0 && strcmp(hf, "clamp") != 0 && strcmp(hf, "abs") != 0)
+    if (strcmp(hf, "none") != 0 && strcmp(hf, "shift") != 0 && strcmp(hf, "clamp") != 0 && strcmp(hf, "abs") != 0 &&
+        strcmp(hf, "project_on_demand") != 0)
         return eo_error(ctx, EO_ERR_UNSUPPORTED, "petsc_newton: Hessian fix '%s' has no distributed form; use none, "
-                        "shift, clamp or abs", hf);
+                        "shift, clamp, abs or project_on_demand", hf);
     const int rebuilt = !s->d.ctx || s->d.st != eo_step_of_objective(sc->obj) ||
                         s->d.pattern != eo_step_pattern_id(eo_step_of_objective(sc->obj)) || s->d.n != sc->obj->n;
     if ((rc = eo_dist_setup(&s->d, ctx, sc->obj, p)) < 0) return rc;
@@ -140,7 +142,7 @@ fail:
 
 typedef struct dir_out {
     double shift;
-    int factored, reason, lin_iters, fallback;
+    int factored, reason, lin_iters, fallback, projected;
 } dir_out;
 
 static int solve_once(pn_state *s, eo_ctx *ctx, double c, const double eps, double gnorm, int *ok, int *its)
@@ -180,6 +182,24 @@ static int solve_once(pn_state *s, eo_ctx *ctx, double c, const double eps, doub
         *its += (int)it;
     }
     if (kr < 0) return EO_OK;
+    {
+        /* a direct solve (MUMPS Cholesky, which PETSc runs as LDL^T on a matrix not marked
+         * SPD) succeeds on an indefinite matrix where the serial engine's CHOLMOD LL^T
+         * fails: a negative pivot counts as a failed attempt here too, so every fix makes
+         * the serial engine's choices (the count covers the root node with ICNTL(13) = 1,
+         * module.c) */
+        PC pc;
+        PCType pct;
+        EO_PC(KSPGetPC(s->ksp, &pc));
+        EO_PC(PCGetType(pc, &pct));
+        if (pct && strcmp(pct, PCCHOLESKY) == 0) {
+            Mat F;
+            PetscInt nneg = 0; /* INFOG(12): negative pivots of the LDL^T factorization */
+            EO_PC(PCFactorGetMatrix(pc, &F));
+            EO_PC(MatMumpsGetInfog(F, 12, &nneg));
+            if (nneg > 0) return EO_OK;
+        }
+    }
     double dg, pn;
     EO_PC(VecDot(s->G, s->P, &dg));
     EO_PC(VecNorm(s->P, NORM_2, &pn));
@@ -196,13 +216,33 @@ static int direction(pn_state *s, const eo_solver_ctx *sc, double gnorm, eo_solv
     const int none = strcmp(hf, "none") == 0, shifting = !none;
     eo_hessfix_shift_params hp = {.shift_init = 1e-8, .shift_grow = 10, .shift_shrink = 10, .shift_max = 1e12};
     if (shifting && sc->hessfix_params) hp = *(const eo_hessfix_shift_params *)sc->hessfix_params;
-    const eo_proj proj = sc->hessfix->elem_proj;
+    /* project_on_demand (Longva et al. 2023, solvers/hessfix/project_on_demand.c): the
+     * true Hessian first, unshifted; when its solve fails or p is not a descent
+     * direction, the clamp-projected Hessian with the shift loop, as `clamp` */
+    const int pod = strcmp(hf, "project_on_demand") == 0;
+    eo_proj proj = pod ? EO_PROJ_NONE : sc->hessfix->elem_proj;
     const double eps = 1e-12;
     memset(o, 0, sizeof *o);
+    o->projected = proj != EO_PROJ_NONE;
     double t = eo_wtime();
     if ((rc = eo_dist_hessian(&s->d, sc->obj, s->X, proj)) < 0) return rc;
     res->t_assembly += eo_wtime() - t;
     res->n_assembly++;
+    if (pod) {
+        int ok = 0;
+        res->n_factor++;
+        if ((rc = solve_once(s, ctx, 0, eps, gnorm, &ok, &o->lin_iters)) < 0) return rc;
+        if (ok) {
+            o->factored = 1;
+            return EO_OK;
+        }
+        proj = EO_PROJ_CLAMP;
+        o->projected = 1;
+        t = eo_wtime();
+        if ((rc = eo_dist_hessian(&s->d, sc->obj, s->X, proj)) < 0) return rc;
+        res->t_assembly += eo_wtime() - t;
+        res->n_assembly++;
+    }
     EO_PC(MatGetDiagonal(s->d.A, s->D));
     double sabs;
     EO_PC(VecNorm(s->D, NORM_1, &sabs));
@@ -296,7 +336,7 @@ static int pn_minimize(void *st, const void *params, const eo_solver_ctx *sc, do
             dir_out d;
             if ((rc = direction(s, sc, gn, res, &d)) < 0) goto done;
             info.shift = d.shift;
-            info.projected = sc->hessfix->elem_proj != EO_PROJ_NONE;
+            info.projected = d.projected;
             info.lin_iters = d.lin_iters;
             res->lin_iters += d.lin_iters;
             reason = d.reason;
