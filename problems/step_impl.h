@@ -46,6 +46,7 @@ struct eo_step {
     int have_pattern;
     int *full2free, *free2full, nfree;
     int *tet_dofs;
+    int *tet_order;     /* nt: tets in Morton order of their rest centroids (eo_sys.tet_order) */
     eo_assembler *as;
     eo_objective obj;
     unsigned long pattern_id;   /* bumped by build_pattern */

@@ -53,11 +53,19 @@ typedef struct eo_sys {
     const int *part_tets;
     int part_nt;
     const unsigned char *vown;
+    /* visit order of the element loops without a part (eo_step_set_tet_order): nt tet
+     * ids, a permutation, or NULL for the mesh order. Only the order in which the loops
+     * visit the tets (the summation order of g, ∇g and H) changes: tet k is still tet k
+     * in every per-tet array and in the assembler */
+    const int *tet_order;
 } eo_sys;
 
 /* Tets of the current part (all tets without one): i-th tet and their count. */
 static inline int eo_sys_ntets(const eo_sys *s) { return s->part_tets ? s->part_nt : s->nt; }
-static inline int eo_sys_tet(const eo_sys *s, int i) { return s->part_tets ? s->part_tets[i] : i; }
+static inline int eo_sys_tet(const eo_sys *s, int i)
+{
+    return s->part_tets ? s->part_tets[i] : s->tet_order ? s->tet_order[i] : i;
+}
 /* 1 if this part evaluates the nodal terms of vertex v. */
 static inline int eo_sys_vertex_on(const eo_sys *s, int v) { return !s->vown || s->vown[v]; }
 
