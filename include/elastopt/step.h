@@ -150,6 +150,8 @@ EO_API int eo_step_set_parallel(eo_step *st, int on);
 /// summation order changes, so g, ∇g and H agree to rounding (tests/test_tet_order.c).
 /// No effect on a part (eo_step_set_part). Returns the order in use (1 Morton, 0 mesh).
 EO_API int eo_step_set_tet_order(eo_step *st, int on);
+/// Defined where eo_step_set_tet_order exists (for code built against older versions).
+#define EO_STEP_TET_ORDER 1
 /// Accept the free coordinates x as xₙ₊₁: update positions, velocities, time, index.
 /// EO_ERR_UNSUPPORTED for an explicit integrator (use eo_step_advance).
 EO_API int eo_step_end(eo_step *st, const double *x);
