@@ -329,7 +329,7 @@ typedef struct eo_newton_params {
                           ///< with a decrement between d_{k−1}³/d_{k−2}² / estimate_gate
                           ///< (quadratic progress, with this safety factor) and d_{k−1} (no
                           ///< progress: a plateau rule); d = exact λ²/2 of the last
-                          ///< directions. 0 = always try (default 1e3)
+                          ///< directions. 0 = always try (default 10)
 } eo_newton_params;
 
 /// Trust-region Newton with Steihaug–Toint CG (config `solver.newton_tr.*`;
