@@ -63,7 +63,8 @@ void eo_step_destroy(eo_step **pst)
     eo_free(ctx, st->vp);
     void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
                       st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->inv_x, st->vbc,
-                      st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->tet_order, st->sys.elem_g,
+                      st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->tet_order, st->ord_tets, st->ord_dofs,
+                      st->ord_Dminv, st->ord_vol, st->ord_psi, (void *)st->ord_type, (void *)st->ord_coef, st->sys.elem_g,
                       st->sys.elem_H};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++) eo_free(ctx, arrays[i]);
     eo_free(ctx, st);
@@ -161,13 +162,21 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->free2full = eo_malloc(ctx, nf * sizeof(int));
     st->tet_dofs = eo_malloc(ctx, 12 * nt * sizeof(int));
     st->tet_order = eo_malloc(ctx, nt * sizeof(int));
+    st->ord_tets = eo_malloc(ctx, 4 * nt * sizeof(int));
+    st->ord_dofs = eo_malloc(ctx, 12 * nt * sizeof(int));
+    st->ord_Dminv = eo_malloc(ctx, 9 * nt * sizeof(double));
+    st->ord_vol = eo_malloc(ctx, nt * sizeof(double));
+    st->ord_psi = eo_malloc(ctx, nt * sizeof(double));
+    st->ord_type = eo_malloc(ctx, nt * sizeof *st->ord_type);
+    st->ord_coef = eo_malloc(ctx, nt * sizeof *st->ord_coef);
     st->sys.block = BLOCK;
     st->pd_mode = EO_PD_FACTOR_AUTO;
     st->sys.elem_g = eo_malloc(ctx, 12 * (size_t)BLOCK * sizeof(double));
     st->sys.elem_H = eo_malloc(ctx, 144 * (size_t)BLOCK * sizeof(double));
     if (!st->Dminv || !st->psi_rest || !st->vol || !st->rho || !st->vmass || !st->tet_type || !st->tet_coef || !st->x ||
         !st->v || !st->x0 || !st->xw || !st->gfull || !st->vnew || !st->guess || !st->inv_x || !st->vbc ||
-        !st->vbc_new || !st->full2free || !st->free2full || !st->tet_dofs || !st->tet_order || !st->sys.elem_g ||
+        !st->vbc_new || !st->full2free || !st->free2full || !st->tet_dofs || !st->tet_order || !st->ord_tets ||
+        !st->ord_dofs || !st->ord_Dminv || !st->ord_vol || !st->ord_psi || !st->ord_type || !st->ord_coef || !st->sys.elem_g ||
         !st->sys.elem_H) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (step of %d tets)", m->nt);
         goto fail;
@@ -217,6 +226,22 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
         rc = EO_ERR_NOMEM;
         goto fail;
     }
+    for (int i = 0; i < m->nt; i++) {
+        const int k = st->tet_order[i];
+        memcpy(st->ord_tets + 4 * i, m->tets + 4 * k, 4 * sizeof(int));
+        memcpy(st->ord_Dminv + 9 * i, st->Dminv + 9 * k, 9 * sizeof(double));
+        st->ord_vol[i] = st->vol[k];
+        st->ord_psi[i] = st->psi_rest[k];
+        st->ord_type[i] = st->tet_type[k];
+        st->ord_coef[i] = st->tet_coef[k];
+    }
+    s->ord_tets = st->ord_tets;
+    s->ord_Dminv = st->ord_Dminv;
+    s->ord_vol = st->ord_vol;
+    s->ord_psi = st->ord_psi;
+    s->ord_type = st->ord_type;
+    s->ord_coef = st->ord_coef;
+    s->ord_group = -1;
     s->tet_order = m->nt > 1 ? st->tet_order : NULL;
     /* the term list: a scene pays only for the terms it uses */
     eo_term *t = NULL;

@@ -146,9 +146,13 @@ EO_API int eo_step_set_parallel(eo_step *st, int on);
 /// tets' rest centroids, so that consecutive tets share vertices and the vertices' entries
 /// of x, ∇g and the Hessian's columns are still in cache (a mesh from TetGen lists its tets
 /// in no spatial order: on a 115k-tet bunny a vertex was met again a median 2288 tets
-/// later in the mesh order); on = 0 the mesh order. Nothing is renumbered: only the
-/// summation order changes, so g, ∇g and H agree to rounding (tests/test_tet_order.c).
-/// No effect on a part (eo_step_set_part). Returns the order in use (1 Morton, 0 mesh).
+/// later in the mesh order); on = 0 the mesh order. The elastic loops read copies of the
+/// per-tet data (vertex ids, Dₘ⁻¹, volume, material) and a second assembler group of the
+/// tets kept in the Morton order, so they stream them (without those copies the Morton
+/// visit was slower than the mesh order: the per-tet reads jumped instead). Nothing is
+/// renumbered: only the summation order changes, so g, ∇g and H agree to rounding
+/// (tests/test_tet_order.c). No effect on a part (eo_step_set_part). Returns the order
+/// in use (1 Morton, 0 mesh).
 EO_API int eo_step_set_tet_order(eo_step *st, int on);
 /// Defined where eo_step_set_tet_order exists (for code built against older versions).
 #define EO_STEP_TET_ORDER 1
