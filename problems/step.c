@@ -64,7 +64,7 @@ void eo_step_destroy(eo_step **pst)
     void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
                       st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->inv_x, st->vbc,
                       st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->tet_order, st->ord_tets, st->ord_dofs,
-                      st->ord_Dminv, st->ord_vol, st->ord_psi, (void *)st->ord_type, (void *)st->ord_coef, st->sys.elem_g,
+                      st->ord_Dminv, st->ord_vol, st->ord_psi, st->ord_rho, (void *)st->ord_type, (void *)st->ord_coef, st->sys.elem_g,
                       st->sys.elem_H};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++) eo_free(ctx, arrays[i]);
     eo_free(ctx, st);
@@ -167,6 +167,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->ord_Dminv = eo_malloc(ctx, 9 * nt * sizeof(double));
     st->ord_vol = eo_malloc(ctx, nt * sizeof(double));
     st->ord_psi = eo_malloc(ctx, nt * sizeof(double));
+    st->ord_rho = eo_malloc(ctx, nt * sizeof(double));
     st->ord_type = eo_malloc(ctx, nt * sizeof *st->ord_type);
     st->ord_coef = eo_malloc(ctx, nt * sizeof *st->ord_coef);
     st->sys.block = BLOCK;
@@ -176,7 +177,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     if (!st->Dminv || !st->psi_rest || !st->vol || !st->rho || !st->vmass || !st->tet_type || !st->tet_coef || !st->x ||
         !st->v || !st->x0 || !st->xw || !st->gfull || !st->vnew || !st->guess || !st->inv_x || !st->vbc ||
         !st->vbc_new || !st->full2free || !st->free2full || !st->tet_dofs || !st->tet_order || !st->ord_tets ||
-        !st->ord_dofs || !st->ord_Dminv || !st->ord_vol || !st->ord_psi || !st->ord_type || !st->ord_coef || !st->sys.elem_g ||
+        !st->ord_dofs || !st->ord_Dminv || !st->ord_vol || !st->ord_psi || !st->ord_rho || !st->ord_type || !st->ord_coef || !st->sys.elem_g ||
         !st->sys.elem_H) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (step of %d tets)", m->nt);
         goto fail;
@@ -232,6 +233,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
         memcpy(st->ord_Dminv + 9 * i, st->Dminv + 9 * k, 9 * sizeof(double));
         st->ord_vol[i] = st->vol[k];
         st->ord_psi[i] = st->psi_rest[k];
+        st->ord_rho[i] = st->rho[k];
         st->ord_type[i] = st->tet_type[k];
         st->ord_coef[i] = st->tet_coef[k];
     }
@@ -239,6 +241,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     s->ord_Dminv = st->ord_Dminv;
     s->ord_vol = st->ord_vol;
     s->ord_psi = st->ord_psi;
+    s->ord_rho = st->ord_rho;
     s->ord_type = st->ord_type;
     s->ord_coef = st->ord_coef;
     s->ord_group = -1;

@@ -61,10 +61,10 @@ typedef struct eo_sys {
     /* with tet_order: the per-tet data the elastic loops read, copied in the visit order
      * (slot i holds tet tet_order[i]), so that those loops stream them instead of
      * jumping through the per-tet arrays: vertex ids (4), Dₘ⁻¹ (9), volume, ψ(I),
-     * material; and ord_group, the assembler group of the tets in the same order (slot i
+     * material, density (the inertia term's loops too); and ord_group, the assembler group of the tets in the same order (slot i
      * = element i; the same free ids as tet_group's element tet_order[i]) */
     const int *ord_tets;
-    const double *ord_Dminv, *ord_vol, *ord_psi;
+    const double *ord_Dminv, *ord_vol, *ord_psi, *ord_rho;
     const eo_material_type *const *ord_type;
     const eo_material_coef *const *ord_coef;
     int ord_group;
