@@ -2,7 +2,7 @@
  * numeric factorization it cannot avoid (issue 15, item 3).
  *
  * Per case, one implicit step of a scene (the first step from its initial state) is
- * solved again and again with the default Newton (clamp, backtracking, newton_decrement,
+ * solved again and again with the default Newton (clamp, backtracking, newton_decrement (--stop),
  * tol 1e-10, CHOLMOD supernodal LLᵀ) through eo_sim_trial, and the clamp-projected
  * Hessian H_0 of the step's starting guess is factored bare (CHOLMOD numeric
  * factorization only, symbolic analysis done once, the same wrapper settings as the
@@ -34,7 +34,12 @@
  *              base (y < −0.2) fixed, top (y > 2.3) turned about y at 3 rad/s
  *   bunny20k   the same scene on the IPC bunny itself (19 379 tets)
  *
- *   bench_newton [--reps N] [case ...]        default: every case
+ *   bench_newton [--reps N] [--stop RULE] [case ...]        default: every case
+ * --stop: solver.stop of the Newton runs, default newton_decrement (tol 1e-10 absolute:
+ * the rule of the committed results; the library's default became relative_decrement,
+ * which runs these steps down to the rounding floor, 12 instead of 6 iterations on the
+ * IPC bunny). Where the library has eo_step_set_tet_order, the assembly throughput is
+ * also printed with the tets visited in the mesh order.
  * EO_SHARED (environment) overrides the shared folder (default: ../shared beside the
  * source tree). Prints the machine, build and settings first. */
 #define _POSIX_C_SOURCE 200809L
@@ -49,6 +54,7 @@
 #include "elastopt/machine.h"
 #include "elastopt/mesh.h"
 #include "elastopt/sim.h"
+#include "elastopt/step.h"
 #include "solvers/linsys/cholmod_util.h"
 
 #ifndef EO_SHARED_DIR
@@ -167,6 +173,11 @@ static void print_profile(const char *label, const eo_profile *p, int iterations
            iterations > 0 && p->n_factor > 0 ? (p->t_total / iterations) / (p->t_factor / (double)p->n_factor) : NAN);
 }
 
+/* solver.stop of the Newton runs (--stop; default newton_decrement, the rule of the
+ * results in bench/results/newton-amd-epyc-2cpu.txt, pinned since the library's default
+ * became relative_decrement) */
+static const char *stop_rule = "newton_decrement";
+
 static int run_case(const bench_case *bc, int reps)
 {
     enum { NORD = 3, MAXR = 64 };
@@ -211,6 +222,22 @@ static int run_case(const bench_case *bc, int reps)
         if (rc < 0) goto done;
         printf("  assembly: clamp-projected Hessian (elastic + inertia, kernel + scatter into the CSC) %.4f s cpu "
                "(best of 3) = %.3g tets/s\n", best_a, mesh->nt / best_a);
+#ifdef EO_STEP_TET_ORDER
+        /* the same with the tets visited in the mesh order instead of the default Morton order */
+        eo_step *sp = eo_sim_step_problem(sim);
+        if (eo_step_set_tet_order(sp, 0) == 0) {
+            double best_m = INFINITY;
+            for (int rep = 0; rep < 3 && rc >= 0; rep++) {
+                double c0 = cputime();
+                rc = eo_objective_hessian(obj, guess, EO_PROJ_CLAMP, &H);
+                best_m = fmin(best_m, cputime() - c0);
+            }
+            eo_step_set_tet_order(sp, 1);
+            if (rc < 0) goto done;
+            printf("  assembly, tets in the mesh order (not the default Morton order): %.4f s cpu (best of 3) = %.3g "
+                   "tets/s\n", best_m, mesh->nt / best_m);
+        }
+#endif
     }
     cholmod_sparse S = eo_chm_view(H0);
     double tf_ord[NORD];
@@ -252,6 +279,7 @@ static int run_case(const bench_case *bc, int reps)
         eo_cfg *scfg = NULL;
         char ov[64];
         snprintf(ov, sizeof ov, "solver.cholmod.ordering=%s", ords[best]);
+        snprintf(so.stop, sizeof so.stop, "%s", stop_rule);
         rc = eo_cfg_create_empty(ctx, &scfg);
         if (rc >= 0) rc = eo_cfg_override(ctx, scfg, ov);
         if (rc >= 0) rc = eo_sim_set_solver(sim, &so, scfg);
@@ -323,12 +351,11 @@ int main(int argc, char **argv)
     eo_machine_describe(machine, sizeof machine);
     printf("bench_newton: %s\n", machine);
     const char *thr = getenv("OPENBLAS_NUM_THREADS");
-    printf("OPENBLAS_NUM_THREADS=%s; solver: newton, clamp, backtracking, newton_decrement, tol 1e-10, cholmod "
-           "supernodal (ordering: the best of amd/metis/nesdis on H_0); first step of each scene\n",
-           thr ? thr : "(unset)");
     int reps = 3, picked = 0, fails = 0;
     for (int a = 1; a < argc; a++)
-        if (!strcmp(argv[a], "--reps") && a + 1 < argc) {
+        if (!strcmp(argv[a], "--stop") && a + 1 < argc) {
+            stop_rule = argv[++a];
+        } else if (!strcmp(argv[a], "--reps") && a + 1 < argc) {
             reps = atoi(argv[++a]);
             if (reps < 1) reps = 1;
             if (reps > 64) reps = 64;
@@ -344,6 +371,9 @@ int main(int argc, char **argv)
             }
             picked++;
         }
+    printf("OPENBLAS_NUM_THREADS=%s; solver: newton, clamp, backtracking, %s, tol 1e-10, cholmod "
+           "supernodal (ordering: the best of amd/metis/nesdis on H_0); first step of each scene\n",
+           thr ? thr : "(unset)", stop_rule);
     printf("repeats: %d (interleaved: Newton trial, bare factorization)\n", reps);
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         int pick = !picked;

@@ -22,6 +22,7 @@
  * step_bc.c, step_objective.c, step_initial.c, step_explicit.c, step_stats.c (see
  * step_impl.h). */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -62,11 +63,66 @@ void eo_step_destroy(eo_step **pst)
     eo_free(ctx, st->vp);
     void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
                       st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->inv_x, st->vbc,
-                      st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->sys.elem_g,
+                      st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->tet_order, st->ord_tets, st->ord_dofs,
+                      st->ord_Dminv, st->ord_vol, st->ord_psi, st->ord_rho, (void *)st->ord_type, (void *)st->ord_coef, st->sys.elem_g,
                       st->sys.elem_H};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++) eo_free(ctx, arrays[i]);
     eo_free(ctx, st);
     *pst = NULL;
+}
+
+/* Morton (Z-curve) code of a point quantized to 21 bits per axis in the box [lo, lo + ext] */
+static uint64_t spread21(uint64_t v)
+{
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+}
+
+typedef struct morton_key {
+    uint64_t code;
+    int k;
+} morton_key;
+
+static int cmp_morton(const void *a, const void *b)
+{
+    const morton_key *p = a, *q = b;
+    if (p->code != q->code) return p->code < q->code ? -1 : 1;
+    return (p->k > q->k) - (p->k < q->k);
+}
+
+/* order[0..nt): the tets sorted by the Morton code of their rest centroids (ties by id):
+ * the element loops' visit order (eo_sys.tet_order). Setup only (allocates a key array). */
+static int morton_order(eo_ctx *ctx, const eo_mesh *m, int *order)
+{
+    if (m->nt <= 0) return EO_OK;
+    morton_key *key = eo_malloc(ctx, (size_t)m->nt * sizeof *key);
+    if (!key) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (tet order of %d tets)", m->nt);
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int v = 0; v < m->nv; v++)
+        for (int c = 0; c < 3; c++) lo[c] = fmin(lo[c], m->X[3 * v + c]), hi[c] = fmax(hi[c], m->X[3 * v + c]);
+    double ext = 0;
+    for (int c = 0; c < 3; c++) ext = fmax(ext, hi[c] - lo[c]);
+    const double scale = ext > 0 && isfinite(ext) ? 2097151.0 / ext : 0;
+    for (int k = 0; k < m->nt; k++) {
+        uint64_t code = 0;
+        for (int c = 0; c < 3; c++) {
+            const int *t = m->tets + 4 * k;
+            double ctr = (m->X[3 * t[0] + c] + m->X[3 * t[1] + c] + m->X[3 * t[2] + c] + m->X[3 * t[3] + c]) / 4;
+            double q = (ctr - lo[c]) * scale;
+            uint64_t iq = q > 0 ? (q < 2097151.0 ? (uint64_t)q : 2097151u) : 0;
+            code |= spread21(iq) << c;
+        }
+        key[k] = (morton_key){code, k};
+    }
+    qsort(key, (size_t)m->nt, sizeof *key, cmp_morton);
+    for (int k = 0; k < m->nt; k++) order[k] = key[k].k;
+    eo_free(ctx, key);
+    return EO_OK;
 }
 
 int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
@@ -105,13 +161,23 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->full2free = eo_malloc(ctx, nf * sizeof(int));
     st->free2full = eo_malloc(ctx, nf * sizeof(int));
     st->tet_dofs = eo_malloc(ctx, 12 * nt * sizeof(int));
+    st->tet_order = eo_malloc(ctx, nt * sizeof(int));
+    st->ord_tets = eo_malloc(ctx, 4 * nt * sizeof(int));
+    st->ord_dofs = eo_malloc(ctx, 12 * nt * sizeof(int));
+    st->ord_Dminv = eo_malloc(ctx, 9 * nt * sizeof(double));
+    st->ord_vol = eo_malloc(ctx, nt * sizeof(double));
+    st->ord_psi = eo_malloc(ctx, nt * sizeof(double));
+    st->ord_rho = eo_malloc(ctx, nt * sizeof(double));
+    st->ord_type = eo_malloc(ctx, nt * sizeof *st->ord_type);
+    st->ord_coef = eo_malloc(ctx, nt * sizeof *st->ord_coef);
     st->sys.block = BLOCK;
     st->pd_mode = EO_PD_FACTOR_AUTO;
     st->sys.elem_g = eo_malloc(ctx, 12 * (size_t)BLOCK * sizeof(double));
     st->sys.elem_H = eo_malloc(ctx, 144 * (size_t)BLOCK * sizeof(double));
     if (!st->Dminv || !st->psi_rest || !st->vol || !st->rho || !st->vmass || !st->tet_type || !st->tet_coef || !st->x ||
         !st->v || !st->x0 || !st->xw || !st->gfull || !st->vnew || !st->guess || !st->inv_x || !st->vbc ||
-        !st->vbc_new || !st->full2free || !st->free2full || !st->tet_dofs || !st->sys.elem_g ||
+        !st->vbc_new || !st->full2free || !st->free2full || !st->tet_dofs || !st->tet_order || !st->ord_tets ||
+        !st->ord_dofs || !st->ord_Dminv || !st->ord_vol || !st->ord_psi || !st->ord_rho || !st->ord_type || !st->ord_coef || !st->sys.elem_g ||
         !st->sys.elem_H) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (step of %d tets)", m->nt);
         goto fail;
@@ -157,6 +223,29 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     s->full2free = st->full2free;
     s->tet_dofs = st->tet_dofs;
     s->parallel = 0; /* serial by default: see eo_step_set_parallel */
+    if (morton_order(ctx, m, st->tet_order) < 0) {
+        rc = EO_ERR_NOMEM;
+        goto fail;
+    }
+    for (int i = 0; i < m->nt; i++) {
+        const int k = st->tet_order[i];
+        memcpy(st->ord_tets + 4 * i, m->tets + 4 * k, 4 * sizeof(int));
+        memcpy(st->ord_Dminv + 9 * i, st->Dminv + 9 * k, 9 * sizeof(double));
+        st->ord_vol[i] = st->vol[k];
+        st->ord_psi[i] = st->psi_rest[k];
+        st->ord_rho[i] = st->rho[k];
+        st->ord_type[i] = st->tet_type[k];
+        st->ord_coef[i] = st->tet_coef[k];
+    }
+    s->ord_tets = st->ord_tets;
+    s->ord_Dminv = st->ord_Dminv;
+    s->ord_vol = st->ord_vol;
+    s->ord_psi = st->ord_psi;
+    s->ord_rho = st->ord_rho;
+    s->ord_type = st->ord_type;
+    s->ord_coef = st->ord_coef;
+    s->ord_group = -1;
+    s->tet_order = m->nt > 1 ? st->tet_order : NULL;
     /* the term list: a scene pays only for the terms it uses */
     eo_term *t = NULL;
     if (st->integ->inertia && !st->integ->explicit_step) {
@@ -232,6 +321,12 @@ fail:
     return rc;
 }
 
+
+int eo_step_set_tet_order(eo_step *st, int on)
+{
+    st->sys.tet_order = on && st->nt > 1 ? st->tet_order : NULL;
+    return st->sys.tet_order != NULL;
+}
 
 int eo_step_set_parallel(eo_step *st, int on)
 {

@@ -103,6 +103,14 @@ static int build_pattern(eo_step *st)
     int hgroup = eo_assembler_add_elements(ctx, st->as, st->nt, 12, st->tet_dofs);
     if (hgroup < 0) return hgroup;
     st->sys.tet_group = hgroup;
+    st->sys.ord_group = -1;
+    if (st->nt > 1) { /* the same tets in the visit order (eo_sys.ord_group) */
+        for (int i = 0; i < st->nt; i++)
+            memcpy(st->ord_dofs + 12 * i, st->tet_dofs + 12 * st->tet_order[i], 12 * sizeof(int));
+        int og = eo_assembler_add_elements(ctx, st->as, st->nt, 12, st->ord_dofs);
+        if (og < 0) return og;
+        st->sys.ord_group = og;
+    }
     for (int i = 0; i < st->nterms; i++)
         if (st->terms[i]->ops->attach) {
             rc = st->terms[i]->ops->attach(st->terms[i], &st->sys);

@@ -46,6 +46,12 @@ struct eo_step {
     int have_pattern;
     int *full2free, *free2full, nfree;
     int *tet_dofs;
+    int *tet_order;     /* nt: tets in Morton order of their rest centroids (eo_sys.tet_order) */
+    /* the per-tet data in that order (eo_sys.ord_*) */
+    int *ord_tets, *ord_dofs;
+    double *ord_Dminv, *ord_vol, *ord_psi, *ord_rho;
+    const eo_material_type **ord_type;
+    const eo_material_coef **ord_coef;
     eo_assembler *as;
     eo_objective obj;
     unsigned long pattern_id;   /* bumped by build_pattern */

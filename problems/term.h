@@ -53,11 +53,29 @@ typedef struct eo_sys {
     const int *part_tets;
     int part_nt;
     const unsigned char *vown;
+    /* visit order of the element loops without a part (eo_step_set_tet_order): nt tet
+     * ids, a permutation, or NULL for the mesh order. Only the order in which the loops
+     * visit the tets (the summation order of g, ∇g and H) changes: tet k is still tet k
+     * in every per-tet array and in the assembler */
+    const int *tet_order;
+    /* with tet_order: the per-tet data the elastic loops read, copied in the visit order
+     * (slot i holds tet tet_order[i]), so that those loops stream them instead of
+     * jumping through the per-tet arrays: vertex ids (4), Dₘ⁻¹ (9), volume, ψ(I),
+     * material, density (the inertia term's loops too); and ord_group, the assembler group of the tets in the same order (slot i
+     * = element i; the same free ids as tet_group's element tet_order[i]) */
+    const int *ord_tets;
+    const double *ord_Dminv, *ord_vol, *ord_psi, *ord_rho;
+    const eo_material_type *const *ord_type;
+    const eo_material_coef *const *ord_coef;
+    int ord_group;
 } eo_sys;
 
 /* Tets of the current part (all tets without one): i-th tet and their count. */
 static inline int eo_sys_ntets(const eo_sys *s) { return s->part_tets ? s->part_nt : s->nt; }
-static inline int eo_sys_tet(const eo_sys *s, int i) { return s->part_tets ? s->part_tets[i] : i; }
+static inline int eo_sys_tet(const eo_sys *s, int i)
+{
+    return s->part_tets ? s->part_tets[i] : s->tet_order ? s->tet_order[i] : i;
+}
 /* 1 if this part evaluates the nodal terms of vertex v. */
 static inline int eo_sys_vertex_on(const eo_sys *s, int v) { return !s->vown || s->vown[v]; }
 

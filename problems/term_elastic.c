@@ -22,15 +22,38 @@
 #include "pd_matrix.h"
 #include "term.h"
 
-static int skip(const eo_sys *s, int k) { return (s->tet_type[k]->flags & EO_MATERIAL_EDGE) != 0; }
+/* The i-th tet of a loop: its mesh id k, its element (e in assembler group `group`) and
+ * its data; in the visit order (eo_sys.tet_order, no part) from the copies in that order,
+ * so that the loop streams them (term.h). */
+typedef struct tref {
+    int k, e, group;
+    const int *tet;
+    const double *Dminv;
+    double vol, psi;
+    const eo_material_type *type;
+    const eo_material_coef *coef;
+} tref;
 
-/* the material kernel on tet k at positions x (one place for gather + evaluate) */
-static void eval_tet(const eo_sys *s, int k, const double *x, eo_eval_what what, eo_proj proj,
-                     eo_tet_out *out)
+static inline tref tet_ref(const eo_sys *s, int i)
+{
+    if (s->tet_order && !s->part_tets) {
+        const int og = s->ord_group;
+        return (tref){s->tet_order[i], og >= 0 ? i : s->tet_order[i], og >= 0 ? og : s->tet_group, s->ord_tets + 4 * i,
+                      s->ord_Dminv + 9 * i, s->ord_vol[i], s->ord_psi[i], s->ord_type[i], s->ord_coef[i]};
+    }
+    const int k = eo_sys_tet(s, i);
+    return (tref){k, k, s->tet_group, s->mesh->tets + 4 * k, s->Dminv + 9 * k, s->vol[k], s->psi_rest[k],
+                  s->tet_type[k], s->tet_coef[k]};
+}
+
+static int skip(const tref *t) { return (t->type->flags & EO_MATERIAL_EDGE) != 0; }
+
+/* the material kernel on tet t at positions x (one place for gather + evaluate) */
+static void eval_tet(const tref *t, const double *x, eo_eval_what what, eo_proj proj, eo_tet_out *out)
 {
     double x12[12];
-    eo_gather12(x, s->mesh->tets + 4 * k, x12);
-    eo_tet_evaluate(s->tet_type[k], s->tet_coef[k], s->Dminv + 9 * k, s->vol[k], x12, what, proj, out);
+    eo_gather12(x, t->tet, x12);
+    eo_tet_evaluate(t->type, t->coef, t->Dminv, t->vol, x12, what, proj, out);
 }
 
 static double energy(eo_term *t, const eo_sys *s, const double *x)
@@ -41,11 +64,11 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
 #pragma omp parallel for reduction(+ : e) schedule(static) if (s->parallel)
 #endif
     for (int i = 0; i < nt; i++) {
-        const int k = eo_sys_tet(s, i);
-        if (skip(s, k)) continue;
+        const tref r = tet_ref(s, i);
+        if (skip(&r)) continue;
         eo_tet_out out;
-        eval_tet(s, k, x, EO_EVAL_ENERGY, EO_PROJ_NONE, &out);
-        e += out.energy - s->vol[k] * s->psi_rest[k];
+        eval_tet(&r, x, EO_EVAL_ENERGY, EO_PROJ_NONE, &out);
+        e += out.energy - r.vol * r.psi;
     }
     if (isnan(e)) e = INFINITY;
     return t->weight * e;
@@ -70,25 +93,25 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
 #pragma omp parallel for reduction(+ : eb, ib) schedule(static) if (s->parallel)
 #endif
         for (int j = 0; j < nb; j++) {
-            int k = eo_sys_tet(s, b0 + j);
-            if (skip(s, k)) { /* an edge material: counted, not evaluated */
+            const tref r = tet_ref(s, b0 + j);
+            if (skip(&r)) { /* an edge material: counted, not evaluated */
                 double x12[12];
-                eo_gather12(x, s->mesh->tets + 4 * k, x12);
-                ib += eo_tet_is_inverted(eo_tet_J(s->Dminv + 9 * k, x12));
+                eo_gather12(x, r.tet, x12);
+                ib += eo_tet_is_inverted(eo_tet_J(r.Dminv, x12));
                 continue;
             }
             eo_tet_out out;
-            eval_tet(s, k, x, EO_EVAL_GRAD, EO_PROJ_NONE, &out);
-            eb += out.energy - s->vol[k] * s->psi_rest[k];
+            eval_tet(&r, x, EO_EVAL_GRAD, EO_PROJ_NONE, &out);
+            eb += out.energy - r.vol * r.psi;
             ib += eo_tet_is_inverted(out.J);
             memcpy(s->elem_g + 12 * j, out.grad, sizeof out.grad);
         }
         e += eb; /* a non-finite e is returned after all forces are scattered */
         inv += ib;
         for (int j = 0; j < nb; j++) {
-            int k = eo_sys_tet(s, b0 + j);
-            if (skip(s, k)) continue;
-            const int *tet = s->mesh->tets + 4 * k;
+            const tref r = tet_ref(s, b0 + j);
+            if (skip(&r)) continue;
+            const int *tet = r.tet;
             const double *ge = s->elem_g + 12 * j;
             for (int a = 0; a < 4; a++)
                 for (int c = 0; c < 3; c++) g[3 * tet[a] + c] += w * ge[3 * a + c];
@@ -106,11 +129,11 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
     const int nt = eo_sys_ntets(s);
     if (!s->parallel) { /* one pass: evaluate and scatter each tet, no element buffer */
         for (int i = 0; i < nt; i++) {
-            const int k = eo_sys_tet(s, i);
-            if (skip(s, k)) continue;
+            const tref r = tet_ref(s, i);
+            if (skip(&r)) continue;
             eo_tet_out out;
-            eval_tet(s, k, x, EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[k] : proj, &out);
-            eo_assembler_add_scaled(s->as, s->tet_group, k, out.hess, w);
+            eval_tet(&r, x, EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[r.k] : proj, &out);
+            eo_assembler_add_scaled(s->as, r.group, r.e, out.hess, w);
         }
         return EO_OK;
     }
@@ -120,17 +143,17 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
 #pragma omp parallel for schedule(static) if (s->parallel)
 #endif
         for (int j = 0; j < nb; j++) {
-            int k = eo_sys_tet(s, b0 + j);
-            if (skip(s, k)) continue;
+            const tref r = tet_ref(s, b0 + j);
+            if (skip(&r)) continue;
             eo_tet_out out;
-            eval_tet(s, k, x, EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[k] : proj, &out);
+            eval_tet(&r, x, EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[r.k] : proj, &out);
             double *He = s->elem_H + 144 * j;
             for (int q = 0; q < 144; q++) He[q] = w * out.hess[q];
         }
         for (int j = 0; j < nb; j++) {
-            int k = eo_sys_tet(s, b0 + j);
-            if (skip(s, k)) continue;
-            eo_assembler_add(s->as, s->tet_group, k, s->elem_H + 144 * j);
+            const tref r = tet_ref(s, b0 + j);
+            if (skip(&r)) continue;
+            eo_assembler_add(s->as, r.group, r.e, s->elem_H + 144 * j);
         }
     }
     return EO_OK;
@@ -147,7 +170,7 @@ static int pd_hessian(eo_term *t, const eo_sys *s)
     const eo_material_coef *last_coef = NULL;
     double k = 0;
     for (int e = 0; e < s->nt; e++) {
-        if (skip(s, e)) continue;
+        if (s->tet_type[e]->flags & EO_MATERIAL_EDGE) continue;
         if (s->tet_type[e] != last_type || s->tet_coef[e] != last_coef) {
             last_type = s->tet_type[e];
             last_coef = s->tet_coef[e];

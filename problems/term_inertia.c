@@ -36,9 +36,11 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
         }
         return 0.5 * e;
     }
+    const int ord = s->tet_order && !s->part_tets; /* the copies in the visit order (term.h) */
     for (int i = 0; i < eo_sys_ntets(s); i++) {
         const int k = eo_sys_tet(s, i);
-        const int *tet = s->mesh->tets + 4 * k;
+        const int *tet = ord ? s->ord_tets + 4 * i : s->mesh->tets + 4 * k;
+        const double rv = ord ? s->ord_rho[i] * s->ord_vol[i] : s->rho[k] * s->vol[k];
         double sum[3] = {0, 0, 0}, q = 0;
         for (int a = 0; a < 4; a++)
             for (int c = 0; c < 3; c++) {
@@ -46,7 +48,7 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
                 q += dd * dd;
                 sum[c] += dd;
             }
-        e += s->rho[k] * s->vol[k] / 20.0 * (q + sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+        e += rv / 20.0 * (q + sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
     }
     for (int v = 0; s->pmass && v < s->nv; v++)
         for (int c = 0; c < 3 && eo_sys_vertex_on(s, v); c++)
@@ -68,9 +70,11 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
             }
         return 0.5 * e;
     }
+    const int ord = s->tet_order && !s->part_tets; /* the copies in the visit order (term.h) */
     for (int i = 0; i < eo_sys_ntets(s); i++) {
         const int k = eo_sys_tet(s, i);
-        const int *tet = s->mesh->tets + 4 * k;
+        const int *tet = ord ? s->ord_tets + 4 * i : s->mesh->tets + 4 * k;
+        const double rv = ord ? s->ord_rho[i] * s->ord_vol[i] : s->rho[k] * s->vol[k];
         double dd[12], sum[3] = {0, 0, 0}, q = 0;
         for (int a = 0; a < 4; a++)
             for (int c = 0; c < 3; c++) {
@@ -78,7 +82,7 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
                 q += dd[3 * a + c] * dd[3 * a + c];
                 sum[c] += dd[3 * a + c];
             }
-        double m = s->rho[k] * s->vol[k] / 20.0;
+        double m = rv / 20.0;
         e += m * (q + sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
         for (int a = 0; a < 4; a++)
             for (int c = 0; c < 3; c++) g[3 * tet[a] + c] += m * (dd[3 * a + c] + sum[c]);

@@ -324,6 +324,12 @@ typedef struct eo_newton_params {
     double ew_alpha;     ///< ew2: α ∈ (1, 2] (default 2)
     double eta_max;      ///< upper bound of η_k (default 0.9)
     double eta_min;      ///< lower bound of η_k (default 1e-12)
+    double estimate_gate; ///< decrement-estimate gate (solvers/optim/newton.c): at x_k (k ≥ 2)
+                          ///< the estimate solve is skipped unless the stopping rule passes
+                          ///< with a decrement between d_{k−1}³/d_{k−2}² / estimate_gate
+                          ///< (quadratic progress, with this safety factor) and d_{k−1} (no
+                          ///< progress: a plateau rule); d = exact λ²/2 of the last
+                          ///< directions. 0 = always try (default 10)
 } eo_newton_params;
 
 /// Trust-region Newton with Steihaug–Toint CG (config `solver.newton_tr.*`;

@@ -144,7 +144,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
             reason = EO_DIVERGED_TIME_BUDGET;
         if (!reason && k > 0 && sc->stop->needs_direction && ops->decrement_estimate) {
             double est = NAN;
-            rc = ops->decrement_estimate(st, params, sc, x, g, grad, &est, res);
+            rc = ops->decrement_estimate(st, params, sc, x, g, grad, &si, &est, res);
             if (rc < 0) goto done;
             if (est >= 0 && isfinite(est)) {
                 si.decrement = est;

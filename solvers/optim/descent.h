@@ -45,11 +45,13 @@ typedef struct eo_descent_ops {
      * before a new direction is computed, *est = an estimate of λ²/2 at x from what the
      * optimizer already has (newton: −½∇gᵀH̃⁻¹∇g with the factor of the previous
      * direction's matrix, one solve), or NAN if it has none. The rule is tested with it;
-     * a converged reason stops the run without a new Hessian or factorization. Negative
-     * return = error status. May be NULL. */
+     * a converged reason stops the run without a new Hessian or factorization. si is the
+     * rule's input at x (decrement NAN), for an optimizer that first asks whether the
+     * estimate could pass at all (newton's estimate_gate). Negative return = error
+     * status. May be NULL. */
     int (*decrement_estimate)(void *st, const void *params, const eo_solver_ctx *sc,
-                              const double *x, double g, const double *grad, double *est,
-                              eo_solve_result *res);
+                              const double *x, double g, const double *grad,
+                              const eo_stop_info *si, double *est, eo_solve_result *res);
     /* Curvature constant this optimizer prefers from a Wolfe line search (eo_ls_extra.c2;
      * 0 = no preference): 0.9 quasi-Newton, 0.1 nonlinear CG. */
     double ls_c2;
