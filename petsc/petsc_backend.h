@@ -104,6 +104,11 @@ void eo_dist_end(eo_dist *d);
 /* KSP set up from the params (+ the options string, + the PETSc options database). */
 int eo_petsc_ksp_configure(eo_ctx *ctx, KSP ksp, const eo_petsc_params *p, eo_dist *d, const char *prefix);
 
+/* Under MPI with more than one rank: ctx reads meshes on rank 0 and broadcasts them
+ * (mesh_bcast.c); a no-op on one rank. The note says what the last read did ("" before). */
+void eo_petsc_mesh_source_install(eo_ctx *ctx);
+const char *eo_petsc_mesh_note(void);
+
 /* PETSc initialized (PetscInitialize once, MPI singleton if not launched by mpirun). */
 int eo_petsc_ensure(eo_ctx *ctx);
 /* Map a PETSc error code to an eo status with a message. */
