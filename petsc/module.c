@@ -37,7 +37,8 @@ const eo_param_desc eo_petsc_params_desc[] = {
      .help = "iteration cap of an iterative Newton solve"},
     {.key = "partitioner", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_petsc_params, partitioner),
      PP_STR(partitioner), .def.s = "ptscotch", .choices = part_names,
-     .help = "how the tets are split over the ranks: ptscotch (PETSc MatPartitioning on the face graph) or "
+     .help = "how the tets are split over the ranks: ptscotch (Scotch on the face graph, on rank 0, the same "
+             "partition every run) or "
              "slab (equal slabs along the longest axis)"},
     {.key = "options", .kind = EO_PARAM_STRING, .offset = offsetof(eo_petsc_params, options), PP_STR(options),
      .def.s = "", .help = "PETSc options for experts, e.g. \"-ksp_monitor -log_view\" (also PETSC_OPTIONS and "

@@ -16,8 +16,10 @@
  * (block size 3, preallocated from the pattern); at the end the minimizer is gathered to
  * every rank so the driver accepts the same step everywhere.
  *
- * The mesh is split once per step engine by PETSc's MatPartitioning (PT-Scotch) on the
- * tet dual graph (faces), or by coordinate slabs (solver.<name>.partitioner). */
+ * The mesh is split once per step engine by Scotch on the tet dual graph (faces), on rank
+ * 0 with a fixed seed (the same partition every run), or by coordinate slabs
+ * (solver.<name>.partitioner). Under mpirun a mesh file is read on rank 0 and broadcast
+ * (mesh_bcast.c). */
 #ifndef EO_PETSC_BACKEND_H
 #define EO_PETSC_BACKEND_H
 
