@@ -465,6 +465,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_step_stats s0;
     EO_TRY(rc = eo_step_stats_compute(st, &s0)); /* the scene's initial state */
     eo_cli_scene_report(ctx, sc, verb == EO_CLI_QUIET);
+    if (verb == EO_CLI_VERBOSE && eo_cli_mesh_note()) printf("%s\n", eo_cli_mesh_note());
 
     /* ---- the folder: lock, earlier runs */
     signals_install(&sig);

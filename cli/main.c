@@ -129,6 +129,7 @@ int main(int argc, char **argv)
             return EO_EXIT_BAD_INPUT;
         }
         eo_ctx_set_logger(ctx, eo_log_stderr, NULL, EO_LOG_WARN);
+        eo_cli_petsc_attach(ctx); /* under mpirun: meshes read on rank 0, broadcast */
         int rc = (*c)->run(ctx, argc - 1, argv + 1);
         eo_ctx_destroy(&ctx);
         return rc;

@@ -36,8 +36,19 @@
 
 static int g_rank = 0, g_size = 1;
 static int (*g_agree)(int);
+static void (*g_attach)(eo_ctx *);
+static const char *(*g_mesh_note)(void);
 
 int eo_cli_rank(void) { return g_rank; }
+void eo_cli_petsc_attach(eo_ctx *ctx)
+{
+    if (g_attach) g_attach(ctx);
+}
+const char *eo_cli_mesh_note(void)
+{
+    const char *n = g_mesh_note ? g_mesh_note() : NULL;
+    return n && *n ? n : NULL;
+}
 int eo_cli_size(void) { return g_size; }
 int eo_cli_agree(int ok) { return g_agree ? g_agree(ok) : ok; }
 
@@ -131,14 +142,20 @@ int eo_cli_petsc_load(eo_ctx *ctx, int *argc, char **argv)
     *(void **)(&init) = dlsym(h, EO_PLUGIN_SYMBOL);
     *(void **)(&start) = dlsym(h, "eo_petsc_cli_start");
     *(void **)(&g_agree) = dlsym(h, "eo_petsc_cli_agree");
-    if (!init || !start || !g_agree) {
+    *(void **)(&g_attach) = dlsym(h, "eo_petsc_cli_attach");
+    *(void **)(&g_mesh_note) = dlsym(h, "eo_petsc_cli_mesh_note");
+    if (!init || !start || !g_agree || !g_attach || !g_mesh_note) {
         fprintf(stderr, "elastopt: error: %s is not the PETSc backend module\n", path);
         g_agree = NULL;
+        g_attach = NULL;
+        g_mesh_note = NULL;
         return 2;
     }
     if (init(ctx, EO_ABI_VERSION) < 0) {
         fprintf(stderr, "elastopt: error: PETSc backend %s: %s\n", path, eo_ctx_message(ctx));
         g_agree = NULL;
+        g_attach = NULL;
+        g_mesh_note = NULL;
         return 2;
     }
     if (start(argc, argv, &g_rank, &g_size) < 0) {

@@ -11,6 +11,12 @@
  * PETSc options (-ksp_*, -pc_*, -log_view, ...) out of argv. Returns 0, or 2 after
  * printing an error (a module that exists but cannot be loaded or started). */
 int eo_cli_petsc_load(eo_ctx *ctx, int *argc, char **argv);
+/* The context a command runs with: under MPI with several ranks, meshes are read on
+ * rank 0 and broadcast to the others (the module's mesh source); else nothing. */
+void eo_cli_petsc_attach(eo_ctx *ctx);
+/* What the last mesh read under MPI did ("mesh: FILE read on rank 0, broadcast ..."), or
+ * NULL when nothing was broadcast. */
+const char *eo_cli_mesh_note(void);
 /* Rank and number of processes (0 and 1 without MPI). */
 int eo_cli_rank(void);
 int eo_cli_size(void);

@@ -4,6 +4,9 @@
  * live-byte count exact with any allocator. */
 #include "elastopt/ctx.h"
 
+#include "elastopt/mesh.h"
+#include "mesh_io.h"
+
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,6 +24,8 @@ struct eo_ctx {
     eo_log_level log_level;
     int last_status;
     char message[EO_MSG_MAX];
+    eo_mesh_source_fn mesh_source; /* eo_mesh_read's replacement (NULL: read the file) */
+    void *mesh_source_user;
 };
 
 /* header keeps max alignment */
@@ -63,6 +68,18 @@ void eo_ctx_destroy(eo_ctx **ctx)
     eo_allocator a = (*ctx)->alloc;
     raw_free(&a, *ctx);
     *ctx = NULL;
+}
+
+void eo_ctx_set_mesh_source(eo_ctx *ctx, eo_mesh_source_fn fn, void *user)
+{
+    ctx->mesh_source = fn;
+    ctx->mesh_source_user = fn ? user : NULL;
+}
+
+eo_mesh_source_fn eo_ctx_mesh_source(const eo_ctx *ctx, void **user)
+{
+    *user = ctx->mesh_source_user;
+    return ctx->mesh_source;
 }
 
 void eo_ctx_set_logger(eo_ctx *ctx, eo_log_fn fn, void *user, eo_log_level level)

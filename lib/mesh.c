@@ -223,6 +223,19 @@ static int base_has_node(const char *path)
 
 int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out)
 {
+    void *user = NULL;
+    eo_mesh_source_fn source = eo_ctx_mesh_source(ctx, &user);
+    if (source) {
+        *out = NULL;
+        int rc = source(ctx, path, opts, out, user);
+        if (rc < 0) eo_mesh_destroy(out);
+        return rc;
+    }
+    return eo_mesh_read_file(ctx, path, opts, out);
+}
+
+int eo_mesh_read_file(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out)
+{
     *out = NULL;
     int rc = EO_OK;
     eo_mesh_format fmt = opts ? opts->format : EO_MESH_AUTO;

@@ -21,6 +21,9 @@ typedef struct eo_mesh_src {
     int base;               /* TetGen: index base (0 or 1) of the .node file */
 } eo_mesh_src;
 
+/* The context's mesh source (eo_ctx_set_mesh_source) and its user pointer; NULL if none. */
+eo_mesh_source_fn eo_ctx_mesh_source(const eo_ctx *ctx, void **user);
+
 typedef struct eo_mesh_io_type {
     eo_mesh_format format;
     const char *name;            /* "gmsh" */

@@ -17,6 +17,11 @@
  * from the step's CSC (positions found once per free set) into MPIAIJ rows (ADD_VALUES,
  * preallocated from the whole pattern). */
 #include <math.h>
+#if EO_PETSC_SCOTCH
+#include <stdint.h>
+#include <stdio.h>
+#include <scotch.h>
+#endif
 #include <stdlib.h>
 #include <string.h>
 
@@ -115,61 +120,125 @@ static int partition_slab(eo_dist *d, const eo_mesh *m)
     return EO_OK;
 }
 
+#if EO_PETSC_SCOTCH
+/* Scotch's graph partitioning in a context with a fixed random seed and deterministic
+ * threads: the same partition in every run. */
+static int scotch_part(eo_ctx *ctx, int n, const PetscInt *ia, const PetscInt *ja, int nparts, int *owner)
+{
+    int rc = EO_OK;
+    SCOTCH_Num *vt = eo_malloc(ctx, (size_t)(n + 1) * sizeof *vt);
+    SCOTCH_Num *et = eo_malloc(ctx, (size_t)(ia[n] > 0 ? ia[n] : 1) * sizeof *et);
+    SCOTCH_Num *pt = eo_malloc(ctx, (size_t)(n > 0 ? n : 1) * sizeof *pt);
+    SCOTCH_Context *cx = SCOTCH_contextAlloc();
+    SCOTCH_Graph g, gc;
+    SCOTCH_Strat strat;
+    int have_g = 0, have_gc = 0, have_s = 0, have_cx = 0;
+    if (!vt || !et || !pt || !cx) {
+        rc = eo_error(ctx, EO_ERR_NOMEM, "petsc: out of memory (partition)");
+        goto done;
+    }
+    for (int i = 0; i <= n; i++) vt[i] = (SCOTCH_Num)ia[i];
+    for (PetscInt k = 0; k < ia[n]; k++) et[k] = (SCOTCH_Num)ja[k];
+    if (SCOTCH_contextInit(cx) != 0) goto bad;
+    have_cx = 1;
+    SCOTCH_contextRandomSeed(cx, 1);
+    if (SCOTCH_contextOptionSetNum(cx, SCOTCH_OPTIONNUMDETERMINISTIC, 1) != 0 ||
+        SCOTCH_contextOptionSetNum(cx, SCOTCH_OPTIONNUMRANDOMFIXEDSEED, 1) != 0)
+        goto bad;
+    if (SCOTCH_graphInit(&g) != 0) goto bad;
+    have_g = 1;
+    if (SCOTCH_graphBuild(&g, 0, n, vt, NULL, NULL, NULL, vt[n], et, NULL) != 0) goto bad;
+    if (SCOTCH_graphInit(&gc) != 0) goto bad;
+    have_gc = 1;
+    if (SCOTCH_contextBindGraph(cx, &g, &gc) != 0) goto bad;
+    if (SCOTCH_stratInit(&strat) != 0) goto bad;
+    have_s = 1;
+    if (SCOTCH_stratGraphMapBuild(&strat, SCOTCH_STRATQUALITY, nparts, 0.01) != 0) goto bad;
+    if (SCOTCH_graphPart(&gc, nparts, &strat, pt) != 0) goto bad;
+    for (int i = 0; i < n; i++) owner[i] = (int)pt[i];
+    goto done;
+bad:
+    rc = eo_error(ctx, EO_ERR_LINSOLVE, "petsc: Scotch could not partition the %d tets into %d parts", n, nparts);
+done:
+    if (have_s) SCOTCH_stratExit(&strat);
+    if (have_gc) SCOTCH_graphExit(&gc);
+    if (have_g) SCOTCH_graphExit(&g);
+    if (have_cx) SCOTCH_contextExit(cx);
+    if (cx) SCOTCH_memFree(cx);
+    eo_free(ctx, vt);
+    eo_free(ctx, et);
+    eo_free(ctx, pt);
+    return rc;
+}
+#endif
+
+/* Scotch on the face dual graph, run on rank 0 alone, the owners broadcast. Through PETSc's
+ * MatPartitioning (PT-Scotch on all ranks, or on rank 0 alone, with or without
+ * SCOTCH_randomSeed) every run got another partition of the 20k-tet twist (4 runs, 4
+ * partitions, all with the minimal 128-face cut), and with it another GAMG hierarchy and
+ * CG iteration count; Scotch's own graph partitioning in a context with a fixed seed and
+ * deterministic threads gives the same partition every run. The whole dual graph is built
+ * on rank 0 only (the other ranks wait for the owners). */
 static int partition_ptscotch(eo_dist *d, const eo_mesh *m)
 {
     eo_ctx *ctx = d->ctx;
     int rc = EO_OK;
-    int *nb = eo_malloc(ctx, (size_t)(4 * (m->nt > 0 ? m->nt : 1)) * sizeof(int));
-    int *counts = eo_malloc(ctx, (size_t)d->size * sizeof(int)), *displs = eo_malloc(ctx, (size_t)d->size * sizeof(int));
+    int *nb = NULL;
     Mat adj = NULL;
     MatPartitioning part = NULL;
     IS is = NULL;
-    if (!nb || !counts || !displs) {
-        rc = eo_error(ctx, EO_ERR_NOMEM, "petsc: out of memory (partition)");
-        goto fail;
+    char msg[512] = "";
+    if (d->rank == 0) {
+        nb = eo_malloc(ctx, (size_t)(4 * (m->nt > 0 ? m->nt : 1)) * sizeof(int));
+        if (!nb) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "petsc: out of memory (partition)");
+            goto fail;
+        }
+        if ((rc = dual_graph(ctx, m, nb)) < 0) goto fail;
+        const int nk = m->nt;
+        PetscInt *ia, *ja;
+        EO_PC(PetscMalloc1(nk + 1, &ia));
+        EO_PC(PetscMalloc1(4 * nk + 1, &ja));
+        ia[0] = 0;
+        for (int q = 0; q < nk; q++) {
+            ia[q + 1] = ia[q];
+            for (int a = 0; a < 4; a++)
+                if (nb[4 * q + a] >= 0) ja[ia[q + 1]++] = nb[4 * q + a];
+        }
+        eo_free(ctx, nb);
+        nb = NULL;
+#if EO_PETSC_SCOTCH
+        rc = scotch_part(ctx, nk, ia, ja, d->size, d->tet_owner);
+        PetscFree(ia);
+        PetscFree(ja);
+        if (rc < 0) goto fail;
+#else /* Scotch's header missing: PETSc's PT-Scotch interface (a new partition every run) */
+        EO_PC(MatCreateMPIAdj(PETSC_COMM_SELF, nk, nk, ia, ja, NULL, &adj)); /* takes ia, ja */
+        EO_PC(MatPartitioningCreate(PETSC_COMM_SELF, &part));
+        EO_PC(MatPartitioningSetAdjacency(part, adj));
+        EO_PC(MatPartitioningSetType(part, MATPARTITIONINGPTSCOTCH));
+        EO_PC(MatPartitioningSetNParts(part, d->size));
+        EO_PC(MatPartitioningApply(part, &is));
+        const PetscInt *idx;
+        EO_PC(ISGetIndices(is, &idx));
+        for (int q = 0; q < nk; q++) d->tet_owner[q] = (int)idx[q];
+        EO_PC(ISRestoreIndices(is, &idx));
+#endif
     }
-    if ((rc = dual_graph(ctx, m, nb)) < 0) goto fail;
-    for (int r = 0; r < d->size; r++) {
-        int k0 = (int)((long)m->nt * r / d->size), k1 = (int)((long)m->nt * (r + 1) / d->size);
-        counts[r] = k1 - k0;
-        displs[r] = k0;
-    }
-    const int k0 = displs[d->rank], nk = counts[d->rank];
-    PetscInt *ia, *ja;
-    EO_PC(PetscMalloc1(nk + 1, &ia));
-    EO_PC(PetscMalloc1(4 * nk + 1, &ja));
-    ia[0] = 0;
-    for (int q = 0; q < nk; q++) {
-        ia[q + 1] = ia[q];
-        for (int a = 0; a < 4; a++)
-            if (nb[4 * (k0 + q) + a] >= 0) ja[ia[q + 1]++] = nb[4 * (k0 + q) + a];
-    }
-    EO_PC(MatCreateMPIAdj(d->comm, nk, m->nt, ia, ja, NULL, &adj)); /* takes ia, ja */
-    EO_PC(MatPartitioningCreate(d->comm, &part));
-    EO_PC(MatPartitioningSetAdjacency(part, adj));
-    EO_PC(MatPartitioningSetType(part, MATPARTITIONINGPTSCOTCH));
-    EO_PC(MatPartitioningSetNParts(part, d->size));
-    EO_PC(MatPartitioningApply(part, &is));
-    const PetscInt *idx;
-    EO_PC(ISGetIndices(is, &idx));
-    int *mine = eo_malloc(ctx, (size_t)(nk > 0 ? nk : 1) * sizeof(int));
-    if (!mine) {
-        ISRestoreIndices(is, &idx);
-        rc = eo_error(ctx, EO_ERR_NOMEM, "petsc: out of memory (partition)");
-        goto fail;
-    }
-    for (int q = 0; q < nk; q++) mine[q] = (int)idx[q];
-    EO_PC(ISRestoreIndices(is, &idx));
-    (void)MPI_Allgatherv(mine, nk, MPI_INT, d->tet_owner, counts, displs, MPI_INT, d->comm);
-    eo_free(ctx, mine);
 fail:
+    if (rc < 0) snprintf(msg, sizeof msg, "%s", eo_ctx_message(ctx));
+    eo_free(ctx, nb);
     ISDestroy(&is);
     MatPartitioningDestroy(&part);
     MatDestroy(&adj);
-    eo_free(ctx, nb);
-    eo_free(ctx, counts);
-    eo_free(ctx, displs);
-    return rc;
+    int st = rc; /* rank 0's outcome, then the owners */
+    if (MPI_Bcast(&st, 1, MPI_INT, 0, d->comm) != MPI_SUCCESS ||
+        MPI_Bcast(msg, (int)sizeof msg, MPI_CHAR, 0, d->comm) != MPI_SUCCESS)
+        return eo_error(ctx, EO_ERR_LINSOLVE, "petsc: the broadcast of the partition failed");
+    if (st < 0) return d->rank == 0 ? rc : eo_error(ctx, st, "%s", msg);
+    if (MPI_Bcast(d->tet_owner, m->nt, MPI_INT, 0, d->comm) != MPI_SUCCESS)
+        return eo_error(ctx, EO_ERR_LINSOLVE, "petsc: the broadcast of the partition failed");
+    return EO_OK;
 }
 
 static void partition_free(eo_dist *d)

@@ -1,6 +1,7 @@
 /* The PETSc backend module (petsc_backend.h): plug-in entry point, PETSc start and end,
- * the shared parameters and the KSP configuration, and the three functions the CLI finds
- * with dlsym (eo_petsc_cli_start, eo_petsc_cli_agree, eo_petsc_cli_abort).
+ * the shared parameters and the KSP configuration, and the functions the CLI finds with
+ * dlsym (eo_petsc_cli_start, eo_petsc_cli_agree, eo_petsc_cli_attach: the mesh source of
+ * mesh_bcast.c on the command's context, eo_petsc_cli_mesh_note).
  *
  * PETSc is started (PetscInitialize, which starts MPI unless the host already did) when
  * the CLI runs under an MPI launcher, else at the first minimization that needs it (an
@@ -36,7 +37,8 @@ const eo_param_desc eo_petsc_params_desc[] = {
      .help = "iteration cap of an iterative Newton solve"},
     {.key = "partitioner", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_petsc_params, partitioner),
      PP_STR(partitioner), .def.s = "ptscotch", .choices = part_names,
-     .help = "how the tets are split over the ranks: ptscotch (PETSc MatPartitioning on the face graph) or "
+     .help = "how the tets are split over the ranks: ptscotch (Scotch on the face graph, on rank 0, the same "
+             "partition every run) or "
              "slab (equal slabs along the longest axis)"},
     {.key = "options", .kind = EO_PARAM_STRING, .offset = offsetof(eo_petsc_params, options), PP_STR(options),
      .def.s = "", .help = "PETSc options for experts, e.g. \"-ksp_monitor -log_view\" (also PETSC_OPTIONS and "
@@ -211,6 +213,13 @@ __attribute__((visibility("default"))) int eo_petsc_cli_agree(int ok)
     MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD);
     return all;
 }
+
+/* The context a CLI command runs with: meshes read on rank 0 and broadcast (under
+ * mpirun with several ranks). */
+__attribute__((visibility("default"))) void eo_petsc_cli_attach(eo_ctx *ctx) { eo_petsc_mesh_source_install(ctx); }
+
+/* What the last mesh read did under MPI ("" if nothing was broadcast). */
+__attribute__((visibility("default"))) const char *eo_petsc_cli_mesh_note(void) { return eo_petsc_mesh_note(); }
 
 /* ---------------------------------------------------------------- registration */
 

@@ -16,8 +16,10 @@
  * (block size 3, preallocated from the pattern); at the end the minimizer is gathered to
  * every rank so the driver accepts the same step everywhere.
  *
- * The mesh is split once per step engine by PETSc's MatPartitioning (PT-Scotch) on the
- * tet dual graph (faces), or by coordinate slabs (solver.<name>.partitioner). */
+ * The mesh is split once per step engine by Scotch on the tet dual graph (faces), on rank
+ * 0 with a fixed seed (the same partition every run), or by coordinate slabs
+ * (solver.<name>.partitioner). Under mpirun a mesh file is read on rank 0 and broadcast
+ * (mesh_bcast.c). */
 #ifndef EO_PETSC_BACKEND_H
 #define EO_PETSC_BACKEND_H
 
@@ -103,6 +105,11 @@ void eo_dist_end(eo_dist *d);
 
 /* KSP set up from the params (+ the options string, + the PETSc options database). */
 int eo_petsc_ksp_configure(eo_ctx *ctx, KSP ksp, const eo_petsc_params *p, eo_dist *d, const char *prefix);
+
+/* Under MPI with more than one rank: ctx reads meshes on rank 0 and broadcasts them
+ * (mesh_bcast.c); a no-op on one rank. The note says what the last read did ("" before). */
+void eo_petsc_mesh_source_install(eo_ctx *ctx);
+const char *eo_petsc_mesh_note(void);
 
 /* PETSc initialized (PetscInitialize once, MPI singleton if not launched by mpirun). */
 int eo_petsc_ensure(eo_ctx *ctx);

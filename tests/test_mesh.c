@@ -1360,11 +1360,67 @@ static void test_paths(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* The context's mesh source (eo_ctx_set_mesh_source: how the PETSc backend reads a mesh on
+ * one MPI rank): eo_mesh_read answers through it with its status and message, a mesh it
+ * returns along with an error is freed, eo_mesh_read_file still reads the file, and
+ * removing the source restores reading. */
+typedef struct src_log {
+    int calls;
+    char path[512];
+    int fail;
+} src_log;
+
+static int fake_source(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out, void *user)
+{
+    src_log *l = user;
+    l->calls++;
+    snprintf(l->path, sizeof l->path, "%s", path);
+    if (l->fail) { /* an error after making a mesh: eo_mesh_read must not leak it */
+        eo_mesh_gen_opts g = eo_mesh_gen_opts_default();
+        eo_mesh_generate_box(ctx, &g, out);
+        return eo_error(ctx, EO_ERR_PARSE, "%s: rank 0 says no", path);
+    }
+    (void)opts;
+    eo_mesh_gen_opts g = eo_mesh_gen_opts_default();
+    g.cells[0] = g.cells[1] = g.cells[2] = 1;
+    return eo_mesh_generate_box(ctx, &g, out); /* not the file's mesh: proves who answered */
+}
+
+static void test_mesh_source(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    put_file("src.mesh", medit_ok);
+    src_log l = {0};
+    eo_ctx_set_mesh_source(ctx, fake_source, &l);
+    eo_mesh *m = NULL;
+    int rc = eo_mesh_read(ctx, tpath("src.mesh"), NULL, &m);
+    CHECK(rc == EO_OK && m && m->nv == 8 && m->nt == 6, "source: rc %d, %d vertices (the source's box: 8)", rc,
+          m ? m->nv : -1);
+    CHECK(l.calls == 1 && strcmp(l.path, tpath("src.mesh")) == 0, "source: %d calls, path '%s'", l.calls, l.path);
+    eo_mesh_destroy(&m);
+    rc = eo_mesh_read_file(ctx, tpath("src.mesh"), NULL, &m); /* the file itself, not the source */
+    CHECK(rc == EO_OK && m && m->nv == 5 && m->nt == 2 && l.calls == 1, "read_file: rc %d, calls %d", rc, l.calls);
+    eo_mesh_destroy(&m);
+    rc = eo_mesh_load(ctx, "gen:1,1,1:2,2,2", NULL, &m); /* generated, not read: no source */
+    CHECK(rc == EO_OK && m && m->nt == 48 && l.calls == 1, "gen: rc %d, calls %d", rc, l.calls);
+    eo_mesh_destroy(&m);
+    l.fail = 1;
+    rc = eo_mesh_read(ctx, tpath("missing.mesh"), NULL, &m);
+    CHECK(m == NULL, "source error: *out is NULL");
+    expect_err(ctx, rc, EO_ERR_PARSE, "source error", "missing.mesh: rank 0 says no", NULL);
+    eo_ctx_set_mesh_source(ctx, NULL, &l);
+    rc = eo_mesh_read(ctx, tpath("src.mesh"), NULL, &m);
+    CHECK(rc == EO_OK && m && m->nv == 5 && l.calls == 2, "source removed: rc %d, calls %d", rc, l.calls);
+    eo_mesh_destroy(&m);
+    eo_test_ctx_done(&ctx); /* counts live bytes: the failed source's mesh was freed */
+}
+
 int main(void)
 {
     /* the real meshes live in the workspace's shared/ folder beside the repository */
     snprintf(tmp, sizeof tmp, "%s", eo_test_tmpdir("mesh"));
     test_tags();
+    test_mesh_source();
     test_vtu_read();
     test_paths();
     test_scene_selectors();

@@ -114,8 +114,24 @@ EO_API int eo_mesh_generate_box(eo_ctx *ctx, const eo_mesh_gen_opts *o, eo_mesh 
 /// unreferenced vertex; names file, line and tet/vertex as the file numbers it),
 /// EO_ERR_UNSUPPORTED (binary or other versions, write-only formats, compressed VTU,
 /// surface meshes in a build without TetGen), EO_ERR_NOMEM.
-/// On error *out is NULL.
+/// On error *out is NULL. With a mesh source installed on ctx (eo_ctx_set_mesh_source),
+/// the source answers instead.
 EO_API int eo_mesh_read(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out);
+/// The file reader behind eo_mesh_read, without the context's mesh source (below).
+EO_API int eo_mesh_read_file(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out);
+
+/// A mesh source replaces what eo_mesh_read does with a context (the scene loader, `elastopt
+/// mesh` and `convert` read through it): called with eo_mesh_read's arguments and `user`,
+/// same contract (status, message in ctx, *out NULL on error, the mesh allocated through
+/// ctx). A distributed program installs one so that a single process opens the file: the
+/// PETSc / MPI backend's source calls eo_mesh_read_file on rank 0 and broadcasts the mesh
+/// (or the error) to the other ranks, which receive it instead of reading. The library
+/// itself knows nothing of MPI.
+typedef int (*eo_mesh_source_fn)(eo_ctx *ctx, const char *path, const eo_mesh_read_opts *opts, eo_mesh **out,
+                                 void *user);
+/// Install (fn != NULL) or remove (NULL) the context's mesh source.
+EO_API void eo_ctx_set_mesh_source(eo_ctx *ctx, eo_mesh_source_fn fn, void *user);
+
 /// Read a mesh from text in memory (copied; need not be NUL-terminated). `fmt` is any
 /// readable format; `name` is used in messages. For TETGEN the text is the .node
 /// contents, one NUL byte, then the .ele contents (named name.node / name.ele),
