@@ -159,7 +159,8 @@ static int hb_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
                                     &nev, st->work, sc->ctx, NULL);
         if (rc < 0) return rc;
         info.ls_evals = nev;
-        if (!isfinite(gnew) || !(gnew < g) || !(alpha > 0)) {
+        /* as the built-in loop: a search that succeeds at the rounding level of g is taken */
+        if (!isfinite(gnew) || !(rc == EO_OK || gnew < g) || !(alpha > 0)) {
             info.reason = reason = EO_DIVERGED_LINESEARCH;
             eo_solver_report(sc, t0, &info);
             break;
