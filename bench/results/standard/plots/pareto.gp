@@ -1,38 +1,44 @@
-set terminal png size 1500,950 font 'DejaVu Sans,11' noenhanced
+if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {
+    set terminal pngcairo size 1500,950 font 'DejaVu Sans,10' noenhanced
+} else {
+    set terminal png size 1500,950 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
+}
 set output 'pareto.png'
 set rmargin at screen 0.70
-# configurations by number (points are labelled with the number)
-set label 1 " 1  newton-clamp-backtracking" at screen 0.72, screen 0.9200 left font ',10'
-set label 2 " 2  newton-clamp-exact" at screen 0.72, screen 0.8836 left font ',10'
-set label 3 " 3  newton-clamp-none" at screen 0.72, screen 0.8473 left font ',10'
-set label 4 " 4  newton-abs-backtracking" at screen 0.72, screen 0.8109 left font ',10'
-set label 5 " 5  newton-abs-exact" at screen 0.72, screen 0.7745 left font ',10'
-set label 6 " 6  newton-abs-none" at screen 0.72, screen 0.7382 left font ',10'
-set label 7 " 7  newton-shift-backtracking" at screen 0.72, screen 0.7018 left font ',10'
-set label 8 " 8  newton-shift-exact" at screen 0.72, screen 0.6655 left font ',10'
-set label 9 " 9  newton-shift-none" at screen 0.72, screen 0.6291 left font ',10'
-set label 10 "10  newton-none-backtracking" at screen 0.72, screen 0.5927 left font ',10'
-set label 11 "11  newton-none-exact" at screen 0.72, screen 0.5564 left font ',10'
-set label 12 "12  newton-none-none" at screen 0.72, screen 0.5200 left font ',10'
-set label 13 "13  lbfgs-backtracking" at screen 0.72, screen 0.4836 left font ',10'
-set label 14 "14  lbfgs-exact" at screen 0.72, screen 0.4473 left font ',10'
-set label 15 "15  lbfgs-none" at screen 0.72, screen 0.4109 left font ',10'
-set label 16 "16  gradient_descent-backtracking" at screen 0.72, screen 0.3745 left font ',10'
-set label 17 "17  gradient_descent-exact" at screen 0.72, screen 0.3382 left font ',10'
-set label 18 "18  gradient_descent-none" at screen 0.72, screen 0.3018 left font ',10'
-set label 19 "19  nlopt-lbfgs" at screen 0.72, screen 0.2655 left font ',10'
-set label 20 "20  ipopt-clamp" at screen 0.72, screen 0.2291 left font ',10'
-set label 21 "21  pd-backtracking" at screen 0.72, screen 0.1927 left font ',10'
-set label 22 "22  pd-lbfgs5-backtracking" at screen 0.72, screen 0.1564 left font ',10'
-set title "Speed against accuracy over 16 scene(s), each configuration with its own stopping rule\nlower left is better; the line joins the Pareto-optimal configurations"
+set lmargin at screen 0.08
+set bmargin at screen 0.17
+# configurations by number (points are labelled with the number), coloured by optimizer family
+set label 1 " 1  newton-clamp-backtracking (baseline)" at screen 0.72, screen 0.9200 left font ',10' tc rgb '#000000'
+set label 2 " 2  newton-shift-backtracking" at screen 0.72, screen 0.8800 left font ',10' tc rgb '#1f77b4'
+set label 3 " 3  newton-none-backtracking" at screen 0.72, screen 0.8400 left font ',10' tc rgb '#1f77b4'
+set label 4 " 4  newton-project_on_demand-backtracking" at screen 0.72, screen 0.8000 left font ',10' tc rgb '#1f77b4'
+set label 5 " 5  newton-progressive-backtracking" at screen 0.72, screen 0.7600 left font ',10' tc rgb '#1f77b4'
+set label 6 " 6  newton-trust_region_filter-backtracking" at screen 0.72, screen 0.7200 left font ',10' tc rgb '#1f77b4'
+set label 7 " 7  newton-clamp-none" at screen 0.72, screen 0.6800 left font ',10' tc rgb '#1f77b4'
+set label 8 " 8  newton-clamp-nonmonotone" at screen 0.72, screen 0.6400 left font ',10' tc rgb '#1f77b4'
+set label 9 " 9  newton_tr" at screen 0.72, screen 0.6000 left font ',10' tc rgb '#d62728'
+set label 10 "10  lbfgs-wolfe" at screen 0.72, screen 0.5600 left font ',10' tc rgb '#2ca02c'
+set label 11 "11  lbfgs-wolfe-lumped" at screen 0.72, screen 0.5200 left font ',10' tc rgb '#2ca02c'
+set label 12 "12  ncg" at screen 0.72, screen 0.4800 left font ',10' tc rgb '#ff7f0e'
+set label 13 "13  pd-lbfgs5-backtracking" at screen 0.72, screen 0.4400 left font ',10' tc rgb '#9467bd'
+set label 14 "14  pd_local_global" at screen 0.72, screen 0.4000 left font ',10' tc rgb '#8c564b'
+set label 15 "15  pd_local_global-anderson" at screen 0.72, screen 0.3600 left font ',10' tc rgb '#8c564b'
+set label 16 "16  nlopt-lbfgs" at screen 0.72, screen 0.3200 left font ',10' tc rgb '#e377c2'
+set label 17 "17  ipopt-clamp" at screen 0.72, screen 0.2800 left font ',10' tc rgb '#17becf'
+set title "Own stopping rule over 19 scene(s) (the report's 'Own stopping rule' table): lower left is better\nfastest converged everywhere: newton-none-backtracking (0.53x the baseline's time); closest: ipopt-clamp (4.3e-09)"
 set logscale xy
 set grid lc rgb '#dddddd'
 set format y '1e%L'
-set xlabel 'trajectory solve time per step / baseline (newton-clamp-backtracking), geometric mean over scenes'
-set ylabel 'max distance to reference trajectory / reference displacement (geometric mean; clipped at 100)'
-set key top left box opaque
+set xlabel "traj. time / baseline (solve time per step over newton-clamp-backtracking's; geometric mean over the scenes)"
+set ylabel "traj. dist / ref. motion (m/m; geometric mean over the scenes, clipped at 100)"
+set key at screen 0.08, screen 0.085 left top Left reverse box spacing 1.2
 set offsets graph 0.05, graph 0.1, graph 0.1, graph 0.05
-plot 'pareto.dat' index 1 using 1:2 with lines lc rgb '#999999' lw 2 title 'Pareto front of the converged configurations', \
-  'pareto.dat' index 0 using ($4==1?$2:1/0):3 with points pt 7 ps 1.6 lc rgb '#1f77b4' title 'converged on every step of every scene', \
-  'pareto.dat' index 0 using ($4==0?$2:1/0):3 with points pt 9 ps 1.6 lc rgb '#d62728' title 'failed or stopped somewhere', \
-  'pareto.dat' index 0 using 2:3:(sprintf('%d', $1)) with labels offset char 0.9,0.5 left font ',9' notitle
+plot 'pareto.dat' index 1 using 1:2 with lines lc rgb '#999999' lw 2 title 'Pareto front of the configurations that converged everywhere', \
+  'pareto.dat' index 0 using ($4==1?$2:1/0):3:6 with points pt 7 ps 1.8 lc rgb variable notitle, \
+  'pareto.dat' index 0 using ($4==0?$2:1/0):3:6 with points pt 8 ps 1.8 lw 2 lc rgb variable notitle, \
+  'pareto.dat' index 2 using 1:2:3 with labels offset char 1.0,0.6 left font ',9' notitle, \
+  keyentry with points pt 7 ps 1.8 lc rgb '#555555' title 'converged on every step of every scene (colour: optimizer family, as in the scene plots)', \
+  keyentry with points pt 8 ps 1.8 lw 2 lc rgb '#555555' title 'failed or stopped somewhere'
+set terminal svg size 1500,950 font 'DejaVu Sans,10' noenhanced
+set output 'pareto.svg'
+replot

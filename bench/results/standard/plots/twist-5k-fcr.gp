@@ -1,41 +1,136 @@
-# twist-5k-fcr: relative energy error against solve time
-set terminal png size 1400,850 font 'DejaVu Sans,11' noenhanced
+# twist-5k-fcr: relative energy error against solve time, one panel per measured step
+# colour = optimizer family (baseline black), dash = line search, point = Hessian fix;
+# in colour: the baseline, the fastest and the best of each family (at most 8)
+if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {
+    set terminal pngcairo size 1445,800 font 'DejaVu Sans,10' noenhanced
+} else {
+    set terminal png size 1445,800 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
+}
 set output 'twist-5k-fcr.png'
-set title "twist-5k-fcr: 5000 tets, fixed_corotated E=1e+06 nu=0.4, 1 step(s), median of 3\nfastest to 1e-06: newton-shift-backtracking (1.01x faster than newton-none-none)"
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
-set xrange [left:*]
+stats 'twist-5k-fcr.dat' using 1 nooutput
+right = STATS_max > left ? 10**ceil(log10(STATS_max)) : 10*left
+set xrange [left:right]
+set yrange [1e-11:3]
 set logscale xy
-set grid xtics ytics mxtics mytics lc rgb '#dddddd'
+set grid xtics ytics lc rgb '#d8d8d8'
+set mxtics 10
+set mytics 10
 set format y '1e%L'
 set format x '%g'
-set xlabel 'solve time (s) of each step, median of the timed repeats'
+set arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-2' at graph 1, first 0.01 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 0.001 to graph 1, first 0.001 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "twist-5k-fcr: 5000 tets, fixed_corotated E=1e+06 nu=0.4; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton_tr, 1.07x faster than the next, newton-progressive-backtracking; 1.19x faster than the baseline" font ',12'
+
+# panel 1: measured step 4
+set lmargin at screen 0.0623
+set rmargin at screen 0.7128
+set tmargin at screen 0.9000
+set bmargin at screen 0.0750
 set ylabel 'relative energy error (g - g*) / |g0 - g*|'
-set yrange [1e-11:3]
-set key outside right top spacing 1.1
-set arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead lc rgb '#999999' dt 3
-set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt 3
-set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt 3
-set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt 3
+set format y '1e%L'
+set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'twist-5k-fcr.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 2.5 pt 7 ps 0.4 title 'newton-clamp-backtracking (baseline)', \
-  'twist-5k-fcr.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-exact', \
-  'twist-5k-fcr.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-clamp-none', \
-  'twist-5k-fcr.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-backtracking', \
-  'twist-5k-fcr.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-exact', \
-  'twist-5k-fcr.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-abs-none', \
-  'twist-5k-fcr.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.5 pt 7 ps 0.4 title 'newton-shift-backtracking (fastest)', \
-  'twist-5k-fcr.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-exact', \
-  'twist-5k-fcr.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-shift-none', \
-  'twist-5k-fcr.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-backtracking', \
-  'twist-5k-fcr.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-exact', \
-  'twist-5k-fcr.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#aec7e8' dt 1 lw 1.5 pt 7 ps 0.4 title 'newton-none-none', \
-  'twist-5k-fcr.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-backtracking', \
-  'twist-5k-fcr.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-exact', \
-  'twist-5k-fcr.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 2 lw 1.5 pt 7 ps 0.4 title 'lbfgs-none', \
-  'twist-5k-fcr.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-backtracking', \
-  'twist-5k-fcr.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-exact', \
-  'twist-5k-fcr.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 2 lw 1.5 pt 7 ps 0.4 title 'gradient_descent-none', \
-  'twist-5k-fcr.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 2 lw 1.5 pt 7 ps 0.4 title 'nlopt-lbfgs', \
-  'twist-5k-fcr.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt 2 lw 1.5 pt 7 ps 0.4 title 'ipopt-clamp', \
-  'twist-5k-fcr.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-backtracking', \
-  'twist-5k-fcr.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 2 lw 1.5 pt 7 ps 0.4 title 'pd-lbfgs5-backtracking'
+  'twist-5k-fcr.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '9 other configurations (grey)', \
+  'twist-5k-fcr.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'twist-5k-fcr.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
+  'twist-5k-fcr.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 3.0 pt 11 ps 0.8 pi 1 title 'newton_tr (fastest)', \
+  'twist-5k-fcr.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
+  'twist-5k-fcr.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'ncg', \
+  'twist-5k-fcr.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.6 pt 11 ps 0.8 pi 3 title 'pd-lbfgs5-backtracking', \
+  'twist-5k-fcr.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 6 ps 0.8 pi 2 title 'pd_local_global-anderson', \
+  'twist-5k-fcr.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt (7,7) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
+  keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  own', \
+  keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
+  keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
+  keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  progressive', \
+  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  project_on_demand', \
+  keyentry with points lc rgb '#555555' pt 6 ps 1.0 title '  (no Hessian)'
+unset multiplot
+
+# ---- the same figure as SVG
+reset
+set terminal svg size 1445,800 font 'DejaVu Sans,10' noenhanced
+set output 'twist-5k-fcr.svg'
+left = 0.001  # the start point x0 (time 0) is drawn at the left edge
+stats 'twist-5k-fcr.dat' using 1 nooutput
+right = STATS_max > left ? 10**ceil(log10(STATS_max)) : 10*left
+set xrange [left:right]
+set yrange [1e-11:3]
+set logscale xy
+set grid xtics ytics lc rgb '#d8d8d8'
+set mxtics 10
+set mytics 10
+set format y '1e%L'
+set format x '%g'
+set arrow from graph 0, first 0.01 to graph 1, first 0.01 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-2' at graph 1, first 0.01 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 0.001 to graph 1, first 0.001 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
+set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
+set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "twist-5k-fcr: 5000 tets, fixed_corotated E=1e+06 nu=0.4; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton_tr, 1.07x faster than the next, newton-progressive-backtracking; 1.19x faster than the baseline" font ',12'
+
+# panel 1: measured step 4
+set lmargin at screen 0.0623
+set rmargin at screen 0.7128
+set tmargin at screen 0.9000
+set bmargin at screen 0.0750
+set ylabel 'relative energy error (g - g*) / |g0 - g*|'
+set format y '1e%L'
+set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
+plot \
+  'twist-5k-fcr.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '9 other configurations (grey)', \
+  'twist-5k-fcr.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-fcr.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'twist-5k-fcr.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
+  'twist-5k-fcr.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 3.0 pt 11 ps 0.8 pi 1 title 'newton_tr (fastest)', \
+  'twist-5k-fcr.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
+  'twist-5k-fcr.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'ncg', \
+  'twist-5k-fcr.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt 1 lw 1.6 pt 11 ps 0.8 pi 3 title 'pd-lbfgs5-backtracking', \
+  'twist-5k-fcr.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 6 ps 0.8 pi 2 title 'pd_local_global-anderson', \
+  'twist-5k-fcr.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt (7,7) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
+  keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  own', \
+  keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
+  keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
+  keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  progressive', \
+  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  project_on_demand', \
+  keyentry with points lc rgb '#555555' pt 6 ps 1.0 title '  (no Hessian)'
+unset multiplot
