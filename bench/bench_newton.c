@@ -276,6 +276,9 @@ static int run_case(const bench_case *bc, int reps)
     {
         eo_solver_opts so;
         eo_solver_opts_default(&so);
+        /* the fix the header names (the library default became project_on_demand, whose
+         * iterations include failed factorization attempts) */
+        snprintf(so.hessian_fix, sizeof so.hessian_fix, "clamp");
         eo_cfg *scfg = NULL;
         char ov[64];
         snprintf(ov, sizeof ov, "solver.cholmod.ordering=%s", ords[best]);

@@ -27,8 +27,10 @@
  *               on the built-in scenes even s = 1 skipped no estimate that would have
  *               passed; with the clamp fix Newton often converges linearly, d falling
  *               10-25x per iteration on the bunny, where the prediction is optimistic
- *               and the gate saves less). At k = 1 (no pair yet) the estimate is always
- *               tried. s = 0: always tried.
+ *               and the quadratic prediction saves less: there, when the last ratio
+ *               d_{k−1}/d_{k−2} is at least half the one before (not accelerating), the
+ *               linear-phase prediction d_{k−1}²/d_{k−2} divided by s is used instead).
+ *               At k = 1 (no pair yet) the estimate is always tried. s = 0: always tried.
  * Line search   x ← x + αp, first trial α = 1 (the configured solver.linesearch); a
  *               trial where g = +∞ (inverted element of a barrier material) is rejected
  *               and the step shrunk by the line search.
@@ -85,7 +87,7 @@ typedef struct newton_state {
     int est_ok;             /* the linear solver holds the factor of the unshifted H̃ of the
                                last direction and its step was a full one (α = 1) */
     double *est;            /* n: H̃⁻¹∇g */
-    double dec_last, dec_prev; /* λ²/2 of the last two directions (NAN: none yet) */
+    double dec_last, dec_prev, dec_prev2; /* λ²/2 of the last three directions (NAN: none yet) */
 } newton_state;
 
 static const eo_param_desc newton_desc[] = {
@@ -200,7 +202,7 @@ static int newton_begin(void *vst, const void *params, const eo_solver_ctx *sc, 
     newton_state *st = vst;
     st->pending = 0;
     st->est_ok = 0;
-    st->dec_last = st->dec_prev = NAN;
+    st->dec_last = st->dec_prev = st->dec_prev2 = NAN;
     st->proj_sum = 0;
     st->proj_count = 0;
     const eo_newton_params *np = params;
@@ -261,7 +263,13 @@ static int newton_decrement_estimate(void *vst, const void *params, const eo_sol
     st->est_ok = 0; /* used once: the next direction factors again */
     if (np->estimate_gate > 0 && si && st->dec_last > 0 && st->dec_prev > 0) {
         /* the gate (file comment): could the rule pass at all? */
-        const double r = st->dec_last / st->dec_prev, pred = st->dec_last * r * r / np->estimate_gate;
+        const double r = st->dec_last / st->dec_prev;
+        double pred = st->dec_last * r * r / np->estimate_gate;
+        /* a linear phase (the last ratio no smaller than half the one before: not
+         * accelerating, e.g. projected Newton far from a PD Hessian) shrinks d by about
+         * r per iteration, not r²: predict d_{k−1}·r/s there */
+        if (st->dec_prev2 > 0 && r < 1 && r >= 0.5 * (st->dec_prev / st->dec_prev2))
+            pred = st->dec_last * r / np->estimate_gate;
         if (isfinite(pred) && !gate_open(sc, si, pred, st->dec_last)) return EO_OK;
     }
     int rc = eo_linsolve_solve(sc->linear, grad, st->est);
@@ -303,6 +311,7 @@ static int newton_direction(void *vst, const void *params, const eo_solver_ctx *
     }
     st->g_old = g;
     st->dg = eo_dot(sc->obj->n, grad, p);
+    st->dec_prev2 = st->dec_prev;
     st->dec_prev = st->dec_last;
     st->dec_last = -st->dg / 2;
     out->alpha0 = 1;
