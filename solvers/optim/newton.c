@@ -112,8 +112,9 @@ static const eo_param_desc newton_desc[] = {
     {.key = "estimate_gate", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, estimate_gate),
      .def.d = 10, .min = 0, .range = EO_RANGE_MIN,
      .help = "decrement-estimate solve at x_k (k >= 2) only if the stopping rule passes with a decrement between "
-             "d_{k-1}^3/d_{k-2}^2/estimate_gate and d_{k-1} (d = exact lambda^2/2 of the last "
-             "directions); 0 = try it after every full step"},
+             "d_{k-1}^3/d_{k-2}^2/estimate_gate (quadratic phase; d_{k-1}^2/d_{k-2}/estimate_gate when the "
+             "decrease is not accelerating) and d_{k-1} (d = exact lambda^2/2 of the last directions); 0 = try it "
+             "after every full step"},
     {0},
 };
 
