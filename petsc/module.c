@@ -102,7 +102,14 @@ int eo_petsc_ksp_configure(eo_ctx *ctx, KSP ksp, const eo_petsc_params *p, eo_di
     (void)d;
     int rc = EO_OK;
     PC pc;
-    if (p->options[0]) EO_PC(PetscOptionsInsertString(NULL, p->options));
+    if (p->options[0]) {
+        EO_PC(PetscOptionsInsertString(NULL, p->options));
+        /* -log_view is read at PetscInitialize; given here (after it), logging must be
+         * started now, or PetscFinalize fails on the view and MPI is never finalized */
+        PetscBool lv = PETSC_FALSE;
+        EO_PC(PetscOptionsHasName(NULL, NULL, "-log_view", &lv));
+        if (lv) EO_PC(PetscLogDefaultBegin());
+    }
     if (prefix) EO_PC(KSPSetOptionsPrefix(ksp, prefix));
     EO_PC(KSPGetPC(ksp, &pc));
     const int direct = strcmp(p->pc, "mumps") == 0;

@@ -162,6 +162,13 @@ check [ $rc -eq 2 ]
 n=$(grep -c "elastopt: error" "$tmp/bad.err")
 check [ "$n" -eq 1 ]
 [ "$n" -eq 1 ] || cat "$tmp/bad.err"
+# -log_view through the options key (read after PetscInitialize): the log is printed and
+# every rank finalizes MPI (mpirun used to report an improper exit)
+timeout 120 "${mpi[@]}" "$ELASTOPT" run --scene twist -o time.steps=1 -o solver.backend=petsc \
+    -o 'solver.petsc_newton.options=-log_view' --out "$tmp/lv" -q > "$tmp/lv.log" 2>&1
+check [ $? -eq 0 ]
+check grep -q "^MatCholFctrNum" "$tmp/lv.log"
+check [ "$(grep -c "exiting improperly" "$tmp/lv.log")" -eq 0 ]
 # an unknown PETSc-backend method name is refused with the valid ones
 "$ELASTOPT" run --scene cantilever -o solver.backend=petsc -o solver.optimizer=lbfgs -o time.steps=1 \
     --out "$tmp/x" -q 2> "$tmp/lbfgs.err"
