@@ -46,6 +46,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 #include <string.h>
 #include <time.h>
 
@@ -56,6 +57,12 @@
 #include "elastopt/sim.h"
 #include "elastopt/step.h"
 #include "solvers/linsys/cholmod_util.h"
+
+static char g_scratch[1100]; /* the re-mesh's surface file, removed at exit */
+static void remove_scratch(void)
+{
+    if (g_scratch[0]) remove(g_scratch);
+}
 
 #ifndef EO_SHARED_DIR
 #define EO_SHARED_DIR "../shared"
@@ -141,7 +148,12 @@ static eo_cfg *case_cfg(eo_ctx *ctx, const bench_case *bc)
             return NULL;
         }
         eo_mesh *m = NULL;
-        snprintf(file, sizeof file, "bench_newton_bunny.obj");
+        /* the surface for TetGen, a scratch file in $TMPDIR removed at exit (not in the
+         * working directory) */
+        const char *tmp = getenv("TMPDIR");
+        snprintf(file, sizeof file, "%s/bench_newton_bunny_%ld.obj", tmp && *tmp ? tmp : "/tmp", (long)getpid());
+        snprintf(g_scratch, sizeof g_scratch, "%s", file);
+        atexit(remove_scratch);
         int rc = eo_mesh_read(ctx, msh, NULL, &m);
         if (rc >= 0) rc = eo_mesh_write(ctx, m, file, EO_MESH_AUTO);
         eo_mesh_destroy(&m);
