@@ -189,6 +189,7 @@ static void print_profile(const char *label, const eo_profile *p, int iterations
  * results in bench/results/newton-amd-epyc-2cpu.txt, pinned since the library's default
  * became relative_decrement) */
 static const char *stop_rule = "newton_decrement";
+static int par_elems; /* --parallel: the step's OpenMP element loops (eo_step_set_parallel) */
 
 static int run_case(const bench_case *bc, int reps)
 {
@@ -224,6 +225,10 @@ static int run_case(const bench_case *bc, int reps)
     if (rc >= 0) rc = eo_csc_clone(ctx, H, &H0);
     if (rc < 0) goto done;
     printf("  H_0: nnz(upper) = %d\n", H0->nnz);
+    if (par_elems)
+        printf("  element loops: %s\n", eo_step_set_parallel(eo_sim_step_problem(sim), 1)
+                                            ? "OpenMP (eo_step_set_parallel)"
+                                            : "serial (eo_step_set_parallel refused: no OpenMP or one thread)");
     {   /* Hessian assembly throughput: clamp-projected H at the guess, all terms, CPU time */
         double best_a = INFINITY;
         for (int rep = 0; rep < 3 && rc >= 0; rep++) {
@@ -370,6 +375,8 @@ int main(int argc, char **argv)
     for (int a = 1; a < argc; a++)
         if (!strcmp(argv[a], "--stop") && a + 1 < argc) {
             stop_rule = argv[++a];
+        } else if (!strcmp(argv[a], "--parallel")) {
+            par_elems = 1;
         } else if (!strcmp(argv[a], "--reps") && a + 1 < argc) {
             reps = atoi(argv[++a]);
             if (reps < 1) reps = 1;
