@@ -152,8 +152,8 @@ static eo_cfg *case_cfg(eo_ctx *ctx, const bench_case *bc)
          * working directory) */
         const char *tmp = getenv("TMPDIR");
         snprintf(file, sizeof file, "%s/bench_newton_bunny_%ld.obj", tmp && *tmp ? tmp : "/tmp", (long)getpid());
+        if (!g_scratch[0]) atexit(remove_scratch); /* once, however many cases re-mesh */
         snprintf(g_scratch, sizeof g_scratch, "%s", file);
-        atexit(remove_scratch);
         int rc = eo_mesh_read(ctx, msh, NULL, &m);
         if (rc >= 0) rc = eo_mesh_write(ctx, m, file, EO_MESH_AUTO);
         eo_mesh_destroy(&m);
