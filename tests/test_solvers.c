@@ -624,6 +624,74 @@ static void test_wolfe_more_thuente(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* The first trial with its gradient (eo_ls_extra.grad_first) in the value-only searches:
+ * accepted, one gradient call and no value call, the gradient handed back exactly;
+ * rejected, the handed-back flag stays 0 (the buffer holds a rejected trial's gradient)
+ * and the later trials are value calls. In the descent loop (newton with each of them)
+ * every iteration whose first trial is accepted after an accepted first trial (or at
+ * k = 0) costs one call, every other iteration its trials plus one gradient call. */
+static void test_first_trial_gradient(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    const eo_linesearch_type *lss[3] = {&eo_linesearch_backtracking, &eo_linesearch_nonmonotone,
+                                        &eo_linesearch_none};
+    for (int li = 0; li < 3; li++)
+        for (int start = 0; start < 2; start++) {
+            mt_fun f = {1, 2}; /* phi = -a/(a^2 + 2): a0 = 1 passes Armijo, a0 = 1e3 does not */
+            eo_objective obj = {.n = 1, .ops = &mt_ops, .data = &f};
+            const double a0 = start ? 1e3 : 1;
+            double x = 0, p = 1, d0, g0 = mt_phi(&f, 0, &d0), xnew, gnew = NAN, alpha = 0, work, gradnew = NAN;
+            int nev = 0;
+            eo_ls_extra ex = {.grad_new = &gradnew, .have_grad = 0, .grad_first = 1};
+            int rc = lss[li]->search(NULL, &obj, &x, &p, g0, d0, a0, &xnew, &gnew, &alpha, &nev, &work, ctx, &ex);
+            const char *nm = lss[li]->info.name;
+            CHECK(rc == EO_OK, "%s from %g: rc %d", nm, a0, rc);
+            double d, fa = mt_phi(&f, alpha, &d);
+            CHECK(xnew == alpha && gnew == fa, "%s from %g: returned point/value", nm, a0);
+            if (start == 0 || li == 2) { /* accepted at once (none accepts every finite trial) */
+                CHECK(nev == 1 && alpha == a0 && obj.n_gradient == 1 && obj.n_value == 0,
+                      "%s from %g: %d trials, alpha %g, %ld gradient and %ld value calls", nm, a0, nev, alpha,
+                      obj.n_gradient, obj.n_value);
+                CHECK(ex.have_grad == 1 && gradnew == d, "%s from %g: gradient handed back %d (%g, exact %g)", nm,
+                      a0, ex.have_grad, gradnew, d);
+            } else {
+                CHECK(nev > 1 && alpha < a0 && obj.n_gradient == 1 && obj.n_value == nev - 1,
+                      "%s from %g: %d trials, alpha %g, %ld gradient and %ld value calls", nm, a0, nev, alpha,
+                      obj.n_gradient, obj.n_value);
+                CHECK(ex.have_grad == 0, "%s from %g: a rejected trial's gradient was handed back", nm, a0);
+            }
+        }
+    static tlog L;
+    const char *ls[3] = {"backtracking", "nonmonotone", "none"};
+    int pks[3] = {P_QUAD, P_ILL, P_BARRIER};
+    long saved = 0;
+    for (int pi = 0; pi < 3; pi++) {
+        tprob p;
+        prob_init(ctx, &p, pks[pi]);
+        for (int li = 0; li < 3; li++) {
+            run_cfg rc = {.opt = "newton", .ls = ls[li], .stop = "gradient", .tol = 1e-8, .max_iters = 200};
+            double x[NMAX];
+            eo_solve_result res;
+            run(ctx, &p, &rc, x, &L, &res);
+            CHECK(res.reason == EO_CONVERGED_GRADIENT, "%s/%s: %s", p.name, ls[li], eo_reason_name(res.reason));
+            long expect = 1; /* the start's gradient */
+            int first_ok = 1;
+            for (int k = 0; k < L.count && k < LOGMAX; k++) {
+                const int nev = L.rec[k].ls_evals;
+                if (nev == 0) continue; /* the last record: stopped before a search */
+                expect += nev + !(first_ok && nev == 1);
+                saved += first_ok && nev == 1;
+                first_ok = nev == 1;
+            }
+            CHECK(res.n_value + res.n_gradient == expect, "%s/%s: %ld value + %ld gradient calls, expected %ld",
+                  p.name, ls[li], res.n_value, res.n_gradient, expect);
+        }
+        prob_done(ctx, &p);
+    }
+    CHECK(saved > 0, "no first trial was evaluated with its gradient");
+    eo_test_ctx_done(&ctx);
+}
+
 /* lbfgs and ncg with wolfe: one gradient call per trial plus the start, no value call. */
 static void test_wolfe_evaluations(void)
 {
@@ -706,6 +774,7 @@ int main(void)
         hessfixes[n_hessfixes++] = eo_method_info_of(*t)->name;
     test_wolfe_more_thuente();
     test_wolfe_evaluations();
+    test_first_trial_gradient();
     test_lazy_size();
     test_proj2();
     test_config();

@@ -139,6 +139,11 @@ typedef struct eo_ls_extra {
     /// g0 (at most EO_LS_HISTORY of them; NULL/0 = none), for non-monotone searches
     const double *g_hist;
     int n_hist;
+    /// in: 1 if the caller expects the first trial to be accepted (the descent loop: the
+    /// last search accepted its first trial). Value-only searches (backtracking,
+    /// nonmonotone, none) then evaluate that trial with its gradient into grad_new: one
+    /// gradient call instead of a value call plus, once accepted, a gradient call.
+    int grad_first;
 } eo_ls_extra;
 
 /// Length of the history of g values the descent loop hands to the line search.

@@ -104,7 +104,7 @@ typedef struct eo_stop_type {
     int needs_direction;
 } eo_stop_type;
 typedef struct eo_ls_extra {
-    double *grad_new; int have_grad; double c2; const double *g_hist; int n_hist;
+    double *grad_new; int have_grad; double c2; const double *g_hist; int n_hist; int grad_first;
 } eo_ls_extra;
 typedef struct eo_linesearch_type {
     eo_method_info info;

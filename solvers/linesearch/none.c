@@ -17,12 +17,14 @@ static int none_search(const void *params, eo_objective *obj, const double *x, c
     (void)params, (void)dg0, (void)work, (void)ctx;
     if (extra) extra->have_grad = 0; /* values only */
     double a = eo_ls_first_step(alpha0);
+    double *g1 = eo_ls_first_grad(extra);
     *nevals = 0;
     for (int k = 0; k <= 60; k++) {
         double f;
-        int rc = eo_ls_value(obj, x, p, a, xnew, &f, nevals);
+        int rc = eo_ls_eval(obj, x, p, a, xnew, &f, nevals, k == 0 ? g1 : NULL);
         if (rc < 0) return rc;
         if (isfinite(f)) {
+            if (k == 0 && g1) extra->have_grad = 1;
             *gnew = f;
             *alpha = a;
             return EO_OK;

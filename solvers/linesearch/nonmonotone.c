@@ -22,7 +22,8 @@
  * At rounding level (α|φ'(0)| ≤ 100·ε_g, ε_g = 4·ε_mach·|g(x_k)|) φ(α) ≤ g(x_k) + ε_g
  * is also accepted, as in backtracking. A non-finite trial is rejected; after
  * max_evals rejected trials the search returns x itself (α = 0, EO_WARN_NOT_CONVERGED).
- * Values only (extra->have_grad = 0). */
+ * Values only, except the first trial when the caller asks for its gradient
+ * (extra->grad_first, as backtracking). */
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
@@ -87,12 +88,14 @@ static int nm_search(const void *params, eo_objective *obj, const double *x, con
     if (extra) extra->have_grad = 0;
     double a = eo_ls_first_step(alpha0);
     const double noise = 4 * DBL_EPSILON * fabs(g0);
+    double *g1 = eo_ls_first_grad(extra);
     *nevals = 0;
     for (int k = 0; k < np->max_evals; k++) {
         double f;
-        int rc = eo_ls_value(obj, x, p, a, xnew, &f, nevals);
+        int rc = eo_ls_eval(obj, x, p, a, xnew, &f, nevals, k == 0 ? g1 : NULL);
         if (rc < 0) return rc;
         if (isfinite(f) && (f <= R + np->c1 * a * dg0 || (-a * dg0 <= 100 * noise && f <= g0 + noise))) {
+            if (k == 0 && g1) extra->have_grad = 1;
             *gnew = f;
             *alpha = a;
             return EO_OK;

@@ -27,6 +27,24 @@ static inline int eo_ls_value(eo_objective *obj, const double *x, const double *
     return eo_objective_value(obj, xt, f);
 }
 
+/* As eo_ls_value, with ∇g(xt) into grad when grad is not NULL (one gradient call, which
+ * also gives the value). */
+static inline int eo_ls_eval(eo_objective *obj, const double *x, const double *p, double a, double *xt, double *f,
+                             int *nevals, double *grad)
+{
+    if (!grad) return eo_ls_value(obj, x, p, a, xt, f, nevals);
+    eo_ls_point(obj->n, x, p, a, xt);
+    ++*nevals;
+    return eo_objective_gradient(obj, xt, f, grad);
+}
+
+/* The buffer for the first trial's gradient: extra->grad_new when the caller asks for it
+ * (extra->grad_first), else NULL (value only). */
+static inline double *eo_ls_first_grad(const eo_ls_extra *extra)
+{
+    return extra && extra->grad_first ? extra->grad_new : NULL;
+}
+
 /* No acceptable step: xnew = x, gnew = g0, α = 0; returns EO_WARN_NOT_CONVERGED. */
 static inline int eo_ls_give_up(int n, const double *x, double g0, double *xnew, double *gnew, double *alpha)
 {

@@ -18,7 +18,10 @@
  *   ∇g_kᵀp_k ≥ 0 or non-finite            → EO_DIVERGED_NOT_DESCENT
  *   λ_k²/2 = −α₀∇g_kᵀp_k/2;  stop rule with direction → e.g. EO_CONVERGED_DECREMENT
  *   line search from x_k along p_k, first trial α₀ → x_{k+1} and, from searches that
- *     evaluate gradients (wolfe, exact), ∇g(x_{k+1}) (else one more gradient call)
+ *     evaluate gradients (wolfe, exact), ∇g(x_{k+1}) (else one more gradient call);
+ *     while the last search accepted its first trial (and at k = 0) the value-only
+ *     searches are asked to evaluate the first trial with its gradient
+ *     (eo_ls_extra.grad_first): a full Newton step then costs one element pass, not two
  *     accepted when the search returns EO_OK, or a warning but g(x_{k+1}) < g_k;
  *     else                                → EO_DIVERGED_LINESEARCH (x stays x_k)
  *   record k is reported (callback non-zero → EO_DIVERGED_EXTERNAL, x stays x_k)
@@ -105,7 +108,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
     const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
     double *grad = w->grad, *grad_new = w->grad_new, *p = w->p;
     double g = NAN, gn = NAN, gn0, g_prev = NAN, step_norm = NAN, last_dec = NAN, dec0 = NAN, dec_prev = NAN;
-    int rc = EO_OK, reason = 0, k = 0, stalled = 0, weak = 0;
+    int rc = EO_OK, reason = 0, k = 0, stalled = 0, weak = 0, first_ok = 1;
     double gn_best = INFINITY, gn_sig = INFINITY, g_sig = INFINITY;
     double ghist[EO_LS_HISTORY]; /* g of the accepted iterates, oldest first (nonmonotone) */
     int nhist = 0;
@@ -195,7 +198,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         double gnew = NAN, alpha = 0;
         int nev = 0;
         eo_ls_extra ex = {.grad_new = grad_new, .have_grad = 0, .c2 = ops->ls_c2, .g_hist = ghist,
-                          .n_hist = nhist};
+                          .n_hist = nhist, .grad_first = first_ok};
         const double tls = eo_wtime();
         rc = sc->linesearch->search(sc->linesearch_params, obj, x, p, g, dg, alpha0, w->x_new,
                                     &gnew, &alpha, &nev, w->work, sc->ctx, &ex);
@@ -203,6 +206,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         res->n_ls_evals += nev;
         info.ls_evals = nev;
         if (rc < 0) goto done;
+        first_ok = rc == EO_OK && nev == 1;
         if (!isfinite(gnew) || !(rc == EO_OK || gnew < g) || !(alpha > 0)) {
             reason = EO_DIVERGED_LINESEARCH;
             info.reason = reason;
