@@ -1,12 +1,26 @@
 /* 3×3 singular value decomposition with rotations: F = U diag(σ) Vᵀ, U, V ∈ SO(3).
  *
- * Fast path eo_svd3 — one-sided Jacobi (Hestenes) on the columns of F:
- *   A = F, V = I; for each column pair (p,q) with α = ‖a_p‖², β = ‖a_q‖², γ = a_p·a_q,
- *   a plane rotation with ζ = (β−α)/(2γ), t = sign(ζ)/(|ζ| + √(1+ζ²)), c = 1/√(1+t²),
- *   s = c t makes a_p ⟂ a_q; the same rotation accumulates into V. Sweeps stop when
- *   every γ² ≤ ε² αβ (quadratic convergence, typically 3–5 sweeps). Then F V = A has
- *   orthogonal columns whose norms are the singular values. Because the rotations act
- *   on F itself (not on FᵀF), small σ keep their relative accuracy.
+ * Fast path eo_svd3 — one-sided Jacobi (Hestenes) on the columns of F, preconditioned:
+ *   A = F V₀, V = V₀ (below); for each column pair (p,q) with α = ‖a_p‖², β = ‖a_q‖²,
+ *   γ = a_p·a_q, the plane rotation with t = tan θ = sign(ζ)/(|ζ| + √(1+ζ²)),
+ *   ζ = (β−α)/(2γ), makes a_p ⟂ a_q; the same rotation accumulates into V. With
+ *   d = β − α, r = √(d² + 4γ²), q = |d| + r it is c = 1/√(1+t²) = q·w, s = c·t =
+ *   sign(d)·2γ·w, w = 1/√(2rq) (1 + t² = 2r/q): two square roots and one division per
+ *   rotation instead of two and three (the chain of dependent long-latency operations
+ *   is most of a rotation's cost). Sweeps stop when every γ² ≤ ε² αβ. Then F V = A has
+ *   orthogonal columns whose norms are the singular values. The rotations act on F V₀,
+ *   not on FᵀF, so the finish is the plain one-sided Jacobi's, whatever V₀ is.
+ * Preconditioner V₀ (precondition): eigenvectors of B = FᵀF in closed form: the two
+ *   extreme eigenvalues from the trigonometric solution of the characteristic cubic,
+ *   their eigenvectors as the largest cross product of two rows of B − λI (the more
+ *   separated one first, the other orthogonalized against it), the third their cross
+ *   product. V₀ is orthonormal to rounding whatever its accuracy as eigenvectors, which
+ *   only decides how many rotations remain: from F = V₀ = I, Jacobi needs 3–5 sweeps
+ *   (9.3 rotations on F = R(I + E), |E_ij| ≤ 0.1, 8.9 on random rotations times
+ *   σ ∈ [0.7, 1.4]); after V₀, 1.1–1.8 sweeps and 0.15–1.4 rotations, the common case
+ *   one checking sweep. Measured (bench_materials svd, this machine, one thread): 415 →
+ *   200 ns per SVD. Where B is a multiple of I to rounding (columns orthogonal already),
+ *   where a cross product vanishes (a repeated eigenvalue) or on overflow, V₀ = I.
  * Finishing:
  *   - columns sorted by norm, descending; if det V < 0 the last columns of V and A are
  *     negated (F = A Vᵀ still holds), so V ∈ SO(3);
@@ -40,6 +54,60 @@ static double det_cols(double m[3][3])
     return dot3(m[0], c);
 }
 
+/* Unit eigenvector of the symmetric B (row-major) for its eigenvalue lam: the largest of
+ * the three cross products of the rows of B − lam I; 0 if none is positive (rank ≤ 1). */
+static int eigvec_cross(const double B[9], double lam, double v[3])
+{
+    const double r0[3] = {B[0] - lam, B[1], B[2]}, r1[3] = {B[3], B[4] - lam, B[5]}, r2[3] = {B[6], B[7], B[8] - lam};
+    double c[3][3];
+    cross3(r0, r1, c[0]);
+    cross3(r0, r2, c[1]);
+    cross3(r1, r2, c[2]);
+    const double n0 = dot3(c[0], c[0]), n1 = dot3(c[1], c[1]), n2 = dot3(c[2], c[2]);
+    const int best = n0 >= n1 ? (n0 >= n2 ? 0 : 2) : (n1 >= n2 ? 1 : 2);
+    const double nb = best == 0 ? n0 : best == 1 ? n1 : n2;
+    if (!(nb > 0)) return 0;
+    const double s = 1 / sqrt(nb);
+    for (int i = 0; i < 3; i++) v[i] = c[best][i] * s;
+    return 1;
+}
+
+/* A ← A V₀, V ← V₀ with V₀ the eigenvectors of AᵀA (file comment); unchanged where that
+ * does not apply. a[c], v[c]: column c. */
+static void precondition(double a[3][3], double v[3][3])
+{
+    double B[9];
+    B[0] = dot3(a[0], a[0]), B[4] = dot3(a[1], a[1]), B[8] = dot3(a[2], a[2]);
+    B[1] = B[3] = dot3(a[0], a[1]), B[2] = B[6] = dot3(a[0], a[2]), B[5] = B[7] = dot3(a[1], a[2]);
+    const double q = (B[0] + B[4] + B[8]) / 3, c0 = B[0] - q, c1 = B[4] - q, c2 = B[8] - q;
+    const double off = B[1] * B[1] + B[2] * B[2] + B[5] * B[5];
+    const double p2 = (c0 * c0 + c1 * c1 + c2 * c2 + 2 * off) / 6;
+    if (!(off > 1e-30 * q * q) || !(p2 > 0)) return; /* orthogonal columns already (or NaN) */
+    const double p = sqrt(p2);
+    const double det = c0 * (c1 * c2 - B[5] * B[5]) - B[1] * (B[1] * c2 - B[5] * B[2]) + B[2] * (B[1] * B[5] - c1 * B[2]);
+    double r = det / (2 * p2 * p); /* cos 3φ of the cubic; NaN on overflow: no V₀ */
+    r = r < -1 ? -1 : r > 1 ? 1 : r;
+    const double phi = acos(r) / 3;
+    const double lhi = q + 2 * p * cos(phi), llo = q + 2 * p * cos(phi + 2.0943951023931954923);
+    double w0[3], w1[3], w2[3];
+    if (!eigvec_cross(B, r >= 0 ? lhi : llo, w0) || !eigvec_cross(B, r >= 0 ? llo : lhi, w1)) return;
+    const double d = dot3(w0, w1);
+    for (int i = 0; i < 3; i++) w1[i] -= d * w0[i];
+    const double n1 = dot3(w1, w1);
+    if (!(n1 > 0.25)) return;
+    const double s = 1 / sqrt(n1);
+    for (int i = 0; i < 3; i++) w1[i] *= s;
+    cross3(w0, w1, w2);
+    double a0[3][3];
+    memcpy(a0, a, sizeof a0);
+    for (int i = 0; i < 3; i++) {
+        a[0][i] = a0[0][i] * w0[0] + a0[1][i] * w0[1] + a0[2][i] * w0[2];
+        a[1][i] = a0[0][i] * w1[0] + a0[1][i] * w1[1] + a0[2][i] * w1[2];
+        a[2][i] = a0[0][i] * w2[0] + a0[1][i] * w2[1] + a0[2][i] * w2[2];
+    }
+    memcpy(v[0], w0, sizeof w0), memcpy(v[1], w1, sizeof w1), memcpy(v[2], w2, sizeof w2);
+}
+
 static void swap_cols(double a[3][3], double v[3][3], double n[3], int i, int j)
 {
     double t[3];
@@ -63,6 +131,7 @@ void eo_svd3(const double F[9], double U[9], double s[3], double V[9])
         for (int r = 0; r < 3; r++)
             for (int c = 0; c < 3; c++) a[c][r] = ldexp(a[c][r], -ex);
     }
+    precondition(a, v);
     static const int P[3] = {0, 0, 1}, Q[3] = {1, 2, 2};
     for (int sweep = 0; sweep < 40; sweep++) {
         int rotated = 0;
@@ -71,10 +140,9 @@ void eo_svd3(const double F[9], double U[9], double s[3], double V[9])
             double alpha = dot3(a[p], a[p]), beta = dot3(a[q], a[q]), gamma = dot3(a[p], a[q]);
             if (!(gamma * gamma > (DBL_EPSILON * DBL_EPSILON) * alpha * beta)) continue;
             rotated = 1;
-            double zeta = (beta - alpha) / (2 * gamma);
-            double t = fabs(zeta) > 1e150 ? 0.5 / zeta
-                                          : copysign(1.0, zeta) / (fabs(zeta) + sqrt(1 + zeta * zeta));
-            double cs = 1 / sqrt(1 + t * t), sn = cs * t;
+            const double d = beta - alpha, rr = sqrt(d * d + 4 * gamma * gamma), qq = fabs(d) + rr;
+            const double w = 1 / sqrt(2 * rr * qq);
+            const double cs = qq * w, sn = copysign(2.0, d) * gamma * w;
             for (int r = 0; r < 3; r++) {
                 double ap = a[p][r], aq = a[q][r];
                 a[p][r] = cs * ap - sn * aq;
