@@ -61,13 +61,14 @@ static int err_at(const vtu_reader *r, const char *p, int status, const char *fm
     return eo_error_at(r->ctx, status, EO_ERRLOC_FILE(r->file, p ? line_of(r, p) : -1), "%s", msg);
 }
 
-/* value of attribute `key` in the tag starting at p (up to '>'); 1 if found */
+/* value of attribute `key` in the tag starting at p (its '<', from find_tag; up to '>');
+ * 1 if found. The scan starts after the '<', so that q[-1] stays inside the text. */
 static int attr(const char *p, const char *end, const char *key, char *out, size_t n)
 {
     size_t k = strlen(key);
     const char *gt = p;
     while (gt < end && *gt != '>') gt++;
-    for (const char *q = p; q + k + 2 < gt; q++) {
+    for (const char *q = p + 1; q + k + 2 < gt; q++) {
         if ((q[-1] == ' ' || q[-1] == '\t' || q[-1] == '\n' || q[-1] == '\r') && memcmp(q, key, k) == 0) {
             const char *v = q + k;
             while (v < gt && (*v == ' ' || *v == '\t')) v++;

@@ -3,8 +3,9 @@
 #  - SIGINT in the middle of a run: exit 130, every file complete (summary.json parses,
 #    stop_reason "interrupted", CSV rows whole, no *.tmp*, no run.lock); --restart then
 #    finishes it and the final state equals an uninterrupted run's, byte for byte
-#  - SIGTERM in the middle of a step (gradient descent, hundreds of iterations a step):
-#    exit 143, the half-done step is discarded (no steps.csv row, its iteration rows cut)
+#  - SIGTERM in the middle of a step (gradient descent, thousands of iterations a step):
+#    exit 143, the half-done step is discarded (no steps.csv row, its iteration rows cut;
+#    the steps finished before the signal stay)
 #  - restart parity: 20 steps == 10 steps + --restart -o time.steps=20 (restart.dat, the
 #    last frame, steps.csv and iterations.csv without the timing columns)
 #  - a folder holding an earlier run is refused (exit 2) unless --force, which removes
@@ -104,9 +105,13 @@ if wait_lines $P term/iterations.csv 20; then
     wait $P
     rc=$?
     [ $rc -eq 143 ] && ok || bad "SIGTERM: exit $rc, expected 143: $(cat term.err)"
-    check_files term interrupted 0 && ok || bad "SIGTERM: files"
-    [ "$(wc -l <term/iterations.csv)" -eq 1 ] && [ "$(wc -l <term/steps.csv)" -eq 1 ] && ok ||
-        bad "SIGTERM: the interrupted step left rows: $(wc -l term/*.csv)"
+    # steps finished before the signal stay (k of them: how many depends on the machine's
+    # speed, e.g. bash under the valgrind setup polls slowly); check_files asserts that no
+    # iteration row of step k + 1, the interrupted one, is left
+    check_files term interrupted && ok || bad "SIGTERM: files"
+    k=$($PY -c 'import json; print(json.load(open("term/summary.json"))["steps_run"])')
+    [ "$k" -lt 3 ] && [ "$(wc -l <term/steps.csv)" -eq $((k + 1)) ] && ok ||
+        bad "SIGTERM: $k steps run, rows: $(wc -l term/*.csv)"
     [ ! -s term.out ] && [ ! -s term.err ] && ok || bad "SIGTERM --quiet printed: $(cat term.out term.err)"
 else
     wait $P
