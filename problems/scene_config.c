@@ -734,7 +734,7 @@ static int load_point_masses(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
         char path[64];
         snprintf(path, sizeof path, "point_masses.%zu", i);
         const json_t *e = json_array_get(list, i);
-        int v;
+        int v = -1;
         if (!json_is_array(e) || json_array_size(e) != 2)
             return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected [vertex, kg]");
         int rc = read_vertex(ctx, cfg, path, json_array_get(e, 0), nv, &v);
@@ -784,7 +784,7 @@ static int load_springs(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     if (!sc->spring_ab) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (springs)");
     int *ab = sc->spring_ab;
     for (int i = 0; i < ncand; i++) {
-        int a, b;
+        int a = -1, b = -1;
         if (is_list) {
             char path[64];
             snprintf(path, sizeof path, "springs.list.%d", i);
