@@ -14,7 +14,8 @@
  *     factorizations may grow by at most one per ten steps (measured: none);
  *  2. the solves drop (the solver profile's n_solve; each direction is one solve, each
  *     tried estimate one more): by at least 20% over the scenes (measured 414 -> 304; with a gate of 1, 301, and
- *     still no extra factorization), and
+ *     still no extra factorization; 410 -> 269 since the k = 1 estimate is gated too, by
+ *     the previous step's first ratio, factorizations still 207 -> 207), and
  *     on the linearly converging `inverted` scene (about 26 iterations per step) to at
  *     most 3 estimates per step (measured 157 solves for 79 directions -> 85); no scene
  *     gets more solves. */

