@@ -129,7 +129,7 @@ static double project(double l, eo_proj proj)
 static double iso_eval(const eo_material_type *mt, const eo_material_coef *c, const double F[9],
                        double J, eo_eval_what what, double U[9], double s[3], double V[9], eo_sigma_eval *se,
                        double P[9])
-{
+{ /* P == NULL: not wanted (eo_tet_hessian) */
     (void)F;
     if ((mt->flags & EO_MATERIAL_BARRIER) && !(s[2] > 0)) { /* caller checked J > 0 */
         double d = s[0] * s[1];
@@ -141,7 +141,7 @@ static double iso_eval(const eo_material_type *mt, const eo_material_coef *c, co
         se->psi = INFINITY;
         return INFINITY;
     }
-    if (what >= EO_EVAL_GRAD)
+    if (what >= EO_EVAL_GRAD && P)
         for (int a = 0; a < 3; a++)
             for (int b = 0; b < 3; b++)
                 P[3 * a + b] = U[3 * a + 0] * se->g[0] * V[3 * b + 0] + U[3 * a + 1] * se->g[1] * V[3 * b + 1] +
@@ -432,9 +432,10 @@ static void hess_iso(const eo_sigma_eval *se, const double U[9], const double V[
             H[12 * (9 + i) + 9 + l] = -(S3[0][3 * l + i] + S3[1][3 * l + i] + S3[2][3 * l + i]);
 }
 
-int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
-                    const double Dminv[9], double w, const double x[12], eo_eval_what what,
-                    eo_proj proj, eo_tet_out *out)
+/* eo_tet_evaluate and eo_tet_hessian: want_grad = 0 skips P and the gradient (only with
+ * what = EO_EVAL_HESS); every other output is computed by the same operations. */
+static int tet_eval(const eo_material_type *mt, const eo_material_coef *c, const double Dminv[9], double w,
+                    const double x[12], eo_eval_what what, eo_proj proj, int want_grad, eo_tet_out *out)
 {
     if (mt->flags & EO_MATERIAL_EDGE) return EO_ERR_UNSUPPORTED;
     double F[9];
@@ -443,7 +444,7 @@ int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
     out->J = J;
     if ((mt->flags & EO_MATERIAL_BARRIER) && eo_tet_is_inverted(J)) {
         out->psi = out->energy = INFINITY;
-        if (what >= EO_EVAL_GRAD) memset(out->grad, 0, sizeof out->grad);
+        if (what >= EO_EVAL_GRAD && want_grad) memset(out->grad, 0, sizeof out->grad);
         if (what >= EO_EVAL_HESS) memset(out->hess, 0, sizeof out->hess);
         return EO_OK;
     }
@@ -461,7 +462,7 @@ int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
         double dPdF[81];
         out->psi = mt->F_eval(c, F, what, what >= EO_EVAL_GRAD ? P : NULL, what >= EO_EVAL_HESS ? dPdF : NULL);
         out->energy = w * out->psi;
-        if (what >= EO_EVAL_GRAD) {
+        if (what >= EO_EVAL_GRAD && want_grad) {
             adjoint_map(Dminv, P, out->grad);
             for (int i = 0; i < 12; i++) out->grad[i] *= w;
         }
@@ -482,20 +483,33 @@ int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
     double U[9], s[3], V[9];
     eo_sigma_eval se;
     eo_svd3(F, U, s, V);
-    out->psi = iso_eval(mt, c, F, J, what, U, s, V, &se, P);
+    out->psi = iso_eval(mt, c, F, J, what, U, s, V, &se, want_grad ? P : NULL);
     if (!(out->psi < INFINITY)) {
         out->energy = INFINITY;
-        if (what >= EO_EVAL_GRAD) memset(out->grad, 0, sizeof out->grad);
+        if (what >= EO_EVAL_GRAD && want_grad) memset(out->grad, 0, sizeof out->grad);
         if (what >= EO_EVAL_HESS) memset(out->hess, 0, sizeof out->hess);
         return EO_OK;
     }
     out->energy = w * out->psi;
-    if (what >= EO_EVAL_GRAD) {
+    if (what >= EO_EVAL_GRAD && want_grad) {
         adjoint_map(Dminv, P, out->grad);
         for (int i = 0; i < 12; i++) out->grad[i] *= w;
     }
     if (what >= EO_EVAL_HESS) hess_iso(&se, U, V, Dminv, w, proj, out->hess);
     return EO_OK;
+}
+
+int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c,
+                    const double Dminv[9], double w, const double x[12], eo_eval_what what,
+                    eo_proj proj, eo_tet_out *out)
+{
+    return tet_eval(mt, c, Dminv, w, x, what, proj, 1, out);
+}
+
+int eo_tet_hessian(const eo_material_type *mt, const eo_material_coef *c, const double Dminv[9], double w,
+                   const double x[12], eo_proj proj, eo_tet_out *out)
+{
+    return tet_eval(mt, c, Dminv, w, x, EO_EVAL_HESS, proj, 0, out);
 }
 
 int eo_tet_rest(const double X[12], double Dminv[9], double *w)

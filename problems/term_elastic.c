@@ -48,12 +48,16 @@ static inline tref tet_ref(const eo_sys *s, int i)
 
 static int skip(const tref *t) { return (t->type->flags & EO_MATERIAL_EDGE) != 0; }
 
-/* the material kernel on tet t at positions x (one place for gather + evaluate) */
+/* the material kernel on tet t at positions x (one place for gather + evaluate); the
+ * Hessian loops take the Hessian alone (eo_tet_hessian: no gradient, out->grad unset) */
 static void eval_tet(const tref *t, const double *x, eo_eval_what what, eo_proj proj, eo_tet_out *out)
 {
     double x12[12];
     eo_gather12(x, t->tet, x12);
-    eo_tet_evaluate(t->type, t->coef, t->Dminv, t->vol, x12, what, proj, out);
+    if (what == EO_EVAL_HESS)
+        eo_tet_hessian(t->type, t->coef, t->Dminv, t->vol, x12, proj, out);
+    else
+        eo_tet_evaluate(t->type, t->coef, t->Dminv, t->vol, x12, what, proj, out);
 }
 
 static double energy(eo_term *t, const eo_sys *s, const double *x)
