@@ -819,6 +819,20 @@ static int old_tet_hess(const eo_material_type *mt, const double Dminv[9], doubl
         for (int j = 0; j < i; j++) H[12 * i + j] = H[12 * j + i];
     return nneg;
 }
+/* Test tet f: the f-th F of the list (beyond it, a random F of family f % 5) applied to a
+ * random rest tet (flipped orientation for odd f): Dm⁻¹, volume w and positions x. */
+static void test_tet_of(int f, double Dminv[9], double *w, double x[12])
+{
+    double F0[9], X[12];
+    if (f < nF) memcpy(F0, Fs[f], sizeof F0);
+    else family_F(f % 5, F0);
+    rand_tet(X, f & 1);
+    eo_tet_rest(X, Dminv, w);
+    for (int v = 0; v < 4; v++)
+        for (int a = 0; a < 3; a++)
+            x[3 * v + a] = F0[3 * a] * X[3 * v] + F0[3 * a + 1] * X[3 * v + 1] + F0[3 * a + 2] * X[3 * v + 2];
+}
+
 static void test_hess_vs_old(const eo_material_type *mt)
 {
     if (!mt->sigma_eval) return;
@@ -826,14 +840,8 @@ static void test_hess_vs_old(const eo_material_type *mt)
     double worst = 0;
     int n = 0, nindef = 0;
     for (int f = 0; f < nF + 400; f++) {
-        double F0[9], X[12], Dminv[9], w, x[12];
-        if (f < nF) memcpy(F0, Fs[f], sizeof F0);
-        else family_F(f % 5, F0);
-        rand_tet(X, f & 1);
-        eo_tet_rest(X, Dminv, &w);
-        for (int v = 0; v < 4; v++)
-            for (int a = 0; a < 3; a++)
-                x[3 * v + a] = F0[3 * a] * X[3 * v] + F0[3 * a + 1] * X[3 * v + 1] + F0[3 * a + 2] * X[3 * v + 2];
+        double Dminv[9], w, x[12];
+        test_tet_of(f, Dminv, &w, x);
         double F[9];
         eo_tet_F(Dminv, x, F);
         if ((mt->flags & EO_MATERIAL_BARRIER) && eo_tet_is_inverted(eo_det3(F))) continue;
@@ -865,14 +873,8 @@ static void test_hessian_only(const eo_material_type *mt)
     static const eo_proj projs[3] = {EO_PROJ_NONE, EO_PROJ_CLAMP, EO_PROJ_ABS};
     int n = 0, ninv = 0;
     for (int f = 0; f < nF + 100; f++) {
-        double F0[9], X[12], Dminv[9], w, x[12];
-        if (f < nF) memcpy(F0, Fs[f], sizeof F0);
-        else family_F(f % 5, F0);
-        rand_tet(X, f & 1);
-        eo_tet_rest(X, Dminv, &w);
-        for (int v = 0; v < 4; v++)
-            for (int a = 0; a < 3; a++)
-                x[3 * v + a] = F0[3 * a] * X[3 * v] + F0[3 * a + 1] * X[3 * v + 1] + F0[3 * a + 2] * X[3 * v + 2];
+        double Dminv[9], w, x[12];
+        test_tet_of(f, Dminv, &w, x);
         for (int pi = 0; pi < 3; pi++) {
             eo_tet_out a, b;
             memset(&a, 0, sizeof a);
