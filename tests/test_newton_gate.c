@@ -13,7 +13,7 @@
  *     more factorization at the same x (no iteration), so over all steps the
  *     factorizations may grow by at most one per ten steps (measured: none);
  *  2. the solves drop (the solver profile's n_solve; each direction is one solve, each
- *     tried estimate one more): by at least 20% over the scenes (measured 414 -> 304; with a gate of 1, 301, and
+ *     tried estimate one more): by at least 30% over the scenes (measured 414 -> 304; with a gate of 1, 301, and
  *     still no extra factorization; 410 -> 269 since the k = 1 estimate is gated too, by
  *     the previous step's first ratio, factorizations still 207 -> 207), and
  *     on the linearly converging `inverted` scene (about 26 iterations per step) to at
@@ -114,7 +114,9 @@ int main(void)
     }
     printf("total: solves %ld -> %ld, factorizations %ld -> %ld over %d steps\n", solve_off, solve_on, fac_off, fac_on,
            total_steps);
-    CHECK(5 * (solve_off - solve_on) >= solve_off, "solves %ld -> %ld: less than 20%% dropped", solve_off, solve_on);
+    /* at least 30%: the k >= 2 gate alone gave 26% (414 -> 304), with the k = 1 gate 34% */
+    CHECK(10 * (solve_off - solve_on) >= 3 * solve_off, "solves %ld -> %ld: less than 30%% dropped", solve_off,
+          solve_on);
     CHECK(10 * (fac_on - fac_off) <= total_steps, "factorizations %ld -> %ld over %d steps", fac_off, fac_on,
           total_steps);
     return eo_test_finish("test_newton_gate");
