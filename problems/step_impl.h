@@ -74,6 +74,10 @@ struct eo_step {
     /* op inverted_count: the count of the last op_gradient (the elastic term counts while
      * it evaluates) and its x; valid until the step's prescribed positions or pattern change */
     double *inv_x;              /* n_full (the first nfree used) */
+    /* objective op rounding_scale: per vertex a_v = Σ_{t ∋ v} (μₜ + λₜ) Vₜ^{2/3} (nv,
+     * allocated at the first call) and Σₜ Vₜ (μₜ + λₜ)²/μₜ; both depend only on the
+     * materials and the rest shape */
+    double *rs_a, rs_el;
     int inv_count, inv_valid;
     /* objective ops constant_factor / constant_solve: the own factor of L (step_pd.c) */
     int pd_mode;                /* EO_PD_FACTOR_* */

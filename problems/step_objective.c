@@ -150,6 +150,43 @@ static int op_metric_diag(void *data, double *d)
     return EO_OK;
 }
 
+/* Rounding scales of g at x (objective.h, rounding_scale): the inertia part Σ Dᵢxᵢ²
+ * (x − x̃ rounded at ε|x|, seen through M⁻¹), and the elastic part w Σ V(μ + λ)²/μ for
+ * the decrement (stresses rounded at (μ + λ)ε, through the softest mode μ) and
+ * 3w² Σ a_v²/m_v for the metric gradient norm (nodal forces rounded at ε(μ + λ)A). Tets
+ * only: springs and contact add no scale (their stiffness is not a material's). */
+static int op_rounding_scale(void *data, const double *x, double s[2])
+{
+    eo_step *st = data;
+    const eo_mesh *m = st->sys.mesh;
+    if (!st->rs_a) {
+        st->rs_a = eo_calloc(st->ctx, (size_t)(m->nv > 0 ? m->nv : 1), sizeof(double));
+        if (!st->rs_a) return eo_error(st->ctx, EO_ERR_NOMEM, "step: out of memory (rounding scale)");
+        double el = 0;
+        for (int t = 0; t < m->nt; t++) {
+            const eo_material_coef *c = st->tet_coef[t];
+            const double V = st->vol[t], ml = c->mu + c->lambda;
+            if (!(ml > 0)) continue;
+            const double mu = c->mu > 1e-12 * ml ? c->mu : 1e-12 * ml;
+            el += V * ml * ml / mu;
+            const double a = ml * cbrt(V * V);
+            for (int q = 0; q < 4; q++) st->rs_a[m->tets[4 * t + q]] += a;
+        }
+        st->rs_el = el;
+    }
+    double xd = 0, ag = 0;
+    for (int i = 0; i < st->nfree; i++) {
+        const int j = st->free2full[i], v = j / 3;
+        const double mv = st->vmass[v];
+        xd += mv * x[i] * x[i];
+        if (mv > 0) ag += st->rs_a[v] * st->rs_a[v] / mv;
+    }
+    const double w = st->w;
+    s[0] = xd + w * st->rs_el;
+    s[1] = xd + w * w * ag;
+    return EO_OK;
+}
+
 static int op_inverted_count(void *data, const double *x)
 {
     eo_step *st = data;
@@ -215,6 +252,7 @@ const eo_objective_ops eo_stepi_ops = {
     .element_residual = op_element_residual,
     .constant_factor = eo_stepi_pd_factor,
     .constant_solve = eo_stepi_pd_solve,
+    .rounding_scale = op_rounding_scale,
 };
 
 

@@ -403,11 +403,16 @@ static void test_fixed_budget(const char *dir)
             int k = atoi(csv_get(&t, r, "iter_budget")), it = atoi(csv_get(&t, r, "iterations"));
             int step = atoi(csv_get(&t, r, "step"));
             CHECK(step >= 3 && step <= 5, "frame of scene step %d outside the window 3..5", step);
-            CHECK(it == k, "%s, budget %d, step %d: %d iterations", csv_get(&t, r, "config"), k, step, it);
-            /* stopped by the iteration cap k (before a (k+1)-th direction), or at iterate k by
-             * the decrement estimate once converged to rounding (Newton at k = 4) */
+            const char *rsn = csv_get(&t, r, "reason");
+            const int conv = strstr(rsn, "converged") == rsn;
+            CHECK(it == k || (conv && it < k), "%s, budget %d, step %d: %d iterations (%s)", csv_get(&t, r, "config"),
+                  k, step, it, csv_get(&t, r, "reason"));
+            /* stopped by the iteration cap k (before a (k+1)-th direction), or at iterate k
+             * by the decrement estimate once converged to rounding, or earlier at the
+             * rounding floor of the step's start (Newton at k = 3 of 4) */
             CHECK(!strcmp(csv_get(&t, r, "reason"), "diverged_max_iters") ||
-                      !strcmp(csv_get(&t, r, "reason"), "converged_decrement"),
+                      !strcmp(csv_get(&t, r, "reason"), "converged_decrement") ||
+                      !strcmp(csv_get(&t, r, "reason"), "converged_gradient"),
                   "reason %s", csv_get(&t, r, "reason"));
             if (!strcmp(csv_get(&t, r, "config"), "n") && k <= 4) maxd[k] = fmax(maxd[k], atof(csv_get(&t, r, "dist_rms")));
         }
