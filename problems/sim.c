@@ -47,17 +47,30 @@ static void fallback_clear(eo_solver **fb, int *nfb)
     *nfb = 0;
 }
 
+/* The default fallback chain of a scene's solver (EO_SIM_DEFAULT_FALLBACK, sim.h): used
+ * when the scene names no `solver.fallback` (an explicit [] turns it off) and the solver
+ * runs natively. Measured choice: README "Defaults that converge". */
+static const char default_fallback[] = EO_SIM_DEFAULT_FALLBACK;
+
 /* The solvers of cfg's `solver.fallback` (each entry merged over the `solver` section),
- * validated like the main one; the list is consumed in cfg. cfg NULL or no list: none. */
-static int fallback_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver **fb, int *nfb)
+ * validated like the main one; the list is consumed in cfg. cfg NULL or no list: none,
+ * or with use_default the default chain. */
+static int fallback_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver **fb, int *nfb, int use_default)
 {
     *nfb = 0;
     if (!cfg) return EO_OK;
     /* read without marking `solver` consumed whole (its keys are checked by its loads) */
     json_t *main_sec = json_object_get(eo_cfg_root(cfg), "solver");
     json_t *list = json_is_object(main_sec) ? json_object_get(main_sec, "fallback") : NULL;
-    if (!list) return EO_OK;
-    eo_cfg_consume(cfg, "solver.fallback");
+    json_t *deflist = NULL;
+    if (!list) {
+        json_t *be = json_is_object(main_sec) ? json_object_get(main_sec, "backend") : NULL;
+        if (!use_default || (be && !(json_is_string(be) && !strcmp(json_string_value(be), "native"))))
+            return EO_OK;
+        if (!(list = deflist = json_loads(default_fallback, 0, NULL)))
+            return eo_error(ctx, EO_ERR_NOMEM, "sim: out of memory");
+    }
+    if (!deflist) eo_cfg_consume(cfg, "solver.fallback");
     if (!json_is_array(list) || json_array_size(list) > EO_SIM_MAX_ENTRIES - 1)
         return eo_error(ctx, EO_ERR_TYPE, "%s: key 'solver.fallback': expected a list of at most %d solver sections",
                         eo_cfg_file(cfg), EO_SIM_MAX_ENTRIES - 1);
@@ -97,6 +110,7 @@ static int fallback_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver **fb, int *nfb)
             break;
         }
     }
+    json_decref(deflist);
     if (rc < 0) fallback_clear(fb, nfb);
     return rc;
 }
@@ -141,7 +155,7 @@ int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
     eo_solver_opts_default(&so);
     EO_TRY(rc = eo_solver_opts_load(ctx, cfg, &so));
     EO_TRY(rc = eo_solver_create(ctx, &so, cfg, &s->solver));
-    EO_TRY(rc = fallback_load(ctx, cfg, s->fb, &s->nfb));
+    EO_TRY(rc = fallback_load(ctx, cfg, s->fb, &s->nfb, !s->sc->integrator->explicit_step));
     if (s->sc->integrator->explicit_step && !s->sc->lumped && s->sc->mesh->nt > 0)
         EO_TRY(rc = mass_solver(ctx, cfg, so.linear, &mls));
     EO_TRY(rc = eo_cfg_finish(ctx, cfg));
@@ -212,7 +226,7 @@ int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solver_cfg)
     int nfb = 0;
     int rc = eo_solver_create(s->ctx, opts, solver_cfg, &sv);
     if (rc < 0) return rc;
-    if ((rc = fallback_load(s->ctx, solver_cfg, fb, &nfb)) < 0) {
+    if ((rc = fallback_load(s->ctx, solver_cfg, fb, &nfb, 0)) < 0) {
         eo_solver_destroy(&sv);
         return rc;
     }
