@@ -127,7 +127,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             const eo_method_info *mi = eo_method_info_of(*t);
             if (kind_hit) printf("  %-22s %s\n", mi->name, mi->summary);
             if (!mi->params || !mi->params[0].key) continue;
-            snprintf(path, sizeof path, "%s.%s", k == EO_KIND_MATERIAL ? "material" : "solver", mi->name);
+            snprintf(path, sizeof path, "%s.%s",
+                     k == EO_KIND_MATERIAL ? "material" : k == EO_KIND_INTEGRATOR ? "time" : "solver", mi->name);
             if (key && !kind_hit && strcmp(key, mi->name) != 0 && !matches(path, key) && !matches(key, path))
                 continue;
             if (!key || !kind_hit) {

@@ -14,7 +14,10 @@
  *   summary.json                   build info, the config as given and as resolved, and
  *                                  per step: iterations, reason, converged, time, g,
  *                                  ‖∇g‖, centre of mass, max displacement, min J,
- *                                  inverted tets, kinetic and elastic energy; rewritten
+ *                                  inverted tets, kinetic, elastic, gravity and contact
+ *                                  energy, work of prescribed motions, total energy;
+ *                                  "energy_warning" when a conservative scene's total
+ *                                  energy grew (eo_sim_energy_warning); rewritten
  *                                  atomically every output.summary_every steps and at
  *                                  the end
  * A folder holding an earlier run's files is refused unless --force (which removes
@@ -154,7 +157,8 @@ typedef struct summary_info {
 } summary_info;
 
 static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_solver *solver,
-                         const eo_run_record *rec, int nrec, const eo_step_stats *s0, const summary_info *in)
+                         const eo_run_record *rec, int nrec, const eo_step_stats *s0, const summary_info *in,
+                         const char *energy_warning)
 {
     json_t *root = json_object();
     json_object_set_new(root, "scene", json_string(in->name));
@@ -173,6 +177,12 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(root, "initial", json_pack("{s:o, s:f, s:f, s:i, s:f, s:f}", "com", vec3(s0->com), "min_J",
                                                    s0->min_J, "max_disp", s0->max_disp, "inverted", s0->inverted,
                                                    "kinetic", s0->kinetic, "elastic", s0->elastic));
+    json_t *ini = json_object_get(root, "initial");
+    json_object_set_new(ini, "gravity_potential", real_or_null(s0->gravity));
+    json_object_set_new(ini, "contact", real_or_null(s0->contact));
+    json_object_set_new(ini, "potential", real_or_null(s0->potential));
+    json_object_set_new(ini, "work_prescribed", real_or_null(s0->work_prescribed));
+    json_object_set_new(ini, "total_energy", real_or_null(s0->total_energy));
     json_t *steps = json_array(), *bad = json_array();
     int all = 1;
     long total_iters = 0;
@@ -211,6 +221,10 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
         json_object_set_new(e, "kinetic", real_or_null(r->stats.kinetic));
         json_object_set_new(e, "elastic", real_or_null(r->stats.elastic));
         json_object_set_new(e, "gravity_potential", real_or_null(r->stats.gravity));
+        json_object_set_new(e, "contact", real_or_null(r->stats.contact));
+        json_object_set_new(e, "potential", real_or_null(r->stats.potential));
+        json_object_set_new(e, "work_prescribed", real_or_null(r->stats.work_prescribed));
+        json_object_set_new(e, "total_energy", real_or_null(r->stats.total_energy));
         json_array_append_new(steps, e);
     }
     if (nrec < sc->time.steps) all = 0;
@@ -228,6 +242,8 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(root, "pvd", in->pvd_file ? json_string(in->pvd_file) : json_null());
     json_object_set_new(root, "error", in->error ? json_string(in->error) : json_null());
     json_object_set_new(root, "stop_reason", in->stop_reason ? json_string(in->stop_reason) : json_null());
+    /* total energy of a conservative scene grown past EO_SIM_ENERGY_GROWTH (sim.h) */
+    json_object_set_new(root, "energy_warning", energy_warning ? json_string(energy_warning) : json_null());
     char path[1100];
     snprintf(path, sizeof path, "%s/summary.json", in->dir);
     eo_afile *f = NULL;
@@ -378,6 +394,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_pvd *pvd = NULL;
     eo_run_record *rec = NULL;
     double *fbuf = NULL, *xs = NULL, *vs = NULL, *hs = NULL;
+    double work = 0; /* the work of prescribed motions, for restart.dat */
     FILE *csv = NULL, *scsv = NULL;
     json_t *run_doc = NULL;
     eo_run_dir rd = {0};
@@ -482,9 +499,10 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_run_array arrays[] = {
         {.name = "x", .data = xs, .count = 3 * (size_t)m->nv, .required = 1},
         {.name = "v", .data = vs, .count = 3 * (size_t)m->nv, .required = 1},
+        {.name = "work_prescribed", .data = &work, .count = 1, .required = 0},
         {.name = "history", .data = hs, .count = hlen, .required = 0},
     };
-    const int narrays = hlen ? 3 : 2;
+    const int narrays = hlen ? 4 : 3;
     if (restart) {
         double t;
         EO_TRY(rc = eo_run_restart_read(ctx, rspath, &first, &t, m->nv, arrays, narrays));
@@ -497,7 +515,11 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         EO_TRY(rc = eo_run_logs_resume(ctx, &rd, first, rec));
         nrec = first;
         EO_TRY(rc = eo_sim_set_state(sim, xs, vs, t, first));
-        if (hlen && arrays[2].present) EO_TRY(rc = eo_sim_set_history(sim, hs));
+        if (hlen && arrays[3].present) EO_TRY(rc = eo_sim_set_history(sim, hs));
+        /* the work of prescribed motions so far (absent from older restart files: from steps.csv) */
+        eo_step_set_work_prescribed(st, arrays[2].present ? work
+                                        : first > 0 && isfinite(rec[first - 1].stats.work_prescribed)
+                                            ? rec[first - 1].stats.work_prescribed : 0);
         eo_run_dir_remove_frames_after(&rd, first);
         for (int s = 0; frames && s <= first; s++) { /* the series so far, from the frames on disk */
             char file[64];
@@ -541,11 +563,12 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         }
         eo_sim_get_state(sim, xs, vs, NULL, NULL);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
+        work = eo_step_work_prescribed(st);
         EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), m->nv, arrays, narrays));
     }
     summary_info si = {.dir = dir, .name = org.name, .pvd_file = frames ? pvd_file : NULL, .status = "running",
                        .restarted_at = first};
-    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
+    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
 
     /* ---- every rank ready (under MPI: one rank's failure ends all of them, with exit 2) */
     agreed = 1;
@@ -568,6 +591,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         rs.step = k + 1;
         double tb;
         eo_sim_get_state(sim, xs, vs, &tb, NULL);
+        const double work_before = eo_step_work_prescribed(st);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
         long off = ftell(csv);
         eo_sim_step_result r;
@@ -577,6 +601,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         if (rs.interrupted) { /* the step was stopped half-way: back to the last completed one */
             EO_TRY(rc = eo_sim_set_state(sim, xs, vs, tb, k));
             if (hlen) EO_TRY(rc = eo_sim_set_history(sim, hs));
+            eo_step_set_work_prescribed(st, work_before);
             fflush(csv);
             if (off >= 0 && ftruncate(fileno(csv), (off_t)off) != 0) {
                 rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(itpath, -1), "cannot cut the interrupted step");
@@ -621,11 +646,12 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         }
         eo_sim_get_state(sim, xs, vs, NULL, NULL);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
+        work = eo_step_work_prescribed(st);
         EO_TRY(rc = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), m->nv, arrays, narrays));
         if (sc->output.summary_every > 0 && (k + 1) % sc->output.summary_every == 0 && k + 1 < nsteps) {
             si.nframes = nframes;
             si.wall = eo_wtime() - t_start;
-            EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
+            EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
         }
         eo_cli_progress_step(&pg, e);
         eo_cli_profile_step(&prof, sim, k + 1);
@@ -646,7 +672,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     si.error = errtext[0] ? errtext : NULL;
     si.stop_reason = diverged ? eo_reason_name(EO_DIVERGED_NONFINITE) : signo ? "interrupted" : NULL;
     si.status = signo ? "interrupted" : (diverged || errtext[0]) ? "stopped" : "finished";
-    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
+    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
     if (errtext[0]) fprintf(stderr, "elastopt: error: %s\n", errtext);
     if (signo && verb != EO_CLI_QUIET)
         fprintf(stderr, "elastopt: interrupted (%s) after step %d of %d; every file is complete; continue with: "

@@ -8,7 +8,9 @@
  *   restart.dat     the state after the last completed step (rewritten atomically
  *                   every step), see eo_run_restart_write
  *   steps.csv       one row per completed step (STEPS_CSV_HEADER), %.17g: the summary
- *                   of a continued run is rebuilt from it
+ *                   of a continued run is rebuilt from it (rows of the 23 columns before
+ *                   contact..total_energy, as older versions wrote, are read with those
+ *                   four empty)
  *   iterations.csv  one row per solver iteration
  *   summary.json, NAME.pvd, frame_NNNNNN.vtu (NNNNNN = the step)
  * Both CSVs are appended and flushed after every step. */
@@ -33,7 +35,8 @@ typedef struct eo_run_record {
 
 #define EO_RUN_STEPS_CSV_HEADER                                                                           \
     "step,t,iterations,reason,converged,solve_time,wall_time,g,grad_norm,n_value,n_gradient,n_hessian,"     \
-    "n_factor,com_x,com_y,com_z,max_disp,min_J,inverted,kinetic,elastic,gravity_potential,entry"
+    "n_factor,com_x,com_y,com_z,max_disp,min_J,inverted,kinetic,elastic,gravity_potential,entry,"         \
+    "contact,potential,work_prescribed,total_energy"
 #define EO_RUN_ITER_CSV_HEADER "step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason,entry"
 
 /* The folder, locked. */

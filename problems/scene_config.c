@@ -870,6 +870,41 @@ static int load_collisions(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     return EO_OK;
 }
 
+/* `time`, with the parameter sections time.<integrator> of the registered integrators
+ * that have parameters: the selected one's into sc->integrator_params, the others
+ * checked (unknown keys and ranges) and dropped. */
+static int load_time(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    enum { MAX_SECTIONS = 32 };
+    const char *names[MAX_SECTIONS + 1];
+    size_t k = 0;
+    for (const void *const *t = eo_registry_list(EO_KIND_INTEGRATOR); t && *t && k < MAX_SECTIONS; t++) {
+        const eo_method_info *mi = eo_method_info_of(*t);
+        if (mi->params && mi->params_size) names[k++] = mi->name;
+    }
+    names[k] = NULL;
+    int rc = eo_cfg_section(ctx, cfg, "time", eo_scene_time_opts_desc, &sc->time, names);
+    if (rc < 0) return rc;
+    if ((rc = eo_registry_find(ctx, EO_KIND_INTEGRATOR, sc->time.integrator, (const void **)&sc->integrator)) < 0)
+        return rc;
+    for (const void *const *t = eo_registry_list(EO_KIND_INTEGRATOR); t && *t; t++) {
+        const eo_method_info *mi = eo_method_info_of(*t);
+        if (!mi->params || !mi->params_size) continue;
+        void *p = eo_calloc(ctx, 1, mi->params_size);
+        if (!p) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (integrator parameters)");
+        eo_params_default(mi->params, p);
+        char path[96];
+        snprintf(path, sizeof path, "time.%s", mi->name);
+        if ((rc = eo_cfg_section(ctx, cfg, path, mi->params, p, NULL)) < 0) {
+            eo_free(ctx, p);
+            return rc;
+        }
+        if (*t == (const void *)sc->integrator && !sc->integrator_params) sc->integrator_params = p;
+        else eo_free(ctx, p);
+    }
+    return EO_OK;
+}
+
 /* ---------------------------------------------------------------- public */
 
 int eo_scene_cfg_load(eo_ctx *ctx, const char *path, const char *name, eo_cfg **out)
@@ -896,6 +931,7 @@ void eo_scene_destroy(eo_scene **psc)
     eo_free(ctx, sc->spring_ab);
     eo_free(ctx, sc->spring_k);
     eo_free(ctx, sc->collision);
+    eo_free(ctx, sc->integrator_params);
     eo_free(ctx, sc);
     *psc = NULL;
 }
@@ -919,8 +955,7 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     int rc;
     EO_TRY(rc = eo_cfg_section(ctx, cfg, "", eo_scene_opts_desc, &sc->opts, top));
     sc->lumped = strcmp(sc->opts.mass, "lumped") == 0;
-    EO_TRY(rc = eo_cfg_section(ctx, cfg, "time", eo_scene_time_opts_desc, &sc->time, NULL));
-    EO_TRY(rc = eo_registry_find(ctx, EO_KIND_INTEGRATOR, sc->time.integrator, (const void **)&sc->integrator));
+    EO_TRY(rc = load_time(ctx, cfg, sc));
     eo_params_default(eo_scene_damping_opts_desc, &sc->damping);
     EO_TRY(rc = eo_cfg_section(ctx, cfg, "damping", eo_scene_damping_opts_desc, &sc->damping, NULL));
     if ((sc->damping.viscous > 0 || sc->damping.rayleigh_alpha > 0 || sc->damping.rayleigh_beta > 0) &&
@@ -1012,7 +1047,11 @@ json_t *eo_scene_to_json(const eo_scene *sc)
         json_array_append_new(cols, e);
     }
     json_object_set_new(o, "collisions", cols);
-    json_object_set_new(o, "time", eo_params_to_json(eo_scene_time_opts_desc, &sc->time));
+    json_t *time = eo_params_to_json(eo_scene_time_opts_desc, &sc->time);
+    if (sc->integrator_params && sc->integrator->info.params)
+        json_object_set_new(time, sc->integrator->info.name,
+                            eo_params_to_json(sc->integrator->info.params, sc->integrator_params));
+    json_object_set_new(o, "time", time);
     json_object_set_new(o, "damping", eo_params_to_json(eo_scene_damping_opts_desc, &sc->damping));
     json_object_set_new(o, "output", eo_params_to_json(eo_scene_output_opts_desc, &sc->output));
     return o;

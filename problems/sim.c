@@ -39,7 +39,82 @@ struct eo_sim {
     double *xyz;         /* rest positions of the free vertices (3 nv), for set_coordinates */
     const eo_solver *coord_solver; /* s->solver was given the coordinates of ... */
     int coord_n;                   /* ... an objective with coord_n free coordinates */
+    /* energy watch (eo_sim_energy_warning) */
+    int conservative;    /* scene and integrator keep the total energy */
+    double e0;           /* total energy of the initial state */
+    double eref0;        /* max(kinetic + elastic + contact at t = 0, m_total |g| L) */
+    double wmax;         /* max |work of the prescribed motions| so far */
+    double egrowth;      /* largest growth factor warned about (0: none) */
+    char ewarn[400];
 };
+
+/* Conservative: a dynamic integrator that is not dissipative, and no damping, spring
+ * damping or friction in the scene (collisions' penalty contact is a potential). */
+static int scene_conservative(const eo_scene *sc)
+{
+    const eo_integrator_type *it = sc->integrator;
+    int diss = it->is_dissipative ? it->is_dissipative(sc->integrator_params) : it->dissipative;
+    if (!it->inertia || diss) return 0;
+    if (sc->damping.viscous > 0 || sc->damping.rayleigh_alpha > 0 || sc->damping.rayleigh_beta > 0) return 0;
+    if (sc->springs.damping > 0) return 0;
+    for (int o = 0; o < sc->ncollision; o++)
+        if (sc->collision[o].opts.friction > 0) return 0;
+    return 1;
+}
+
+/* The reference energies of the watch from the current (initial) state. */
+static int energy_watch_init(eo_sim *s)
+{
+    eo_step_stats st;
+    int rc = eo_step_stats_compute(s->st, &st);
+    if (rc < 0) return rc;
+    s->conservative = scene_conservative(s->sc);
+    s->e0 = st.total_energy;
+    const eo_mesh *m = s->sc->mesh;
+    const double *mass = eo_step_vertex_mass(s->st), *g = s->sc->opts.gravity;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, mt = 0;
+    for (int v = 0; v < m->nv; v++) {
+        mt += mass[v];
+        for (int c = 0; c < 3; c++) lo[c] = fmin(lo[c], m->X[3 * v + c]), hi[c] = fmax(hi[c], m->X[3 * v + c]);
+    }
+    double L2 = 0;
+    for (int c = 0; c < 3 && m->nv > 0; c++) L2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
+    const double gscale = mt * sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) * sqrt(L2);
+    s->eref0 = fmax(st.kinetic + st.elastic + st.contact, gscale);
+    s->wmax = fabs(st.work_prescribed);
+    s->egrowth = 0;
+    s->ewarn[0] = 0;
+    return EO_OK;
+}
+
+/* After a step: warn (eo_log, once per new maximum) when the total energy of a
+ * conservative scene exceeds its initial value by more than (EO_SIM_ENERGY_GROWTH − 1)
+ * times the reference energy. */
+static void energy_watch(eo_sim *s, const eo_step_stats *st, int index)
+{
+    if (!s->conservative || !isfinite(st->total_energy)) return;
+    s->wmax = fmax(s->wmax, fabs(st->work_prescribed));
+    const double ref = fmax(s->eref0, s->wmax);
+    if (!(ref > 0)) return;
+    const double growth = 1.0 + (st->total_energy - s->e0) / ref;
+    if (!(growth > EO_SIM_ENERGY_GROWTH) || growth <= s->egrowth) return;
+    const char *name = s->sc->integrator->info.name;
+    const char *advice = s->sc->integrator->explicit_step
+                             ? "reduce time.dt or use an implicit integrator (implicit_midpoint, generalized_alpha)"
+                         : strcmp(name, "newmark") == 0
+                             ? "try implicit_midpoint or generalized_alpha"
+                             : "try generalized_alpha with time.generalized_alpha.rho_inf < 1, or a smaller time.dt";
+    const int first = s->egrowth == 0;
+    s->egrowth = growth;
+    snprintf(s->ewarn, sizeof s->ewarn,
+             "total energy grew x%.3g in %d steps with integrator %s (from %.6g J to %.6g J, reference %.6g J; not "
+             "energy-stable on this scene: %s)",
+             growth, index, name, s->e0, st->total_energy, ref, advice);
+    if (first) eo_log(s->ctx, EO_LOG_WARN, "%s", s->ewarn);
+}
+
+const char *eo_sim_energy_warning(const eo_sim *s) { return s->ewarn[0] ? s->ewarn : NULL; }
+int eo_sim_energy_conservative(const eo_sim *s) { return s->conservative; }
 
 static void fallback_clear(eo_solver **fb, int *nfb)
 {
@@ -174,6 +249,7 @@ int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
         rc = eo_error(ctx, EO_ERR_NOMEM, "sim: out of memory");
         goto fail;
     }
+    EO_TRY(rc = energy_watch_init(s));
     *out = s;
     return EO_OK;
 fail:
@@ -332,6 +408,7 @@ int eo_sim_step(eo_sim *s, eo_sim_step_result *r)
         const size_t nf = (size_t)(3 * s->sc->mesh->nv) * sizeof(double);
         const double t = eo_step_time(s->st);
         const int index = eo_step_index(s->st);
+        const double work = eo_step_work_prescribed(s->st);
         memcpy(s->xb, eo_step_x(s->st), nf);
         memcpy(s->vb, eo_step_v(s->st), nf);
         if ((rc = eo_step_end(s->st, x)) < 0) return rc;
@@ -339,10 +416,13 @@ int eo_sim_step(eo_sim *s, eo_sim_step_result *r)
             r->reason = EO_DIVERGED_NONFINITE;
             eo_step_set_state(s->st, s->xb, s->vb, t);
             eo_step_set_index(s->st, index);
+            eo_step_set_work_prescribed(s->st, work);
         }
     }
     r->t = eo_step_time(s->st);
-    return eo_step_stats_compute(s->st, &r->stats);
+    if ((rc = eo_step_stats_compute(s->st, &r->stats)) < 0) return rc;
+    if (r->reason != EO_DIVERGED_NONFINITE) energy_watch(s, &r->stats, eo_step_index(s->st));
+    return EO_OK;
 }
 
 int eo_sim_trial(eo_sim *s, eo_solver *solver, const double *x0, double *x, eo_iter_fn fn, void *user,
@@ -362,7 +442,8 @@ int eo_sim_trial(eo_sim *s, eo_solver *solver, const double *x0, double *x, eo_i
 int eo_sim_reset(eo_sim *s)
 {
     s->prepared = 0;
-    return eo_step_reset(s->st);
+    int rc = eo_step_reset(s->st);
+    return rc < 0 ? rc : energy_watch_init(s);
 }
 
 void eo_sim_get_state(const eo_sim *s, double *x, double *v, double *t, int *index)

@@ -61,6 +61,7 @@ struct eo_step {
     eo_linsolve *mls;           /* consistent mass: M_ff factored (eo_step_set_mass_solver) */
     int enonfinite;             /* a stage of this explicit step met a non-finite force */
     eo_csc *Mc;                 /* its values (a copy of the pattern) */
+    unsigned long Mc_pattern;   /* pattern_id Mc was assembled on */
     eo_pd_matrix pd;            /* constant_hessian cache (pd_matrix.c) */
     /* multistep integrators (integ->history): xₙ₋₁, vₙ₋₁ and whether they are valid */
     double *xp, *vp;
@@ -87,6 +88,15 @@ struct eo_step {
     unsigned char *pd_free;     /* free set of the variables of pd_all (scratch) */
     double *pd_b, *pd_x;        /* n_full each: right-hand sides and solutions */
     eo_step_pd_info pd_info;
+    /* energy balance (step_stats.c): work of the prescribed motions and the static
+     * reaction ∇(potentials) at xₙ (rpot, valid while rpot_valid; rpot1 scratch); both
+     * n_full, allocated only when the scene has boundary entries */
+    double work;
+    double *rpot, *rpot1;
+    int rpot_valid;
+    /* acceleration state (integ->accel, generalized_alpha): aₙ, valid while hist_valid;
+     * anew scratch for aₙ₊₁ */
+    double *an, *anew;
 };
 
 /* step_bc.c */
@@ -117,5 +127,15 @@ int eo_stepi_pd_solve(void *data, const double *b, double *x);
 void eo_stepi_pd_deinit(eo_step *st);
 /* step_stats.c */
 double eo_stepi_tet_J(const eo_step *st, const double *x, int k);
+/* Add the work of the prescribed motions over the step xₙ, vₙ (st->x, st->v) → x1, v1
+ * (full vectors) to st->work, with st->vbc the constrained set at tₙ₊₁. Call before the
+ * new state is copied in. Uses st->gfull as scratch. */
+void eo_stepi_work_update(eo_step *st, const double *x1, const double *v1);
+/* step_explicit.c */
+/* a = M⁻¹(−∇V(x) − C v) at time t (prescribed vertices at their positions at t, a = 0
+ * there): the acceleration of the forces of the potentials (not the inertia, linear or
+ * friction terms), with the scene's mass matrix (consistent: factored on demand).
+ * Term weights are left at 1. Uses st->xw, gfull, vnew, guess as scratch. */
+int eo_stepi_accel(eo_step *st, double t, const double *x, const double *v, double *a);
 
 #endif

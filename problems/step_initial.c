@@ -101,6 +101,8 @@ int eo_step_reset(eo_step *st)
     if (!st->integ->inertia) memset(st->v, 0, (size_t)st->n_full * sizeof(double));
     st->erestart = 1;
     st->hist_valid = 0;
+    st->work = 0;
+    st->rpot_valid = 0;
     return check_barrier_start(st);
 }
 
@@ -112,6 +114,7 @@ int eo_step_set_state(eo_step *st, const double *x, const double *v, double t)
     st->inv_valid = 0;
     st->erestart = 1;
     st->hist_valid = 0;
+    st->rpot_valid = 0; /* the work so far (st->work) is kept */
     return EO_OK;
 }
 

@@ -295,15 +295,22 @@ static int use_history(const eo_step *st) { return st->integ->history && st->his
 
 double eo_stepi_weight(const eo_step *st)
 {
+    if (st->integ->accel) return st->integ->accel_weight(st->sc->integrator_params, st->h);
     if (!st->integ->weight) return 1.0; /* explicit: E(x) */
     return use_history(st) && st->integ->weight_history ? st->integ->weight_history(st->h) : st->integ->weight(st->h);
 }
 
-double eo_stepi_theta(const eo_step *st) { return st->integ->theta > 0 ? st->integ->theta : 1.0; }
+double eo_stepi_theta(const eo_step *st)
+{
+    if (st->integ->accel) return st->integ->accel_theta(st->sc->integrator_params);
+    return st->integ->theta > 0 ? st->integ->theta : 1.0;
+}
 
 void eo_stepi_velocity(const eo_step *st, const double *x, double *v)
 {
-    if (use_history(st) && st->integ->velocity_history)
+    if (st->integ->accel) /* aₙ is valid here: eo_step_begin set it up first */
+        st->integ->accel_velocity(st->sc->integrator_params, st->n_full, st->h, st->x, st->v, st->an, x, v, NULL);
+    else if (use_history(st) && st->integ->velocity_history)
         st->integ->velocity_history(st->n_full, st->h, st->x, st->xp, x, v);
     else
         st->integ->velocity(st->n_full, st->h, st->x, st->v, x, v);
@@ -355,13 +362,20 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
     st->inv_valid = 0; /* new prescribed positions */
     /* constrained set at tₙ₊₁; rebuild the pattern if it changed */
     if ((rc = eo_stepi_update_constraints(st, t1, NULL)) < 0) return rc;
+    if (st->integ->accel && !st->hist_valid) { /* start: the consistent acceleration a = M⁻¹f(xₙ, vₙ) */
+        if ((rc = eo_stepi_accel(st, st->t, st->x, st->v, st->an)) < 0) return rc;
+        st->hist_valid = 1;
+    }
     const double w = st->w = eo_stepi_weight(st), theta = eo_stepi_theta(st);
     for (int i = 0; i < st->nterms; i++) st->terms[i]->weight = w;
     if (st->gravity && st->sc->time.load_steps > 0) /* load stepping: λ = min(1, k/L) of gravity */
         st->gravity->weight = w * fmin(1.0, (double)(st->index + 1) / st->sc->time.load_steps);
     if (st->inertia) {
         st->inertia->weight = 1;
-        if (use_history(st) && st->integ->predict_history)
+        if (st->integ->accel)
+            st->integ->accel_predict(st->sc->integrator_params, st->n_full, h, st->x, st->v, st->an,
+                                     st->inertia->vec);
+        else if (use_history(st) && st->integ->predict_history)
             st->integ->predict_history(st->n_full, h, st->x, st->v, st->xp, st->vp, st->inertia->vec);
         else
             st->integ->predict(st->n_full, h, st->x, st->v, st->inertia->vec);
@@ -426,18 +440,24 @@ int eo_step_end(eo_step *st, const double *x)
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
         for (int k = 0; k < 3; k++) st->xw[3 * v + k] = p[k];
     }
-    eo_stepi_velocity(st, st->xw, st->vnew);
+    if (st->integ->accel) /* vₙ₊₁ and aₙ₊₁ */
+        st->integ->accel_velocity(st->sc->integrator_params, st->n_full, h, st->x, st->v, st->an, st->xw, st->vnew,
+                                  st->anew);
+    else
+        eo_stepi_velocity(st, st->xw, st->vnew);
     for (int v = 0; v < st->nv; v++) {
         if (st->vbc[v] < 0) continue;
         double p[3], vel[3];
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
         for (int k = 0; k < 3; k++) st->vnew[3 * v + k] = st->integ->inertia ? vel[k] : 0;
     }
+    eo_stepi_work_update(st, st->xw, st->vnew);
     if (st->integ->history) {
         memcpy(st->xp, st->x, (size_t)st->n_full * sizeof(double));
         memcpy(st->vp, st->v, (size_t)st->n_full * sizeof(double));
         st->hist_valid = 1;
     }
+    if (st->integ->accel) memcpy(st->an, st->anew, (size_t)st->n_full * sizeof(double));
     memcpy(st->x, st->xw, (size_t)st->n_full * sizeof(double));
     memcpy(st->v, st->vnew, (size_t)st->n_full * sizeof(double));
     st->t = t1;

@@ -176,7 +176,10 @@ typedef struct eo_scene_generate_opts {
 
 /// `time` section.
 typedef struct eo_scene_time_opts {
-    char integrator[32];    ///< newmark | backward_euler | static. Default "newmark".
+    char integrator[32];    ///< a registered integrator (newmark, implicit_midpoint,
+                            ///< generalized_alpha, backward_euler, bdf2, static, explicit
+                            ///< ones); its parameters, if any, in time.<name> (e.g.
+                            ///< time.generalized_alpha.rho_inf). Default "newmark".
     double dt;              ///< step, s; > 0. Default 0.01.
     int steps;              ///< number of steps, >= 1. Default 30.
     int load_steps;         ///< static only: gravity and prescribed motions ramp linearly over
@@ -331,6 +334,8 @@ typedef struct eo_scene {
     eo_scene_obstacle *collision;      ///< owned, ncollision obstacles (`collisions`)
     char file[512];                    ///< config file ("<builtin>" if none)
     eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
+    void *integrator_params;           ///< owned: the integrator's params struct (its info.params,
+                                       ///< section time.<integrator>), NULL if it has none
 } eo_scene;
 
 /// Memory an implicit simulation needs per tet, bytes (mesh, step engine, Hessian pattern

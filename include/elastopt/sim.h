@@ -146,6 +146,28 @@ EO_API int eo_sim_get_history(const eo_sim *s, double *h);
 /// EO_ERR_UNSUPPORTED if the integrator has none, EO_ERR_RANGE for a bad valid flag.
 EO_API int eo_sim_set_history(eo_sim *s, const double *h);
 
+/// Energy watch. A scene is conservative when its integrator is dynamic and not
+/// dissipative (eo_integrator_type.dissipative / is_dissipative: backward_euler, bdf2,
+/// static and generalized_alpha with rho_inf < 1 are) and it has no damping, spring
+/// damping or friction. After every step of a conservative scene the total energy
+/// E = kinetic + potential − work of prescribed motions (eo_step_stats.total_energy) is
+/// compared with its initial value E₀ (the scene's initial state, taken at create and
+/// reset; a restored state keeps it):
+///     growth = 1 + (E − E₀)/R,   R = max(kinetic + elastic + contact at t = 0,
+///                                        m_total·|g|·L, max |W| so far),
+/// L the diagonal of the rest mesh's bounding box (R is an energy scale that stays
+/// positive when E₀ ≈ 0, e.g. a body at rest under gravity, and does not depend on
+/// where the gravity potential's origin is). When growth exceeds EO_SIM_ENERGY_GROWTH
+/// the warning text names the factor, the steps since t = 0 and the integrator, is
+/// logged once (eo_log, EO_LOG_WARN) and kept, updated to each later maximum, for
+/// eo_sim_energy_warning. Without gravity, prescribed motions or an initial velocity R
+/// is E₀ and growth is E/E₀.
+#define EO_SIM_ENERGY_GROWTH 1.5
+/// The energy warning so far (borrowed, valid until the next step or reset), NULL if none.
+EO_API const char *eo_sim_energy_warning(const eo_sim *s);
+/// 1 if the scene is conservative in the sense above (its energy is watched).
+EO_API int eo_sim_energy_conservative(const eo_sim *s);
+
 /// Accessors (borrowed).
 EO_API const eo_scene *eo_sim_scene(const eo_sim *s);
 EO_API eo_step *eo_sim_step_problem(const eo_sim *s);

@@ -172,6 +172,7 @@ json_t *eo_scene_to_json(const eo_scene *sc);
 typedef struct eo_step_stats {
     double com[3]; double max_disp; double min_J; double max_J; int inverted;
     double kinetic; double elastic; double gravity;
+    double contact; double potential; double work_prescribed; double total_energy;
 } eo_step_stats;
 const double *eo_step_x0(const eo_step *st);
 const eo_mesh *eo_step_mesh(const eo_step *st);

@@ -21,7 +21,8 @@ class StepResult:
     g: float
     grad_norm: float
     evaluations: dict     # value, gradient, hessian, factor
-    stats: dict           # com, max_disp, min_J, max_J, inverted, kinetic, elastic, gravity
+    stats: dict           # com, max_disp, min_J, max_J, inverted, kinetic, elastic, gravity,
+                          # contact, potential, work_prescribed, total_energy
 
 
 @dataclass
@@ -40,7 +41,9 @@ class SolveResult:
 def _stats(s):
     return {"com": [s.com[0], s.com[1], s.com[2]], "max_disp": s.max_disp, "min_J": s.min_J,
             "max_J": s.max_J, "inverted": s.inverted, "kinetic": s.kinetic,
-            "elastic": s.elastic, "gravity": s.gravity}
+            "elastic": s.elastic, "gravity": s.gravity, "contact": s.contact,
+            "potential": s.potential, "work_prescribed": s.work_prescribed,
+            "total_energy": s.total_energy}
 
 
 def _solve_result(r):
