@@ -25,7 +25,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             i++;
         }
         else if (argv[i][0] == '-' && argv[i][1])
-            return eo_cli_usage_error(&eo_cmd_convert, "unknown option '%s'", argv[i]);
+            return eo_cli_unknown_arg(&eo_cmd_convert, "option", argv[i]);
         else if (!in) in = argv[i];
         else if (!out) out = argv[i];
         else return eo_cli_usage_error(&eo_cmd_convert, "expected IN and OUT, got a third argument '%s'", argv[i]);

@@ -27,7 +27,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             else o.tetgen_max_volume = v;
             i++;
         }
-        else if (argv[i][0] == '-' && argv[i][1]) return eo_cli_usage_error(&eo_cmd_mesh, "unknown option '%s'", argv[i]);
+        else if (argv[i][0] == '-' && argv[i][1]) return eo_cli_unknown_arg(&eo_cmd_mesh, "option", argv[i]);
         else if (!src) src = argv[i];
         else return eo_cli_usage_error(&eo_cmd_mesh, "expected one mesh, got a second: '%s'", argv[i]);
     }

@@ -368,7 +368,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) verb = EO_CLI_QUIET;
         else if (strcmp(argv[i], "--verbose") == 0 || strcmp(argv[i], "-v") == 0) verb = EO_CLI_VERBOSE;
         else if (strcmp(argv[i], "--profile") == 0) profile = 1;
-        else return eo_cli_usage_error(&eo_cmd_run, "unknown option '%s'", argv[i]);
+        else return eo_cli_unknown_arg(&eo_cmd_run, "option", argv[i]);
     }
     if (restart && (a.file || a.scene || out_dir || force))
         return eo_cli_usage_error(&eo_cmd_run, "--restart DIR continues the run in DIR: give no scene, --out or "

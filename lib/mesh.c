@@ -17,6 +17,7 @@
 
 #include "elastopt/io.h"
 #include "elastopt/mesh.h"
+#include "elastopt/suggest.h"
 #include "mesh_io.h"
 
 static const eo_mesh_io_type *const formats[] = {
@@ -177,9 +178,12 @@ static const eo_mesh_io_type *pick(eo_ctx *ctx, const char *path, eo_mesh_format
     const eo_mesh_io_type *t = fmt == EO_MESH_AUTO ? find_by_path(path) : find_by_format(fmt);
     char exts[256];
     if (!t) {
+        char hint[96] = "";
         list_exts(exts, sizeof exts, reading);
+        const char *dot = strrchr(path, '.');
+        if (dot && !strchr(dot, '/')) eo_suggest_hint(dot, exts, NULL, hint, sizeof hint);
         *rc = eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(path, -1),
-                          "unknown mesh format; expected a file name ending in one of: %s", exts);
+                          "unknown mesh format%s; expected a file name ending in one of: %s", hint, exts);
         return NULL;
     }
     if (!reading && !t->write) {

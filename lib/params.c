@@ -4,6 +4,7 @@
  * default, range and help line; nothing here knows any particular struct. */
 #include "elastopt/params.h"
 #include "elastopt/registry.h"
+#include "elastopt/suggest.h"
 
 #include <jansson.h>
 #include <math.h>
@@ -162,11 +163,13 @@ static int check_name(eo_ctx *ctx, const eo_param_desc *p, const char *s, const 
     } else {
         return EO_OK;
     }
+    char hint[128];
     choices_list(p, list, sizeof list);
+    eo_suggest_hint(s, list, NULL, hint, sizeof hint);
     if (p->kind == EO_PARAM_METHOD)
-        return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown %s '%s'; valid: %s",
-                    p->registry ? eo_kind_label(p->registry->kind) : "method", s, list);
-    return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown value '%s'; valid: %s", s, list);
+        return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown %s '%s'%s; valid: %s",
+                    p->registry ? eo_kind_label(p->registry->kind) : "method", s, hint, list);
+    return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown value '%s'%s; valid: %s", s, hint, list);
 }
 
 int eo_params_check(eo_ctx *ctx, const eo_param_desc *d, const void *obj, const eo_param_src *src)
@@ -308,9 +311,12 @@ int eo_params_load(eo_ctx *ctx, const eo_param_desc *d, void *obj, const json_t 
         const eo_param_desc *p = eo_params_find(d, key);
         if (!p) {
             if (is_extra(extra_keys, key)) continue;
-            char list[1024];
+            char list[1024], prefix[256], hint[384];
             eo_params_keys(d, extra_keys, list, sizeof list);
-            return perr(ctx, EO_ERR_UNKNOWN_KEY, src, key, "unknown key; valid keys here: %s",
+            snprintf(prefix, sizeof prefix, "%s%s", src && src->path ? src->path : "",
+                     src && src->path && *src->path ? "." : "");
+            eo_suggest_hint(key, list, prefix, hint, sizeof hint);
+            return perr(ctx, EO_ERR_UNKNOWN_KEY, src, key, "unknown key%s; valid keys here: %s", hint,
                         list[0] ? list : "(none)");
         }
         int rc = eo_params_set_json(ctx, p, obj, v, src);

@@ -40,6 +40,7 @@
 #include "elastopt/registry.h"
 #include "elastopt/scene.h"
 #include "elastopt/sim.h"
+#include "elastopt/suggest.h"
 
 #define SZ(T, f) sizeof(((T *)0)->f)
 
@@ -499,7 +500,10 @@ static int load_config_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int id
     json_object_foreach(item, key, v) {
         if (strcmp(key, "name") && strcmp(key, "set")) {
             snprintf(sub, sizeof sub, "%s.%s", path, key);
-            return suite_err(ctx, cfg, sub, EO_ERR_UNKNOWN_KEY, "unknown key; valid keys here: name, set");
+            char prefix[72], hint[200];
+            snprintf(prefix, sizeof prefix, "%s.", path);
+            eo_suggest_hint(key, "name, set", prefix, hint, sizeof hint);
+            return suite_err(ctx, cfg, sub, EO_ERR_UNKNOWN_KEY, "unknown key%s; valid keys here: name, set", hint);
         }
     }
     json_t *name = json_object_get(item, "name");
@@ -548,8 +552,11 @@ static int load_matrix_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int id
         for (const char *const *k = keys; *k; k++) ok |= strcmp(*k, key) == 0;
         if (!ok) {
             snprintf(sub, sizeof sub, "%s.%s", path, key);
+            char prefix[72], hint[200];
+            snprintf(prefix, sizeof prefix, "%s.", path);
+            eo_suggest_hint(key, "optimizer, hessian_fix, linesearch, set", prefix, hint, sizeof hint);
             return suite_err(ctx, cfg, sub, EO_ERR_UNKNOWN_KEY,
-                             "unknown key; valid keys here: optimizer, hessian_fix, linesearch, set");
+                             "unknown key%s; valid keys here: optimizer, hessian_fix, linesearch, set", hint);
         }
     }
     const char *opt[16], *fix[16], *ls[16];
