@@ -81,6 +81,22 @@ const char *eo_json_type_name(const json_t *v)
     return "?";
 }
 
+const char *eo_json_describe(const json_t *v, char *buf, size_t n)
+{
+    if (!buf || !n) return "";
+    if (json_is_array(v)) {
+        size_t k = json_array_size(v);
+        if (k == 0) snprintf(buf, n, "an empty array");
+        else snprintf(buf, n, "an array of %zu", k);
+    } else if (!v || json_is_null(v)) {
+        snprintf(buf, n, "%s", eo_json_type_name(v));
+    } else {
+        const char *t = eo_json_type_name(v);
+        snprintf(buf, n, "%s %s", strchr("aeiou", t[0]) ? "an" : "a", t);
+    }
+    return buf;
+}
+
 /* Error located at "<section path>.<key>": the file line if the text has it. */
 static int perr(eo_ctx *ctx, int status, const eo_param_src *src, const char *key,
                 const char *fmt, ...)
@@ -260,15 +276,16 @@ int eo_params_set_json(eo_ctx *ctx, const eo_param_desc *p, void *obj, const jso
         return EO_OK;
     }
     case EO_PARAM_VEC3: {
+        char got[32];
         if (!json_is_array(v) || json_array_size(v) != 3)
             return perr(ctx, EO_ERR_TYPE, src, p->key, "expected an array of 3 numbers, got %s",
-                        eo_json_type_name(v));
+                        eo_json_describe(v, got, sizeof got));
         double t[3];
         for (int i = 0; i < 3; i++) {
             json_t *e = json_array_get(v, (size_t)i);
             if (!json_is_number(e))
                 return perr(ctx, EO_ERR_TYPE, src, p->key,
-                            "expected an array of 3 numbers, item %d is %s", i, eo_json_type_name(e));
+                            "expected an array of 3 numbers, item %d is %s", i, eo_json_describe(e, got, sizeof got));
             t[i] = json_number_value(e);
             if (!isfinite(t[i]))
                 return perr(ctx, EO_ERR_RANGE, src, p->key, "component %d is not finite", i);

@@ -7,6 +7,7 @@
 
 #include "elastopt/config.h"
 #include "elastopt/registry.h"
+#include "elastopt/sim.h"
 #include "elastopt/status.h"
 #include "testutil.h"
 
@@ -206,6 +207,46 @@ static void test_registry(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* Fixed-length arrays: the message names the expected and the given length, for the
+ * 3-vector parameters (gravity) and the scene's pairs, boxes and points. */
+static void test_fixed_arrays(void)
+{
+    char b[32];
+    json_t *a2 = json_pack("[ii]", 0, 1), *a0 = json_array(), *str = json_string("x"), *obj = json_object();
+    json_t *i1 = json_integer(1), *nul = json_null();
+    CHECK(strcmp(eo_json_describe(a2, b, sizeof b), "an array of 2") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(a0, b, sizeof b), "an empty array") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(str, b, sizeof b), "a string") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(obj, b, sizeof b), "an object") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(i1, b, sizeof b), "an integer") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(nul, b, sizeof b), "null") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(NULL, b, sizeof b), "nothing") == 0, "'%s'", b);
+    json_decref(a2), json_decref(a0), json_decref(str), json_decref(obj), json_decref(i1), json_decref(nul);
+
+    static const struct {
+        const char *override, *message;
+    } cases[] = {
+        {"gravity=[0,-9.81]", "command line -o gravity: expected an array of 3 numbers, got an array of 2"},
+        {"gravity=[0,0,-9.81,1]", "expected an array of 3 numbers, got an array of 4"},
+        {"gravity=[]", "expected an array of 3 numbers, got an empty array"},
+        {"gravity=9.81", "expected an array of 3 numbers, got a number"},
+        {"gravity=[0,true,1]", "expected an array of 3 numbers, item 1 is a boolean"},
+        {"point_masses=[[0,1,2]]", "'point_masses.0': expected an array of 2 [vertex, kg], got an array of 3"},
+        {"boundary.0.box=[[0,0,0]]", "expected an array of 2 corners [[x0,y0,z0],[x1,y1,z1]], got an array of 1"},
+        {"boundary.0.box=[[0,0,0],[1,1]]", "corner 1: expected an array of 3 numbers, got an array of 2"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+        eo_ctx *ctx = eo_test_ctx();
+        eo_sim *sim = NULL;
+        const char *o[] = {cases[i].override, NULL};
+        int rc = eo_sim_create_from(ctx, NULL, NULL, o, &sim);
+        CHECK(rc == EO_ERR_TYPE && strstr(eo_ctx_message(ctx), cases[i].message), "%s: rc %d, '%s'",
+              cases[i].override, rc, eo_ctx_message(ctx));
+        eo_sim_destroy(&sim);
+        eo_test_ctx_done(&ctx);
+    }
+}
+
 int main(void)
 {
     test_status();
@@ -214,5 +255,6 @@ int main(void)
     test_locate();
     test_config();
     test_registry();
+    test_fixed_arrays();
     return eo_test_finish("test_core");
 }

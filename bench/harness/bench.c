@@ -337,7 +337,8 @@ static int number_list(eo_ctx *ctx, eo_cfg *cfg, const char *key, double *out, i
     json_t *v = eo_cfg_get(cfg, key);
     if (!v) return EO_OK;
     if (!json_is_array(v) || json_array_size(v) < 1 || json_array_size(v) > BENCH_MAX_LIST)
-        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of 1 to %d positive numbers", BENCH_MAX_LIST);
+        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of 1 to %d positive numbers, got %s", BENCH_MAX_LIST,
+                         eo_json_describe(v, (char[32]){0}, 32));
     *n = 0;
     size_t i;
     json_t *e;
@@ -356,7 +357,8 @@ static int int_list(eo_ctx *ctx, eo_cfg *cfg, const char *key, int *out, int *n)
     json_t *v = eo_cfg_get(cfg, key);
     if (!v) return EO_OK;
     if (!json_is_array(v) || json_array_size(v) > BENCH_MAX_LIST)
-        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of at most %d positive integers", BENCH_MAX_LIST);
+        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of at most %d positive integers, got %s",
+                         BENCH_MAX_LIST, eo_json_describe(v, (char[32]){0}, 32));
     *n = 0;
     size_t i;
     json_t *e;

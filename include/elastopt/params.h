@@ -123,6 +123,11 @@ EO_API long eo_utf8_invalid_at(const char *s);
 EO_API int eo_json_locate(const char *text, const char *path, long *line, long *col);
 /// Name of a JSON value's type ("number", "string", ...).
 EO_API const char *eo_json_type_name(const json_t *v);
+/// A JSON value for messages, with its article and, for arrays, its length: "an array
+/// of 2", "an empty array", "a string", "an integer", "a number", "a boolean", "null",
+/// "an object", "nothing" (v NULL). Written into buf (n bytes, 32 is enough) and returned.
+/// Every "expected an array of N ..." message uses it: "got an array of 2".
+EO_API const char *eo_json_describe(const json_t *v, char *buf, size_t n);
 
 #ifdef __cplusplus
 }
