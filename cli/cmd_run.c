@@ -34,7 +34,9 @@
  * The steps run through eo_sim (sim.h), the library's one copy of the step protocol.
  * Explicit integrators (forward_euler, ..., leapfrog) advance without a solver: no
  * objective is minimized, so each step records iterations 0, reason
- * "converged_explicit", g and grad_norm null (NaN in the CSV) and one CSV row
+ * "explicit" (converged 0 / false: nothing was solved; not a failure either: such
+ * steps count as "explicit" in summary.json's "step_counts" and the closing line,
+ * and a run of them exits 0), g and grad_norm null (NaN in the CSV) and one CSV row
  * (iteration 0). The solver section is still validated (and unused).
  * After every step the state is checked: a non-finite position, velocity, energy or
  * force (an explicit integrator beyond its stability limit, or a blown-up implicit
@@ -174,14 +176,17 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
                                                    s0->min_J, "max_disp", s0->max_disp, "inverted", s0->inverted,
                                                    "kinetic", s0->kinetic, "elastic", s0->elastic));
     json_t *steps = json_array(), *bad = json_array();
-    int all = 1;
+    int all = 1, nconv = 0, nexpl = 0;
     long total_iters = 0;
     double total_time = 0;
     for (int k = 0; k < nrec; k++) {
         const eo_run_record *r = rec + k;
-        int conv = eo_reason_is_converged(r->reason);
-        all &= conv;
-        if (!conv) json_array_append_new(bad, json_integer(r->step));
+        int ok = eo_reason_is_converged(r->reason), expl_step = eo_reason_is_explicit(r->reason);
+        int conv = ok && !expl_step; /* an explicit step solved nothing: counted apart */
+        all &= ok;
+        nconv += conv;
+        nexpl += expl_step;
+        if (!ok) json_array_append_new(bad, json_integer(r->step));
         total_iters += r->iterations;
         total_time += r->time;
         json_t *e = json_object();
@@ -218,8 +223,11 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(root, "steps", steps);
     json_object_set_new(root, "steps_run", json_integer(nrec));
     json_object_set_new(root, "steps_planned", json_integer(sc->time.steps));
+    /* "all_converged": no step failed (every step converged or was explicit) */
     json_object_set_new(root, "all_converged", json_boolean(all));
     json_object_set_new(root, "not_converged", bad);
+    json_object_set_new(root, "step_counts", json_pack("{s:i, s:i, s:i}", "converged", nconv, "explicit", nexpl,
+                                                       "not_converged", nrec - nconv - nexpl));
     json_object_set_new(root, "total_iterations", json_integer(total_iters));
     json_object_set_new(root, "total_solve_time", json_real(total_time));
     json_object_set_new(root, "wall_time", json_real(in->wall));

@@ -45,6 +45,12 @@ static void test_status(void)
           eo_reason_name(EO_DIVERGED_MAX_ITERS));
     CHECK(strcmp(eo_reason_name(EO_REASON_ITERATING), "iterating") == 0, "%s", eo_reason_name(0));
     CHECK(eo_reason_is_converged(EO_CONVERGED_GRADIENT) && !eo_reason_is_converged(EO_DIVERGED_NONFINITE), "sign");
+    /* an explicit step: its own name, not a failure, not a convergence */
+    CHECK(strcmp(eo_reason_name(EO_REASON_EXPLICIT), "explicit") == 0, "%s", eo_reason_name(EO_REASON_EXPLICIT));
+    CHECK(eo_reason_is_converged(EO_REASON_EXPLICIT) && eo_reason_is_explicit(EO_REASON_EXPLICIT) &&
+              !eo_reason_is_explicit(EO_CONVERGED_STEP) && !eo_reason_is_explicit(EO_DIVERGED_MAX_ITERS),
+          "explicit: positive (no failure), told apart");
+    CHECK(EO_CONVERGED_EXPLICIT == EO_REASON_EXPLICIT, "former name kept");
 }
 
 static void test_ctx(void)
