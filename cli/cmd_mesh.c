@@ -64,7 +64,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         json_object_set_new(j, "dropped_tets", json_integer(m->dropped_tets));
         json_object_set_new(j, "dropped_vertices", json_integer(m->dropped_vertices));
         json_object_set_new(j, "load_seconds", json_real(t_load));
-        char *text = json_dumps(j, JSON_REAL_PRECISION(17));
+        char *text = eo_json_dumps(j, 0);
         printf("%s\n", text ? text : "{}");
         free(text);
         json_decref(j);

@@ -241,7 +241,7 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     eo_afile *f = NULL;
     int rc = eo_afile_open(ctx, path, &f);
     if (rc >= 0) {
-        char *text = json_dumps(root, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
+        char *text = eo_json_dumps(root, JSON_INDENT(2));
         if (text) {
             fputs(text, eo_afile_fp(f));
             fputc('\n', eo_afile_fp(f));
@@ -263,7 +263,7 @@ static int write_json_file(eo_ctx *ctx, const char *path, json_t *j)
     eo_afile *f = NULL;
     int rc = eo_afile_open(ctx, path, &f);
     if (rc < 0) return rc;
-    char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(17));
+    char *text = eo_json_dumps(j, JSON_INDENT(2));
     if (!text) {
         eo_afile_abort(ctx, &f);
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory (%s)", path);

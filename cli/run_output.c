@@ -214,7 +214,8 @@ void eo_run_frame_name(int step, char *buf, size_t n) { snprintf(buf, n, "frame_
 const char *eo_run_num(char buf[32], double v, int digits)
 {
     if (!isfinite(v)) buf[0] = 0;
-    else snprintf(buf, 32, digits == 17 ? "%.17g" : "%.6e", v);
+    else if (digits == 17) eo_fmt_double(buf, v); /* shortest form that reads back exactly */
+    else snprintf(buf, 32, "%.6e", v);
     return buf;
 }
 

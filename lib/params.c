@@ -3,12 +3,14 @@
  * One table per params struct (see params.h) is the single source of every key, type,
  * default, range and help line; nothing here knows any particular struct. */
 #include "elastopt/params.h"
+#include "elastopt/io.h"
 #include "elastopt/registry.h"
 #include "elastopt/suggest.h"
 
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define FIELD(obj, p, T) ((T *)((char *)(obj) + (p)->offset))
@@ -79,6 +81,52 @@ const char *eo_json_type_name(const json_t *v)
     case JSON_NULL: return "null";
     }
     return "?";
+}
+
+char *eo_json_dumps(const json_t *j, size_t flags)
+{
+    char *text = json_dumps(j, (flags & ~(size_t)JSON_REAL_PRECISION(31)) | JSON_REAL_PRECISION(17));
+    if (!text) return NULL;
+    size_t n = strlen(text);
+    char *out = malloc(2 * n + 1), *o = out;
+    if (!out) {
+        free(text);
+        return NULL;
+    }
+    for (const char *p = text; *p;) {
+        if (*p == '"') { /* a string: copied as is */
+            *o++ = *p++;
+            while (*p && *p != '"') {
+                if (*p == '\\' && p[1]) *o++ = *p++;
+                *o++ = *p++;
+            }
+            if (*p) *o++ = *p++;
+            continue;
+        }
+        if (*p == '-' || (*p >= '0' && *p <= '9')) {
+            size_t k = strspn(p, "+-.0123456789eE");
+            if (memchr(p, '.', k) || memchr(p, 'e', k) || memchr(p, 'E', k)) { /* a real */
+                char buf[32];
+                eo_fmt_double(buf, strtod(p, NULL));
+                size_t m = strlen(buf);
+                memcpy(o, buf, m);
+                o += m;
+                if (!strpbrk(buf, ".en")) { /* "1" -> "1.0": stays a real */
+                    *o++ = '.';
+                    *o++ = '0';
+                }
+            } else {
+                memcpy(o, p, k);
+                o += k;
+            }
+            p += k;
+            continue;
+        }
+        *o++ = *p++;
+    }
+    *o = 0;
+    free(text);
+    return out;
 }
 
 const char *eo_json_describe(const json_t *v, char *buf, size_t n)

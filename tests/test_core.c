@@ -3,9 +3,11 @@
  * documents with -o overrides and unknown-key detection with file:line. */
 #include <jansson.h>
 #include <stddef.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "elastopt/config.h"
+#include "elastopt/io.h"
 #include "elastopt/registry.h"
 #include "elastopt/sim.h"
 #include "elastopt/status.h"
@@ -253,6 +255,94 @@ static void test_fixed_arrays(void)
     }
 }
 
+/* Shortest round-trip decimal form: known values, random doubles of every exponent, the
+ * .pvd writer and eo_json_dumps. */
+static void test_fmt_double(void)
+{
+    char b[32];
+    static const struct {
+        double v;
+        const char *s;
+    } known[] = {{0.4, "0.4"}, {0.1 + 0.2, "0.30000000000000004"}, {1.0, "1"}, {-2.5e-7, "-2.5e-07"},
+                 {1e300, "1e+300"}, {0.1 * 3, "0.30000000000000004"}, {4 * 0.1, "0.4"}, {1.0 / 3, "0.3333333333333333"},
+                 {5e-324, "4.94065645841247e-324"}, {123456789012345680.0, "1.2345678901234568e+17"}};
+    for (size_t i = 0; i < sizeof known / sizeof *known; i++)
+        CHECK(strcmp(eo_fmt_double(b, known[i].v), known[i].s) == 0, "%.17g -> '%s', expected '%s'", known[i].v, b,
+              known[i].s);
+    /* 0.40000000000000002 is the %.17g form of 0.4: both name the same double */
+    CHECK(strtod("0.40000000000000002", NULL) == 0.4, "same double");
+    CHECK(strcmp(eo_fmt_double(b, NAN), "nan") == 0 || strcmp(b, "-nan") == 0, "nan '%s'", b);
+    eo_test_seed(42);
+    int bad = 0, shorter = 0;
+    for (int i = 0; i < 100000; i++) {
+        unsigned long long bits = 0;
+        for (int k = 0; k < 4; k++) bits = (bits << 16) ^ (unsigned long long)eo_test_rand(0, 65536);
+        double v;
+        memcpy(&v, &bits, sizeof v);
+        if (!isfinite(v)) continue;
+        eo_fmt_double(b, v);
+        if (strtod(b, NULL) != v || (v == 0 && signbit(v) != signbit(strtod(b, NULL)))) bad++;
+        char l[32];
+        snprintf(l, sizeof l, "%.17g", v);
+        shorter += strlen(b) < strlen(l);
+        /* shortest: one digit less does not read back */
+        char e[512];
+        int digits = 0;
+        const char *c = b + (b[0] == '-');
+        while (*c == '0' || *c == '.') c++; /* leading zeros are not significant */
+        for (; *c && *c != 'e'; c++) digits += *c >= '0' && *c <= '9';
+        if (digits > 15) {
+            snprintf(e, sizeof e, "%.*g", digits - 1, v);
+            if (strtod(e, NULL) == v) bad++;
+        }
+    }
+    CHECK(bad == 0, "%d random doubles did not round-trip or were not shortest", bad);
+    CHECK(shorter > 1000, "only %d of the random doubles got shorter than %%.17g", shorter);
+    /* the doubles nearest to k / 1000 print as k / 1000 */
+    for (int k = 0; k <= 1000; k++) {
+        char want[32];
+        snprintf(want, sizeof want, k % 1000 ? "%d.%03d" : "%d", k / 1000, k % 1000);
+        while (strchr(want, '.') && want[strlen(want) - 1] == '0') want[strlen(want) - 1] = 0;
+        CHECK(strcmp(eo_fmt_double(b, k / 1000.0), want) == 0, "%d/1000 -> '%s', expected '%s'", k, b, want);
+    }
+
+    /* the .pvd index */
+    eo_ctx *ctx = eo_test_ctx();
+    const char *dir = eo_test_tmpdir("core_fmt");
+    char path[4200];
+    snprintf(path, sizeof path, "%s/t.pvd", dir);
+    eo_pvd *pvd = NULL;
+    CHECK(eo_pvd_create(ctx, path, &pvd) == EO_OK, "pvd");
+    double t = 0;
+    for (int k = 0; k < 4; k++) t += 0.1; /* 0.30000000000000004 + 0.1 = 0.4 exactly */
+    CHECK(eo_pvd_add(ctx, pvd, 0.4, "a.vtu") == EO_OK && eo_pvd_add(ctx, pvd, 0.1 + 0.2, "b.vtu") == EO_OK &&
+              eo_pvd_add(ctx, pvd, t, "c.vtu") == EO_OK,
+          "pvd add");
+    eo_pvd_destroy(&pvd);
+    char *text = NULL;
+    size_t len = 0;
+    CHECK(eo_read_file(ctx, path, &text, &len) == EO_OK, "read pvd");
+    CHECK(text && strstr(text, "timestep=\"0.4\" ") && strstr(text, "timestep=\"0.30000000000000004\" ") &&
+              !strstr(text, "0.40000000000000002"),
+          "pvd text: %s", text ? text : "");
+    eo_free(ctx, text);
+    /* JSON: reals in their shortest form, still reals; strings untouched */
+    json_t *j = json_pack("{s:f, s:f, s:f, s:i, s:s, s:[f]}", "t", 0.4, "one", 1.0, "third", 1.0 / 3, "n", 7, "s",
+                          "0.40000000000000002", "a", 1e-7);
+    char *js = eo_json_dumps(j, JSON_COMPACT | JSON_PRESERVE_ORDER);
+    CHECK(js && strcmp(js, "{\"t\":0.4,\"one\":1.0,\"third\":0.3333333333333333,\"n\":7,"
+                           "\"s\":\"0.40000000000000002\",\"a\":[1e-07]}") == 0,
+          "json '%s'", js ? js : "");
+    json_t *back = js ? json_loads(js, 0, NULL) : NULL;
+    CHECK(back && json_is_real(json_object_get(back, "one")) &&
+              json_real_value(json_object_get(back, "third")) == 1.0 / 3,
+          "reads back");
+    json_decref(back);
+    free(js);
+    json_decref(j);
+    eo_test_ctx_done(&ctx);
+}
+
 int main(void)
 {
     test_status();
@@ -262,5 +352,6 @@ int main(void)
     test_config();
     test_registry();
     test_fixed_arrays();
+    test_fmt_double();
     return eo_test_finish("test_core");
 }
