@@ -93,7 +93,7 @@ const eo_cli_command eo_cmd_mesh = {
     .summary = "load or generate a tet mesh, validate it, print statistics",
     .usage = "elastopt mesh FILE [--json] [--drop-degenerate] [--drop-unreferenced] [--quality Q] [--max-volume V]\n\n"
              "FILE is a TetGen .node/.ele (file or base name), MEDIT .mesh, Gmsh .msh (2.2/4.1\n"
-             "ASCII) or VTU file, a closed surface .obj/.off/.stl/.ply tetrahedralized by TetGen\n"
+             "ASCII), VTU or Vega FEM .veg file, a closed surface .obj/.off/.stl/.ply tetrahedralized by TetGen\n"
              "(radius-edge bound Q, default 2, 0 = none; tet volume bound V, default 0 = none),\n"
              "or gen:SX,SY,SZ:NX,NY,NZ[:5|6] for a box of NX*NY*NZ cells of size\n"
              "SX*SY*SZ split into 5 or 6 (default) tets each.\n"

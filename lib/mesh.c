@@ -22,7 +22,7 @@
 
 static const eo_mesh_io_type *const formats[] = {
     &eo_mesh_io_tetgen, &eo_mesh_io_medit, &eo_mesh_io_gmsh, &eo_mesh_io_vtu, &eo_mesh_io_obj,
-    &eo_mesh_io_off, &eo_mesh_io_stl, &eo_mesh_io_ply, NULL,
+    &eo_mesh_io_off, &eo_mesh_io_stl, &eo_mesh_io_ply, &eo_mesh_io_veg, NULL,
 };
 
 eo_mesh_read_opts eo_mesh_read_opts_default(void)

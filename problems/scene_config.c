@@ -75,7 +75,7 @@ const eo_param_desc eo_scene_collision_opts_desc[] = {
 const eo_param_desc eo_scene_mesh_opts_desc[] = {
     {.key = "file", .kind = EO_PARAM_STRING, .offset = offsetof(eo_scene_mesh_opts, file),
      .size = SZ(eo_scene_mesh_opts, file), .def.s = "",
-     .help = "mesh file (.node/.ele, .mesh, .msh, .vtu; or a closed surface .obj, .off, .stl, .ply tetrahedralized by "
+     .help = "mesh file (.node/.ele, .mesh, .msh, .vtu, .veg; or a closed surface .obj, .off, .stl, .ply tetrahedralized by "
              "TetGen with mesh.tetgen), relative to the config's folder; empty = mesh.generate"},
     {.key = "drop_degenerate", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_mesh_opts, drop_degenerate),
      .def.i = 0, .help = "drop zero-volume/duplicate tets and unreferenced vertices with a warning"},
