@@ -76,6 +76,8 @@ J
 "$EXE" run -o solver.hessianfix=abs --out dym 2> dym3.err
 [ $? -eq 2 ] && grep -q "solver.hessianfix: unknown key (did you mean 'solver.hessian_fix'?); valid keys here:" dym3.err &&
     [ ! -e dym ] && ok || bad "key hint: $(cat dym3.err)"
+"$EXE" help lbgfs 2> dym5.err
+[ $? -eq 2 ] && grep -q "named 'lbgfs' (did you mean 'lbfgs'?)" dym5.err && ok || bad "help hint: $(cat dym5.err)"
 "$EXE" mesh nothing.msh4 2> dym4.err
 [ $? -eq 2 ] && grep -q "unknown mesh format (did you mean '.msh'?)" dym4.err && ok || bad "extension hint: $(cat dym4.err)"
 
