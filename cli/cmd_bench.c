@@ -90,7 +90,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         } else if (strcmp(argv[i], "--no-plots") == 0) plots = 0;
         else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) quiet = 1;
         else if (strcmp(argv[i], "--profile") == 0) profile = 1;
-        else if (argv[i][0] == '-') return eo_cli_usage_error(&eo_cmd_bench, "unknown option '%s'", argv[i]);
+        else if (argv[i][0] == '-') return eo_cli_unknown_arg(&eo_cmd_bench, "option", argv[i]);
         else if (suite_path) return eo_cli_usage_error(&eo_cmd_bench, "give one SUITE.json");
         else suite_path = argv[i];
     }

@@ -37,7 +37,9 @@
  * The steps run through eo_sim (sim.h), the library's one copy of the step protocol.
  * Explicit integrators (forward_euler, ..., leapfrog) advance without a solver: no
  * objective is minimized, so each step records iterations 0, reason
- * "converged_explicit", g and grad_norm null (NaN in the CSV) and one CSV row
+ * "explicit" (converged 0 / false: nothing was solved; not a failure either: such
+ * steps count as "explicit" in summary.json's "step_counts" and the closing line,
+ * and a run of them exits 0), g and grad_norm null (NaN in the CSV) and one CSV row
  * (iteration 0). The solver section is still validated (and unused).
  * After every step the state is checked: a non-finite position, velocity, energy or
  * force (an explicit integrator beyond its stability limit, or a blown-up implicit
@@ -184,14 +186,17 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(ini, "work_prescribed", real_or_null(s0->work_prescribed));
     json_object_set_new(ini, "total_energy", real_or_null(s0->total_energy));
     json_t *steps = json_array(), *bad = json_array();
-    int all = 1;
+    int all = 1, nconv = 0, nexpl = 0;
     long total_iters = 0;
     double total_time = 0;
     for (int k = 0; k < nrec; k++) {
         const eo_run_record *r = rec + k;
-        int conv = eo_reason_is_converged(r->reason);
-        all &= conv;
-        if (!conv) json_array_append_new(bad, json_integer(r->step));
+        int ok = eo_reason_is_converged(r->reason), expl_step = eo_reason_is_explicit(r->reason);
+        int conv = ok && !expl_step; /* an explicit step solved nothing: counted apart */
+        all &= ok;
+        nconv += conv;
+        nexpl += expl_step;
+        if (!ok) json_array_append_new(bad, json_integer(r->step));
         total_iters += r->iterations;
         total_time += r->time;
         json_t *e = json_object();
@@ -232,8 +237,11 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(root, "steps", steps);
     json_object_set_new(root, "steps_run", json_integer(nrec));
     json_object_set_new(root, "steps_planned", json_integer(sc->time.steps));
+    /* "all_converged": no step failed (every step converged or was explicit) */
     json_object_set_new(root, "all_converged", json_boolean(all));
     json_object_set_new(root, "not_converged", bad);
+    json_object_set_new(root, "step_counts", json_pack("{s:i, s:i, s:i}", "converged", nconv, "explicit", nexpl,
+                                                       "not_converged", nrec - nconv - nexpl));
     json_object_set_new(root, "total_iterations", json_integer(total_iters));
     json_object_set_new(root, "total_solve_time", json_real(total_time));
     json_object_set_new(root, "wall_time", json_real(in->wall));
@@ -249,7 +257,7 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     eo_afile *f = NULL;
     int rc = eo_afile_open(ctx, path, &f);
     if (rc >= 0) {
-        char *text = json_dumps(root, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
+        char *text = eo_json_dumps(root, JSON_INDENT(2));
         if (text) {
             fputs(text, eo_afile_fp(f));
             fputc('\n', eo_afile_fp(f));
@@ -271,7 +279,7 @@ static int write_json_file(eo_ctx *ctx, const char *path, json_t *j)
     eo_afile *f = NULL;
     int rc = eo_afile_open(ctx, path, &f);
     if (rc < 0) return rc;
-    char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(17));
+    char *text = eo_json_dumps(j, JSON_INDENT(2));
     if (!text) {
         eo_afile_abort(ctx, &f);
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory (%s)", path);
@@ -384,7 +392,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) verb = EO_CLI_QUIET;
         else if (strcmp(argv[i], "--verbose") == 0 || strcmp(argv[i], "-v") == 0) verb = EO_CLI_VERBOSE;
         else if (strcmp(argv[i], "--profile") == 0) profile = 1;
-        else return eo_cli_usage_error(&eo_cmd_run, "unknown option '%s'", argv[i]);
+        else return eo_cli_unknown_arg(&eo_cmd_run, "option", argv[i]);
     }
     if (restart && (a.file || a.scene || out_dir || force))
         return eo_cli_usage_error(&eo_cmd_run, "--restart DIR continues the run in DIR: give no scene, --out or "

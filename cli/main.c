@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "eo_build_config.h"
 #include "elastopt/plugin.h"
+#include "elastopt/suggest.h"
 #include "petsc_load.h"
 
 extern const eo_cli_command eo_cmd_list, eo_cmd_help;
@@ -44,6 +45,39 @@ int eo_cli_usage_error(const eo_cli_command *cmd, const char *fmt, ...)
     fprintf(stderr, "\nusage: %s", cmd->usage);
     va_end(ap);
     return EO_EXIT_BAD_INPUT;
+}
+
+/* The options a usage text names: every "-x" / "--xyz" word (letters, digits, '-', '_'). */
+static void usage_options(const char *usage, char *buf, size_t n)
+{
+    size_t k = 0;
+    buf[0] = 0;
+    for (const char *p = usage; *p && k + 1 < n; p++) {
+        if (*p != '-' || (p > usage && p[-1] != ' ' && p[-1] != '[' && p[-1] != '|' && p[-1] != '(' &&
+                          p[-1] != '\n'))
+            continue;
+        const char *q = p;
+        while (*q == '-') q++;
+        if (q - p > 2 || !((*q >= 'a' && *q <= 'z') || (*q >= 'A' && *q <= 'Z'))) continue;
+        while ((*q >= 'a' && *q <= 'z') || (*q >= 'A' && *q <= 'Z') || (*q >= '0' && *q <= '9') || *q == '-' ||
+               *q == '_')
+            q++;
+        k += (size_t)snprintf(buf + k, n - k, "%s%.*s", k ? " " : "", (int)(q - p), p);
+        p = q - 1;
+    }
+}
+
+int eo_cli_unknown_arg(const eo_cli_command *cmd, const char *what, const char *arg)
+{
+    char opts[2048], hint[160] = "";
+    if (arg[0] == '-') {
+        usage_options(cmd->usage, opts, sizeof opts);
+        /* "--model=x": suggest for the part before '=' */
+        char name[64];
+        snprintf(name, sizeof name, "%.*s", (int)strcspn(arg, "="), arg);
+        eo_suggest_hint(name, opts, NULL, hint, sizeof hint);
+    }
+    return eo_cli_usage_error(cmd, "unknown %s '%s'%s", what, arg, hint);
 }
 
 int eo_cli_wants_help(int argc, char **argv)
@@ -134,8 +168,12 @@ int main(int argc, char **argv)
         eo_ctx_destroy(&ctx);
         return rc;
     }
-    fprintf(stderr, "elastopt: unknown command '%s'; valid:", argv[1]);
-    for (const eo_cli_command *const *c = eo_cli_commands; *c; c++) fprintf(stderr, " %s", (*c)->name);
-    fprintf(stderr, "\n");
+    char names[512], hint[128];
+    size_t k = 0;
+    names[0] = 0;
+    for (const eo_cli_command *const *c = eo_cli_commands; *c && k < sizeof names; c++)
+        k += (size_t)snprintf(names + k, sizeof names - k, " %s", (*c)->name);
+    eo_suggest_hint(argv[1], names, NULL, hint, sizeof hint);
+    fprintf(stderr, "elastopt: unknown command '%s'%s; valid:%s\n", argv[1], hint, names);
     return EO_EXIT_BAD_INPUT;
 }

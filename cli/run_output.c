@@ -214,7 +214,8 @@ void eo_run_frame_name(int step, char *buf, size_t n) { snprintf(buf, n, "frame_
 const char *eo_run_num(char buf[32], double v, int digits)
 {
     if (!isfinite(v)) buf[0] = 0;
-    else snprintf(buf, 32, digits == 17 ? "%.17g" : "%.6e", v);
+    else if (digits == 17) eo_fmt_double(buf, v); /* shortest form that reads back exactly */
+    else snprintf(buf, 32, "%.6e", v);
     return buf;
 }
 
@@ -226,7 +227,8 @@ void eo_run_record_write(FILE *f, const eo_run_record *r)
     const eo_step_stats *s = &r->stats;
     char b[17][32];
     fprintf(f, "%d,%s,%d,%s,%d,%s,%s,%s,%s,%ld,%ld,%ld,%ld,%s,%s,%s,%s,%s,%d,%s,%s,%s,%d,%s,%s,%s,%s\n", r->step,
-            eo_run_num(b[0], r->t, 17), r->iterations, eo_reason_name(r->reason), eo_reason_is_converged(r->reason),
+            eo_run_num(b[0], r->t, 17), r->iterations, eo_reason_name(r->reason),
+            eo_reason_is_converged(r->reason) && !eo_reason_is_explicit(r->reason),
             eo_run_num(b[1], r->time, 17), eo_run_num(b[2], r->wall, 17), eo_run_num(b[3], r->g, 17),
             eo_run_num(b[4], r->grad_norm, 17), r->n_value, r->n_gradient, r->n_hessian, r->n_factor,
             eo_run_num(b[5], s->com[0], 17), eo_run_num(b[6], s->com[1], 17), eo_run_num(b[7], s->com[2], 17),
@@ -238,6 +240,10 @@ void eo_run_record_write(FILE *f, const eo_run_record *r)
 
 static int reason_from_name(const char *s, int *reason)
 {
+    if (strcmp(s, "converged_explicit") == 0) { /* the explicit steps' former reason name */
+        *reason = EO_REASON_EXPLICIT;
+        return 0;
+    }
     for (int r = -64; r <= 64; r++) {
         const char *n = eo_reason_name(r);
         if (n && strcmp(n, s) == 0) {

@@ -7,10 +7,10 @@
  *                   -o overrides, the resulting config document; read by --restart
  *   restart.dat     the state after the last completed step (rewritten atomically
  *                   every step), see eo_run_restart_write
- *   steps.csv       one row per completed step (STEPS_CSV_HEADER), %.17g: the summary
- *                   of a continued run is rebuilt from it (rows of the 23 columns before
- *                   contact..total_energy, as older versions wrote, are read with those
- *                   four empty)
+ *   steps.csv       one row per completed step (STEPS_CSV_HEADER), exact numbers: the
+ *                   summary of a continued run is rebuilt from it (rows of the 23 columns
+ *                   before contact..total_energy, as older versions wrote, are read with
+ *                   those four empty)
  *   iterations.csv  one row per solver iteration
  *   summary.json, NAME.pvd, frame_NNNNNN.vtu (NNNNNN = the step)
  * Both CSVs are appended and flushed after every step. */
@@ -66,7 +66,7 @@ void eo_run_dir_remove_frames_after(const eo_run_dir *d, int step);
 void eo_run_frame_name(int step, char *buf, size_t n);
 
 /* One row of steps.csv (no flush). */
-/* A CSV number: %.17g (digits 17) or %.6e; an empty string when v is not finite (no
+/* A CSV number: exact in its shortest form (digits 17, eo_fmt_double) or %.6e; an empty string when v is not finite (no
  * output file holds a non-finite number; readers take an empty field as NAN). */
 const char *eo_run_num(char buf[32], double v, int digits);
 void eo_run_record_write(FILE *f, const eo_run_record *r);

@@ -75,7 +75,7 @@ const eo_param_desc eo_scene_collision_opts_desc[] = {
 const eo_param_desc eo_scene_mesh_opts_desc[] = {
     {.key = "file", .kind = EO_PARAM_STRING, .offset = offsetof(eo_scene_mesh_opts, file),
      .size = SZ(eo_scene_mesh_opts, file), .def.s = "",
-     .help = "mesh file (.node/.ele, .mesh, .msh, .vtu; or a closed surface .obj, .off, .stl, .ply tetrahedralized by "
+     .help = "mesh file (.node/.ele, .mesh, .msh, .vtu, .veg; or a closed surface .obj, .off, .stl, .ply tetrahedralized by "
              "TetGen with mesh.tetgen), relative to the config's folder; empty = mesh.generate"},
     {.key = "drop_degenerate", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_mesh_opts, drop_degenerate),
      .def.i = 0, .help = "drop zero-volume/duplicate tets and unreferenced vertices with a warning"},
@@ -247,13 +247,16 @@ const eo_cfg_doc eo_scene_docs[] = {
 /* [[x0,y0,z0],[x1,y1,z1]] → box[6] */
 static int read_box(eo_ctx *ctx, eo_cfg *cfg, const char *path, const json_t *v, double box[6])
 {
+    char got[32];
     if (!json_is_array(v) || json_array_size(v) != 2)
-        return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected [[x0,y0,z0],[x1,y1,z1]], got %s",
-                       eo_json_type_name(v));
+        return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected an array of 2 corners [[x0,y0,z0],[x1,y1,z1]], got %s",
+                       eo_json_describe(v, got, sizeof got));
     for (int i = 0; i < 2; i++) {
         json_t *c = json_array_get(v, (size_t)i);
         if (!json_is_array(c) || json_array_size(c) != 3)
-            return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected [[x0,y0,z0],[x1,y1,z1]]; corner %d is not 3 numbers", i);
+            return cfg_err(ctx, cfg, path, EO_ERR_TYPE,
+                           "expected [[x0,y0,z0],[x1,y1,z1]]; corner %d: expected an array of 3 numbers, got %s", i,
+                           eo_json_describe(c, got, sizeof got));
         for (int k = 0; k < 3; k++) {
             json_t *e = json_array_get(c, (size_t)k);
             if (!json_is_number(e) || !isfinite(json_number_value(e)))
@@ -293,8 +296,12 @@ static int load_points(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc, const json_t *pts
     if (rc < 0) return rc;
     for (int v = 0; v < n; v++) {
         const json_t *p = json_array_get(pts, (size_t)v);
+        char got[32];
+        if (!json_is_array(p) || json_array_size(p) != 3)
+            return cfg_err(ctx, cfg, "mesh.points", EO_ERR_TYPE, "point %d: expected an array of 3 numbers, got %s", v,
+                           eo_json_describe(p, got, sizeof got));
         for (int k = 0; k < 3; k++) {
-            const json_t *e = json_is_array(p) && json_array_size(p) == 3 ? json_array_get(p, (size_t)k) : NULL;
+            const json_t *e = json_array_get(p, (size_t)k);
             if (!json_is_number(e) || !isfinite(json_number_value(e)))
                 return cfg_err(ctx, cfg, "mesh.points", EO_ERR_TYPE, "point %d is not 3 finite numbers", v);
             sc->mesh->X[3 * v + k] = json_number_value(e);
@@ -735,8 +742,10 @@ static int load_point_masses(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
         snprintf(path, sizeof path, "point_masses.%zu", i);
         const json_t *e = json_array_get(list, i);
         int v = -1;
+        char got[32];
         if (!json_is_array(e) || json_array_size(e) != 2)
-            return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected [vertex, kg]");
+            return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected an array of 2 [vertex, kg], got %s",
+                           eo_json_describe(e, got, sizeof got));
         int rc = read_vertex(ctx, cfg, path, json_array_get(e, 0), nv, &v);
         if (rc < 0) return rc;
         const json_t *m = json_array_get(e, 1);
@@ -789,8 +798,10 @@ static int load_springs(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
             char path[64];
             snprintf(path, sizeof path, "springs.list.%d", i);
             const json_t *e = json_array_get(list, (size_t)i);
+            char got[32];
             if (!json_is_array(e) || json_array_size(e) != 2)
-                return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected a vertex pair [i, j]");
+                return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected a vertex pair [i, j], got %s",
+                               eo_json_describe(e, got, sizeof got));
             if ((rc = read_vertex(ctx, cfg, path, json_array_get(e, 0), m->nv, &a)) < 0) return rc;
             if ((rc = read_vertex(ctx, cfg, path, json_array_get(e, 1), m->nv, &b)) < 0) return rc;
             double L2 = 0;

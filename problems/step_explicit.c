@@ -183,7 +183,7 @@ int eo_step_advance(eo_step *st, int *reason)
     st->t = t1;
     st->index++;
     st->erestart = 0;
-    *reason = EO_CONVERGED_EXPLICIT;
+    *reason = EO_REASON_EXPLICIT;
     return EO_OK;
 }
 

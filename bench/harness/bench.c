@@ -40,6 +40,7 @@
 #include "elastopt/registry.h"
 #include "elastopt/scene.h"
 #include "elastopt/sim.h"
+#include "elastopt/suggest.h"
 
 #define SZ(T, f) sizeof(((T *)0)->f)
 
@@ -336,7 +337,8 @@ static int number_list(eo_ctx *ctx, eo_cfg *cfg, const char *key, double *out, i
     json_t *v = eo_cfg_get(cfg, key);
     if (!v) return EO_OK;
     if (!json_is_array(v) || json_array_size(v) < 1 || json_array_size(v) > BENCH_MAX_LIST)
-        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of 1 to %d positive numbers", BENCH_MAX_LIST);
+        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of 1 to %d positive numbers, got %s", BENCH_MAX_LIST,
+                         eo_json_describe(v, (char[32]){0}, 32));
     *n = 0;
     size_t i;
     json_t *e;
@@ -355,7 +357,8 @@ static int int_list(eo_ctx *ctx, eo_cfg *cfg, const char *key, int *out, int *n)
     json_t *v = eo_cfg_get(cfg, key);
     if (!v) return EO_OK;
     if (!json_is_array(v) || json_array_size(v) > BENCH_MAX_LIST)
-        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of at most %d positive integers", BENCH_MAX_LIST);
+        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of at most %d positive integers, got %s",
+                         BENCH_MAX_LIST, eo_json_describe(v, (char[32]){0}, 32));
     *n = 0;
     size_t i;
     json_t *e;
@@ -499,7 +502,10 @@ static int load_config_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int id
     json_object_foreach(item, key, v) {
         if (strcmp(key, "name") && strcmp(key, "set")) {
             snprintf(sub, sizeof sub, "%s.%s", path, key);
-            return suite_err(ctx, cfg, sub, EO_ERR_UNKNOWN_KEY, "unknown key; valid keys here: name, set");
+            char prefix[72], hint[200];
+            snprintf(prefix, sizeof prefix, "%s.", path);
+            eo_suggest_hint(key, "name, set", prefix, hint, sizeof hint);
+            return suite_err(ctx, cfg, sub, EO_ERR_UNKNOWN_KEY, "unknown key%s; valid keys here: name, set", hint);
         }
     }
     json_t *name = json_object_get(item, "name");
@@ -548,8 +554,11 @@ static int load_matrix_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int id
         for (const char *const *k = keys; *k; k++) ok |= strcmp(*k, key) == 0;
         if (!ok) {
             snprintf(sub, sizeof sub, "%s.%s", path, key);
+            char prefix[72], hint[200];
+            snprintf(prefix, sizeof prefix, "%s.", path);
+            eo_suggest_hint(key, "optimizer, hessian_fix, linesearch, set", prefix, hint, sizeof hint);
             return suite_err(ctx, cfg, sub, EO_ERR_UNKNOWN_KEY,
-                             "unknown key; valid keys here: optimizer, hessian_fix, linesearch, set");
+                             "unknown key%s; valid keys here: optimizer, hessian_fix, linesearch, set", hint);
         }
     }
     const char *opt[16], *fix[16], *ls[16];

@@ -201,7 +201,8 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
                     q->converged, q->rounding);
             m += meas;
             eo_bench_csv_num(f, q->time);
-            fprintf(f, ",%.17g,%.17g", q->g0, q->gstar);
+            char gb[2][32];
+            fprintf(f, ",%s,%s", eo_fmt_double(gb[0], q->g0), eo_fmt_double(gb[1], q->gstar));
             eo_bench_csv_num(f, q->dec);
             eo_bench_csv_num(f, q->floor);
             eo_bench_csv_num(f, sr->motion[k]);

@@ -56,8 +56,9 @@ typedef struct eo_sim eo_sim;
 /// What one step did (eo_sim_step).
 typedef struct eo_sim_step_result {
     int iterations;       ///< solver iterations (0 for an explicit integrator)
-    int reason;           ///< eo_reason: positive converged (converged_explicit for an
-                          ///< explicit step), negative not (diverged_nonfinite: stopped)
+    int reason;           ///< eo_reason: positive converged (EO_REASON_EXPLICIT,
+                          ///< "explicit", for an explicit step: nothing solved),
+                          ///< negative not (diverged_nonfinite: stopped)
     double t;             ///< time after the step (unchanged if diverged_nonfinite)
     double time;          ///< seconds spent minimizing / advancing
     double g, grad_norm;  ///< objective and ‖∇g‖ at the accepted point (NAN if explicit)

@@ -214,7 +214,7 @@ EO_API int eo_step_is_explicit(const eo_step *st);
 /// prescribed accelerations taken as 0 in its coupling) is factored once per set of
 /// constrained vertices with the mass solver (eo_step_set_mass_solver; default
 /// cholmod). Prescribed vertices follow their motion exactly.
-/// *reason: EO_CONVERGED_EXPLICIT, or EO_DIVERGED_NONFINITE when a non-finite energy or
+/// *reason: EO_REASON_EXPLICIT, or EO_DIVERGED_NONFINITE when a non-finite energy or
 /// force was met at any stage of the step (any term) or the new state is not finite
 /// (the state then stays at tₙ, the last finite one, and the step counter does not
 /// advance).

@@ -259,7 +259,7 @@ KINDS = ["material", "optimizer", "hessian_fix", "linesearch", "stop", "linear",
 PROJ = {"none": 0, "clamp": 1, "abs": 2}
 REASONS = {  # name -> value (status.h EO_REASON_LIST)
     "iterating": 0, "converged_decrement": 1, "converged_gradient": 2, "converged_step": 3,
-    "converged_energy": 4, "converged_external": 5, "converged_explicit": 6,
+    "converged_energy": 4, "converged_external": 5, "explicit": 6,
     "diverged_max_iters": -1, "diverged_linesearch": -2, "diverged_nonfinite": -3,
     "diverged_not_descent": -4, "diverged_linsolve": -5, "diverged_not_pd": -6,
     "diverged_time_budget": -7, "diverged_external": -8, "diverged_stagnated": -9,

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._core import check, ctx, overrides_list, reason_name, take_json, set_pending
-from ._ffi import ffi, lib
+from ._ffi import REASONS, ffi, lib
 from .objective import Objective, as_c, from_c
 
 
@@ -14,8 +14,8 @@ from .objective import Objective, as_c, from_c
 class StepResult:
     """What one step did (eo_sim_step_result)."""
     iterations: int
-    reason: str           # "converged_decrement", "diverged_max_iters", ...
-    converged: bool       # reason > 0
+    reason: str           # "converged_decrement", "diverged_max_iters", "explicit", ...
+    converged: bool       # an optimization converged (reason > 0, not "explicit")
     t: float              # time after the step
     time: float           # seconds spent minimizing / advancing
     g: float
@@ -358,7 +358,8 @@ class Sim:
             self._cur_n = o[0].n
         self._changed()
         check(lib.eo_sim_step(self._live(), r))
-        return StepResult(r.iterations, reason_name(r.reason), r.reason > 0, r.t, r.time, r.g,
+        return StepResult(r.iterations, reason_name(r.reason), r.reason > 0 and r.reason != REASONS["explicit"],
+                          r.t, r.time, r.g,
                           r.grad_norm, {"value": r.n_value, "gradient": r.n_gradient,
                                         "hessian": r.n_hessian, "factor": r.n_factor},
                           _stats(r.stats))

@@ -146,6 +146,16 @@ class Stepping(unittest.TestCase):
             moved = np.abs(x - sim.initial_positions).max()
             self.assertGreater(moved, 1e-3)   # the bar really twisted
 
+    def test_explicit_steps_are_not_counted_as_converged(self):
+        """An explicit integrator's steps: reason "explicit", converged False, free fall exact."""
+        ov = {"time.integrator": "verlet", "time.steps": 3, "time.dt": 1e-4, "mesh.generate.cells": [4, 1, 1]}
+        with eo.Sim(scene="freefall", overrides=ov) as sim:
+            rs = sim.run()
+            self.assertEqual([r.reason for r in rs], ["explicit"] * 3)
+            self.assertFalse(any(r.converged for r in rs))
+            self.assertEqual([r.iterations for r in rs], [0, 0, 0])
+        self.assertEqual(eo.reason_name(6), "explicit")
+
     def test_state_roundtrip_and_restart(self):
         """A state copied into another sim continues the same trajectory, bit for bit."""
         with eo.Sim(scene="cantilever", overrides=SMALL) as a, eo.Sim(scene="cantilever", overrides=SMALL) as b:
