@@ -10,7 +10,9 @@
  *                                  every output.every steps
  *   steps.csv                      one row per step, appended and flushed every step
  *   iterations.csv                 one row per solver iteration, flushed every step
- *   restart.dat                    the state after the last completed step (atomic)
+ *   restart.dat                    the state after the last completed step (atomic;
+ *                                  with time.adaptive also the substep level and
+ *                                  streak of the adaptive controller)
  *   summary.json                   build info, the config as given and as resolved, and
  *                                  per step: iterations, reason, converged, time, g,
  *                                  ‖∇g‖, centre of mass, max displacement, min J,
