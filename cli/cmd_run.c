@@ -10,7 +10,9 @@
  *                                  every output.every steps
  *   steps.csv                      one row per step, appended and flushed every step
  *   iterations.csv                 one row per solver iteration, flushed every step
- *   restart.dat                    the state after the last completed step (atomic)
+ *   restart.dat                    the state after the last completed step (atomic;
+ *                                  with time.adaptive also the substep level and
+ *                                  streak of the adaptive controller)
  *   summary.json                   build info, the config as given and as resolved, and
  *                                  per step: iterations, reason, converged, time, g,
  *                                  ‖∇g‖, centre of mass, max displacement, min J,
@@ -187,8 +189,8 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(ini, "total_energy", real_or_null(s0->total_energy));
     json_t *steps = json_array(), *bad = json_array();
     int all = 1, nconv = 0, nexpl = 0;
-    long total_iters = 0;
-    double total_time = 0;
+    long total_iters = 0, total_rejected = 0, total_substeps = 0;
+    double total_time = 0, min_substep = INFINITY;
     for (int k = 0; k < nrec; k++) {
         const eo_run_record *r = rec + k;
         int ok = eo_reason_is_converged(r->reason), expl_step = eo_reason_is_explicit(r->reason);
@@ -230,6 +232,12 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
         json_object_set_new(e, "potential", real_or_null(r->stats.potential));
         json_object_set_new(e, "work_prescribed", real_or_null(r->stats.work_prescribed));
         json_object_set_new(e, "total_energy", real_or_null(r->stats.total_energy));
+        json_object_set_new(e, "rejected", json_integer(r->rejected)); /* adaptive stepping */
+        json_object_set_new(e, "substeps", json_integer(r->substeps));
+        json_object_set_new(e, "min_substep", real_or_null(r->min_substep));
+        total_rejected += r->rejected;
+        total_substeps += r->substeps;
+        if (r->min_substep < min_substep) min_substep = r->min_substep;
         json_array_append_new(steps, e);
     }
     if (nrec < sc->time.steps) all = 0;
@@ -244,6 +252,9 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
                                                        "not_converged", nrec - nconv - nexpl));
     json_object_set_new(root, "total_iterations", json_integer(total_iters));
     json_object_set_new(root, "total_solve_time", json_real(total_time));
+    json_object_set_new(root, "adaptive", json_pack("{s:b, s:I, s:I, s:o}", "on", sc->time.adaptive, "rejected",
+                                                    (json_int_t)total_rejected, "substeps", (json_int_t)total_substeps,
+                                                    "min_substep", real_or_null(min_substep)));
     json_object_set_new(root, "wall_time", json_real(in->wall));
     json_object_set_new(root, "restarted_at_step", in->restarted_at ? json_integer(in->restarted_at) : json_null());
     json_object_set_new(root, "frames", json_integer(in->nframes));
@@ -366,6 +377,26 @@ static int read_run_json(eo_ctx *ctx, const char *dir, run_origin *o, json_t **d
                            "the same simulation (start a new run instead)",
                            dir);
     return EO_OK;
+}
+
+/* ---------------------------------------------------------------- adaptive state */
+
+/* The adaptive controller's state as the restart array "adaptive": level, streak. */
+static void get_adaptive(const eo_sim *sim, double as[2])
+{
+    int level, streak;
+    eo_sim_get_adaptive_state(sim, &level, &streak);
+    as[0] = level;
+    as[1] = streak;
+}
+
+static int set_adaptive(eo_ctx *ctx, eo_sim *sim, const char *path, const double as[2])
+{
+    if (!(as[0] >= 0 && as[0] <= EO_STEP_MAX_SUBSTEP && as[0] == floor(as[0]) && as[1] >= 0 && as[1] <= INT_MAX &&
+          as[1] == floor(as[1])))
+        return eo_error_at(ctx, EO_ERR_PARSE, EO_ERRLOC_FILE(path, -1), "array adaptive: bad level %g or streak %g",
+                           as[0], as[1]);
+    return eo_sim_set_adaptive_state(sim, (int)as[0], (int)as[1]);
 }
 
 /* ---------------------------------------------------------------- the command */
@@ -504,13 +535,22 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     snprintf(itpath, sizeof itpath, "%s/iterations.csv", dir);
     snprintf(stpath, sizeof stpath, "%s/steps.csv", dir);
     snprintf(rspath, sizeof rspath, "%s/restart.dat", dir);
+    /* adaptive stepping: the controller's substep level and converged substeps in a row
+     * (steps end on nominal boundaries, so that is all a restart needs besides the state) */
+    double as[2] = {0, 0};
     eo_run_array arrays[] = {
         {.name = "x", .data = xs, .count = 3 * (size_t)m->nv, .required = 1},
         {.name = "v", .data = vs, .count = 3 * (size_t)m->nv, .required = 1},
         {.name = "work_prescribed", .data = &work, .count = 1, .required = 0},
         {.name = "history", .data = hs, .count = hlen, .required = 0},
+        {.name = "adaptive", .data = as, .count = 2, .required = 0},
     };
-    const int narrays = hlen ? 4 : 3;
+    int narrays = hlen ? 4 : 3;
+    if (eo_sim_adaptive(sim)) { /* the table without the history, if none */
+        arrays[narrays] = arrays[4];
+        narrays++;
+    }
+    eo_run_array *aarr = eo_sim_adaptive(sim) ? arrays + narrays - 1 : NULL;
     if (restart) {
         double t;
         EO_TRY(rc = eo_run_restart_read(ctx, rspath, &first, &t, m->nv, arrays, narrays));
@@ -523,6 +563,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         EO_TRY(rc = eo_run_logs_resume(ctx, &rd, first, rec));
         nrec = first;
         EO_TRY(rc = eo_sim_set_state(sim, xs, vs, t, first));
+        if (aarr && aarr->present) EO_TRY(rc = set_adaptive(ctx, sim, rspath, as));
         if (hlen && arrays[3].present) EO_TRY(rc = eo_sim_set_history(sim, hs));
         /* the work of prescribed motions so far (absent from older restart files: from steps.csv) */
         eo_step_set_work_prescribed(st, arrays[2].present ? work
@@ -572,6 +613,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         eo_sim_get_state(sim, xs, vs, NULL, NULL);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
         work = eo_step_work_prescribed(st);
+        get_adaptive(sim, as);
         EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), m->nv, arrays, narrays));
     }
     summary_info si = {.dir = dir, .name = org.name, .pvd_file = frames ? pvd_file : NULL, .status = "running",
@@ -601,6 +643,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         eo_sim_get_state(sim, xs, vs, &tb, NULL);
         const double work_before = eo_step_work_prescribed(st);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
+        get_adaptive(sim, as);
         long off = ftell(csv);
         eo_sim_step_result r;
         double w0 = eo_wtime();
@@ -608,6 +651,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         double wall = eo_wtime() - w0;
         if (rs.interrupted) { /* the step was stopped half-way: back to the last completed one */
             EO_TRY(rc = eo_sim_set_state(sim, xs, vs, tb, k));
+            EO_TRY(rc = set_adaptive(ctx, sim, rspath, as));
             if (hlen) EO_TRY(rc = eo_sim_set_history(sim, hs));
             eo_step_set_work_prescribed(st, work_before);
             fflush(csv);
@@ -629,7 +673,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
                              .time = r.time, .wall = wall, .g = r.g, .grad_norm = r.grad_norm,
                              .n_value = r.n_value, .n_gradient = r.n_gradient, .n_hessian = r.n_hessian,
                              .n_factor = r.n_factor, .stats = r.stats, .entry = r.entry,
-                             .n_entries = r.n_entries};
+                             .n_entries = r.n_entries, .rejected = r.rejected, .substeps = r.substeps,
+                             .min_substep = r.min_substep};
         memcpy(e->entry_reason, r.entry_reason, sizeof e->entry_reason);
         memcpy(e->entry_iterations, r.entry_iterations, sizeof e->entry_iterations);
         eo_run_record_write(scsv, e);
@@ -655,6 +700,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         eo_sim_get_state(sim, xs, vs, NULL, NULL);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
         work = eo_step_work_prescribed(st);
+        get_adaptive(sim, as);
         EO_TRY(rc = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), m->nv, arrays, narrays));
         if (sc->output.summary_every > 0 && (k + 1) % sc->output.summary_every == 0 && k + 1 < nsteps) {
             si.nframes = nframes;

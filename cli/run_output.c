@@ -226,7 +226,7 @@ void eo_run_record_write(FILE *f, const eo_run_record *r)
 {
     const eo_step_stats *s = &r->stats;
     char b[17][32];
-    fprintf(f, "%d,%s,%d,%s,%d,%s,%s,%s,%s,%ld,%ld,%ld,%ld,%s,%s,%s,%s,%s,%d,%s,%s,%s,%d,%s,%s,%s,%s\n", r->step,
+    fprintf(f, "%d,%s,%d,%s,%d,%s,%s,%s,%s,%ld,%ld,%ld,%ld,%s,%s,%s,%s,%s,%d,%s,%s,%s,%d,%s,%s,%s,%s", r->step,
             eo_run_num(b[0], r->t, 17), r->iterations, eo_reason_name(r->reason),
             eo_reason_is_converged(r->reason) && !eo_reason_is_explicit(r->reason),
             eo_run_num(b[1], r->time, 17), eo_run_num(b[2], r->wall, 17), eo_run_num(b[3], r->g, 17),
@@ -236,6 +236,8 @@ void eo_run_record_write(FILE *f, const eo_run_record *r)
             eo_run_num(b[10], s->kinetic, 17), eo_run_num(b[11], s->elastic, 17), eo_run_num(b[12], s->gravity, 17), r->entry,
             eo_run_num(b[13], s->contact, 17), eo_run_num(b[14], s->potential, 17),
             eo_run_num(b[15], s->work_prescribed, 17), eo_run_num(b[16], s->total_energy, 17));
+    /* appended: adaptive stepping */
+    fprintf(f, ",%d,%d,%s\n", r->rejected, r->substeps, eo_run_num(b[13], r->min_substep, 17));
 }
 
 static int reason_from_name(const char *s, int *reason)
@@ -257,7 +259,7 @@ static int reason_from_name(const char *s, int *reason)
 /* parse one row (NUL-terminated, no newline) */
 static int parse_record(char *line, eo_run_record *r)
 {
-    enum { NF = 27, NF_OLD = 23 }; /* NF_OLD: before the energy columns */
+    enum { NF = 30, NF_E = 27, NF_OLD = 23 }; /* NF_OLD: before the energy columns, NF_E: before the adaptive ones */
     char *f[NF];
     int n = 0;
     for (char *p = line; n < NF; n++) {
@@ -270,7 +272,7 @@ static int parse_record(char *line, eo_run_record *r)
         *c = 0;
         p = c + 1;
     }
-    if (n != NF && n != NF_OLD) return -1;
+    if (n != NF && n != NF_E && n != NF_OLD) return -1;
     memset(r, 0, sizeof *r);
     r->step = atoi(f[0]);
     r->t = num_field(f[1]);
@@ -292,10 +294,17 @@ static int parse_record(char *line, eo_run_record *r)
     r->stats.elastic = num_field(f[20]);
     r->stats.gravity = num_field(f[21]);
     r->entry = atoi(f[22]);
-    r->stats.contact = n == NF ? num_field(f[23]) : NAN;
-    r->stats.potential = n == NF ? num_field(f[24]) : NAN;
-    r->stats.work_prescribed = n == NF ? num_field(f[25]) : NAN;
-    r->stats.total_energy = n == NF ? num_field(f[26]) : NAN;
+    r->stats.contact = n >= NF_E ? num_field(f[23]) : NAN;
+    r->stats.potential = n >= NF_E ? num_field(f[24]) : NAN;
+    r->stats.work_prescribed = n >= NF_E ? num_field(f[25]) : NAN;
+    r->stats.total_energy = n >= NF_E ? num_field(f[26]) : NAN;
+    r->substeps = 1;
+    r->min_substep = NAN;
+    if (n == NF) {
+        r->rejected = atoi(f[27]);
+        r->substeps = atoi(f[28]);
+        r->min_substep = num_field(f[29]);
+    }
     return 0;
 }
 

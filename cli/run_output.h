@@ -31,12 +31,16 @@ typedef struct eo_run_record {
     int entry;            /* the fallback-chain entry whose result was kept (0 = solver) */
     int n_entries;        /* entries run (0 when read back from steps.csv) */
     int entry_reason[EO_SIM_MAX_ENTRIES], entry_iterations[EO_SIM_MAX_ENTRIES];
+    /* adaptive stepping (time.adaptive; eo_sim_step_result): attempts rejected, substeps
+     * accepted, smallest step size tried (s); 0, 1, time.dt without substeps */
+    int rejected, substeps;
+    double min_substep;
 } eo_run_record;
 
 #define EO_RUN_STEPS_CSV_HEADER                                                                           \
     "step,t,iterations,reason,converged,solve_time,wall_time,g,grad_norm,n_value,n_gradient,n_hessian,"     \
     "n_factor,com_x,com_y,com_z,max_disp,min_J,inverted,kinetic,elastic,gravity_potential,entry,"         \
-    "contact,potential,work_prescribed,total_energy"
+    "contact,potential,work_prescribed,total_energy,rejected,substeps,min_substep"
 #define EO_RUN_ITER_CSV_HEADER "step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason,entry"
 
 /* The folder, locked. */
@@ -73,7 +77,8 @@ void eo_run_record_write(FILE *f, const eo_run_record *r);
 /* Read steps.csv and iterations.csv of a run that completed `steps` steps and cut both
  * after the rows of step `steps` (dropping later rows and an incomplete last line, as a
  * killed run may leave); fills rec[0..steps-1] from steps.csv. EO_ERR_PARSE if
- * steps.csv does not hold exactly the rows 1..steps in order. */
+ * steps.csv does not hold exactly the rows 1..steps in order. Rows without the adaptive
+ * columns (a run from before them) read as 0 rejected, 1 substep, min_substep NAN. */
 int eo_run_logs_resume(eo_ctx *ctx, const eo_run_dir *d, int steps, eo_run_record *rec);
 
 /* The restart file: a text header

@@ -137,6 +137,17 @@ const eo_param_desc eo_scene_time_opts_desc[] = {
     {.key = "load_steps", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_time_opts, load_steps), .def.i = 0,
      .min = 0, .range = EO_RANGE_MIN,
      .help = "static only: ramp gravity and prescribed motions linearly over this many steps (0 = full load at once)"},
+    {.key = "adaptive", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_time_opts, adaptive), .def.i = 0,
+     .help = "adaptive stepping (implicit integrators): a step that does not converge after solver.fallback is "
+             "retried as two half steps, recursively down to adaptive_min_fraction*dt; the size doubles again after "
+             "adaptive_grow_after converged substeps in a row, never beyond dt; steps still end at t = n*dt"},
+    {.key = "adaptive_min_fraction", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_time_opts, adaptive_min_fraction),
+     .def.d = 0.015625, .min = 0, .max = 1, .range = EO_RANGE_MIN_OPEN | EO_RANGE_MAX,
+     .help = "smallest substep of adaptive stepping as a fraction of dt (rounded down to a power of two, at least "
+             "2^-30); default 1/64"},
+    {.key = "adaptive_grow_after", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_time_opts, adaptive_grow_after),
+     .def.i = 2, .min = 1, .range = EO_RANGE_MIN,
+     .help = "adaptive stepping: converged substeps in a row after which the substep size doubles (up to dt)"},
     {0},
 };
 
@@ -978,6 +989,13 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     if (sc->time.load_steps > 0 && sc->integrator->inertia) {
         rc = cfg_err(ctx, cfg, "time.load_steps", EO_ERR_INVALID,
                      "time.load_steps ramps the load of a quasi-static (static) run; %s is dynamic",
+                     sc->integrator->info.name);
+        goto fail;
+    }
+    if (sc->time.adaptive && sc->integrator->explicit_step) {
+        rc = cfg_err(ctx, cfg, "time.adaptive", EO_ERR_INVALID,
+                     "adaptive stepping retries steps whose minimization did not converge; %s is explicit (no "
+                     "minimization): reduce time.dt instead",
                      sc->integrator->info.name);
         goto fail;
     }

@@ -142,7 +142,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->nv = m->nv;
     st->nt = m->nt;
     st->n_full = 3 * m->nv;
-    st->h = sc->time.dt;
+    st->h = st->h_nom = sc->time.dt;
     /* (at least 1: a mesh.points scene has no tets) */
     size_t nv = (size_t)(m->nv > 0 ? m->nv : 1), nt = (size_t)(m->nt > 0 ? m->nt : 1), nf = 3 * nv;
     st->Dminv = eo_malloc(ctx, 9 * nt * sizeof(double));

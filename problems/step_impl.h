@@ -6,7 +6,8 @@
  *   step_objective.c  the step objective's ops, eo_step_begin / eo_step_end
  *   step_initial.c    initial state (eo_step_reset) and eo_step_set_state
  *   step_explicit.c   explicit integrators: the ODE, consistent mass solve, advance
- *   step_stats.c      diagnostics (eo_step_stats) and per-tet fields */
+ *   step_stats.c      diagnostics (eo_step_stats) and per-tet fields
+ *   step_substep.c    substeps of the nominal step (eo_step_set_substep) */
 #ifndef ELASTOPT_STEP_IMPL_H
 #define ELASTOPT_STEP_IMPL_H
 
@@ -24,7 +25,13 @@ struct eo_step {
     const eo_integrator_type *integ;
     eo_sys sys;
     int nv, nt, n_full;
-    double h;
+    double h;             /* size of the next step: h_nom/2^sub_level */
+    /* substeps (eo_step_set_substep): the nominal step h_nom = time.dt, the level of the
+     * next steps, the fraction of the nominal step tₙ → tₙ + h_nom done (an exact binary
+     * fraction, 0 at nominal boundaries) and tₙ (valid while sub_done > 0) */
+    double h_nom;
+    int sub_level;
+    double sub_done, sub_t0;
     /* rest data */
     double *Dminv, *vol, *rho, *vmass;
     double *psi_rest;     /* nt: ψ(I) of each tet's material (reported energies are relative to it) */
@@ -125,6 +132,14 @@ int eo_stepi_pd_matrix_all(eo_step *st, eo_csc **A);
 int eo_stepi_pd_factor(void *data);
 int eo_stepi_pd_solve(void *data, const double *b, double *x);
 void eo_stepi_pd_deinit(eo_step *st);
+/* End time of the next step: tₙ₊₁ = t + h for a nominal step (bit for bit as always),
+ * else tₙ + (done + 2^-level)·h_nom, exactly tₙ + h_nom for the last substep. */
+double eo_stepi_t1(const eo_step *st);
+/* Load fraction (index + done + 2^-level) of the step being posed (load stepping). */
+double eo_stepi_load_steps_done(const eo_step *st);
+/* After a step: advance the progress through the nominal step; 1 if the step ended a
+ * nominal step (the index advances), 0 if it was an inner substep. */
+int eo_stepi_substep_advance(eo_step *st);
 /* step_stats.c */
 double eo_stepi_tet_J(const eo_step *st, const double *x, int k);
 /* Add the work of the prescribed motions over the step xₙ, vₙ (st->x, st->v) → x1, v1

@@ -357,7 +357,7 @@ static void damping_begin(eo_step *st)
 
 int eo_step_begin(eo_step *st, eo_objective **obj)
 {
-    const double h = st->h, t1 = st->t + h;
+    const double h = st->h, t1 = eo_stepi_t1(st);
     int rc;
     st->inv_valid = 0; /* new prescribed positions */
     /* constrained set at tₙ₊₁; rebuild the pattern if it changed */
@@ -369,7 +369,7 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
     const double w = st->w = eo_stepi_weight(st), theta = eo_stepi_theta(st);
     for (int i = 0; i < st->nterms; i++) st->terms[i]->weight = w;
     if (st->gravity && st->sc->time.load_steps > 0) /* load stepping: λ = min(1, k/L) of gravity */
-        st->gravity->weight = w * fmin(1.0, (double)(st->index + 1) / st->sc->time.load_steps);
+        st->gravity->weight = w * fmin(1.0, eo_stepi_load_steps_done(st) / st->sc->time.load_steps);
     if (st->inertia) {
         st->inertia->weight = 1;
         if (st->integ->accel)
@@ -429,7 +429,7 @@ int eo_step_end(eo_step *st, const double *x)
     if (st->integ->explicit_step)
         return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "integrator %s is explicit: advance with eo_step_advance",
                         st->integ->info.name);
-    const double h = st->h, t1 = st->t + h, theta = eo_stepi_theta(st);
+    const double t1 = eo_stepi_t1(st), theta = eo_stepi_theta(st);
     st->inv_valid = 0;
     eo_stepi_scatter_free(st, x);
     if (theta != 1) /* the minimizer is the stage z: xₙ₊₁ = xₙ + (z − xₙ)/θ */
@@ -441,7 +441,7 @@ int eo_step_end(eo_step *st, const double *x)
         for (int k = 0; k < 3; k++) st->xw[3 * v + k] = p[k];
     }
     if (st->integ->accel) /* vₙ₊₁ and aₙ₊₁ */
-        st->integ->accel_velocity(st->sc->integrator_params, st->n_full, h, st->x, st->v, st->an, st->xw, st->vnew,
+        st->integ->accel_velocity(st->sc->integrator_params, st->n_full, st->h, st->x, st->v, st->an, st->xw, st->vnew,
                                   st->anew);
     else
         eo_stepi_velocity(st, st->xw, st->vnew);
@@ -460,7 +460,7 @@ int eo_step_end(eo_step *st, const double *x)
     if (st->integ->accel) memcpy(st->an, st->anew, (size_t)st->n_full * sizeof(double));
     memcpy(st->x, st->xw, (size_t)st->n_full * sizeof(double));
     memcpy(st->v, st->vnew, (size_t)st->n_full * sizeof(double));
+    if (eo_stepi_substep_advance(st)) st->index++; /* a substep inside the nominal step: not yet */
     st->t = t1;
-    st->index++;
     return EO_OK;
 }

@@ -49,6 +49,7 @@ int main(void)
     F(eo_step_stats, work_prescribed) F(eo_step_stats, total_energy)
     S(eo_sim_step_result) F(eo_sim_step_result, t) F(eo_sim_step_result, grad_norm)
     F(eo_sim_step_result, n_value) F(eo_sim_step_result, n_factor) F(eo_sim_step_result, stats)
+    F(eo_sim_step_result, rejected) F(eo_sim_step_result, min_substep)
     printf("eo_mesh_head nv %zu\neo_mesh_head nt %zu\neo_mesh_head X %zu\neo_mesh_head tets %zu\n",
            offsetof(eo_mesh, nv), offsetof(eo_mesh, nt), offsetof(eo_mesh, X), offsetof(eo_mesh, tets));
     S(eo_bench_progress) F(eo_bench_progress, scene_name) F(eo_bench_progress, phase)

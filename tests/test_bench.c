@@ -432,6 +432,44 @@ static void test_fixed_budget(const char *dir)
     eo_test_ctx_done(&ctx);
 }
 
+/* A suite scene with time.adaptive (a scene key, `set` like any other): Newton capped at 3
+ * iterations on the cantilever at dt = 0.03 fails the trajectory at a step without it
+ * (the run stops there) and runs every step converged with it (failed steps retried in
+ * substeps); the reference and the fixed-budget runs take nominal steps either way
+ * (exactly 2 iterations per frame at budget 2). */
+static void test_adaptive_scene(const char *dir)
+{
+    const char *text =
+        "{\"repeats\": 1, \"steps\": 1, \"skip\": 3, \"plots\": false, \"ipopt_check\": false,"
+        " \"iter_budgets\": [2], \"trajectory_start\": \"scene\","
+        " \"scenes\": [{\"name\": \"off\", \"scene\": \"cantilever\", \"set\": {\"mesh.generate.cells\": [10, 2, 2],"
+        "     \"time.dt\": 0.03}},"
+        "   {\"name\": \"on\", \"scene\": \"cantilever\", \"set\": {\"mesh.generate.cells\": [10, 2, 2],"
+        "     \"time.dt\": 0.03, \"time.adaptive\": true}}],"
+        " \"configs\": [{\"name\": \"n3\", \"set\": {\"solver.optimizer\": \"newton\", \"solver.max_iters\": 3}}]}";
+    eo_ctx *ctx = eo_test_ctx();
+    char out[4200];
+    eo_bench_suite *s = run_text(ctx, dir, "adaptive", text, out, sizeof out);
+    static csv_tab t, f;
+    if (s && csv_read(out, "trajectory.csv", &t) == 0 && csv_read(out, "fixed.csv", &f) == 0) {
+        int on_rows = 0, on_conv = 0, off_rows = 0, off_conv = 0;
+        for (int r = 0; r < t.nrow; r++) {
+            int conv = !strncmp(csv_get(&t, r, "reason"), "converged", 9);
+            if (!strcmp(csv_get(&t, r, "scene"), "on")) on_rows++, on_conv += conv;
+            else off_rows++, off_conv += conv;
+        }
+        CHECK(on_rows == 4 && on_conv == 4, "adaptive scene: %d trajectory rows, %d converged (expected 4, 4)", on_rows,
+              on_conv);
+        CHECK(off_conv < off_rows, "scene without adaptive stepping: %d of %d rows converged (the case needs a failure)",
+              off_conv, off_rows);
+        int fixed_ok = f.nrow > 0;
+        for (int r = 0; r < f.nrow; r++) fixed_ok &= atoi(csv_get(&f, r, "iterations")) == 2;
+        CHECK(fixed_ok, "fixed budget 2 with adaptive stepping: %d rows, each 2 iterations", f.nrow);
+    }
+    eo_bench_suite_destroy(&s);
+    eo_test_ctx_done(&ctx);
+}
+
 /* An optional scene whose file cannot be read is dropped at load with a note; the same
  * scene not optional is an error. */
 static void test_optional(const char *dir)
@@ -520,6 +558,7 @@ int main(void)
     test_select_correction(dir);
     test_fixed_budget(dir);
     test_optional(dir);
+    test_adaptive_scene(dir);
     test_shipped_suites();
     return eo_test_finish("test_bench");
 }

@@ -16,7 +16,10 @@
  *   trajectory  each configuration with its own stopping rule from the scene's initial
  *               state over all skip + S steps (the whole benchmark scene), stopping at
  *               the first step its rule does not meet; distance per frame to the
- *               reference positions.
+ *               reference positions. A suite scene with time.adaptive = true (a scene
+ *               key like any other, `set` in the suite) steps these runs adaptively
+ *               (sim.h: a step that fails is retried in substeps, frames stay at n·dt);
+ *               the reference and the fixed-budget runs always take nominal steps.
  *
  * Every step runs through eo_sim (sim.h), the library's one copy of the step protocol:
  * the reference and the trajectories with eo_sim_step (the sim's solver swapped with
@@ -1346,6 +1349,10 @@ static int run_scene(run_ctx *r, int si)
     rso.max_iters = s->o.ref_max_iters;
     rso.time_budget = 0;
     EO_TRY(rc = eo_sim_set_solver(sim, &rso, NULL));
+    /* the reference solves the nominal steps' problems (a scene's time.adaptive acts in
+     * the trajectory runs only) */
+    const int adaptive = eo_sim_adaptive(sim);
+    EO_TRY(rc = eo_sim_set_adaptive(sim, 0));
     ref_state rs;
     eo_sim_set_iter_callback(sim, ref_iter, &rs);
     eo_objective *obj;
@@ -1499,6 +1506,7 @@ static int run_scene(run_ctx *r, int si)
             eo_solver_opts tso = so;
             tso.time_budget = budget;
             EO_TRY(rc = eo_sim_set_solver(sim, &tso, ccfg));
+            EO_TRY(rc = eo_sim_set_adaptive(sim, adaptive)); /* the scene's time.adaptive */
             EO_TRY(rc = eo_sim_set_state(sim, fx + (size_t)t0 * nf, fv + (size_t)t0 * nf, ft[t0], t0));
             if (s->o.warmup_iters > 0) {
                 int left = s->o.warmup_iters;
@@ -1541,6 +1549,8 @@ static int run_scene(run_ctx *r, int si)
          * warmed up (untimed) on the window's first step before its timed frames. */
         if (b->nibud_on) {
             progress(r, si, ci, "fixed");
+            /* exactly k iterations per nominal step: no substeps */
+            EO_TRY(rc = eo_sim_set_adaptive(sim, 0));
             const size_t fr = (size_t)sr->win0 * nf;
             int limit_cb = 0; /* backstop for optimizers with their own loops (nlopt counts evaluations) */
             for (int j = 0; j < s->nibud; j++) {

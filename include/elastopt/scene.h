@@ -76,7 +76,8 @@
 ///                      random_ball; velocity is the uniform initial velocity
 ///   damping.{viscous, rayleigh_alpha, rayleigh_beta}
 ///                      damping force −C v, C = γI + αM + βK₀ (eo_scene_damping_opts)
-///   time.integrator, time.dt, time.steps, time.load_steps
+///   time.integrator, time.dt, time.steps, time.load_steps, time.adaptive (+ _min_fraction,
+///   _grow_after)
 ///   output.dir, output.every, output.vtu, output.summary_every
 ///   solver.*           the solver's section (solver.h), loaded by the caller
 #ifndef ELASTOPT_SCENE_H
@@ -185,6 +186,16 @@ typedef struct eo_scene_time_opts {
     int load_steps;         ///< static only: gravity and prescribed motions ramp linearly over
                             ///< this many steps (step k applies k/load_steps of the load; then
                             ///< the full load), 0 = full load from the first step. Default 0.
+    /// Adaptive stepping (eo_sim_step, sim.h; implicit integrators only: an explicit one
+    /// with adaptive on is a config error). A step that does not converge after the
+    /// solver.fallback chain is retried as two half steps, recursively, down to
+    /// adaptive_min_fraction·dt; the substep size doubles again after adaptive_grow_after
+    /// consecutive converged substeps, never beyond dt and never past the end of the
+    /// nominal step (steps end at t = n·dt as without adaptive stepping).
+    int adaptive;           ///< Default false.
+    double adaptive_min_fraction;  ///< smallest substep / dt, in (0, 1]; rounded down to a power
+                            ///< of two, at least 2^-30. Default 1/64 (0.015625).
+    int adaptive_grow_after;       ///< converged substeps in a row before the size doubles, >= 1. Default 2.
 } eo_scene_time_opts;
 
 /// `damping` section (001 §2.1–2.2): damping force −C v with

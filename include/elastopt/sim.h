@@ -73,6 +73,17 @@ typedef struct eo_sim_step_result {
     int n_entries;
     int entry_reason[EO_SIM_MAX_ENTRIES];
     int entry_iterations[EO_SIM_MAX_ENTRIES];
+    /// Adaptive stepping (scene key time.adaptive, see eo_sim_step): attempts rejected
+    /// (a solve that did not converge after the chain, or a non-finite new state, retried
+    /// at half the size), substeps accepted (1 for a step without substeps, 0 for one
+    /// undone as diverged_nonfinite) and the smallest step size tried, s (time.dt without
+    /// substeps). With substeps, iterations add up the kept runs of every accepted
+    /// substep, reason is the first accepted substep's that did not converge (else the
+    /// last one's), g, grad_norm and the chain fields are those of the last solve, and
+    /// time and the evaluation counts add up every run, rejected attempts included.
+    int rejected;
+    int substeps;
+    double min_substep;
 } eo_sim_step_result;
 
 /// Create a simulation from a scene config document (eo_scene_cfg_load + the caller's
@@ -112,11 +123,41 @@ EO_API int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solv
 /// last). Every entry is validated at create (errors name `solver.fallback.N`).
 /// eo_sim_trial uses only the solver it is given.
 ///
+/// Adaptive stepping (scene keys time.adaptive, time.adaptive_min_fraction,
+/// time.adaptive_grow_after; implicit integrators): eo_sim_step advances one nominal step
+/// tₙ → tₙ + dt in substeps of dt/2^k (eo_step_set_substep; k = 0 at first and after a
+/// set_state or reset, then kept from step to step). A substep that has not converged
+/// after the fallback chain, or whose new state is not finite, is rejected and solved
+/// again from the same state (positions, velocities, history) as two halves, recursively
+/// down to the smallest size dt·adaptive_min_fraction, where it is accepted as it is
+/// (not converged; a non-finite one is undone and the step stops with
+/// diverged_nonfinite at the last finite state, possibly inside the nominal step). After
+/// adaptive_grow_after converged substeps in a row the size doubles, up to dt and only
+/// where the substeps still end on tₙ + dt: every step ends at the time a nominal step
+/// ends at, so frames and restarts stay at t = n·dt. A step that converges at full size
+/// does exactly what it does with adaptive stepping off, bit for bit. bdf2 takes a
+/// backward Euler step after every change of size (eo_step_set_substep). A callback
+/// stop (diverged_external) ends the call at once (inside the nominal step if it was in
+/// a substep: the next call completes that step).
+///
 /// One time step, the whole protocol (see the file comment). Returns EO_OK also when
 /// the step did not converge (r->reason negative; diverged_nonfinite leaves the state
 /// at the last finite one and does not advance t); a negative status only for errors
 /// (objective, linear solver, no memory). r may be NULL.
 EO_API int eo_sim_step(eo_sim *s, eo_sim_step_result *r);
+/// 1 if adaptive stepping is on (initially the scene's time.adaptive).
+EO_API int eo_sim_adaptive(const eo_sim *s);
+/// Turn adaptive stepping on or off for the following steps (EO_ERR_UNSUPPORTED to turn
+/// it on for an explicit integrator). Off: nominal steps from the next nominal boundary.
+EO_API int eo_sim_set_adaptive(eo_sim *s, int on);
+/// The adaptive controller's state between steps: the substep level k (steps of
+/// dt/2^k) and the converged substeps in a row. eo_sim_set_state and eo_sim_reset set
+/// both to 0; to continue a run exactly, restore the state, then this, then the history
+/// (a change of level invalidates a multistep history). `elastopt run` keeps them in
+/// restart.dat. Set: EO_ERR_RANGE for a level outside 0..EO_STEP_MAX_SUBSTEP or one that
+/// does not fit the progress through the nominal step, or a negative streak.
+EO_API void eo_sim_get_adaptive_state(const eo_sim *s, int *level, int *streak);
+EO_API int eo_sim_set_adaptive_state(eo_sim *s, int level, int streak);
 /// The next step's objective and starting guess (obj->n free coordinates, writable)
 /// without solving it; borrowed until the next step, trial or state change. A following
 /// eo_sim_step or eo_sim_trial uses this objective and this guess. Either may be NULL.

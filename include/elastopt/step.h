@@ -204,6 +204,34 @@ EO_API int eo_step_get_history(const eo_step *st, double *h);
 /// if the integrator has none, EO_ERR_RANGE if the last entry is neither 0 nor 1.
 EO_API int eo_step_set_history(eo_step *st, const double *h);
 
+/// Substeps of the nominal step h = time.dt (implicit integrators; eo_sim's adaptive
+/// stepping, sim.h). At level k the following steps are h/2^k long: eo_step_begin poses
+/// the step problem with that size (weight, predictor, velocity update, damping and
+/// friction follow it) and the engine counts the progress p through the current nominal
+/// step tₙ → tₙ + h as an exact binary fraction. A substep ends at tₙ + (p + 2^-k)·h,
+/// the last one (p + 2^-k = 1) exactly at tₙ + h, the time a nominal step ends at; only
+/// that one advances the step index (eo_step_index counts nominal steps). Level 0 with
+/// p = 0 is the nominal step, bit for bit as without substeps. Prescribed motions,
+/// releases and time.load_steps follow the time (a substep applies its share).
+/// A multistep integrator (bdf2) keeps the previous step only while the size does not
+/// change: a change of level marks the history invalid, so the first step after it is
+/// the one-step start (backward Euler for bdf2) and the following steps of the new size
+/// the fixed-step formula again (the restart choice; variable-step BDF2 coefficients are
+/// not used). eo_step_reset and eo_step_set_state go back to level 0, p = 0.
+#define EO_STEP_MAX_SUBSTEP 30
+typedef struct eo_step_substep {
+    int level;          ///< steps of h/2^level, 0..EO_STEP_MAX_SUBSTEP
+    double done;        ///< p: fraction of the current nominal step done, a multiple of 2^-level in [0, 1)
+    double t_start;     ///< tₙ, where the current nominal step started (the time when done = 0)
+} eo_step_substep;
+/// The current level, progress and start of the nominal step.
+EO_API void eo_step_get_substep(const eo_step *st, eo_step_substep *s);
+/// Set the level of the following steps (and the progress, to restore a saved state:
+/// after eo_step_set_state, before eo_step_set_history). EO_ERR_RANGE for a level outside
+/// 0..EO_STEP_MAX_SUBSTEP or a progress that is not a multiple of 2^-level in [0, 1);
+/// EO_ERR_UNSUPPORTED for an explicit integrator.
+EO_API int eo_step_set_substep(eo_step *st, const eo_step_substep *s);
+
 /// 1 if the scene's integrator is explicit (eo_integrator_type.explicit_step set). For
 /// those, eo_step_begin builds the potential-energy objective E(x) (weight 1, no
 /// inertia: its −∇ is the force the integrator uses), which `elastopt check` verifies;

@@ -189,6 +189,7 @@ typedef struct eo_sim_step_result {
     int iterations; int reason; double t; double time; double g, grad_norm;
     long n_value, n_gradient, n_hessian, n_factor; eo_step_stats stats;
     int entry; int n_entries; int entry_reason[8]; int entry_iterations[8];
+    int rejected; int substeps; double min_substep;
 } eo_sim_step_result;
 int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out);
 int eo_sim_create_from(eo_ctx *ctx, const char *path, const char *builtin,

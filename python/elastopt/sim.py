@@ -23,6 +23,9 @@ class StepResult:
     evaluations: dict     # value, gradient, hessian, factor
     stats: dict           # com, max_disp, min_J, max_J, inverted, kinetic, elastic, gravity,
                           # contact, potential, work_prescribed, total_energy
+    rejected: int = 0     # adaptive stepping (time.adaptive): attempts rejected,
+    substeps: int = 1     # substeps accepted,
+    min_substep: float = 0.0  # smallest step size tried (s)
 
 
 @dataclass
@@ -362,7 +365,7 @@ class Sim:
                           r.t, r.time, r.g,
                           r.grad_norm, {"value": r.n_value, "gradient": r.n_gradient,
                                         "hessian": r.n_hessian, "factor": r.n_factor},
-                          _stats(r.stats))
+                          _stats(r.stats), r.rejected, r.substeps, r.min_substep)
 
     def run(self, steps=None):
         """`steps` steps (default: the scene's time.steps minus the steps done); stops
