@@ -37,6 +37,7 @@
 #include "eo_build_config.h"
 #include "elastopt/config.h"
 #include "elastopt/linsolve.h"
+#include "cli/blas_fix.h"
 #include "elastopt/machine.h"
 #include "elastopt/scene.h"
 #include "elastopt/sparse.h"
@@ -509,9 +510,13 @@ static void run_bar(const bar_case *bc)
 
 int main(int argc, char **argv)
 {
+    eo_cli_blas_fix(argv, 0); /* OpenBLAS on a generic core: run again with OPENBLAS_CORETYPE */
     char machine[512];
     eo_machine_describe(machine, sizeof machine);
     printf("bench_linsolve: %s\n", machine);
+    char blas_line[640];
+    eo_blas_describe(blas_line, sizeof blas_line);
+    printf("bench_linsolve: %s\n", blas_line);
     const char *thr = getenv("OPENBLAS_NUM_THREADS");
     printf("OPENBLAS_NUM_THREADS=%s; times are medians of the factor+solve repetitions; stationary\n"
            "methods are capped at 2000 iterations (default tol 1e-10)\n", thr ? thr : "(unset)");
