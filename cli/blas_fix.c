@@ -9,7 +9,7 @@
  * ELASTOPT_BLAS_FIXED_FROM = the core it left (the loop guard, and what the reports
  * print as "(fixed from Prescott)"). It happens before anything else (no file opened, no
  * output written), at most once. */
-#define _GNU_SOURCE /* setenv, unsetenv */
+#define _GNU_SOURCE /* setenv, unsetenv, getloadavg */
 #include "blas_fix.h"
 
 #include <errno.h>
@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "elastopt/machine.h"
+#include "elastopt/status.h"
 
 static int env_on(const char *name)
 {
@@ -52,4 +53,38 @@ void eo_cli_blas_fix(char **argv, int no_fix)
             "%s: warning: OpenBLAS runs its generic %s kernels on this CPU and re-executing with "
             "OPENBLAS_CORETYPE=%s failed (%s); set OPENBLAS_CORETYPE=%s for its faster kernels\n",
             argv[0] ? argv[0] : "elastopt", b.core, b.recommended, strerror(err), b.recommended);
+}
+
+static char g_note[160];
+
+const char *eo_cli_blas_threads_note(void) { return g_note; }
+
+int eo_cli_blas_threads(void)
+{
+    static const char *const vars[] = {"OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS",
+                                       "BLIS_NUM_THREADS", "MKL_NUM_THREADS", NULL};
+    for (const char *const *v = vars; *v; v++) {
+        const char *e = getenv(*v);
+        if (e && *e) { /* the user's choice */
+            snprintf(g_note, sizeof g_note, "%s=%s (user)", *v, e);
+            return 0;
+        }
+    }
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    double load[1];
+    if (cores < 2 || getloadavg(load, 1) != 1) {
+        snprintf(g_note, sizeof g_note, "default (%ld core%s)", cores, cores == 1 ? "" : "s");
+        return 0;
+    }
+    if (load[0] + 1.0 <= (double)cores) { /* idle: a core for every BLAS thread */
+        snprintf(g_note, sizeof g_note, "default (idle machine: load %.2f on %ld cores)", load[0], cores);
+        return 0;
+    }
+    if (eo_blas_set_threads(1) != EO_OK) {
+        snprintf(g_note, sizeof g_note, "default (not settable; busy machine: load %.2f on %ld cores)", load[0], cores);
+        return 0;
+    }
+    snprintf(g_note, sizeof g_note, "1 (busy machine: load %.2f on %ld cores; OPENBLAS_NUM_THREADS overrides)", load[0],
+             cores);
+    return 1;
 }

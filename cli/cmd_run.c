@@ -60,6 +60,7 @@
 #include "elastopt/sim.h"
 #include "progress.h"
 #include "run_output.h"
+#include "blas_fix.h"
 #include "profile.h"
 #include "scene_args.h"
 
@@ -169,8 +170,9 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     char blas_line[640];
     eo_blas_describe(blas_line, sizeof blas_line);
     json_object_set_new(root, "blas",
-                        json_pack("{s:s, s:s, s:s, s:s, s:i, s:s, s:b, s:s?, s:s?, s:s}", "name", blas.name, "version",
-                                  blas.version, "config", blas.config, "core", blas.core, "threads", blas.threads,
+                        json_pack("{s:s, s:s, s:s, s:s, s:i, s:s, s:s, s:b, s:s?, s:s?, s:s}", "name", blas.name,
+                                  "version", blas.version, "config", blas.config, "core", blas.core, "threads",
+                                  blas.threads, "threads_policy", eo_cli_blas_threads_note(),
                                   "library", blas.library, "fallback", blas.fallback, "recommended_coretype",
                                   blas.recommended, "fixed_from", blas.fixed_from[0] ? blas.fixed_from : NULL,
                                   "line", blas_line));

@@ -12,6 +12,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "blas_fix.h"
 #include "elastopt/machine.h"
 
 static const eo_profile *solver_profile(const eo_sim *sim)
@@ -34,7 +35,8 @@ void eo_cli_profile_blas(FILE *out)
 {
     char line[640];
     eo_blas_describe(line, sizeof line);
-    fprintf(out, "profile: %s\n", line);
+    const char *why = eo_cli_blas_threads_note();
+    fprintf(out, "profile: %s%s%s\n", line, *why ? "; threads: " : "", why);
 }
 
 void eo_cli_profile_step(eo_cli_profile *p, const eo_sim *sim, int step)

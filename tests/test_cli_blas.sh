@@ -6,7 +6,8 @@
 #    AVX-512 CPU reported as a fallback with a recommended coretype);
 #  - with ELASTOPT_BLAS_FIX=force it is overridden: exactly one re-execution (strace when
 #    present), the recommended core runs, "(fixed from Prescott)" in the profile and
-#    fixed_from in summary.json; --no-blas-fix and ELASTOPT_NO_BLAS_FIX=1 opt out.
+#    fixed_from in summary.json; --no-blas-fix and ELASTOPT_NO_BLAS_FIX=1 opt out;
+#  - threads: 1 on a busy machine, the user's OPENBLAS_NUM_THREADS kept (threads_policy).
 # The fallback cases need an AVX CPU and OpenBLAS; elsewhere only the first checks run.
 set -u
 EXE="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"
@@ -31,6 +32,17 @@ name=$(blas plain "b['name']")
 [ "$name" != unknown ] && ok || bad "BLAS not identified: $(blas plain b)"
 [ "$(blas plain "b['threads'] >= 1")" = True ] && ok || bad "threads: $(blas plain b)"
 [ "$(blas plain "b['fixed_from'] is None")" = True ] && ok || bad "fixed_from without a re-execution"
+pol=$(blas plain "b['threads_policy']")
+case "$pol" in
+    "1 (busy machine"*) [ "$(blas plain "b['threads']")" = 1 ] && ok || bad "busy machine, threads $(blas plain b)" ;;
+    default*) ok ;;
+    *) bad "threads_policy '$pol'" ;;
+esac
+OPENBLAS_NUM_THREADS=2 "$EXE" "${RUN[@]}" --out two > two.txt 2>&1
+if [ "$name" = OpenBLAS ]; then
+    [ "$(blas two "b['threads']")" = 2 ] && ok || bad "OPENBLAS_NUM_THREADS=2 not kept: $(blas two b)"
+fi
+[ "$(blas two "b['threads_policy']")" = "OPENBLAS_NUM_THREADS=2 (user)" ] && ok || bad "policy: $(blas two b)"
 case "$line" in *"core $core"*) ok ;; *) [ -z "$core" ] && ok || bad "profile line '$line' lacks core $core" ;; esac
 
 if [ "$name" = OpenBLAS ] && grep -q -w avx /proc/cpuinfo 2>/dev/null; then
