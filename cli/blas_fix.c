@@ -9,7 +9,7 @@
  * ELASTOPT_BLAS_FIXED_FROM = the core it left (the loop guard, and what the reports
  * print as "(fixed from Prescott)"). It happens before anything else (no file opened, no
  * output written), at most once. */
-#define _GNU_SOURCE /* setenv, unsetenv, getloadavg */
+#define _GNU_SOURCE /* setenv, unsetenv */
 #include "blas_fix.h"
 
 #include <errno.h>
@@ -70,21 +70,10 @@ int eo_cli_blas_threads(void)
             return 0;
         }
     }
-    long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    double load[1];
-    if (cores < 2 || getloadavg(load, 1) != 1) {
-        snprintf(g_note, sizeof g_note, "default (%ld core%s)", cores, cores == 1 ? "" : "s");
-        return 0;
-    }
-    if (load[0] + 1.0 <= (double)cores) { /* idle: a core for every BLAS thread */
-        snprintf(g_note, sizeof g_note, "default (idle machine: load %.2f on %ld cores)", load[0], cores);
-        return 0;
-    }
     if (eo_blas_set_threads(1) != EO_OK) {
-        snprintf(g_note, sizeof g_note, "default (not settable; busy machine: load %.2f on %ld cores)", load[0], cores);
+        snprintf(g_note, sizeof g_note, "the BLAS's own (not settable)");
         return 0;
     }
-    snprintf(g_note, sizeof g_note, "1 (busy machine: load %.2f on %ld cores; OPENBLAS_NUM_THREADS overrides)", load[0],
-             cores);
+    snprintf(g_note, sizeof g_note, "1 (elastopt's default; OPENBLAS_NUM_THREADS=N for more)");
     return 1;
 }

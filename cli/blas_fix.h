@@ -11,18 +11,18 @@
  * otherwise execv("/proc/self/exe", argv) does not return. */
 void eo_cli_blas_fix(char **argv, int no_fix);
 
-/* The BLAS thread policy of the CLI: when none of OPENBLAS_NUM_THREADS,
- * GOTO_NUM_THREADS, OMP_NUM_THREADS, BLIS_NUM_THREADS, MKL_NUM_THREADS is set, the BLAS
- * runs 1 thread unless the machine is idle (1-minute load average + 1 <= cores online),
- * when it keeps its default (one per core; OpenBLAS itself runs small calls on one
- * thread). Measured (bench/results/blas-threads-amd-epyc-2cpu.txt): on the shared
- * 2-core machine (load 5-12), a second thread changed the median wall time of a 50k- or
- * 108k-tet factorization by -2% to +29% and cost 7-41% more CPU time, in each of 9
- * measurements. Returns the thread count set, 0 when it left the BLAS alone. */
+/* The BLAS thread policy of the CLI: 1 thread, unless OPENBLAS_NUM_THREADS,
+ * GOTO_NUM_THREADS, OMP_NUM_THREADS, BLIS_NUM_THREADS or MKL_NUM_THREADS is set (then the
+ * BLAS keeps what they say). Why (bench/results/blas-threads-amd-epyc-2cpu.txt): on the
+ * shared 2-core machine (load 5-12), a second thread changed the median wall time of a
+ * 50k- or 108k-tet factorization by -2% to +29% and cost 7-41% more CPU time, in each of
+ * 9 measurements; and the count is not chosen from the load average, because OpenBLAS's
+ * dpotrf blocks differently with 1 and 2 threads (results differ in the last bits), so a
+ * load-dependent count would make a run, and a restart's "bit for bit", depend on what
+ * else the machine runs. Returns 1 when it set 1 thread, 0 when it left the BLAS alone. */
 int eo_cli_blas_threads(void);
 /* Why the BLAS has the threads it has, after eo_cli_blas_threads: "OPENBLAS_NUM_THREADS=2
- * (user)", "1 (busy machine: load 7.26 on 2 cores)", "default (idle machine: load ...)";
- * "" before. Static. */
+ * (user)", "1 (elastopt's default; ...)"; "" before. Static. */
 const char *eo_cli_blas_threads_note(void);
 
 #endif

@@ -119,7 +119,7 @@ int main(int argc, char **argv)
     for (int i = 1; i < argc; i++) no_fix |= strcmp(argv[i], "--no-blas-fix") == 0;
     eo_cli_blas_fix(argv, no_fix);
     take_no_blas_fix(&argc, argv);
-    eo_cli_blas_threads(); /* 1 BLAS thread on a busy machine unless the user chose (blas_fix.h) */
+    eo_cli_blas_threads(); /* 1 BLAS thread unless the user chose (blas_fix.h) */
 
     eo_ctx *pctx = NULL; /* plug-ins register process-wide; this context only reports */
     if (eo_ctx_create(NULL, &pctx) < 0) {
