@@ -5,7 +5,7 @@
  * 0.3.21 on Intel family 6 model 207) gets the Prescott (SSE3) kernels; a 108k-tet
  * CHOLMOD factorization ran 2.1x faster with SkylakeX. Nothing can swap the kernels of a
  * loaded OpenBLAS, so the program executes itself again, same argv, with
- * OPENBLAS_CORETYPE = the core eo_blas_core_advice recommends and
+ * OPENBLAS_CORETYPE = the core eo_blas_is_fallback recommends and
  * ELASTOPT_BLAS_FIXED_FROM = the core it left (the loop guard, and what the reports
  * print as "(fixed from Prescott)"). It happens before anything else (no file opened, no
  * output written), at most once. */

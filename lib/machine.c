@@ -157,7 +157,7 @@ static int cpu_level(const eo_cpu_features *cpu)
     return 1;
 }
 
-int eo_blas_core_advice(const eo_cpu_features *cpu, const char *core, const char **recommended)
+int eo_blas_is_fallback(const eo_cpu_features *cpu, const char *core, const char **recommended)
 {
     if (recommended) *recommended = NULL;
     int have = core_level(core), can = cpu_level(cpu);
@@ -274,7 +274,7 @@ void eo_blas_get(eo_blas_info *b)
     if (b->kind == EO_BLAS_OPENBLAS) {
         eo_cpu_features cpu;
         eo_cpu_features_get(&cpu);
-        b->fallback = eo_blas_core_advice(&cpu, b->core, &b->recommended);
+        b->fallback = eo_blas_is_fallback(&cpu, b->core, &b->recommended);
     }
     copy(b->fixed_from, sizeof b->fixed_from, getenv("ELASTOPT_BLAS_FIXED_FROM"));
 }

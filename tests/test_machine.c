@@ -64,14 +64,14 @@ static void test_advice_table(void)
     for (size_t k = 0; k < sizeof t / sizeof t[0]; k++) {
         eo_cpu_features f = cpu(t[k].vendor, t[k].family, t[k].model, t[k].isa);
         const char *rec = "unset";
-        int fb = eo_blas_core_advice(&f, t[k].core, &rec);
+        int fb = eo_blas_is_fallback(&f, t[k].core, &rec);
         CHECK(fb == t[k].fallback, "%s: fallback %d, expected %d", t[k].what, fb, t[k].fallback);
         CHECK(t[k].recommended ? rec && strcmp(rec, t[k].recommended) == 0 : rec == NULL, "%s: recommended %s, expected %s",
               t[k].what, rec ? rec : "NULL", t[k].recommended ? t[k].recommended : "NULL");
-        CHECK(eo_blas_core_advice(&f, t[k].core, NULL) == fb, "%s: a NULL recommended pointer is allowed", t[k].what);
+        CHECK(eo_blas_is_fallback(&f, t[k].core, NULL) == fb, "%s: a NULL recommended pointer is allowed", t[k].what);
     }
     eo_cpu_features f = cpu(INTEL, 6, 207, AVX512);
-    CHECK(eo_blas_core_advice(&f, NULL, NULL) == 0, "NULL core");
+    CHECK(eo_blas_is_fallback(&f, NULL, NULL) == 0, "NULL core");
 }
 
 static void test_cpu_features(void)
@@ -111,7 +111,7 @@ static void test_blas_live(void)
         eo_cpu_features f;
         eo_cpu_features_get(&f);
         const char *rec;
-        CHECK(b.fallback == eo_blas_core_advice(&f, b.core, &rec) && b.recommended == rec, "advice of the live core");
+        CHECK(b.fallback == eo_blas_is_fallback(&f, b.core, &rec) && b.recommended == rec, "advice of the live core");
     }
     int t0 = b.threads;
     if (b.kind != EO_BLAS_REFERENCE) {

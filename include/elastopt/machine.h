@@ -95,14 +95,14 @@ typedef struct eo_blas_info {
     char core[64];            ///< kernel set: OpenBLAS openblas_get_corename() ("SkylakeX"), BLIS its arch ("skx"); "" when unknown
     int threads;              ///< threads the BLAS uses now; 1 for the reference BLAS; -1 when unknown
     char library[256];        ///< the file that provides `dgemm_`; "" when not found
-    int fallback;             ///< 1: OpenBLAS runs a generic core on a CPU with better kernels (eo_blas_core_advice)
+    int fallback;             ///< 1: OpenBLAS runs a generic core on a CPU with better kernels (eo_blas_is_fallback)
     const char *recommended;  ///< when fallback: the OPENBLAS_CORETYPE to set ("SkylakeX"), else NULL (static)
     char fixed_from[64];      ///< the core before the CLI re-executed itself with OPENBLAS_CORETYPE (environment
                               ///< ELASTOPT_BLAS_FIXED_FROM, set by the CLI); "" when it did not
 } eo_blas_info;
 
 /// Fill *b: the BLAS providing `dgemm_` in this process, its core, threads, and whether
-/// the core is a fallback for this CPU (eo_cpu_features_get + eo_blas_core_advice).
+/// the core is a fallback for this CPU (eo_cpu_features_get + eo_blas_is_fallback).
 /// Never fails: an unidentified BLAS is EO_BLAS_UNKNOWN.
 EO_API void eo_blas_get(eo_blas_info *b);
 
@@ -118,7 +118,7 @@ EO_API void eo_blas_get(eo_blas_info *b);
 /// (avx512f+dq+bw+vl; 0.3.21 ignores OPENBLAS_CORETYPE=Cooperlake, and Cooperlake's
 /// DGEMM kernels are SkylakeX's), "Zen" (AMD) or "Haswell" (others) for AVX2+FMA,
 /// "Sandybridge" for AVX; otherwise *recommended is NULL. Returns 1 or 0.
-EO_API int eo_blas_core_advice(const eo_cpu_features *cpu, const char *core, const char **recommended);
+EO_API int eo_blas_is_fallback(const eo_cpu_features *cpu, const char *core, const char **recommended);
 
 /// One line (no newline) describing the BLAS into buf (n bytes, truncated, always
 /// terminated when n > 0): name, version, core, "(fixed from X)" after the CLI's
