@@ -118,7 +118,10 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     o.plots = plots;
     o.progress = quiet ? NULL : on_progress;
     o.user = &ps;
-    if (profile) o.profile = on_profile;
+    if (profile) {
+        o.profile = on_profile;
+        eo_cli_profile_blas(stdout);
+    }
     if (!quiet) {
         fprintf(stderr, "bench %s: %d scene(s) x %d configuration(s) -> %s\n", suite_path, eo_bench_suite_nscenes(s),
                 eo_bench_suite_nconfigs(s), dir);

@@ -67,6 +67,7 @@
 #include "elastopt/sim.h"
 #include "progress.h"
 #include "run_output.h"
+#include "blas_fix.h"
 #include "profile.h"
 #include "scene_args.h"
 
@@ -172,6 +173,17 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(root, "build", json_pack("{s:s, s:s, s:s, s:s}", "version", mach.version, "buildtype",
                                                  mach.build_type, "git_revision", mach.revision, "compiler",
                                                  mach.compiler));
+    eo_blas_info blas;
+    eo_blas_get(&blas);
+    char blas_line[640];
+    eo_blas_describe(blas_line, sizeof blas_line);
+    json_object_set_new(root, "blas",
+                        json_pack("{s:s, s:s, s:s, s:s, s:i, s:s, s:s, s:b, s:s?, s:s?, s:s}", "name", blas.name,
+                                  "version", blas.version, "config", blas.config, "core", blas.core, "threads",
+                                  blas.threads, "threads_policy", eo_cli_blas_threads_note(),
+                                  "library", blas.library, "fallback", blas.fallback, "recommended_coretype",
+                                  blas.recommended, "fixed_from", blas.fixed_from[0] ? blas.fixed_from : NULL,
+                                  "line", blas_line));
     json_object_set_new(root, "config", json_deep_copy(eo_cfg_root(cfg)));
     json_t *res = json_object();
     json_object_set_new(res, "scene", eo_scene_to_json(sc));
@@ -790,9 +802,11 @@ const eo_cli_command eo_cmd_run = {
              "On a terminal a progress line is redrawn on stderr (step, simulated time, time per\n"
              "step, ETA, last step's iterations, worst reason); not on a terminal a line every\n"
              "5 s at most; --verbose: one line per step; --quiet: nothing but errors.\n"
-             "--profile: per step and in total, the solver's time in assembly, factorization\n"
-             "(symbolic, numeric), solves, line search, gradients and other, and the ratio of\n"
-             "a Newton iteration to its numeric factorization (stdout).\n"
+             "--profile: the BLAS line (name, version, core, threads, \"(fixed from Prescott)\"\n"
+             "after a re-execution with OPENBLAS_CORETYPE), then per step and in total, the\n"
+             "solver's time in assembly, factorization (symbolic, numeric), solves, line search,\n"
+             "gradients and other, and the ratio of a Newton iteration to its numeric\n"
+             "factorization (stdout). summary.json carries the same BLAS facts under \"blas\".\n"
              "Exit status: 0 every step converged, 1 some step did not, 2 bad input or an output\n"
              "that cannot be written (nothing written), 130/143 interrupted.\n",
     .run = run,

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "blas_fix.h"
 #include "cli.h"
 #include "eo_build_config.h"
 #include "elastopt/plugin.h"
@@ -96,6 +97,9 @@ static void usage(FILE *f)
         fprintf(f, "  %-10s %s\n", (*c)->name, (*c)->summary);
     fprintf(f, "\nglobal option: --plugin FILE (repeatable; also ELASTOPT_PLUGINS=a.so:b.so) loads methods\n"
                "from a plug-in shared object (elastopt/plugin.h).\n"
+               "global option: --no-blas-fix (also ELASTOPT_NO_BLAS_FIX=1) keeps OpenBLAS's own kernel choice;\n"
+               "by default, when OpenBLAS runs a generic core (Prescott) on a CPU with AVX2 / AVX-512,\n"
+               "elastopt executes itself again with OPENBLAS_CORETYPE set (elastopt(1), BLAS kernels).\n"
                "\n`elastopt COMMAND --help` documents each command.\n"
                "exit status: 0 success, 1 ran but did not converge, 2 bad input or usage.\n");
 }
@@ -128,8 +132,29 @@ static int load_plugins(eo_ctx *ctx, int *argc, char **argv)
     return 0;
 }
 
+/* Remove every `--no-blas-fix` from argv; returns 1 when there was one. */
+static int take_no_blas_fix(int *argc, char **argv)
+{
+    int out = 1, found = 0;
+    for (int i = 1; i < *argc; i++) {
+        if (strcmp(argv[i], "--no-blas-fix") == 0) found = 1;
+        else argv[out++] = argv[i];
+    }
+    *argc = out;
+    argv[out] = NULL;
+    return found;
+}
+
 int main(int argc, char **argv)
 {
+    /* First of all: OpenBLAS on a generic fallback core -> execute again with
+     * OPENBLAS_CORETYPE (blas_fix.c). Same argv, so --no-blas-fix is still in it then. */
+    int no_fix = 0;
+    for (int i = 1; i < argc; i++) no_fix |= strcmp(argv[i], "--no-blas-fix") == 0;
+    eo_cli_blas_fix(argv, no_fix);
+    take_no_blas_fix(&argc, argv);
+    eo_cli_blas_threads(); /* 1 BLAS thread unless the user chose (blas_fix.h) */
+
     eo_ctx *pctx = NULL; /* plug-ins register process-wide; this context only reports */
     if (eo_ctx_create(NULL, &pctx) < 0) {
         fprintf(stderr, "elastopt: out of memory\n");
