@@ -329,7 +329,9 @@ static int pn_minimize(void *st, const void *params, const eo_solver_ctx *sc, do
         if (sc->on_iter && (rc = eo_dist_to_rep(&s->d, s->X, x)) < 0) goto done;
         double dg = NAN;
         if (!isfinite(g) || !isfinite(gn)) reason = EO_DIVERGED_NONFINITE;
-        if (!reason) reason = sc->stop->check(sc->stop_params, &si);
+        /* the common measure (solver.h): x is the replicated start at k = 0, where the
+         * rounding floor is measured; a Newton decrement needs no gradient */
+        if (!reason) reason = eo_solver_stop_check(sc, &si, x, NULL);
         if (!reason && sc->time_budget > 0 && agree_max(&s->d, eo_wtime() - t0 > sc->time_budget))
             reason = EO_DIVERGED_TIME_BUDGET;
         if (!reason) {
@@ -349,7 +351,7 @@ static int pn_minimize(void *st, const void *params, const eo_solver_ctx *sc, do
                     if (k == 0) si.decrement0 = dec0 = last_dec;
                     if (sc->stop->needs_direction) {
                         si.decrement = info.decrement;
-                        reason = sc->stop->check(sc->stop_params, &si);
+                        reason = eo_solver_stop_check(sc, &si, x, NULL);
                     }
                 }
             }
@@ -440,4 +442,5 @@ const eo_optimizer_type eo_optimizer_petsc_newton = {
     .setup = pn_setup,
     .minimize = pn_minimize,
     .destroy = pn_destroy,
+    .newton_decrement = 1,
 };
