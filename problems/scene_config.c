@@ -21,6 +21,7 @@
 #include "elastopt/step.h"
 #include "lattice.h"
 #include "obstacle.h"
+#include "supports.h"
 
 /* ---------------------------------------------------------------- descriptor tables */
 
@@ -947,6 +948,7 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     EO_TRY(rc = load_point_masses(ctx, cfg, sc));
     EO_TRY(rc = load_springs(ctx, cfg, sc));
     EO_TRY(rc = load_collisions(ctx, cfg, sc));
+    EO_TRY(rc = eo_scene_check_supports(ctx, cfg, sc));
     *out = sc;
     return EO_OK;
 fail:
