@@ -175,7 +175,7 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
                                                    "kinetic", s0->kinetic, "elastic", s0->elastic));
     json_t *steps = json_array(), *bad = json_array();
     int all = 1;
-    long total_iters = 0;
+    long total_iters = 0, total_not_pd = 0;
     double total_time = 0;
     for (int k = 0; k < nrec; k++) {
         const eo_run_record *r = rec + k;
@@ -183,6 +183,7 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
         all &= conv;
         if (!conv) json_array_append_new(bad, json_integer(r->step));
         total_iters += r->iterations;
+        total_not_pd += r->n_not_pd;
         total_time += r->time;
         json_t *e = json_object();
         json_object_set_new(e, "step", json_integer(r->step));
@@ -201,9 +202,10 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
         json_object_set_new(e, "wall_time", real_or_null(r->wall));
         json_object_set_new(e, "g", real_or_null(r->g));
         json_object_set_new(e, "grad_norm", real_or_null(r->grad_norm));
-        json_object_set_new(e, "evaluations", json_pack("{s:I, s:I, s:I, s:I}", "value", (json_int_t)r->n_value,
+        json_object_set_new(e, "evaluations", json_pack("{s:I, s:I, s:I, s:I, s:I}", "value", (json_int_t)r->n_value,
                                                         "gradient", (json_int_t)r->n_gradient, "hessian",
-                                                        (json_int_t)r->n_hessian, "factor", (json_int_t)r->n_factor));
+                                                        (json_int_t)r->n_hessian, "factor", (json_int_t)r->n_factor,
+                                                        "not_pd", (json_int_t)r->n_not_pd));
         json_object_set_new(e, "com", vec3(r->stats.com));
         json_object_set_new(e, "max_disp", real_or_null(r->stats.max_disp));
         json_object_set_new(e, "min_J", real_or_null(r->stats.min_J));
@@ -222,6 +224,9 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(root, "not_converged", bad);
     json_object_set_new(root, "total_iterations", json_integer(total_iters));
     json_object_set_new(root, "total_solve_time", json_real(total_time));
+    /* factorizations that found the matrix not positive definite (project_on_demand's
+     * fallbacks to the projected Hessian): counted here, not printed */
+    json_object_set_new(root, "total_not_pd", json_integer(total_not_pd));
     json_object_set_new(root, "wall_time", json_real(in->wall));
     json_object_set_new(root, "restarted_at_step", in->restarted_at ? json_integer(in->restarted_at) : json_null());
     json_object_set_new(root, "frames", json_integer(in->nframes));
@@ -595,7 +600,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         *e = (eo_run_record){.step = k + 1, .iterations = r.iterations, .reason = r.reason, .t = r.t,
                              .time = r.time, .wall = wall, .g = r.g, .grad_norm = r.grad_norm,
                              .n_value = r.n_value, .n_gradient = r.n_gradient, .n_hessian = r.n_hessian,
-                             .n_factor = r.n_factor, .stats = r.stats, .entry = r.entry,
+                             .n_factor = r.n_factor, .n_not_pd = r.n_not_pd, .stats = r.stats, .entry = r.entry,
                              .n_entries = r.n_entries};
         memcpy(e->entry_reason, r.entry_reason, sizeof e->entry_reason);
         memcpy(e->entry_iterations, r.entry_iterations, sizeof e->entry_iterations);

@@ -225,13 +225,14 @@ void eo_run_record_write(FILE *f, const eo_run_record *r)
 {
     const eo_step_stats *s = &r->stats;
     char b[14][32];
-    fprintf(f, "%d,%s,%d,%s,%d,%s,%s,%s,%s,%ld,%ld,%ld,%ld,%s,%s,%s,%s,%s,%d,%s,%s,%s,%d\n", r->step,
+    fprintf(f, "%d,%s,%d,%s,%d,%s,%s,%s,%s,%ld,%ld,%ld,%ld,%s,%s,%s,%s,%s,%d,%s,%s,%s,%d,%ld\n", r->step,
             eo_run_num(b[0], r->t, 17), r->iterations, eo_reason_name(r->reason), eo_reason_is_converged(r->reason),
             eo_run_num(b[1], r->time, 17), eo_run_num(b[2], r->wall, 17), eo_run_num(b[3], r->g, 17),
             eo_run_num(b[4], r->grad_norm, 17), r->n_value, r->n_gradient, r->n_hessian, r->n_factor,
             eo_run_num(b[5], s->com[0], 17), eo_run_num(b[6], s->com[1], 17), eo_run_num(b[7], s->com[2], 17),
             eo_run_num(b[8], s->max_disp, 17), eo_run_num(b[9], s->min_J, 17), s->inverted,
-            eo_run_num(b[10], s->kinetic, 17), eo_run_num(b[11], s->elastic, 17), eo_run_num(b[12], s->gravity, 17), r->entry);
+            eo_run_num(b[10], s->kinetic, 17), eo_run_num(b[11], s->elastic, 17), eo_run_num(b[12], s->gravity, 17), r->entry,
+            r->n_not_pd);
 }
 
 static int reason_from_name(const char *s, int *reason)
@@ -249,7 +250,7 @@ static int reason_from_name(const char *s, int *reason)
 /* parse one row (NUL-terminated, no newline) */
 static int parse_record(char *line, eo_run_record *r)
 {
-    enum { NF = 23 };
+    enum { NF = 24 }; /* 23 in logs written before the n_not_pd column: read as 0 */
     char *f[NF];
     int n = 0;
     for (char *p = line; n < NF; n++) {
@@ -262,7 +263,7 @@ static int parse_record(char *line, eo_run_record *r)
         *c = 0;
         p = c + 1;
     }
-    if (n != NF) return -1;
+    if (n != NF && n != NF - 1) return -1;
     memset(r, 0, sizeof *r);
     r->step = atoi(f[0]);
     r->t = num_field(f[1]);
@@ -284,6 +285,7 @@ static int parse_record(char *line, eo_run_record *r)
     r->stats.elastic = num_field(f[20]);
     r->stats.gravity = num_field(f[21]);
     r->entry = atoi(f[22]);
+    r->n_not_pd = n == NF ? strtol(f[23], NULL, 10) : 0;
     return 0;
 }
 

@@ -25,6 +25,7 @@ typedef struct eo_run_record {
     int step, iterations, reason;
     double t, time, wall, g, grad_norm;
     long n_value, n_gradient, n_hessian, n_factor;
+    long n_not_pd;        /* factorizations that found the matrix not positive definite */
     eo_step_stats stats;
     int entry;            /* the fallback-chain entry whose result was kept (0 = solver) */
     int n_entries;        /* entries run (0 when read back from steps.csv) */
@@ -33,7 +34,7 @@ typedef struct eo_run_record {
 
 #define EO_RUN_STEPS_CSV_HEADER                                                                           \
     "step,t,iterations,reason,converged,solve_time,wall_time,g,grad_norm,n_value,n_gradient,n_hessian,"     \
-    "n_factor,com_x,com_y,com_z,max_disp,min_J,inverted,kinetic,elastic,gravity_potential,entry"
+    "n_factor,com_x,com_y,com_z,max_disp,min_J,inverted,kinetic,elastic,gravity_potential,entry,n_not_pd"
 #define EO_RUN_ITER_CSV_HEADER "step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason,entry"
 
 /* The folder, locked. */

@@ -313,6 +313,7 @@ int eo_sim_step(eo_sim *s, eo_sim_step_result *r)
             r->n_gradient += sr.n_gradient;
             r->n_hessian += sr.n_hessian;
             r->n_factor += sr.n_factor;
+            r->n_not_pd += sr.n_not_pd;
             if (sr.reason >= 0 || sr.reason == EO_DIVERGED_EXTERNAL) break;
         }
         const size_t nf = (size_t)(3 * s->sc->mesh->nv) * sizeof(double);

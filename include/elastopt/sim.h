@@ -63,6 +63,10 @@ typedef struct eo_sim_step_result {
     int n_entries;
     int entry_reason[EO_SIM_MAX_ENTRIES];
     int entry_iterations[EO_SIM_MAX_ENTRIES];
+    /// Factorizations of this step (every entry run) that found the matrix not positive
+    /// definite (eo_solve_result.n_not_pd): the default project_on_demand's fallbacks to
+    /// the projected Hessian are counted here, not printed.
+    long n_not_pd;
 } eo_sim_step_result;
 
 /// Create a simulation from a scene config document (eo_scene_cfg_load + the caller's
