@@ -313,7 +313,7 @@ static int read_run_json(eo_ctx *ctx, const char *dir, run_origin *o, json_t **d
         return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(dir, -1),
                            "no run.json: not the output folder of an elastopt run (or of one from a version without "
                            "restarts)");
-    int rc = eo_read_file(ctx, path, &text, &len);
+    int rc = eo_read_file_max(ctx, path, 2 * EO_CFG_MAX_BYTES, "a run's run.json (2 EO_CFG_MAX_BYTES)", &text, &len);
     if (rc < 0) return rc;
     json_error_t err;
     *doc = json_loads(text, 0, &err);

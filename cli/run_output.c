@@ -384,7 +384,12 @@ int eo_run_restart_read(eo_ctx *ctx, const char *path, int *step, double *t, int
 {
     char *text = NULL;
     size_t len = 0;
-    int rc = eo_read_file(ctx, path, &text, &len);
+    /* the largest file this scene can have: its arrays plus the text lines (each < 256
+     * bytes); checked from the file's size before anything is allocated */
+    size_t max_bytes = 8 * 256;
+    for (int i = 0; i < na; i++) max_bytes += a[i].count * sizeof(double) + 256;
+    int rc = eo_read_file_max(ctx, path, max_bytes, "the restart file of this scene (its arrays and header)", &text,
+                              &len);
     if (rc < 0) return rc;
     const char *p = text, *end = text + len;
     char line[256], name[128], endian[16];
@@ -425,6 +430,13 @@ int eo_run_restart_read(eo_ctx *ctx, const char *path, int *step, double *t, int
                 if (strcmp(a[i].name, name) != 0) continue;
                 if (count != a[i].count) BAD("array %s has %zu values; this scene needs %zu", name, count, a[i].count);
                 memcpy(a[i].data, p, bytes);
+                for (size_t j = 0; j < count; j++) /* a state that would fail steps later */
+                    if (!isfinite(a[i].data[j])) {
+                        if (strcmp(name, "x") == 0 || strcmp(name, "v") == 0)
+                            BAD("array %s: value %zu (vertex %zu, %c) is %g; a restart state must be finite", name, j,
+                                j / 3, "xyz"[j % 3], a[i].data[j]);
+                        BAD("array %s: value %zu is %g; a restart state must be finite", name, j, a[i].data[j]);
+                    }
                 a[i].present = 1;
             }
             p += bytes + 1;

@@ -83,7 +83,12 @@ int eo_run_logs_resume(eo_ctx *ctx, const eo_run_dir *d, int steps, eo_run_recor
  *   then per array "array NAME COUNT\n" followed by COUNT raw doubles and "\n", then
  *   "end\n". Arrays are looked up by name: adding one (e.g. the previous positions of a
  *   multistep integrator) is one more entry in the caller's table; an optional array
- *   missing from the file is left as it is (present = 0), an unknown one is skipped. */
+ *   missing from the file is left as it is (present = 0), an unknown one is skipped.
+ * Reading checks before trusting: the file's size against the most this scene's arrays
+ * and header can take (Σ 8·count + 256 per array + 2 KiB, from stat, before allocating:
+ * EO_ERR_RANGE), every header line, every array's count, and every value finite (a NaN
+ * or Inf is EO_ERR_PARSE naming the array, the value's index, and for x and v the vertex
+ * and coordinate). */
 typedef struct eo_run_array {
     const char *name;
     double *data;     /* count values (caller's) */
