@@ -130,7 +130,7 @@ const eo_param_desc eo_scene_generate_opts_desc[] = {
 const eo_param_desc eo_scene_time_opts_desc[] = {
     {.key = "integrator", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_scene_time_opts, integrator),
      .size = SZ(eo_scene_time_opts, integrator), .def.s = "newmark", .registry = &eo_reg_integrator,
-     .help = "time integrator (registered name)"},
+     .help = "time integrator (registered name); static (no inertia) is refused at load when a body keeps a free rigid-body mode (see boundary)"},
     {.key = "dt", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_time_opts, dt), .def.d = 0.01,
      .min = 0, .range = EO_RANGE_POSITIVE, .help = "time step (s)"},
     {.key = "steps", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_time_opts, steps), .def.i = 30,
