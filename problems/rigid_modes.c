@@ -26,6 +26,19 @@
  * no constrained vertex: 6 modes; all constrained vertices at one point: 3 rotations about
  * it; all on one line: 1 rotation about that line; otherwise 0.
  *
+ * Gravity holds some free rotations. E is invariant under rotations but −f_gᵀx is not: a
+ * body hanging from a point p swings until its centroid is below p, where the rotation
+ * ω has the restoring curvature m|g|h(|ω|² − (ω·ĝ)²) (h: centroid below p; the step
+ * Hessian's uᵀHu along u = ω × (x − p), the reaction at p doing no work): the rotations
+ * about horizontal axes are held, the one about the vertical is not (for a collinear
+ * body, a chain, that rotation is about its own line: not a mode). On a hinge line along
+ * d the curvature is m|g × d|h⊥: held unless the line is vertical. Neither is held if g = 0
+ * or the centroid (of the vertices) is on the point or line, and a body without any
+ * constrained vertex never is (it falls; its horizontal translations are flat). The
+ * load-time check refuses only modes gravity does not hold (n_unheld): a cloth pinned
+ * along a horizontal edge or a chain hanging from one end solve fine statically (their
+ * Hessian is singular at the rest start only, where the Hessian fixes shift it).
+ *
  * Terms that do NOT count as supports: gravity (linear, no stiffness); collision
  * obstacles (penalty k/2·max(0, d)²: no stiffness until a vertex penetrates, and a
  * plane in contact still leaves the tangential translations and the rotation about its
@@ -148,56 +161,33 @@ static void cat(char *buf, size_t n, const char *fmt, ...)
     va_end(ap);
 }
 
-/* Name the free modes of one component: nfix constrained vertices (first one v0 at p0),
- * free modes nfree, rank_all the component's rigid rank, null vectors (columns of V
- * with small eigenvalue flagged in isnull) of G_F, centroid c, radius L. */
-static void name_modes(char *buf, size_t n, int nfix, int v0, const double *p0, int nfree, int rank_all,
-                       double V[6][6], const int *isnull, const double c[3], double L)
+/* Describe mode ξ = (t, ω) of a body with centroid c and radius L; p0: a point the
+ * constrained vertices pass through (the axis point printed is the nearest to it). */
+static void describe_mode(char *buf, size_t n, const double xi[6], const double c[3], double L, const double *p0,
+                          double d_out[3], double p_out[3])
 {
-    buf[0] = 0;
-    if (nfix == 0) {
-        cat(buf, n, "translations x, y, z%s", rank_all == 6   ? "; rotations about x, y, z"
-                                              : rank_all == 5 ? "; rotations about the two axes across the line of "
-                                                                "its vertices"
-                                                              : "");
+    const double *t = xi, *w = xi + 3;
+    double wn = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    char ax[64];
+    if (wn < 1e-6) {
+        double tn = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+        double d[3] = {t[0] / tn, t[1] / tn, t[2] / tn};
+        axis_name(d, ax, sizeof ax);
+        cat(buf, n, "translation along %s", ax);
+        for (int i = 0; i < 3; i++) d_out[i] = d[i], p_out[i] = NAN;
         return;
     }
-    if (nfree == 3 && rank_all == 6) {
-        if (nfix == 1)
-            cat(buf, n, "rotations about x, y, z through the only constrained vertex, %d at (%.4g, %.4g, %.4g)", v0,
-                p0[0], p0[1], p0[2]);
-        else
-            cat(buf, n, "rotations about x, y, z through (%.4g, %.4g, %.4g), where all %d constrained vertices are",
-                p0[0], p0[1], p0[2], nfix);
-        return;
-    }
-    int k = 0;
-    for (int j = 0; j < 6; j++) {
-        if (!isnull[j]) continue;
-        double t[3] = {V[0][j], V[1][j], V[2][j]}, w[3] = {V[3][j], V[4][j], V[5][j]};
-        double wn = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
-        char ax[64];
-        if (k++) cat(buf, n, "; ");
-        if (wn < 1e-6) {
-            double tn = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-            double d[3] = {t[0] / tn, t[1] / tn, t[2] / tn};
-            axis_name(d, ax, sizeof ax);
-            cat(buf, n, "translation along %s", ax);
-        } else {
-            double d[3] = {w[0] / wn, w[1] / wn, w[2] / wn};
-            double wt[3] = {w[1] * t[2] - w[2] * t[1], w[2] * t[0] - w[0] * t[2], w[0] * t[1] - w[1] * t[0]};
-            double p[3];
-            for (int i = 0; i < 3; i++) p[i] = c[i] + L * wt[i] / (wn * wn);
-            /* a point of the axis nearest the first constrained vertex */
-            double s = (p0[0] - p[0]) * d[0] + (p0[1] - p[1]) * d[1] + (p0[2] - p[2]) * d[2];
-            for (int i = 0; i < 3; i++) p[i] += s * d[i];
-            for (int i = 0; i < 3; i++) /* rounding noise of the projection: print 0 */
-                if (fabs(p[i]) < 1e-12 * (L + fabs(c[0]) + fabs(c[1]) + fabs(c[2]))) p[i] = 0;
-            axis_name(d, ax, sizeof ax);
-            cat(buf, n, "rotation about the line through (%.4g, %.4g, %.4g) along %s%s", p[0], p[1], p[2], ax,
-                nfix > 1 && nfree == 1 ? ", the line of all constrained vertices" : "");
-        }
-    }
+    double d[3] = {w[0] / wn, w[1] / wn, w[2] / wn};
+    double wt[3] = {w[1] * t[2] - w[2] * t[1], w[2] * t[0] - w[0] * t[2], w[0] * t[1] - w[1] * t[0]};
+    double p[3];
+    for (int i = 0; i < 3; i++) p[i] = c[i] + L * wt[i] / (wn * wn);
+    double s = (p0[0] - p[0]) * d[0] + (p0[1] - p[1]) * d[1] + (p0[2] - p[2]) * d[2];
+    for (int i = 0; i < 3; i++) p[i] += s * d[i];
+    for (int i = 0; i < 3; i++) /* rounding noise of the projection: print 0 */
+        if (fabs(p[i]) < 1e-12 * (L + fabs(c[0]) + fabs(c[1]) + fabs(c[2]))) p[i] = 0;
+    axis_name(d, ax, sizeof ax);
+    cat(buf, n, "rotation about the line through (%.4g, %.4g, %.4g) along %s", p[0], p[1], p[2], ax);
+    for (int i = 0; i < 3; i++) d_out[i] = d[i], p_out[i] = p[i];
 }
 
 /* ---------------------------------------------------------------- the count */
@@ -257,38 +247,109 @@ int eo_scene_rigid_modes(eo_ctx *ctx, const eo_scene *sc, const unsigned char *c
         if (constrained && constrained[v]) gram_add(G[comp[v]][1], r);
     }
     for (int i = 0; i < nc; i++) {
-        double w_all[6], w_fix[6], V[6][6], Vf[6][6], Ga[6][6];
-        memcpy(Ga, G[i][0], sizeof Ga);
+        double w_all[6], w_fix[6], V[6][6], Vf[6][6];
         jacobi6(G[i][0], w_all, V);
         jacobi6(G[i][1], w_fix, Vf);
         int r_all = rank_of(w_all, EO_RIGID_RTOL), r_fix = rank_of(w_fix, EO_RIGID_RTOL);
         int nfree = r_all - r_fix;
         if (nfree <= 0) continue;
+        /* the free modes: null G_F with null G_C (not modes of this body) projected out */
+        double mx_fix = 0, mx_all = 0, basis[6][6];
+        int nb = 0;
+        for (int j = 0; j < 6; j++) mx_fix = fmax(mx_fix, fabs(w_fix[j])), mx_all = fmax(mx_all, fabs(w_all[j]));
+        for (int j = 0; j < 6 && nb < nfree; j++) {
+            if (mx_fix > 0 && fabs(w_fix[j]) > EO_RIGID_RTOL * mx_fix) continue;
+            double u[6];
+            for (int a = 0; a < 6; a++) u[a] = Vf[a][j];
+            for (int k = 0; k < 6; k++) { /* minus its part in null G_C */
+                if (fabs(w_all[k]) > EO_RIGID_RTOL * mx_all) continue;
+                double dot = 0;
+                for (int a = 0; a < 6; a++) dot += u[a] * V[a][k];
+                for (int a = 0; a < 6; a++) u[a] -= dot * V[a][k];
+            }
+            for (int k = 0; k < nb; k++) { /* and along the modes kept */
+                double dot = 0;
+                for (int a = 0; a < 6; a++) dot += u[a] * basis[k][a];
+                for (int a = 0; a < 6; a++) u[a] -= dot * basis[k][a];
+            }
+            double un = 0;
+            for (int a = 0; a < 6; a++) un += u[a] * u[a];
+            if (!(sqrt(un) > 1e-6)) continue;
+            for (int a = 0; a < 6; a++) basis[nb][a] = u[a] / sqrt(un);
+            nb++;
+        }
+        /* which free modes gravity holds at the equilibrium it leads to: a body hanging
+         * from one point (r_fix = 3, all constrained vertices there) swings until its
+         * centroid is below the point, where the rotations about horizontal axes have the
+         * restoring stiffness m|g|h (h: centroid below the point) and the rotation about the
+         * vertical has none (for a collinear body that rotation is about its own line: not a
+         * mode); a hinge (r_fix = 5: constrained vertices on one line, direction d) is held
+         * unless g ∥ d; neither if g = 0 or the centroid is on the point / line; a free body
+         * (no constrained vertex) is never held. */
+        const double *g = sc->opts.gravity, *c = ci[i].c, L = ci[i].L;
+        const double gn = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        const double *p0 = ci[i].v0 >= 0 ? X + 3 * ci[i].v0 : c;
+        double cp[3] = {c[0] - p0[0], c[1] - p0[1], c[2] - p0[2]};
+        char names[sizeof out->modes] = "", held[sizeof out->held] = "";
+        int unheld = nfree;
+        if (ci[i].nfix == 0) {
+            cat(names, sizeof names, "translations x, y, z%s",
+                r_all == 6 ? "; rotations about x, y, z"
+                : r_all == 5 ? "; rotations about the two axes across the line of its vertices" : "");
+        } else if (r_fix == 3) {
+            if (r_all == 6 && ci[i].nfix == 1)
+                cat(names, sizeof names, "rotations about x, y, z through the only constrained vertex, %d at (%.4g, %.4g, %.4g)",
+                    ci[i].v0, p0[0], p0[1], p0[2]);
+            else if (r_all == 6)
+                cat(names, sizeof names, "rotations about x, y, z through (%.4g, %.4g, %.4g), where all %d constrained vertices are",
+                    p0[0], p0[1], p0[2], ci[i].nfix);
+            double h = sqrt(cp[0] * cp[0] + cp[1] * cp[1] + cp[2] * cp[2]);
+            if (gn > 0 && h > 1e-9 * L) {
+                unheld = r_all == 6 ? 1 : 0;
+                cat(held, sizeof held, "gravity holds %s (the body hangs below the point)%s",
+                    r_all == 6 ? "the rotations about horizontal axes" : "them",
+                    r_all == 6 ? ", not the rotation about the vertical through it" : "");
+            } else {
+                cat(held, sizeof held, "gravity holds none of them (%s)",
+                    gn > 0 ? "the centroid is at the constrained point" : "no gravity");
+            }
+        } else if (r_fix == 5 && nfree == 1) {
+            double d[3], p[3];
+            for (int k = 0; k < nb; k++) {
+                describe_mode(names, sizeof names, basis[k], c, L, p0, d, p);
+                cat(names, sizeof names, ", the line of all constrained vertices");
+            }
+            double dg[3] = {d[1] * g[2] - d[2] * g[1], d[2] * g[0] - d[0] * g[2], d[0] * g[1] - d[1] * g[0]};
+            double cd = cp[0] * d[0] + cp[1] * d[1] + cp[2] * d[2];
+            double off = sqrt(fmax(0, cp[0] * cp[0] + cp[1] * cp[1] + cp[2] * cp[2] - cd * cd));
+            double sin_gd = gn > 0 ? sqrt(dg[0] * dg[0] + dg[1] * dg[1] + dg[2] * dg[2]) / gn : 0;
+            if (gn > 0 && sin_gd > 1e-9 && off > 1e-9 * L) {
+                unheld = 0;
+                cat(held, sizeof held, "gravity holds it (the body hangs below the line)");
+            } else {
+                cat(held, sizeof held, "gravity cannot hold it (%s)",
+                    gn == 0 ? "no gravity" : sin_gd <= 1e-9 ? "the line is vertical" : "the centroid is on the line");
+            }
+        }
+        if (!names[0])
+            for (int k = 0; k < nb; k++) {
+                double d[3], p[3];
+                if (k) cat(names, sizeof names, "; ");
+                describe_mode(names, sizeof names, basis[k], c, L, p0, d, p);
+            }
         out->n_free += nfree;
         out->n_free_components++;
-        if (nfree <= out->worst_free) continue;
+        out->n_unheld += unheld;
+        if (unheld < out->worst_unheld || (unheld == out->worst_unheld && nfree <= out->worst_free)) continue;
         out->worst = i;
         out->worst_free = nfree;
+        out->worst_unheld = unheld;
         out->worst_vertices = ci[i].n;
         out->worst_first_vertex = -1;
         for (int v = 0; v < nv && out->worst_first_vertex < 0; v++)
             if (comp[v] == i) out->worst_first_vertex = v;
-        double mx = 0;
-        for (int j = 0; j < 6; j++) mx = fmax(mx, fabs(w_fix[j]));
-        int isnull[6];
-        double mx_all = 0;
-        for (int j = 0; j < 6; j++) mx_all = fmax(mx_all, fabs(w_all[j]));
-        for (int j = 0; j < 6; j++) {
-            isnull[j] = !(mx > 0 && fabs(w_fix[j]) > EO_RIGID_RTOL * mx);
-            /* not a mode of this body at all (a rotation about the line of a collinear body) */
-            double q = 0;
-            for (int a = 0; a < 6; a++)
-                for (int b = 0; b < 6; b++) q += Vf[a][j] * Ga[a][b] * Vf[b][j];
-            if (q <= EO_RIGID_RTOL * mx_all) isnull[j] = 0;
-        }
-        const double *p0 = ci[i].v0 >= 0 ? X + 3 * ci[i].v0 : ci[i].c;
-        name_modes(out->modes, sizeof out->modes, ci[i].nfix, ci[i].v0, p0, nfree, r_all, Vf, isnull, ci[i].c,
-                   ci[i].L);
+        snprintf(out->modes, sizeof out->modes, "%s", names);
+        snprintf(out->held, sizeof out->held, "%s", held);
     }
     eo_free(ctx, G);
     eo_free(ctx, ci);
@@ -331,17 +392,18 @@ int eo_scene_check_supports(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc)
         constrained_at(sc, t, mask);
         eo_rigid_modes rm;
         rc = eo_scene_rigid_modes(ctx, sc, mask, &rm);
-        if (rc < 0 || rm.n_free == 0) continue;
+        if (rc < 0 || rm.n_unheld == 0) continue;
         char where[160] = "", when[96] = "";
         if (rm.n_components > 1)
             snprintf(where, sizeof where, " of body %d of %d (the %d vertices joined to vertex %d)", rm.worst + 1,
                      rm.n_components, rm.worst_vertices, rm.worst_first_vertex);
         if (e >= 0) snprintf(when, sizeof when, " from t = %g (after boundary.%d is released)", t, e);
         rc = eo_cfg_error(ctx, cfg, sc->nbc ? "boundary" : "time.integrator", EO_ERR_INVALID,
-                          "static scene: the free set%s has %d unconstrained rigid-body mode%s (%s)%s%s: add supports "
+                          "static scene: the free set%s has %d unconstrained rigid-body mode%s (%s)%s%s%s%s: add supports "
                           "(boundary.N with fixed, translate or rotate, on at least three non-collinear vertices of "
                           "each body) or use a dynamic integrator (time.integrator)",
-                          where, rm.worst_free, rm.worst_free == 1 ? "" : "s", rm.modes, when,
+                          where, rm.worst_free, rm.worst_free == 1 ? "" : "s", rm.modes, rm.held[0] ? "; " : "",
+                          rm.held, when,
                           rm.n_free_components > 1 ? "; other bodies too" : "");
     }
     eo_free(ctx, mask);

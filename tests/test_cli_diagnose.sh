@@ -38,9 +38,17 @@ refused() { # name, expected text, key:line of the error (the boundary list; the
 cube free ""
 refused free "the free set has 6 unconstrained rigid-body modes (translations x, y, z; rotations about x, y, z)" time.integrator:2
 cube pin '{"nearest": [0, 0, 0], "fixed": true}'
-refused pin "3 unconstrained rigid-body modes (rotations about x, y, z through the only constrained vertex, 0 at (0, 0, 0))" boundary:3
+refused pin "3 unconstrained rigid-body modes (rotations about x, y, z through the only constrained vertex, 0 at (0, 0, 0)); gravity holds the rotations about horizontal axes (the body hangs below the point), not the rotation about the vertical through it" boundary:3
 cube edge '{"box": [[-1, -1, -1], [0.1, 0.1, 2]], "fixed": true}'
-refused edge "1 unconstrained rigid-body mode (rotation about the line through (0, 0, 0) along z, the line of all constrained vertices)" boundary:3
+refused edge "1 unconstrained rigid-body mode (rotation about the line through (0, 0, 0) along z, the line of all constrained vertices); gravity cannot hold it (the line is vertical)" boundary:3
+# a horizontal hinge (the edge y = z = 0): gravity holds the cube below it, the run goes on
+cube hinge '{"box": [[-1, -1, -1], [2, 0.1, 0.1]], "fixed": true}'
+"$EXE" run hinge.json --out hinge >hinge.out 2>hinge.err
+rc=$?
+[ $rc -ne 2 ] && [ -e hinge/summary.json ] && ok || bad "horizontal hinge refused: exit $rc $(cat hinge.err)"
+"$EXE" run hinge.json -o 'gravity=[0,0,0]' --out hinge0 >hinge0.out 2>hinge0.err
+[ $? -eq 2 ] && grep -q "1 unconstrained rigid-body mode (rotation about the line through (0, 0, 0) along x, the line of all constrained vertices); gravity cannot hold it (no gravity)" hinge0.err &&
+    [ ! -e hinge0 ] && ok || bad "hinge without gravity: $(cat hinge0.err)"
 # the built-in static cantilever without its support: no file, the key of the integrator
 "$EXE" run --scene cantilever_static -o 'boundary=[]' --out nobc >nobc.out 2>nobc.err
 [ $? -eq 2 ] && grep -q "key 'time.integrator': static scene: the free set has 6 unconstrained" nobc.err &&

@@ -69,20 +69,24 @@ static void test_cube_modes(void)
     eo_rigid_modes rm;
     static const struct {
         const char *boundary;
-        int free;
+        int free, unheld; /* free modes; those gravity (0, 0, −9.81) does not hold */
         const char *names;
     } cases[] = {
-        {"", 6, "translations x, y, z; rotations about x, y, z"},
-        {"{\"nearest\": [1, 1, 1], \"fixed\": true}", 3, "rotations about x, y, z through the only constrained vertex"},
-        /* the 3 vertices of the edge x = y = 0: one rotation, about z */
-        {"{\"box\": [[-1, -1, -1], [0.1, 0.1, 2]], \"fixed\": true}", 1, "along z, the line of all constrained"},
-        /* two vertices on the face diagonal (0,0,0)-(1,1,0): about the line along (1,1,0)/√2 */
-        {"{\"nearest\": [0, 0, 0], \"fixed\": true}, {\"nearest\": [1, 1, 0], \"fixed\": true}", 1,
+        {"", 6, 6, "translations x, y, z; rotations about x, y, z"},
+        /* hanging from a corner: the rotation about the vertical through it stays free */
+        {"{\"nearest\": [1, 1, 1], \"fixed\": true}", 3, 1, "rotations about x, y, z through the only constrained vertex"},
+        /* the 3 vertices of the edge x = y = 0: one rotation, about z (vertical: not held) */
+        {"{\"box\": [[-1, -1, -1], [0.1, 0.1, 2]], \"fixed\": true}", 1, 1, "along z, the line of all constrained"},
+        /* two vertices on the face diagonal (0,0,0)-(1,1,0): about the horizontal line along
+         * (1,1,0)/√2, the centroid off it: held */
+        {"{\"nearest\": [0, 0, 0], \"fixed\": true}, {\"nearest\": [1, 1, 0], \"fixed\": true}", 1, 0,
          "along (0.707, 0.707, 0)"},
-        {"{\"box\": [[-1, -1, -1], [0.1, 2, 2]], \"fixed\": true}", 0, ""},
-        /* three non-collinear vertices suffice; a rotating face constrains as a fixed one */
+        /* the axle y = z = 0.5 through the centroid: balanced, not held */
+        {"{\"box\": [[-1, 0.4, 0.4], [2, 0.6, 0.6]], \"fixed\": true}", 1, 1, "(0, 0.5, 0.5) along x"},
+        {"{\"box\": [[-1, -1, -1], [0.1, 2, 2]], \"fixed\": true}", 0, 0, ""},
+        /* three non-collinear vertices suffice; a moving set constrains as a fixed one */
         {"{\"nearest\": [0, 0, 0], \"fixed\": true}, {\"nearest\": [1, 0, 0], \"fixed\": true}, "
-         "{\"nearest\": [0, 1, 0], \"translate\": [0, 0, 1]}", 0, ""},
+         "{\"nearest\": [0, 1, 0], \"translate\": [0, 0, 1]}", 0, 0, ""},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         if (cube_modes(ctx, cases[i].boundary, &rm) < 0) continue;
@@ -91,6 +95,9 @@ static void test_cube_modes(void)
               cases[i].free, rm.modes);
         CHECK(rm.worst_free == cases[i].free && (cases[i].free ? rm.worst == 0 : rm.worst == -1),
               "worst body %d with %d", rm.worst, rm.worst_free);
+        CHECK(rm.n_unheld == cases[i].unheld && rm.worst_unheld == cases[i].unheld,
+              "cube [%s]: %d modes not held by gravity, expected %d (%s)", cases[i].boundary, rm.n_unheld,
+              cases[i].unheld, rm.held);
         if (cases[i].free) CHECK(strstr(rm.modes, cases[i].names) != NULL, "names '%s'", rm.modes);
     }
     eo_test_ctx_done(&ctx);
@@ -142,8 +149,25 @@ static void test_static_load(void)
                                                                "z; rotations about x, y, z)"),
           "free static cube: %d %s", rc, eo_ctx_message(ctx));
     rc = load(ctx, "static", "{\"nearest\": [0, 0, 0], \"fixed\": true}", &sc);
-    CHECK(rc == EO_ERR_INVALID && strstr(eo_ctx_message(ctx), "3 unconstrained"), "one vertex: %s",
-          eo_ctx_message(ctx));
+    CHECK(rc == EO_ERR_INVALID && strstr(eo_ctx_message(ctx), "3 unconstrained") &&
+              strstr(eo_ctx_message(ctx), "not the rotation about the vertical through it"),
+          "one vertex: %s", eo_ctx_message(ctx));
+    /* a horizontal hinge (the edge y = z = 0): gravity holds the body below it */
+    const char *hinge = "{\"box\": [[-1, -1, -1], [2, 0.1, 0.1]], \"fixed\": true}";
+    rc = load(ctx, "static", hinge, &sc);
+    CHECK(rc == 0, "horizontal hinge: %s", eo_ctx_message(ctx));
+    eo_scene_destroy(&sc);
+    {   /* ... but not without gravity */
+        char text[2048];
+        snprintf(text, sizeof text, CUBE, "static", hinge);
+        eo_cfg *cfg = NULL;
+        rc = eo_cfg_load(ctx, NULL, text, &cfg);
+        if (rc >= 0) rc = eo_cfg_override(ctx, cfg, "gravity=[0,0,0]");
+        if (rc >= 0) rc = eo_scene_load(ctx, cfg, &sc);
+        CHECK(rc == EO_ERR_INVALID && strstr(eo_ctx_message(ctx), "gravity cannot hold it (no gravity)"),
+              "hinge without gravity: %s", eo_ctx_message(ctx));
+        eo_cfg_destroy(&cfg);
+    }
     rc = load(ctx, "static", "{\"box\": [[-1, -1, -1], [0.1, 2, 2]], \"fixed\": true}", &sc);
     CHECK(rc == 0, "fixed face: %s", eo_ctx_message(ctx));
     eo_scene_destroy(&sc);

@@ -115,6 +115,8 @@ EO_API int eo_linsolve_factor(eo_linsolve *ls, const eo_csc *A);
 EO_API int eo_linsolve_set_expect_not_pd(eo_linsolve *ls, int on);
 /// The current setting of eo_linsolve_set_expect_not_pd.
 EO_API int eo_linsolve_get_expect_not_pd(const eo_linsolve *ls);
+/// A solve that meets non-positive curvature (EO_WARN_NOT_PD from cg/pcg/gmres) is logged
+/// like a failed factorization (silent when expected, else one warning per solver).
 /// x = A⁻¹ b. EO_OK, EO_WARN_NOT_CONVERGED, EO_WARN_NOT_PD (cg/pcg; stats.curvature),
 /// EO_ERR_*.
 EO_API int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x);

@@ -154,9 +154,22 @@ int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x)
     ls->stats.residual = -1;
     ls->stats.curvature = 0;
     double t = eo_wtime();
+    int quiet = eo_ctx_set_quiet_warnings(ls->ctx, 1);
     int rc = ls->type->solve(ls->state, b, x, &ls->stats, ls->ctx);
+    eo_ctx_set_quiet_warnings(ls->ctx, quiet);
     ls->stats.t_solve += eo_wtime() - t;
     ls->stats.n_solve++;
+    /* cg/pcg/gmres meeting pᵀAp <= 0: expected on an unprojected Hessian like a failed
+     * factorization (the caller counts it, eo_solve_result.n_neg_curvature) */
+    if (rc == EO_WARN_NOT_PD && (ls->expect_not_pd || ls->warned_not_pd || quiet)) {
+        eo_log(ls->ctx, EO_LOG_DEBUG, "%s", eo_ctx_message(ls->ctx));
+    } else if (rc == EO_WARN_NOT_PD) {
+        ls->warned_not_pd = 1;
+        eo_log(ls->ctx, EO_LOG_WARN, "%s (a matrix expected to be positive definite; later failures of this "
+               "solver are counted, not printed)", eo_ctx_message(ls->ctx));
+    } else if (rc > 0 && !quiet) {
+        eo_log(ls->ctx, EO_LOG_WARN, "%s", eo_ctx_message(ls->ctx));
+    }
     return rc;
 }
 
