@@ -394,13 +394,12 @@ int eo_scene_check_supports(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc)
         rc = eo_scene_rigid_modes(ctx, sc, mask, &rm);
         if (rc < 0 || rm.n_unheld == 0) continue;
         char where[160] = "", when[96] = "";
-        if (rm.n_components > 1)
-            if (rm.worst_vertices == 1)
-                snprintf(where, sizeof where, " of body %d of %d (the lone vertex %d)", rm.worst + 1, rm.n_components,
-                         rm.worst_first_vertex);
-            else
-                snprintf(where, sizeof where, " of body %d of %d (the %d vertices joined to vertex %d)", rm.worst + 1,
-                         rm.n_components, rm.worst_vertices, rm.worst_first_vertex);
+        if (rm.n_components > 1 && rm.worst_vertices == 1)
+            snprintf(where, sizeof where, " of body %d of %d (the lone vertex %d)", rm.worst + 1, rm.n_components,
+                     rm.worst_first_vertex);
+        else if (rm.n_components > 1)
+            snprintf(where, sizeof where, " of body %d of %d (the %d vertices joined to vertex %d)", rm.worst + 1,
+                     rm.n_components, rm.worst_vertices, rm.worst_first_vertex);
         if (e >= 0) snprintf(when, sizeof when, " from t = %g (after boundary.%d is released)", t, e);
         rc = eo_cfg_error(ctx, cfg, sc->nbc ? "boundary" : "time.integrator", EO_ERR_INVALID,
                           "static scene: the free set%s has %d unconstrained rigid-body mode%s (%s)%s%s%s%s: add supports "
