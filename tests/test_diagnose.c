@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "elastopt/config.h"
 #include "elastopt/linsolve.h"
 #include "elastopt/scene.h"
 #include "elastopt/sim.h"
@@ -265,6 +266,28 @@ static void test_project_on_demand_quiet(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* One -o assignment over EO_CFG_MAX_BYTES is refused before jansson sees it; one under
+ * the cap is accepted. */
+static void test_override_cap(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    eo_cfg *cfg = NULL;
+    CHECK(eo_cfg_load(ctx, NULL, "{}", &cfg) == 0, "empty config");
+    size_t n = EO_CFG_MAX_BYTES + 16;
+    char *a = malloc(n + 1);
+    memcpy(a, "description=", 12);
+    memset(a + 12, 'x', n - 12);
+    a[n] = 0;
+    int rc = eo_cfg_override(ctx, cfg, a);
+    CHECK(rc == EO_ERR_RANGE && strstr(eo_ctx_message(ctx), "more than 8388608 bytes (EO_CFG_MAX_BYTES)"),
+          "huge -o: %d %s", rc, eo_ctx_message(ctx));
+    a[1000] = 0;
+    CHECK(eo_cfg_override(ctx, cfg, a) == 0, "1000-byte -o: %s", eo_ctx_message(ctx));
+    free(a);
+    eo_cfg_destroy(&cfg);
+    eo_test_ctx_done(&ctx);
+}
+
 int main(void)
 {
     test_cube_modes();
@@ -272,5 +295,6 @@ int main(void)
     test_static_load();
     test_not_pd_counted();
     test_project_on_demand_quiet();
+    test_override_cap();
     return eo_test_finish("test_diagnose");
 }
