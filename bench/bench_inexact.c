@@ -30,6 +30,7 @@
 #include <time.h>
 
 #include "elastopt/ctx.h"
+#include "cli/blas_fix.h"
 #include "elastopt/machine.h"
 #include "elastopt/sim.h"
 
@@ -110,6 +111,7 @@ static int cmp(const void *a, const void *b)
 
 int main(int argc, char **argv)
 {
+    eo_cli_blas_fix(argv, 0); /* OpenBLAS on a generic core: run again with OPENBLAS_CORETYPE */
     int reps = 3, sizes[8] = {40, 100, 160}, ns = 3, nc = NC - 1;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--all")) nc = NC;
@@ -125,6 +127,9 @@ int main(int argc, char **argv)
     eo_machine_describe(machine, sizeof machine);
     const char *obt = getenv("OPENBLAS_NUM_THREADS");
     printf("bench_inexact: %s; OPENBLAS_NUM_THREADS=%s\n", machine, obt ? obt : "(unset)");
+    char blas_line[640];
+    eo_blas_describe(blas_line, sizeof blas_line);
+    printf("bench_inexact: %s\n", blas_line);
     printf("scene twist (stable neo-Hookean E=1e6, Newmark h=0.01), %d steps, stop relative_decrement 1e-10, clamp; "
            "%d interleaved rounds\n",
            STEPS, reps);

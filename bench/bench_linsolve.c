@@ -28,15 +28,24 @@
  *   bench_linsolve [case ...]     cases: grid10 (3 000 dofs), grid20 (24 000 dofs),
  *                                 bar5k, bar50k, bar100k; default: grid10 grid20 bar5k
  *                                 bar50k (bar100k on request: minutes)
+ *   bench_linsolve --blas-threads [--reps R] bar50k
+ *                                 instead of the two tables: the BLAS's threads, 1 vs 2
+ *                                 (eo_blas_set_threads), for the CHOLMOD numeric
+ *                                 factorization of H_0 (default ordering, CHOLMOD's own
+ *                                 OpenMP serial as in the solver); R interleaved repeats
+ *                                 (default 5, the order alternating), wall and process CPU
+ *                                 seconds, median [min, max], load average before/after
  */
 #include <math.h>
 #include <stdio.h>
+#include <time.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "eo_build_config.h"
 #include "elastopt/config.h"
 #include "elastopt/linsolve.h"
+#include "cli/blas_fix.h"
 #include "elastopt/machine.h"
 #include "elastopt/scene.h"
 #include "elastopt/sparse.h"
@@ -490,6 +499,80 @@ static void bench_newton(const bar_case *bc, const bar_systems *S)
     eo_ctx_destroy(&ctx);
 }
 
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void loadavg(char *buf, size_t n)
+{
+    snprintf(buf, n, "unknown");
+    FILE *f = fopen("/proc/loadavg", "r");
+    if (!f) return;
+    double a, b, c;
+    if (fscanf(f, "%lf %lf %lf", &a, &b, &c) == 3) snprintf(buf, n, "%.2f %.2f %.2f", a, b, c);
+    fclose(f);
+}
+
+static int g_blas_threads_only, g_reps_override;
+
+/* 1 vs 2 BLAS threads on the numeric factorization of H_0 (the header's --blas-threads). */
+static void bench_blas_threads(const bar_case *bc, const bar_systems *S)
+{
+    enum { NT = 2, MAXR = 32 };
+    const int nthr[NT] = {1, 2};
+    int reps = g_reps_override > 0 ? g_reps_override : 5;
+    if (reps > MAXR) reps = MAXR;
+    double tw[NT][MAXR], tc[NT][MAXR];
+    eo_ctx *ctx = NULL;
+    eo_ctx_create(NULL, &ctx);
+    eo_chm chm;
+    memset(&chm, 0, sizeof chm);
+    eo_chm_start(&chm);
+    eo_chm_ordering(&chm, EO_CHM_DEFAULT_ORDERING);
+    chm.c.supernodal = CHOLMOD_SUPERNODAL;
+    chm.c.final_ll = 1;
+    eo_blas_info b0;
+    eo_blas_get(&b0);
+    char la0[64], la1[64];
+    if (eo_chm_analyze(&chm, S->H[0], "bench", ctx) >= 0) {
+        cholmod_sparse M = eo_chm_view(S->H[0]);
+        eo_chm_factorize(&chm, &M, 0); /* warm-up: first touch of L, BLAS thread start */
+        loadavg(la0, sizeof la0);
+        int ok = 1;
+        for (int r = 0; r < reps && ok; r++)
+            for (int j = 0; j < NT; j++) {
+                int k = (r % 2) ? NT - 1 - j : j;
+                if (eo_blas_set_threads(nthr[k]) != EO_OK) ok = 0;
+                double w0 = eo_wtime(), c0 = cpu_seconds();
+                ok = ok && eo_chm_factorize(&chm, &M, 0) && chm.c.status == CHOLMOD_OK;
+                tc[k][r] = cpu_seconds() - c0;
+                tw[k][r] = eo_wtime() - w0;
+            }
+        loadavg(la1, sizeof la1);
+        printf("BLAS threads, %s (CHOLMOD supernodal LL' of H_0, %s ordering, n = %d, flops %.4g, %d interleaved repeats; "
+               "load average %s before, %s after)\n",
+               bc->name, EO_CHM_DEFAULT_ORDERING, S->H[0]->n, chm.c.fl, reps, la0, la1);
+        if (!ok) printf("  failed (BLAS threads not settable, or CHOLMOD status %d)\n", chm.c.status);
+        else {
+            printf("  %-8s %12s %19s %12s %19s %8s\n", "threads", "wall s (med)", "min-max", "cpu s (med)", "min-max",
+                   "cpu/wall");
+            for (int k = 0; k < NT; k++) {
+                double wm, wl, wh, cm, cl, ch;
+                med_spread(tw[k], reps, &wm, &wl, &wh);
+                med_spread(tc[k], reps, &cm, &cl, &ch);
+                printf("  %-8d %12.4f   [%.4f, %.4f] %12.4f   [%.4f, %.4f] %8.2f\n", nthr[k], wm, wl, wh, cm, cl, ch,
+                       cm / wm);
+            }
+        }
+    }
+    eo_blas_set_threads(b0.threads > 0 ? b0.threads : 1);
+    eo_chm_finish(&chm);
+    eo_ctx_destroy(&ctx);
+}
+
 static void run_bar(const bar_case *bc)
 {
     eo_ctx *ctx = NULL;
@@ -500,8 +583,12 @@ static void run_bar(const bar_case *bc)
     if (bar_build(ctx, bc, &S) == EO_OK) {
         printf("  %d tets, n = %d free dofs, nnz(upper H) = %d; systems built in %.2f s\n", S.ntets, S.n,
                S.H[0]->nnz, eo_wtime() - t0);
-        bench_orderings(bc, &S);
-        bench_newton(bc, &S);
+        if (g_blas_threads_only) {
+            bench_blas_threads(bc, &S);
+        } else {
+            bench_orderings(bc, &S);
+            bench_newton(bc, &S);
+        }
     }
     bar_free(ctx, &S);
     eo_ctx_destroy(&ctx);
@@ -509,12 +596,23 @@ static void run_bar(const bar_case *bc)
 
 int main(int argc, char **argv)
 {
+    eo_cli_blas_fix(argv, 0); /* OpenBLAS on a generic core: run again with OPENBLAS_CORETYPE */
     char machine[512];
     eo_machine_describe(machine, sizeof machine);
     printf("bench_linsolve: %s\n", machine);
+    char blas_line[640];
+    eo_blas_describe(blas_line, sizeof blas_line);
+    printf("bench_linsolve: %s\n", blas_line);
     const char *thr = getenv("OPENBLAS_NUM_THREADS");
     printf("OPENBLAS_NUM_THREADS=%s; times are medians of the factor+solve repetitions; stationary\n"
            "methods are capped at 2000 iterations (default tol 1e-10)\n", thr ? thr : "(unset)");
+    int out = 1;
+    for (int a = 1; a < argc; a++) { /* options out of argv: what remains are case names */
+        if (strcmp(argv[a], "--blas-threads") == 0) g_blas_threads_only = 1;
+        else if (strcmp(argv[a], "--reps") == 0 && a + 1 < argc) g_reps_override = atoi(argv[++a]);
+        else argv[out++] = argv[a];
+    }
+    argc = out;
     int ran = 0;
     for (size_t c = 0; c < sizeof bars / sizeof bars[0]; c++) {
         int pick = argc <= 1 && strcmp(bars[c].name, "bar100k");

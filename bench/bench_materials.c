@@ -22,6 +22,7 @@
 
 #include "elastopt/config.h"
 #include "elastopt/ctx.h"
+#include "cli/blas_fix.h"
 #include "elastopt/machine.h"
 #include "elastopt/material.h"
 #include "elastopt/objective.h"
@@ -250,6 +251,7 @@ static const bench_case cases[] = {
 
 int main(int argc, char **argv)
 {
+    eo_cli_blas_fix(argv, 0); /* OpenBLAS on a generic core: run again with OPENBLAS_CORETYPE */
     const char *pick[8];
     int npick = 0;
     for (int i = 1; i < argc; i++) {
@@ -259,6 +261,9 @@ int main(int argc, char **argv)
     char machine[512];
     eo_machine_describe(machine, sizeof machine);
     printf("bench_materials: %s; single thread; %d tets; E = 1e5, nu = 0.45\n", machine, NT);
+    char blas_line[640];
+    eo_blas_describe(blas_line, sizeof blas_line);
+    printf("bench_materials: %s\n", blas_line);
     setup();
     int ran = 0;
     for (const bench_case *b = cases; b->name; b++) {

@@ -52,6 +52,7 @@
 
 #include "eo_build_config.h"
 #include "elastopt/config.h"
+#include "cli/blas_fix.h"
 #include "elastopt/machine.h"
 #include "elastopt/mesh.h"
 #include "elastopt/sim.h"
@@ -367,9 +368,13 @@ done:
 
 int main(int argc, char **argv)
 {
+    eo_cli_blas_fix(argv, 0); /* OpenBLAS on a generic core: run again with OPENBLAS_CORETYPE */
     char machine[512];
     eo_machine_describe(machine, sizeof machine);
     printf("bench_newton: %s\n", machine);
+    char blas_line[640];
+    eo_blas_describe(blas_line, sizeof blas_line);
+    printf("bench_newton: %s\n", blas_line);
     const char *thr = getenv("OPENBLAS_NUM_THREADS");
     int reps = 3, picked = 0, fails = 0;
     for (int a = 1; a < argc; a++)

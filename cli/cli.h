@@ -28,6 +28,9 @@ int eo_cli_usage_error(const eo_cli_command *cmd, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
+/* Print "unknown <what> '<arg>'" with a "did you mean" among the options ("-x", "--xyz")
+   of the command's usage text when arg starts with '-', then the usage; return 2. */
+int eo_cli_unknown_arg(const eo_cli_command *cmd, const char *what, const char *arg);
 /* 1 if argv has -h or --help. */
 int eo_cli_wants_help(int argc, char **argv);
 

@@ -90,7 +90,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         } else if (strcmp(argv[i], "--no-plots") == 0) plots = 0;
         else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) quiet = 1;
         else if (strcmp(argv[i], "--profile") == 0) profile = 1;
-        else if (argv[i][0] == '-') return eo_cli_usage_error(&eo_cmd_bench, "unknown option '%s'", argv[i]);
+        else if (argv[i][0] == '-') return eo_cli_unknown_arg(&eo_cmd_bench, "option", argv[i]);
         else if (suite_path) return eo_cli_usage_error(&eo_cmd_bench, "give one SUITE.json");
         else suite_path = argv[i];
     }
@@ -118,7 +118,10 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     o.plots = plots;
     o.progress = quiet ? NULL : on_progress;
     o.user = &ps;
-    if (profile) o.profile = on_profile;
+    if (profile) {
+        o.profile = on_profile;
+        eo_cli_profile_blas(stdout);
+    }
     if (!quiet) {
         fprintf(stderr, "bench %s: %d scene(s) x %d configuration(s) -> %s\n", suite_path, eo_bench_suite_nscenes(s),
                 eo_bench_suite_nconfigs(s), dir);

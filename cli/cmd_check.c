@@ -176,7 +176,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         } else if (strcmp(argv[i], "--seed") == 0 && i + 1 < argc) {
             seed = strtoull(argv[++i], NULL, 10);
         } else {
-            return eo_cli_usage_error(&eo_cmd_check, "unknown option '%s'", argv[i]);
+            return eo_cli_unknown_arg(&eo_cmd_check, "option", argv[i]);
         }
     }
     eo_sim *sim = NULL;

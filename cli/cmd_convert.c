@@ -25,7 +25,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             i++;
         }
         else if (argv[i][0] == '-' && argv[i][1])
-            return eo_cli_usage_error(&eo_cmd_convert, "unknown option '%s'", argv[i]);
+            return eo_cli_unknown_arg(&eo_cmd_convert, "option", argv[i]);
         else if (!in) in = argv[i];
         else if (!out) out = argv[i];
         else return eo_cli_usage_error(&eo_cmd_convert, "expected IN and OUT, got a third argument '%s'", argv[i]);
@@ -53,7 +53,7 @@ const eo_cli_command eo_cmd_convert = {
     .summary = "convert a mesh between TetGen, MEDIT, Gmsh, VTU and boundary OBJ",
     .usage = "elastopt convert IN OUT [--drop-degenerate] [--drop-unreferenced] [--quality Q] [--max-volume V]\n\n"
              "IN: .node/.ele (TetGen, file or base name), .mesh (MEDIT), .msh (Gmsh 2.2/4.1 ASCII),\n"
-             ".vtu (tets), a closed surface .obj/.off/.stl/.ply (tetrahedralized by TetGen with\n"
+             ".vtu (tets), .veg (Vega FEM: vertices and TET elements), a closed surface .obj/.off/.stl/.ply (tetrahedralized by TetGen with\n"
              "radius-edge bound Q, default 2, 0 = none, and tet volume bound V, default 0 = none)\n"
              "or gen:SX,SY,SZ:NX,NY,NZ[:5|6]. OUT's extension picks the format: .node or .ele\n"
              "(TetGen pair, 1-based, plus .face when the mesh has tagged triangles), .mesh, .msh\n"

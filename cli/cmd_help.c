@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "elastopt/suggest.h"
 #include "cli.h"
 #include "elastopt/bench.h"
 #include "elastopt/registry.h"
@@ -127,7 +128,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             const eo_method_info *mi = eo_method_info_of(*t);
             if (kind_hit) printf("  %-22s %s\n", mi->name, mi->summary);
             if (!mi->params || !mi->params[0].key) continue;
-            snprintf(path, sizeof path, "%s.%s", k == EO_KIND_MATERIAL ? "material" : "solver", mi->name);
+            snprintf(path, sizeof path, "%s.%s",
+                     k == EO_KIND_MATERIAL ? "material" : k == EO_KIND_INTEGRATOR ? "time" : "solver", mi->name);
             if (key && !kind_hit && strcmp(key, mi->name) != 0 && !matches(path, key) && !matches(key, path))
                 continue;
             if (!key || !kind_hit) {
@@ -139,8 +141,21 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         }
         if (kind_hit) printf("\n");
     }
-    if (!found) {
-        fprintf(stderr, "elastopt help: no config section, method or kind named '%s'; try `elastopt help`\n", key);
+    if (!found) { /* "did you mean": among the sections, kinds and method names */
+        char names[8192], hint[160];
+        size_t u = (size_t)snprintf(names, sizeof names, "bench");
+        for (const eo_cfg_doc *d = eo_config_docs(); d && d->path && u < sizeof names; d++)
+            u += (size_t)snprintf(names + u, sizeof names - u, " %s", d->path);
+        for (const eo_cfg_raw_doc *d = eo_config_raw_docs(); d && d->path && u < sizeof names; d++)
+            u += (size_t)snprintf(names + u, sizeof names - u, " %s", d->path);
+        for (int k = 0; k < EO_KIND_COUNT && u < sizeof names; k++) {
+            u += (size_t)snprintf(names + u, sizeof names - u, " %s", eo_kind_key((eo_kind)k));
+            for (const void *const *t = eo_registry_list((eo_kind)k); t && *t && u < sizeof names; t++)
+                u += (size_t)snprintf(names + u, sizeof names - u, " %s", eo_method_info_of(*t)->name);
+        }
+        eo_suggest_hint(key, names, NULL, hint, sizeof hint);
+        fprintf(stderr, "elastopt help: no config section, method or kind named '%s'%s; try `elastopt help`\n", key,
+                hint);
         return EO_EXIT_BAD_INPUT;
     }
     return EO_EXIT_OK;

@@ -68,7 +68,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         } else if (strncmp(a, "--F=", 4) == 0) {
             Ftext = a + 4;
         } else {
-            ret = eo_cli_usage_error(cmd, "unknown argument '%s'", a);
+            ret = eo_cli_unknown_arg(cmd, "argument", a);
             goto done;
         }
     }

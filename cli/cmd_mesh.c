@@ -27,7 +27,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             else o.tetgen_max_volume = v;
             i++;
         }
-        else if (argv[i][0] == '-' && argv[i][1]) return eo_cli_usage_error(&eo_cmd_mesh, "unknown option '%s'", argv[i]);
+        else if (argv[i][0] == '-' && argv[i][1]) return eo_cli_unknown_arg(&eo_cmd_mesh, "option", argv[i]);
         else if (!src) src = argv[i];
         else return eo_cli_usage_error(&eo_cmd_mesh, "expected one mesh, got a second: '%s'", argv[i]);
     }
@@ -64,7 +64,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         json_object_set_new(j, "dropped_tets", json_integer(m->dropped_tets));
         json_object_set_new(j, "dropped_vertices", json_integer(m->dropped_vertices));
         json_object_set_new(j, "load_seconds", json_real(t_load));
-        char *text = json_dumps(j, JSON_REAL_PRECISION(17));
+        char *text = eo_json_dumps(j, 0);
         printf("%s\n", text ? text : "{}");
         free(text);
         json_decref(j);
@@ -93,7 +93,7 @@ const eo_cli_command eo_cmd_mesh = {
     .summary = "load or generate a tet mesh, validate it, print statistics",
     .usage = "elastopt mesh FILE [--json] [--drop-degenerate] [--drop-unreferenced] [--quality Q] [--max-volume V]\n\n"
              "FILE is a TetGen .node/.ele (file or base name), MEDIT .mesh, Gmsh .msh (2.2/4.1\n"
-             "ASCII) or VTU file, a closed surface .obj/.off/.stl/.ply tetrahedralized by TetGen\n"
+             "ASCII), VTU or Vega FEM .veg file, a closed surface .obj/.off/.stl/.ply tetrahedralized by TetGen\n"
              "(radius-edge bound Q, default 2, 0 = none; tet volume bound V, default 0 = none),\n"
              "or gen:SX,SY,SZ:NX,NY,NZ[:5|6] for a box of NX*NY*NZ cells of size\n"
              "SX*SY*SZ split into 5 or 6 (default) tets each.\n"

@@ -62,7 +62,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         }
         int r = eo_cli_scene_arg(&eo_cmd_poisson, argc, argv, &i, &a);
         if (r < 0) return EO_EXIT_BAD_INPUT;
-        if (r == 0 || a.file || a.scene) return eo_cli_usage_error(&eo_cmd_poisson, "unknown argument '%s'", argv[i]);
+        if (r == 0 || a.file || a.scene) return eo_cli_unknown_arg(&eo_cmd_poisson, "argument", argv[i]);
     }
     eo_cfg *cfg = NULL;
     eo_poisson *p = NULL;

@@ -10,11 +10,16 @@
  *                                  every output.every steps
  *   steps.csv                      one row per step, appended and flushed every step
  *   iterations.csv                 one row per solver iteration, flushed every step
- *   restart.dat                    the state after the last completed step (atomic)
+ *   restart.dat                    the state after the last completed step (atomic;
+ *                                  with time.adaptive also the substep level and
+ *                                  streak of the adaptive controller)
  *   summary.json                   build info, the config as given and as resolved, and
  *                                  per step: iterations, reason, converged, time, g,
  *                                  ‖∇g‖, centre of mass, max displacement, min J,
- *                                  inverted tets, kinetic and elastic energy; rewritten
+ *                                  inverted tets, kinetic, elastic, gravity and contact
+ *                                  energy, work of prescribed motions, total energy;
+ *                                  "energy_warning" when a conservative scene's total
+ *                                  energy grew (eo_sim_energy_warning); rewritten
  *                                  atomically every output.summary_every steps and at
  *                                  the end
  * A folder holding an earlier run's files is refused unless --force (which removes
@@ -34,7 +39,9 @@
  * The steps run through eo_sim (sim.h), the library's one copy of the step protocol.
  * Explicit integrators (forward_euler, ..., leapfrog) advance without a solver: no
  * objective is minimized, so each step records iterations 0, reason
- * "converged_explicit", g and grad_norm null (NaN in the CSV) and one CSV row
+ * "explicit" (converged 0 / false: nothing was solved; not a failure either: such
+ * steps count as "explicit" in summary.json's "step_counts" and the closing line,
+ * and a run of them exits 0), g and grad_norm null (NaN in the CSV) and one CSV row
  * (iteration 0). The solver section is still validated (and unused).
  * After every step the state is checked: a non-finite position, velocity, energy or
  * force (an explicit integrator beyond its stability limit, or a blown-up implicit
@@ -60,6 +67,7 @@
 #include "elastopt/sim.h"
 #include "progress.h"
 #include "run_output.h"
+#include "blas_fix.h"
 #include "profile.h"
 #include "scene_args.h"
 
@@ -154,7 +162,8 @@ typedef struct summary_info {
 } summary_info;
 
 static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_solver *solver,
-                         const eo_run_record *rec, int nrec, const eo_step_stats *s0, const summary_info *in)
+                         const eo_run_record *rec, int nrec, const eo_step_stats *s0, const summary_info *in,
+                         const char *energy_warning)
 {
     json_t *root = json_object();
     json_object_set_new(root, "scene", json_string(in->name));
@@ -164,6 +173,17 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(root, "build", json_pack("{s:s, s:s, s:s, s:s}", "version", mach.version, "buildtype",
                                                  mach.build_type, "git_revision", mach.revision, "compiler",
                                                  mach.compiler));
+    eo_blas_info blas;
+    eo_blas_get(&blas);
+    char blas_line[640];
+    eo_blas_describe(blas_line, sizeof blas_line);
+    json_object_set_new(root, "blas",
+                        json_pack("{s:s, s:s, s:s, s:s, s:i, s:s, s:s, s:b, s:s?, s:s?, s:s}", "name", blas.name,
+                                  "version", blas.version, "config", blas.config, "core", blas.core, "threads",
+                                  blas.threads, "threads_policy", eo_cli_blas_threads_note(),
+                                  "library", blas.library, "fallback", blas.fallback, "recommended_coretype",
+                                  blas.recommended, "fixed_from", blas.fixed_from[0] ? blas.fixed_from : NULL,
+                                  "line", blas_line));
     json_object_set_new(root, "config", json_deep_copy(eo_cfg_root(cfg)));
     json_t *res = json_object();
     json_object_set_new(res, "scene", eo_scene_to_json(sc));
@@ -173,15 +193,24 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(root, "initial", json_pack("{s:o, s:f, s:f, s:i, s:f, s:f}", "com", vec3(s0->com), "min_J",
                                                    s0->min_J, "max_disp", s0->max_disp, "inverted", s0->inverted,
                                                    "kinetic", s0->kinetic, "elastic", s0->elastic));
+    json_t *ini = json_object_get(root, "initial");
+    json_object_set_new(ini, "gravity_potential", real_or_null(s0->gravity));
+    json_object_set_new(ini, "contact", real_or_null(s0->contact));
+    json_object_set_new(ini, "potential", real_or_null(s0->potential));
+    json_object_set_new(ini, "work_prescribed", real_or_null(s0->work_prescribed));
+    json_object_set_new(ini, "total_energy", real_or_null(s0->total_energy));
     json_t *steps = json_array(), *bad = json_array();
-    int all = 1;
-    long total_iters = 0, total_not_pd = 0;
-    double total_time = 0;
+    int all = 1, nconv = 0, nexpl = 0;
+    long total_iters = 0, total_rejected = 0, total_substeps = 0, total_not_pd = 0;
+    double total_time = 0, min_substep = INFINITY;
     for (int k = 0; k < nrec; k++) {
         const eo_run_record *r = rec + k;
-        int conv = eo_reason_is_converged(r->reason);
-        all &= conv;
-        if (!conv) json_array_append_new(bad, json_integer(r->step));
+        int ok = eo_reason_is_converged(r->reason), expl_step = eo_reason_is_explicit(r->reason);
+        int conv = ok && !expl_step; /* an explicit step solved nothing: counted apart */
+        all &= ok;
+        nconv += conv;
+        nexpl += expl_step;
+        if (!ok) json_array_append_new(bad, json_integer(r->step));
         total_iters += r->iterations;
         total_not_pd += r->n_not_pd;
         total_time += r->time;
@@ -213,6 +242,16 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
         json_object_set_new(e, "kinetic", real_or_null(r->stats.kinetic));
         json_object_set_new(e, "elastic", real_or_null(r->stats.elastic));
         json_object_set_new(e, "gravity_potential", real_or_null(r->stats.gravity));
+        json_object_set_new(e, "contact", real_or_null(r->stats.contact));
+        json_object_set_new(e, "potential", real_or_null(r->stats.potential));
+        json_object_set_new(e, "work_prescribed", real_or_null(r->stats.work_prescribed));
+        json_object_set_new(e, "total_energy", real_or_null(r->stats.total_energy));
+        json_object_set_new(e, "rejected", json_integer(r->rejected)); /* adaptive stepping */
+        json_object_set_new(e, "substeps", json_integer(r->substeps));
+        json_object_set_new(e, "min_substep", real_or_null(r->min_substep));
+        total_rejected += r->rejected;
+        total_substeps += r->substeps;
+        if (r->min_substep < min_substep) min_substep = r->min_substep;
         json_array_append_new(steps, e);
     }
     if (nrec < sc->time.steps) all = 0;
@@ -220,25 +259,33 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(root, "steps", steps);
     json_object_set_new(root, "steps_run", json_integer(nrec));
     json_object_set_new(root, "steps_planned", json_integer(sc->time.steps));
+    /* "all_converged": no step failed (every step converged or was explicit) */
     json_object_set_new(root, "all_converged", json_boolean(all));
     json_object_set_new(root, "not_converged", bad);
+    json_object_set_new(root, "step_counts", json_pack("{s:i, s:i, s:i}", "converged", nconv, "explicit", nexpl,
+                                                       "not_converged", nrec - nconv - nexpl));
     json_object_set_new(root, "total_iterations", json_integer(total_iters));
     json_object_set_new(root, "total_solve_time", json_real(total_time));
     /* factorizations that found the matrix not positive definite (project_on_demand's
      * fallbacks to the projected Hessian): counted here, not printed */
     json_object_set_new(root, "total_not_pd", json_integer(total_not_pd));
+    json_object_set_new(root, "adaptive", json_pack("{s:b, s:I, s:I, s:o}", "on", sc->time.adaptive, "rejected",
+                                                    (json_int_t)total_rejected, "substeps", (json_int_t)total_substeps,
+                                                    "min_substep", real_or_null(min_substep)));
     json_object_set_new(root, "wall_time", json_real(in->wall));
     json_object_set_new(root, "restarted_at_step", in->restarted_at ? json_integer(in->restarted_at) : json_null());
     json_object_set_new(root, "frames", json_integer(in->nframes));
     json_object_set_new(root, "pvd", in->pvd_file ? json_string(in->pvd_file) : json_null());
     json_object_set_new(root, "error", in->error ? json_string(in->error) : json_null());
     json_object_set_new(root, "stop_reason", in->stop_reason ? json_string(in->stop_reason) : json_null());
+    /* total energy of a conservative scene grown past EO_SIM_ENERGY_GROWTH (sim.h) */
+    json_object_set_new(root, "energy_warning", energy_warning ? json_string(energy_warning) : json_null());
     char path[1100];
     snprintf(path, sizeof path, "%s/summary.json", in->dir);
     eo_afile *f = NULL;
     int rc = eo_afile_open(ctx, path, &f);
     if (rc >= 0) {
-        char *text = json_dumps(root, JSON_INDENT(2) | JSON_REAL_PRECISION(12));
+        char *text = eo_json_dumps(root, JSON_INDENT(2));
         if (text) {
             fputs(text, eo_afile_fp(f));
             fputc('\n', eo_afile_fp(f));
@@ -260,7 +307,7 @@ static int write_json_file(eo_ctx *ctx, const char *path, json_t *j)
     eo_afile *f = NULL;
     int rc = eo_afile_open(ctx, path, &f);
     if (rc < 0) return rc;
-    char *text = json_dumps(j, JSON_INDENT(2) | JSON_REAL_PRECISION(17));
+    char *text = eo_json_dumps(j, JSON_INDENT(2));
     if (!text) {
         eo_afile_abort(ctx, &f);
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory (%s)", path);
@@ -349,6 +396,26 @@ static int read_run_json(eo_ctx *ctx, const char *dir, run_origin *o, json_t **d
     return EO_OK;
 }
 
+/* ---------------------------------------------------------------- adaptive state */
+
+/* The adaptive controller's state as the restart array "adaptive": level, streak. */
+static void get_adaptive(const eo_sim *sim, double as[2])
+{
+    int level, streak;
+    eo_sim_get_adaptive_state(sim, &level, &streak);
+    as[0] = level;
+    as[1] = streak;
+}
+
+static int set_adaptive(eo_ctx *ctx, eo_sim *sim, const char *path, const double as[2])
+{
+    if (!(as[0] >= 0 && as[0] <= EO_STEP_MAX_SUBSTEP && as[0] == floor(as[0]) && as[1] >= 0 && as[1] <= INT_MAX &&
+          as[1] == floor(as[1])))
+        return eo_error_at(ctx, EO_ERR_PARSE, EO_ERRLOC_FILE(path, -1), "array adaptive: bad level %g or streak %g",
+                           as[0], as[1]);
+    return eo_sim_set_adaptive_state(sim, (int)as[0], (int)as[1]);
+}
+
 /* ---------------------------------------------------------------- the command */
 
 static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
@@ -373,7 +440,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         else if (strcmp(argv[i], "--quiet") == 0 || strcmp(argv[i], "-q") == 0) verb = EO_CLI_QUIET;
         else if (strcmp(argv[i], "--verbose") == 0 || strcmp(argv[i], "-v") == 0) verb = EO_CLI_VERBOSE;
         else if (strcmp(argv[i], "--profile") == 0) profile = 1;
-        else return eo_cli_usage_error(&eo_cmd_run, "unknown option '%s'", argv[i]);
+        else return eo_cli_unknown_arg(&eo_cmd_run, "option", argv[i]);
     }
     if (restart && (a.file || a.scene || out_dir || force))
         return eo_cli_usage_error(&eo_cmd_run, "--restart DIR continues the run in DIR: give no scene, --out or "
@@ -383,6 +450,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_pvd *pvd = NULL;
     eo_run_record *rec = NULL;
     double *fbuf = NULL, *xs = NULL, *vs = NULL, *hs = NULL;
+    double work = 0; /* the work of prescribed motions, for restart.dat */
     FILE *csv = NULL, *scsv = NULL;
     json_t *run_doc = NULL;
     eo_run_dir rd = {0};
@@ -484,12 +552,22 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     snprintf(itpath, sizeof itpath, "%s/iterations.csv", dir);
     snprintf(stpath, sizeof stpath, "%s/steps.csv", dir);
     snprintf(rspath, sizeof rspath, "%s/restart.dat", dir);
+    /* adaptive stepping: the controller's substep level and converged substeps in a row
+     * (steps end on nominal boundaries, so that is all a restart needs besides the state) */
+    double as[2] = {0, 0};
     eo_run_array arrays[] = {
         {.name = "x", .data = xs, .count = 3 * (size_t)m->nv, .required = 1},
         {.name = "v", .data = vs, .count = 3 * (size_t)m->nv, .required = 1},
+        {.name = "work_prescribed", .data = &work, .count = 1, .required = 0},
         {.name = "history", .data = hs, .count = hlen, .required = 0},
+        {.name = "adaptive", .data = as, .count = 2, .required = 0},
     };
-    const int narrays = hlen ? 3 : 2;
+    int narrays = hlen ? 4 : 3;
+    if (eo_sim_adaptive(sim)) { /* the table without the history, if none */
+        arrays[narrays] = arrays[4];
+        narrays++;
+    }
+    eo_run_array *aarr = eo_sim_adaptive(sim) ? arrays + narrays - 1 : NULL;
     if (restart) {
         double t;
         EO_TRY(rc = eo_run_restart_read(ctx, rspath, &first, &t, m->nv, arrays, narrays));
@@ -502,7 +580,12 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         EO_TRY(rc = eo_run_logs_resume(ctx, &rd, first, rec));
         nrec = first;
         EO_TRY(rc = eo_sim_set_state(sim, xs, vs, t, first));
-        if (hlen && arrays[2].present) EO_TRY(rc = eo_sim_set_history(sim, hs));
+        if (aarr && aarr->present) EO_TRY(rc = set_adaptive(ctx, sim, rspath, as));
+        if (hlen && arrays[3].present) EO_TRY(rc = eo_sim_set_history(sim, hs));
+        /* the work of prescribed motions so far (absent from older restart files: from steps.csv) */
+        eo_step_set_work_prescribed(st, arrays[2].present ? work
+                                        : first > 0 && isfinite(rec[first - 1].stats.work_prescribed)
+                                            ? rec[first - 1].stats.work_prescribed : 0);
         eo_run_dir_remove_frames_after(&rd, first);
         for (int s = 0; frames && s <= first; s++) { /* the series so far, from the frames on disk */
             char file[64];
@@ -546,11 +629,13 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         }
         eo_sim_get_state(sim, xs, vs, NULL, NULL);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
+        work = eo_step_work_prescribed(st);
+        get_adaptive(sim, as);
         EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), m->nv, arrays, narrays));
     }
     summary_info si = {.dir = dir, .name = org.name, .pvd_file = frames ? pvd_file : NULL, .status = "running",
                        .restarted_at = first};
-    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
+    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
 
     /* ---- every rank ready (under MPI: one rank's failure ends all of them, with exit 2) */
     agreed = 1;
@@ -573,7 +658,9 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         rs.step = k + 1;
         double tb;
         eo_sim_get_state(sim, xs, vs, &tb, NULL);
+        const double work_before = eo_step_work_prescribed(st);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
+        get_adaptive(sim, as);
         long off = ftell(csv);
         eo_sim_step_result r;
         double w0 = eo_wtime();
@@ -581,7 +668,9 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         double wall = eo_wtime() - w0;
         if (rs.interrupted) { /* the step was stopped half-way: back to the last completed one */
             EO_TRY(rc = eo_sim_set_state(sim, xs, vs, tb, k));
+            EO_TRY(rc = set_adaptive(ctx, sim, rspath, as));
             if (hlen) EO_TRY(rc = eo_sim_set_history(sim, hs));
+            eo_step_set_work_prescribed(st, work_before);
             fflush(csv);
             if (off >= 0 && ftruncate(fileno(csv), (off_t)off) != 0) {
                 rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(itpath, -1), "cannot cut the interrupted step");
@@ -601,7 +690,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
                              .time = r.time, .wall = wall, .g = r.g, .grad_norm = r.grad_norm,
                              .n_value = r.n_value, .n_gradient = r.n_gradient, .n_hessian = r.n_hessian,
                              .n_factor = r.n_factor, .n_not_pd = r.n_not_pd, .stats = r.stats, .entry = r.entry,
-                             .n_entries = r.n_entries};
+                             .n_entries = r.n_entries, .rejected = r.rejected, .substeps = r.substeps,
+                             .min_substep = r.min_substep};
         memcpy(e->entry_reason, r.entry_reason, sizeof e->entry_reason);
         memcpy(e->entry_iterations, r.entry_iterations, sizeof e->entry_iterations);
         eo_run_record_write(scsv, e);
@@ -626,11 +716,13 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         }
         eo_sim_get_state(sim, xs, vs, NULL, NULL);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
+        work = eo_step_work_prescribed(st);
+        get_adaptive(sim, as);
         EO_TRY(rc = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), m->nv, arrays, narrays));
         if (sc->output.summary_every > 0 && (k + 1) % sc->output.summary_every == 0 && k + 1 < nsteps) {
             si.nframes = nframes;
             si.wall = eo_wtime() - t_start;
-            EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
+            EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
         }
         eo_cli_progress_step(&pg, e);
         eo_cli_profile_step(&prof, sim, k + 1);
@@ -651,7 +743,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     si.error = errtext[0] ? errtext : NULL;
     si.stop_reason = diverged ? eo_reason_name(EO_DIVERGED_NONFINITE) : signo ? "interrupted" : NULL;
     si.status = signo ? "interrupted" : (diverged || errtext[0]) ? "stopped" : "finished";
-    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si));
+    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
     if (errtext[0]) fprintf(stderr, "elastopt: error: %s\n", errtext);
     if (signo && verb != EO_CLI_QUIET)
         fprintf(stderr, "elastopt: interrupted (%s) after step %d of %d; every file is complete; continue with: "
@@ -715,9 +807,11 @@ const eo_cli_command eo_cmd_run = {
              "On a terminal a progress line is redrawn on stderr (step, simulated time, time per\n"
              "step, ETA, last step's iterations, worst reason); not on a terminal a line every\n"
              "5 s at most; --verbose: one line per step; --quiet: nothing but errors.\n"
-             "--profile: per step and in total, the solver's time in assembly, factorization\n"
-             "(symbolic, numeric), solves, line search, gradients and other, and the ratio of\n"
-             "a Newton iteration to its numeric factorization (stdout).\n"
+             "--profile: the BLAS line (name, version, core, threads, \"(fixed from Prescott)\"\n"
+             "after a re-execution with OPENBLAS_CORETYPE), then per step and in total, the\n"
+             "solver's time in assembly, factorization (symbolic, numeric), solves, line search,\n"
+             "gradients and other, and the ratio of a Newton iteration to its numeric\n"
+             "factorization (stdout). summary.json carries the same BLAS facts under \"blas\".\n"
              "Exit status: 0 every step converged, 1 some step did not, 2 bad input or an output\n"
              "that cannot be written (nothing written), 130/143 interrupted.\n",
     .run = run,

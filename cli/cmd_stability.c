@@ -106,7 +106,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     const char *png = NULL;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--png") == 0 && i + 1 < argc) png = argv[++i];
-        else return eo_cli_usage_error(&eo_cmd_stability, "unknown argument '%s'", argv[i]);
+        else return eo_cli_unknown_arg(&eo_cmd_stability, "argument", argv[i]);
     }
     if (png) { /* before the measurements: a path that cannot be written fails at once */
         int rc = eo_path_check(ctx, png, EO_PATH_WRITE);

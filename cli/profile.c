@@ -5,11 +5,15 @@
  * minimization: stopping tests, Hessian-fix bookkeeping, vector updates, logging
  * callbacks), and the ratio of one Newton iteration to one numeric factorization,
  * (total / iterations) / (numeric / factorizations). Wall seconds, measured in the
- * library (eo_solver_get_profile); this file only prints. */
+ * library (eo_solver_get_profile); this file only prints. First line: the BLAS that
+ * factorized (eo_blas_describe: name, version, core, threads, "(fixed from Prescott)"). */
 #include "profile.h"
 
 #include <math.h>
 #include <string.h>
+
+#include "blas_fix.h"
+#include "elastopt/machine.h"
 
 static const eo_profile *solver_profile(const eo_sim *sim)
 {
@@ -24,6 +28,15 @@ void eo_cli_profile_begin(eo_cli_profile *p, int on, const eo_sim *sim)
     p->out = stdout;
     const eo_profile *pr = solver_profile(sim);
     if (pr) p->last = *pr;
+    if (on) eo_cli_profile_blas(p->out);
+}
+
+void eo_cli_profile_blas(FILE *out)
+{
+    char line[640];
+    eo_blas_describe(line, sizeof line);
+    const char *why = eo_cli_blas_threads_note();
+    fprintf(out, "profile: %s%s%s\n", line, *why ? "; threads: " : "", why);
 }
 
 void eo_cli_profile_step(eo_cli_profile *p, const eo_sim *sim, int step)

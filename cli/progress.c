@@ -2,6 +2,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "progress.h"
 
+#include <math.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -49,9 +50,12 @@ void eo_cli_progress_step(eo_cli_progress *p, const eo_run_record *r)
     }
     double now = eo_wtime();
     if (p->verbosity == EO_CLI_VERBOSE) {
-        fprintf(stderr, "step %d/%d  t = %.6g s  %s  %d iterations  %.3g s  min J %.4g  inverted %d  elastic %.6g J\n",
+        fprintf(stderr, "step %d/%d  t = %.6g s  %s  %d iterations  %.3g s  min J %.4g  inverted %d  elastic %.6g J",
                 r->step, p->nsteps, r->t, eo_reason_name(r->reason), r->iterations, r->wall, r->stats.min_J,
                 r->stats.inverted, r->stats.elastic);
+        if (r->rejected || r->substeps > 1) /* adaptive stepping */
+            fprintf(stderr, "  %d substeps (smallest %.4g s), %d rejected", r->substeps, r->min_substep, r->rejected);
+        fputc('\n', stderr);
         fflush(stderr);
         return;
     }
@@ -63,7 +67,7 @@ void eo_cli_progress_step(eo_cli_progress *p, const eo_run_record *r)
     char pers[32], eta[32], worst[96];
     fmt_dur(per, pers, sizeof pers);
     fmt_dur(per * (p->nsteps - r->step), eta, sizeof eta);
-    if (p->worst > 0) snprintf(worst, sizeof worst, "all converged");
+    if (p->worst > 0) snprintf(worst, sizeof worst, eo_reason_is_explicit(p->worst) ? "all explicit" : "all converged");
     else snprintf(worst, sizeof worst, "worst %s (step %d)", eo_reason_name(p->worst), p->worst_step);
     fprintf(stderr, "%sstep %d/%d  t = %.4g s  %s/step  ETA %s  last %d iterations  %s%s", p->tty ? "\r\033[K" : "",
             r->step, p->nsteps, r->t, pers, eta, r->iterations, worst, p->tty ? "" : "\n");
@@ -80,9 +84,15 @@ void eo_cli_progress_done(eo_cli_progress *p)
 
 void eo_cli_progress_closing(const eo_run_record *rec, int nrec, int nsteps, char *buf, size_t n)
 {
-    int nconv = 0;
-    for (int k = 0; k < nrec; k++) nconv += eo_reason_is_converged(rec[k].reason);
-    size_t u = (size_t)snprintf(buf, n, "%d/%d converged", nconv, nsteps);
+    int nconv = 0, nexpl = 0;
+    for (int k = 0; k < nrec; k++) {
+        nexpl += eo_reason_is_explicit(rec[k].reason);
+        nconv += eo_reason_is_converged(rec[k].reason) && !eo_reason_is_explicit(rec[k].reason);
+    }
+    size_t u;
+    if (nexpl && !nconv) u = (size_t)snprintf(buf, n, "%d/%d explicit", nexpl, nsteps);
+    else if (nexpl) u = (size_t)snprintf(buf, n, "%d/%d converged, %d explicit", nconv, nsteps, nexpl);
+    else u = (size_t)snprintf(buf, n, "%d/%d converged", nconv, nsteps);
     /* failing steps grouped by reason, in order of first appearance */
     for (int k = 0; k < nrec && u < n; k++) {
         int reason = rec[k].reason;
@@ -114,5 +124,14 @@ void eo_cli_progress_closing(const eo_run_record *rec, int nrec, int nsteps, cha
                                   imax == 1 ? "" : "s");
         else u += (size_t)snprintf(buf + u, n - u, ": %s (%d-%d iterations)", eo_reason_name(reason), imin, imax);
     }
+    long rejected = 0;
+    double hmin = INFINITY;
+    for (int k = 0; k < nrec; k++) {
+        rejected += rec[k].rejected;
+        if (rec[k].rejected && rec[k].min_substep < hmin) hmin = rec[k].min_substep;
+    }
+    if (u < n && rejected) /* adaptive stepping */
+        u += (size_t)snprintf(buf + u, n - u, "; %ld attempt%s rejected and retried in substeps (smallest %.4g s)",
+                              rejected, rejected == 1 ? "" : "s", hmin);
     if (u < n && nrec < nsteps) snprintf(buf + u, n - u, "; %d of %d steps run", nrec, nsteps);
 }

@@ -214,7 +214,8 @@ void eo_run_frame_name(int step, char *buf, size_t n) { snprintf(buf, n, "frame_
 const char *eo_run_num(char buf[32], double v, int digits)
 {
     if (!isfinite(v)) buf[0] = 0;
-    else snprintf(buf, 32, digits == 17 ? "%.17g" : "%.6e", v);
+    else if (digits == 17) eo_fmt_double(buf, v); /* shortest form that reads back exactly */
+    else snprintf(buf, 32, "%.6e", v);
     return buf;
 }
 
@@ -224,19 +225,29 @@ static double num_field(const char *s) { return *s ? strtod(s, NULL) : NAN; }
 void eo_run_record_write(FILE *f, const eo_run_record *r)
 {
     const eo_step_stats *s = &r->stats;
-    char b[14][32];
-    fprintf(f, "%d,%s,%d,%s,%d,%s,%s,%s,%s,%ld,%ld,%ld,%ld,%s,%s,%s,%s,%s,%d,%s,%s,%s,%d,%ld\n", r->step,
-            eo_run_num(b[0], r->t, 17), r->iterations, eo_reason_name(r->reason), eo_reason_is_converged(r->reason),
+    char b[17][32];
+    fprintf(f, "%d,%s,%d,%s,%d,%s,%s,%s,%s,%ld,%ld,%ld,%ld,%s,%s,%s,%s,%s,%d,%s,%s,%s,%d,%s,%s,%s,%s", r->step,
+            eo_run_num(b[0], r->t, 17), r->iterations, eo_reason_name(r->reason),
+            eo_reason_is_converged(r->reason) && !eo_reason_is_explicit(r->reason),
             eo_run_num(b[1], r->time, 17), eo_run_num(b[2], r->wall, 17), eo_run_num(b[3], r->g, 17),
             eo_run_num(b[4], r->grad_norm, 17), r->n_value, r->n_gradient, r->n_hessian, r->n_factor,
             eo_run_num(b[5], s->com[0], 17), eo_run_num(b[6], s->com[1], 17), eo_run_num(b[7], s->com[2], 17),
             eo_run_num(b[8], s->max_disp, 17), eo_run_num(b[9], s->min_J, 17), s->inverted,
             eo_run_num(b[10], s->kinetic, 17), eo_run_num(b[11], s->elastic, 17), eo_run_num(b[12], s->gravity, 17), r->entry,
-            r->n_not_pd);
+            eo_run_num(b[13], s->contact, 17), eo_run_num(b[14], s->potential, 17),
+            eo_run_num(b[15], s->work_prescribed, 17), eo_run_num(b[16], s->total_energy, 17));
+    /* appended: adaptive stepping */
+    fprintf(f, ",%d,%d,%s", r->rejected, r->substeps, eo_run_num(b[13], r->min_substep, 17));
+    /* appended: factorizations that found the matrix not positive definite */
+    fprintf(f, ",%ld\n", r->n_not_pd);
 }
 
 static int reason_from_name(const char *s, int *reason)
 {
+    if (strcmp(s, "converged_explicit") == 0) { /* the explicit steps' former reason name */
+        *reason = EO_REASON_EXPLICIT;
+        return 0;
+    }
     for (int r = -64; r <= 64; r++) {
         const char *n = eo_reason_name(r);
         if (n && strcmp(n, s) == 0) {
@@ -250,7 +261,8 @@ static int reason_from_name(const char *s, int *reason)
 /* parse one row (NUL-terminated, no newline) */
 static int parse_record(char *line, eo_run_record *r)
 {
-    enum { NF = 24 }; /* 23 in logs written before the n_not_pd column: read as 0 */
+    enum { NF = 31, NF_A = 30, NF_E = 27, NF_OLD = 23 }; /* NF_OLD: before the energy columns, NF_E: before the
+                                                           adaptive ones, NF_A: before n_not_pd */
     char *f[NF];
     int n = 0;
     for (char *p = line; n < NF; n++) {
@@ -263,7 +275,7 @@ static int parse_record(char *line, eo_run_record *r)
         *c = 0;
         p = c + 1;
     }
-    if (n != NF && n != NF - 1) return -1;
+    if (n != NF && n != NF_A && n != NF_E && n != NF_OLD) return -1;
     memset(r, 0, sizeof *r);
     r->step = atoi(f[0]);
     r->t = num_field(f[1]);
@@ -285,7 +297,18 @@ static int parse_record(char *line, eo_run_record *r)
     r->stats.elastic = num_field(f[20]);
     r->stats.gravity = num_field(f[21]);
     r->entry = atoi(f[22]);
-    r->n_not_pd = n == NF ? strtol(f[23], NULL, 10) : 0;
+    r->stats.contact = n >= NF_E ? num_field(f[23]) : NAN;
+    r->stats.potential = n >= NF_E ? num_field(f[24]) : NAN;
+    r->stats.work_prescribed = n >= NF_E ? num_field(f[25]) : NAN;
+    r->stats.total_energy = n >= NF_E ? num_field(f[26]) : NAN;
+    r->substeps = 1;
+    r->min_substep = NAN;
+    if (n >= NF_A) {
+        r->rejected = atoi(f[27]);
+        r->substeps = atoi(f[28]);
+        r->min_substep = num_field(f[29]);
+    }
+    r->n_not_pd = n == NF ? strtol(f[30], NULL, 10) : 0;
     return 0;
 }
 

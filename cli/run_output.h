@@ -7,8 +7,10 @@
  *                   -o overrides, the resulting config document; read by --restart
  *   restart.dat     the state after the last completed step (rewritten atomically
  *                   every step), see eo_run_restart_write
- *   steps.csv       one row per completed step (STEPS_CSV_HEADER), %.17g: the summary
- *                   of a continued run is rebuilt from it
+ *   steps.csv       one row per completed step (STEPS_CSV_HEADER), exact numbers: the
+ *                   summary of a continued run is rebuilt from it (rows of the 23 columns
+ *                   before contact..total_energy, as older versions wrote, are read with
+ *                   those four empty)
  *   iterations.csv  one row per solver iteration
  *   summary.json, NAME.pvd, frame_NNNNNN.vtu (NNNNNN = the step)
  * Both CSVs are appended and flushed after every step. */
@@ -30,11 +32,16 @@ typedef struct eo_run_record {
     int entry;            /* the fallback-chain entry whose result was kept (0 = solver) */
     int n_entries;        /* entries run (0 when read back from steps.csv) */
     int entry_reason[EO_SIM_MAX_ENTRIES], entry_iterations[EO_SIM_MAX_ENTRIES];
+    /* adaptive stepping (time.adaptive; eo_sim_step_result): attempts rejected, substeps
+     * accepted, smallest step size tried (s); 0, 1, time.dt without substeps */
+    int rejected, substeps;
+    double min_substep;
 } eo_run_record;
 
 #define EO_RUN_STEPS_CSV_HEADER                                                                           \
     "step,t,iterations,reason,converged,solve_time,wall_time,g,grad_norm,n_value,n_gradient,n_hessian,"     \
-    "n_factor,com_x,com_y,com_z,max_disp,min_J,inverted,kinetic,elastic,gravity_potential,entry,n_not_pd"
+    "n_factor,com_x,com_y,com_z,max_disp,min_J,inverted,kinetic,elastic,gravity_potential,entry,"         \
+    "contact,potential,work_prescribed,total_energy,rejected,substeps,min_substep,n_not_pd"
 #define EO_RUN_ITER_CSV_HEADER "step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason,entry"
 
 /* The folder, locked. */
@@ -64,14 +71,15 @@ void eo_run_dir_remove_frames_after(const eo_run_dir *d, int step);
 void eo_run_frame_name(int step, char *buf, size_t n);
 
 /* One row of steps.csv (no flush). */
-/* A CSV number: %.17g (digits 17) or %.6e; an empty string when v is not finite (no
+/* A CSV number: exact in its shortest form (digits 17, eo_fmt_double) or %.6e; an empty string when v is not finite (no
  * output file holds a non-finite number; readers take an empty field as NAN). */
 const char *eo_run_num(char buf[32], double v, int digits);
 void eo_run_record_write(FILE *f, const eo_run_record *r);
 /* Read steps.csv and iterations.csv of a run that completed `steps` steps and cut both
  * after the rows of step `steps` (dropping later rows and an incomplete last line, as a
  * killed run may leave); fills rec[0..steps-1] from steps.csv. EO_ERR_PARSE if
- * steps.csv does not hold exactly the rows 1..steps in order. */
+ * steps.csv does not hold exactly the rows 1..steps in order. Rows without the adaptive
+ * columns (a run from before them) read as 0 rejected, 1 substep, min_substep NAN. */
 int eo_run_logs_resume(eo_ctx *ctx, const eo_run_dir *d, int steps, eo_run_record *rec);
 
 /* The restart file: a text header

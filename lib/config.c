@@ -7,6 +7,7 @@
  * eo_cfg_finish walks the document and reports the first member with no mark. */
 #include "elastopt/config.h"
 #include "elastopt/io.h"
+#include "elastopt/suggest.h"
 
 #include <stdarg.h>
 #include <jansson.h>
@@ -298,18 +299,21 @@ static int walk(eo_ctx *ctx, eo_cfg *cfg, json_t *node, const char *path)
             json_t *m = json_object_get(cfg->marks, sub);
             if (!m) {
                 json_t *valid = json_object_get(cfg->valid, path);
+                char prefix[PATH_MAX_LEN + 1], hint[2 * PATH_MAX_LEN];
+                snprintf(prefix, sizeof prefix, "%s%s", path, *path ? "." : "");
+                eo_suggest_hint(key, valid ? json_string_value(valid) : "", prefix, hint, sizeof hint);
                 eo_param_src src = eo_cfg_src(cfg, path);
                 eo_errloc loc = EO_ERRLOC_NONE;
                 char needle[PATH_MAX_LEN + 2];
                 snprintf(needle, sizeof needle, "\n%s\n", sub);
                 if (strstr(cfg->overridden, needle))
                     return eo_error(ctx, EO_ERR_UNKNOWN_KEY,
-                                    "command line -o %s: unknown key; valid keys here: %s", sub,
+                                    "command line -o %s: unknown key%s; valid keys here: %s", sub, hint,
                                     valid ? json_string_value(valid) : "(none)");
                 loc.file = src.file;
                 if (cfg->text) eo_json_locate(cfg->text, sub, &loc.line, &loc.column);
-                return eo_error_at(ctx, EO_ERR_UNKNOWN_KEY, loc, "unknown key '%s'; valid keys here: %s",
-                                   sub, valid ? json_string_value(valid) : "(none)");
+                return eo_error_at(ctx, EO_ERR_UNKNOWN_KEY, loc, "unknown key '%s'%s; valid keys here: %s",
+                                   sub, hint, valid ? json_string_value(valid) : "(none)");
             }
             if (json_integer_value(m) == 1) {
                 int rc = walk(ctx, cfg, v, sub);

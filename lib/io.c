@@ -3,6 +3,7 @@
 #include "elastopt/io.h"
 
 #include <errno.h>
+#include <math.h>
 #include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -10,6 +11,20 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+
+const char *eo_fmt_double(char buf[32], double v)
+{
+    if (!isfinite(v)) {
+        snprintf(buf, 32, "%g", v);
+        return buf;
+    }
+    for (int digits = 15; digits < 17; digits++) {
+        snprintf(buf, 32, "%.*g", digits, v);
+        if (strtod(buf, NULL) == v) return buf;
+    }
+    snprintf(buf, 32, "%.17g", v); /* always round-trips (IEEE double) */
+    return buf;
+}
 
 struct eo_afile {
     FILE *fp;

@@ -17,11 +17,12 @@
 
 #include "elastopt/io.h"
 #include "elastopt/mesh.h"
+#include "elastopt/suggest.h"
 #include "mesh_io.h"
 
 static const eo_mesh_io_type *const formats[] = {
     &eo_mesh_io_tetgen, &eo_mesh_io_medit, &eo_mesh_io_gmsh, &eo_mesh_io_vtu, &eo_mesh_io_obj,
-    &eo_mesh_io_off, &eo_mesh_io_stl, &eo_mesh_io_ply, NULL,
+    &eo_mesh_io_off, &eo_mesh_io_stl, &eo_mesh_io_ply, &eo_mesh_io_veg, NULL,
 };
 
 eo_mesh_read_opts eo_mesh_read_opts_default(void)
@@ -177,9 +178,12 @@ static const eo_mesh_io_type *pick(eo_ctx *ctx, const char *path, eo_mesh_format
     const eo_mesh_io_type *t = fmt == EO_MESH_AUTO ? find_by_path(path) : find_by_format(fmt);
     char exts[256];
     if (!t) {
+        char hint[96] = "";
         list_exts(exts, sizeof exts, reading);
+        const char *dot = strrchr(path, '.');
+        if (dot && !strchr(dot, '/')) eo_suggest_hint(dot, exts, NULL, hint, sizeof hint);
         *rc = eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(path, -1),
-                          "unknown mesh format; expected a file name ending in one of: %s", exts);
+                          "unknown mesh format%s; expected a file name ending in one of: %s", hint, exts);
         return NULL;
     }
     if (!reading && !t->write) {

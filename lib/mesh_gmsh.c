@@ -411,8 +411,11 @@ static int write_gmsh(eo_ctx *ctx, const eo_mesh *m, const char *path)
     fprintf(f, "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n");
     fprintf(f, "$Nodes\n1 %d 1 %d\n3 1 0 %d\n", m->nv, m->nv, m->nv);
     for (int v = 0; v < m->nv; v++) fprintf(f, "%d\n", v + 1);
-    for (int v = 0; v < m->nv; v++)
-        fprintf(f, "%.17g %.17g %.17g\n", m->X[3 * v], m->X[3 * v + 1], m->X[3 * v + 2]);
+    for (int v = 0; v < m->nv; v++) {
+        char b[3][32];
+        fprintf(f, "%s %s %s\n", eo_fmt_double(b[0], m->X[3 * v]), eo_fmt_double(b[1], m->X[3 * v + 1]),
+                eo_fmt_double(b[2], m->X[3 * v + 2]));
+    }
     fprintf(f, "$EndNodes\n");
     int nblocks = 0;
     for (int t = 0; t < m->nt; t++)

@@ -1,5 +1,5 @@
 /* Private: the mesh file format table. One const instance per format file
- * (mesh_tetgen.c, mesh_medit.c, mesh_gmsh.c, vtu.c), listed once in mesh.c; the generic
+ * (mesh_tetgen.c, mesh_medit.c, mesh_gmsh.c, mesh_veg.c, vtu.c), listed once in mesh.c; the generic
  * code in mesh.c picks one by extension or eo_mesh_format, reads the file in one go,
  * calls the reader, then validates with the reader's per-item source lines so
  * validation errors name file and line too. */
@@ -38,7 +38,7 @@ typedef struct eo_mesh_io_type {
 } eo_mesh_io_type;
 
 extern const eo_mesh_io_type eo_mesh_io_tetgen, eo_mesh_io_medit, eo_mesh_io_gmsh, eo_mesh_io_vtu,
-    eo_mesh_io_obj, eo_mesh_io_off, eo_mesh_io_stl, eo_mesh_io_ply;
+    eo_mesh_io_obj, eo_mesh_io_off, eo_mesh_io_stl, eo_mesh_io_ply, eo_mesh_io_veg;
 
 /* Readers behind the format tables in vtu.c (VTU, OBJ). */
 int eo_vtu_read_text(eo_ctx *ctx, const char *text, size_t len, const char *file, eo_mesh **out, eo_mesh_src *src);

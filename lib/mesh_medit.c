@@ -174,9 +174,11 @@ static int write_medit(eo_ctx *ctx, const eo_mesh *m, const char *path)
     if (rc < 0) return rc;
     FILE *f = eo_afile_fp(af);
     fprintf(f, "MeshVersionFormatted 2\n\nDimension 3\n\nVertices\n%d\n", m->nv);
-    for (int v = 0; v < m->nv; v++)
-        fprintf(f, "%.17g %.17g %.17g %d\n", m->X[3 * v], m->X[3 * v + 1], m->X[3 * v + 2],
-                m->vmarker ? m->vmarker[v] : 0);
+    for (int v = 0; v < m->nv; v++) {
+        char b[3][32];
+        fprintf(f, "%s %s %s %d\n", eo_fmt_double(b[0], m->X[3 * v]), eo_fmt_double(b[1], m->X[3 * v + 1]),
+                eo_fmt_double(b[2], m->X[3 * v + 2]), m->vmarker ? m->vmarker[v] : 0);
+    }
     fprintf(f, "\nTetrahedra\n%d\n", m->nt);
     for (int t = 0; t < m->nt; t++) {
         const int *q = m->tets + 4 * t;

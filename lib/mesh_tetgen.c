@@ -259,7 +259,9 @@ static int write_tetgen(eo_ctx *ctx, const eo_mesh *m, const char *path)
     if (rc < 0) goto fail;
     fprintf(f[0], "# written by elastopt\n%d 3 0 %d\n", m->nv, m->vmarker ? 1 : 0);
     for (int v = 0; v < m->nv; v++) {
-        fprintf(f[0], "%d %.17g %.17g %.17g", v + 1, m->X[3 * v], m->X[3 * v + 1], m->X[3 * v + 2]);
+        char b[3][32];
+        fprintf(f[0], "%d %s %s %s", v + 1, eo_fmt_double(b[0], m->X[3 * v]), eo_fmt_double(b[1], m->X[3 * v + 1]),
+                eo_fmt_double(b[2], m->X[3 * v + 2]));
         if (m->vmarker) fprintf(f[0], " %d", m->vmarker[v]);
         fputc('\n', f[0]);
     }

@@ -3,11 +3,14 @@
  * One table per params struct (see params.h) is the single source of every key, type,
  * default, range and help line; nothing here knows any particular struct. */
 #include "elastopt/params.h"
+#include "elastopt/io.h"
 #include "elastopt/registry.h"
+#include "elastopt/suggest.h"
 
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define FIELD(obj, p, T) ((T *)((char *)(obj) + (p)->offset))
@@ -78,6 +81,68 @@ const char *eo_json_type_name(const json_t *v)
     case JSON_NULL: return "null";
     }
     return "?";
+}
+
+char *eo_json_dumps(const json_t *j, size_t flags)
+{
+    char *text = json_dumps(j, (flags & ~(size_t)JSON_REAL_PRECISION(31)) | JSON_REAL_PRECISION(17));
+    if (!text) return NULL;
+    size_t n = strlen(text);
+    char *out = malloc(2 * n + 1), *o = out;
+    if (!out) {
+        free(text);
+        return NULL;
+    }
+    for (const char *p = text; *p;) {
+        if (*p == '"') { /* a string: copied as is */
+            *o++ = *p++;
+            while (*p && *p != '"') {
+                if (*p == '\\' && p[1]) *o++ = *p++;
+                *o++ = *p++;
+            }
+            if (*p) *o++ = *p++;
+            continue;
+        }
+        if (*p == '-' || (*p >= '0' && *p <= '9')) {
+            size_t k = strspn(p, "+-.0123456789eE");
+            if (memchr(p, '.', k) || memchr(p, 'e', k) || memchr(p, 'E', k)) { /* a real */
+                char buf[32];
+                eo_fmt_double(buf, strtod(p, NULL));
+                size_t m = strlen(buf);
+                memcpy(o, buf, m);
+                o += m;
+                if (!strpbrk(buf, ".en")) { /* "1" -> "1.0": stays a real */
+                    *o++ = '.';
+                    *o++ = '0';
+                }
+            } else {
+                memcpy(o, p, k);
+                o += k;
+            }
+            p += k;
+            continue;
+        }
+        *o++ = *p++;
+    }
+    *o = 0;
+    free(text);
+    return out;
+}
+
+const char *eo_json_describe(const json_t *v, char *buf, size_t n)
+{
+    if (!buf || !n) return "";
+    if (json_is_array(v)) {
+        size_t k = json_array_size(v);
+        if (k == 0) snprintf(buf, n, "an empty array");
+        else snprintf(buf, n, "an array of %zu", k);
+    } else if (!v || json_is_null(v)) {
+        snprintf(buf, n, "%s", eo_json_type_name(v));
+    } else {
+        const char *t = eo_json_type_name(v);
+        snprintf(buf, n, "%s %s", strchr("aeiou", t[0]) ? "an" : "a", t);
+    }
+    return buf;
 }
 
 /* Error located at "<section path>.<key>": the file line if the text has it. */
@@ -162,11 +227,13 @@ static int check_name(eo_ctx *ctx, const eo_param_desc *p, const char *s, const 
     } else {
         return EO_OK;
     }
+    char hint[128];
     choices_list(p, list, sizeof list);
+    eo_suggest_hint(s, list, NULL, hint, sizeof hint);
     if (p->kind == EO_PARAM_METHOD)
-        return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown %s '%s'; valid: %s",
-                    p->registry ? eo_kind_label(p->registry->kind) : "method", s, list);
-    return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown value '%s'; valid: %s", s, list);
+        return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown %s '%s'%s; valid: %s",
+                    p->registry ? eo_kind_label(p->registry->kind) : "method", s, hint, list);
+    return perr(ctx, EO_ERR_UNKNOWN_NAME, src, p->key, "unknown value '%s'%s; valid: %s", s, hint, list);
 }
 
 int eo_params_check(eo_ctx *ctx, const eo_param_desc *d, const void *obj, const eo_param_src *src)
@@ -257,15 +324,16 @@ int eo_params_set_json(eo_ctx *ctx, const eo_param_desc *p, void *obj, const jso
         return EO_OK;
     }
     case EO_PARAM_VEC3: {
+        char got[32];
         if (!json_is_array(v) || json_array_size(v) != 3)
             return perr(ctx, EO_ERR_TYPE, src, p->key, "expected an array of 3 numbers, got %s",
-                        eo_json_type_name(v));
+                        eo_json_describe(v, got, sizeof got));
         double t[3];
         for (int i = 0; i < 3; i++) {
             json_t *e = json_array_get(v, (size_t)i);
             if (!json_is_number(e))
                 return perr(ctx, EO_ERR_TYPE, src, p->key,
-                            "expected an array of 3 numbers, item %d is %s", i, eo_json_type_name(e));
+                            "expected an array of 3 numbers, item %d is %s", i, eo_json_describe(e, got, sizeof got));
             t[i] = json_number_value(e);
             if (!isfinite(t[i]))
                 return perr(ctx, EO_ERR_RANGE, src, p->key, "component %d is not finite", i);
@@ -308,9 +376,12 @@ int eo_params_load(eo_ctx *ctx, const eo_param_desc *d, void *obj, const json_t 
         const eo_param_desc *p = eo_params_find(d, key);
         if (!p) {
             if (is_extra(extra_keys, key)) continue;
-            char list[1024];
+            char list[1024], prefix[256], hint[384];
             eo_params_keys(d, extra_keys, list, sizeof list);
-            return perr(ctx, EO_ERR_UNKNOWN_KEY, src, key, "unknown key; valid keys here: %s",
+            snprintf(prefix, sizeof prefix, "%s%s", src && src->path ? src->path : "",
+                     src && src->path && *src->path ? "." : "");
+            eo_suggest_hint(key, list, prefix, hint, sizeof hint);
+            return perr(ctx, EO_ERR_UNKNOWN_KEY, src, key, "unknown key%s; valid keys here: %s", hint,
                         list[0] ? list : "(none)");
         }
         int rc = eo_params_set_json(ctx, p, obj, v, src);

@@ -4,6 +4,7 @@
  * additions kept in a merged, NULL-terminated array (plain malloc: registries are
  * process-wide, not owned by a context). */
 #include "elastopt/registry.h"
+#include "elastopt/suggest.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -52,10 +53,11 @@ int eo_registry_lookup(eo_ctx *ctx, const eo_registry *r, const char *name, cons
             *out = *t;
             return EO_OK;
         }
-    char list[1024];
+    char list[1024], hint[128];
     eo_registry_name_list(r, list, sizeof list);
-    return eo_error(ctx, EO_ERR_UNKNOWN_NAME, "unknown %s '%s'; valid: %s", r ? eo_kind_label(r->kind) : "method",
-                    name ? name : "(null)", list[0] ? list : "(none built)");
+    eo_suggest_hint(name, list, NULL, hint, sizeof hint);
+    return eo_error(ctx, EO_ERR_UNKNOWN_NAME, "unknown %s '%s'%s; valid: %s", r ? eo_kind_label(r->kind) : "method",
+                    name ? name : "(null)", hint, list[0] ? list : "(none built)");
 }
 
 static int valid_name(const char *s)

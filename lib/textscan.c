@@ -19,20 +19,23 @@ void eo_scan_init(eo_scan *s, eo_ctx *ctx, const char *file, const char *text, s
     s->kind = NULL;
     s->index = -1;
     s->in_record = 0;
+    s->sep = 0;
 }
 
 static int is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+/* a blank, or the reader's extra separator (',' for Vega .veg) */
+static int is_blank(const eo_scan *s, char c) { return is_space(c) || (s->sep && c == s->sep); }
 
 static int is_delim(const eo_scan *s, const char *q)
 {
-    return q >= s->end || *q == 0 || *q == '\n' || is_space(*q) || (s->comment && *q == s->comment);
+    return q >= s->end || *q == 0 || *q == '\n' || is_blank(s, *q) || (s->comment && *q == s->comment);
 }
 
 int eo_scan_skip(eo_scan *s)
 {
     const char *p = s->p, *end = s->end;
     for (;;) {
-        while (p < end && is_space(*p)) p++;
+        while (p < end && is_blank(s, *p)) p++;
         if (p >= end) break;
         if (*p == '\n') {
             if (s->in_record) break;
@@ -208,7 +211,7 @@ int eo_scan_double(eo_scan *s, const char *what, double *v)
 int eo_scan_eol(eo_scan *s, const char *what)
 {
     const char *p = s->p;
-    while (p < s->end && is_space(*p)) p++;
+    while (p < s->end && is_blank(s, *p)) p++;
     if (p >= s->end || *p == '\n' || (s->comment && *p == s->comment)) {
         s->p = p;
         s->in_record = 0;

@@ -27,6 +27,7 @@ typedef struct eo_scan {
     const char *kind;  /* item being read, for messages ("tet", "vertex"); NULL = none */
     long index;        /* its index as the input numbers it, -1 = none */
     int in_record;     /* 1: tokens do not cross the end of the line (see eo_scan_record) */
+    char sep;          /* 0, or one more separator read as a blank (',': "1, 0.5, 0, 0") */
 } eo_scan;
 
 void eo_scan_init(eo_scan *s, eo_ctx *ctx, const char *file, const char *text, size_t len, char comment);

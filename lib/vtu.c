@@ -291,7 +291,8 @@ int eo_pvd_add(eo_ctx *ctx, eo_pvd *p, double t, const char *vtu_file)
     fprintf(f, "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
                "  <Collection>\n");
     for (int i = 0; i < p->n; i++) {
-        fprintf(f, "    <DataSet timestep=\"%.17g\" group=\"\" part=\"0\" file=\"", p->frames[i].t);
+        char tb[32];
+        fprintf(f, "    <DataSet timestep=\"%s\" group=\"\" part=\"0\" file=\"", eo_fmt_double(tb, p->frames[i].t));
         xml_attr(f, p->frames[i].file);
         fprintf(f, "\"/>\n");
     }
@@ -334,7 +335,9 @@ int eo_obj_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const double *
         int v = faces[i];
         if (map[v] >= 0) continue;
         map[v] = ++n;
-        fprintf(f, "v %.17g %.17g %.17g\n", x[3 * v], x[3 * v + 1], x[3 * v + 2]);
+        char b[3][32];
+        fprintf(f, "v %s %s %s\n", eo_fmt_double(b[0], x[3 * v]), eo_fmt_double(b[1], x[3 * v + 1]),
+                eo_fmt_double(b[2], x[3 * v + 2]));
     }
     for (int i = 0; i < nf; i++)
         fprintf(f, "f %d %d %d\n", map[faces[3 * i]], map[faces[3 * i + 1]], map[faces[3 * i + 2]]);

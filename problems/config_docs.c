@@ -177,5 +177,14 @@ json_t *eo_config_schema(void)
             if (json_object_get(props, path)) continue;
             json_object_set_new(props, path, eo_params_schema(mi->params, mi->summary));
         }
+    /* time.<integrator>: the parameters of every registered integrator that has some */
+    json_t *time = node_at(root, "time");
+    for (const void *const *t = eo_registry_list(EO_KIND_INTEGRATOR); t && *t; t++) {
+        const eo_method_info *mi = eo_method_info_of(*t);
+        if (!mi->params || !mi->params_size) continue;
+        json_t *props = json_object_get(time, "properties");
+        if (props && !json_object_get(props, mi->name))
+            json_object_set_new(props, mi->name, eo_params_schema(mi->params, mi->summary));
+    }
     return root;
 }

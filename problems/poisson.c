@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "elastopt/poisson.h"
+#include "elastopt/suggest.h"
 
 static const double PI = 3.14159265358979323846;
 
@@ -63,7 +64,10 @@ int eo_poisson_quadrature_parse(eo_ctx *ctx, const char *name, eo_poisson_quadra
             *q = (eo_poisson_quadrature)i;
             return EO_OK;
         }
-    return eo_error(ctx, EO_ERR_UNKNOWN_NAME, "unknown poisson.quadrature '%s'; valid: midpoint, centroid", name);
+    char hint[96];
+    eo_suggest_hint(name, "midpoint, centroid", NULL, hint, sizeof hint);
+    return eo_error(ctx, EO_ERR_UNKNOWN_NAME, "unknown poisson.quadrature '%s'%s; valid: midpoint, centroid", name,
+                    hint);
 }
 
 static int op_value(void *data, const double *u, double *g)

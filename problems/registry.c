@@ -17,6 +17,7 @@ extern const eo_integrator_type eo_integrator_newmark, eo_integrator_backward_eu
 extern const eo_integrator_type eo_integrator_symplectic_euler_x;
 extern const eo_integrator_type eo_integrator_implicit_midpoint;
 extern const eo_integrator_type eo_integrator_bdf2;
+extern const eo_integrator_type eo_integrator_generalized_alpha;
 extern const eo_scene_type eo_scene_cantilever, eo_scene_cantilever_static, eo_scene_twist,
     eo_scene_stretch, eo_scene_freefall, eo_scene_inverted, eo_scene_drop;
 extern const eo_scene_type eo_scene_cloth;
@@ -35,6 +36,7 @@ const void *const eo_registry_integrator[] = {
     &eo_integrator_symplectic_euler_x,
     &eo_integrator_implicit_midpoint,
     &eo_integrator_bdf2,
+    &eo_integrator_generalized_alpha,
     NULL,
 };
 
@@ -53,10 +55,17 @@ const void *const eo_registry_scene[] = {
 static int check_integrator(eo_ctx *ctx, const void *type)
 {
     const eo_integrator_type *t = type;
-    if (!t->explicit_step && !(t->weight && t->predict && t->velocity))
+    if (!t->explicit_step && !(t->weight && t->predict && t->velocity) &&
+        !(t->accel && t->accel_weight && t->accel_theta && t->accel_predict && t->accel_velocity))
         return eo_error(ctx, EO_ERR_INVALID,
-                        "register integrator '%s': explicit_step, or weight + predict + velocity, required",
+                        "register integrator '%s': explicit_step, or weight + predict + velocity, or accel with "
+                        "accel_weight + accel_theta + accel_predict + accel_velocity, required",
                         t->info.name);
+    if (t->accel && (t->history || t->explicit_step || t->force_n))
+        return eo_error(ctx, EO_ERR_INVALID,
+                        "register integrator '%s': accel excludes history, explicit_step and force_n", t->info.name);
+    if (t->info.params && !t->info.params_size)
+        return eo_error(ctx, EO_ERR_INVALID, "register integrator '%s': params without params_size", t->info.name);
     if (t->history != 0 && (t->history != 1 || !t->weight_history || !t->predict_history || !t->velocity_history))
         return eo_error(ctx, EO_ERR_INVALID,
                         "register integrator '%s': history must be 0, or 1 with weight/predict/velocity_history",

@@ -76,7 +76,7 @@ const eo_param_desc eo_scene_collision_opts_desc[] = {
 const eo_param_desc eo_scene_mesh_opts_desc[] = {
     {.key = "file", .kind = EO_PARAM_STRING, .offset = offsetof(eo_scene_mesh_opts, file),
      .size = SZ(eo_scene_mesh_opts, file), .def.s = "",
-     .help = "mesh file (.node/.ele, .mesh, .msh, .vtu; or a closed surface .obj, .off, .stl, .ply tetrahedralized by "
+     .help = "mesh file (.node/.ele, .mesh, .msh, .vtu, .veg; or a closed surface .obj, .off, .stl, .ply tetrahedralized by "
              "TetGen with mesh.tetgen), relative to the config's folder; empty = mesh.generate"},
     {.key = "drop_degenerate", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_mesh_opts, drop_degenerate),
      .def.i = 0, .help = "drop zero-volume/duplicate tets and unreferenced vertices with a warning"},
@@ -138,6 +138,17 @@ const eo_param_desc eo_scene_time_opts_desc[] = {
     {.key = "load_steps", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_time_opts, load_steps), .def.i = 0,
      .min = 0, .range = EO_RANGE_MIN,
      .help = "static only: ramp gravity and prescribed motions linearly over this many steps (0 = full load at once)"},
+    {.key = "adaptive", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_scene_time_opts, adaptive), .def.i = 0,
+     .help = "adaptive stepping (implicit integrators): a step that does not converge after solver.fallback is "
+             "retried as two half steps, recursively down to adaptive_min_fraction*dt; the size doubles again after "
+             "adaptive_grow_after converged substeps in a row, never beyond dt; steps still end at t = n*dt"},
+    {.key = "adaptive_min_fraction", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_time_opts, adaptive_min_fraction),
+     .def.d = 0.015625, .min = 0, .max = 1, .range = EO_RANGE_MIN_OPEN | EO_RANGE_MAX,
+     .help = "smallest substep of adaptive stepping as a fraction of dt (rounded down to a power of two, at least "
+             "2^-30); default 1/64"},
+    {.key = "adaptive_grow_after", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_time_opts, adaptive_grow_after),
+     .def.i = 2, .min = 1, .range = EO_RANGE_MIN,
+     .help = "adaptive stepping: converged substeps in a row after which the substep size doubles (up to dt)"},
     {0},
 };
 
@@ -248,13 +259,16 @@ const eo_cfg_doc eo_scene_docs[] = {
 /* [[x0,y0,z0],[x1,y1,z1]] → box[6] */
 static int read_box(eo_ctx *ctx, eo_cfg *cfg, const char *path, const json_t *v, double box[6])
 {
+    char got[32];
     if (!json_is_array(v) || json_array_size(v) != 2)
-        return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected [[x0,y0,z0],[x1,y1,z1]], got %s",
-                       eo_json_type_name(v));
+        return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected an array of 2 corners [[x0,y0,z0],[x1,y1,z1]], got %s",
+                       eo_json_describe(v, got, sizeof got));
     for (int i = 0; i < 2; i++) {
         json_t *c = json_array_get(v, (size_t)i);
         if (!json_is_array(c) || json_array_size(c) != 3)
-            return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected [[x0,y0,z0],[x1,y1,z1]]; corner %d is not 3 numbers", i);
+            return cfg_err(ctx, cfg, path, EO_ERR_TYPE,
+                           "expected [[x0,y0,z0],[x1,y1,z1]]; corner %d: expected an array of 3 numbers, got %s", i,
+                           eo_json_describe(c, got, sizeof got));
         for (int k = 0; k < 3; k++) {
             json_t *e = json_array_get(c, (size_t)k);
             if (!json_is_number(e) || !isfinite(json_number_value(e)))
@@ -294,8 +308,12 @@ static int load_points(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc, const json_t *pts
     if (rc < 0) return rc;
     for (int v = 0; v < n; v++) {
         const json_t *p = json_array_get(pts, (size_t)v);
+        char got[32];
+        if (!json_is_array(p) || json_array_size(p) != 3)
+            return cfg_err(ctx, cfg, "mesh.points", EO_ERR_TYPE, "point %d: expected an array of 3 numbers, got %s", v,
+                           eo_json_describe(p, got, sizeof got));
         for (int k = 0; k < 3; k++) {
-            const json_t *e = json_is_array(p) && json_array_size(p) == 3 ? json_array_get(p, (size_t)k) : NULL;
+            const json_t *e = json_array_get(p, (size_t)k);
             if (!json_is_number(e) || !isfinite(json_number_value(e)))
                 return cfg_err(ctx, cfg, "mesh.points", EO_ERR_TYPE, "point %d is not 3 finite numbers", v);
             sc->mesh->X[3 * v + k] = json_number_value(e);
@@ -736,8 +754,10 @@ static int load_point_masses(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
         snprintf(path, sizeof path, "point_masses.%zu", i);
         const json_t *e = json_array_get(list, i);
         int v = -1;
+        char got[32];
         if (!json_is_array(e) || json_array_size(e) != 2)
-            return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected [vertex, kg]");
+            return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected an array of 2 [vertex, kg], got %s",
+                           eo_json_describe(e, got, sizeof got));
         int rc = read_vertex(ctx, cfg, path, json_array_get(e, 0), nv, &v);
         if (rc < 0) return rc;
         const json_t *m = json_array_get(e, 1);
@@ -790,8 +810,10 @@ static int load_springs(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
             char path[64];
             snprintf(path, sizeof path, "springs.list.%d", i);
             const json_t *e = json_array_get(list, (size_t)i);
+            char got[32];
             if (!json_is_array(e) || json_array_size(e) != 2)
-                return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected a vertex pair [i, j]");
+                return cfg_err(ctx, cfg, path, EO_ERR_TYPE, "expected a vertex pair [i, j], got %s",
+                               eo_json_describe(e, got, sizeof got));
             if ((rc = read_vertex(ctx, cfg, path, json_array_get(e, 0), m->nv, &a)) < 0) return rc;
             if ((rc = read_vertex(ctx, cfg, path, json_array_get(e, 1), m->nv, &b)) < 0) return rc;
             double L2 = 0;
@@ -871,6 +893,41 @@ static int load_collisions(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     return EO_OK;
 }
 
+/* `time`, with the parameter sections time.<integrator> of the registered integrators
+ * that have parameters: the selected one's into sc->integrator_params, the others
+ * checked (unknown keys and ranges) and dropped. */
+static int load_time(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    enum { MAX_SECTIONS = 32 };
+    const char *names[MAX_SECTIONS + 1];
+    size_t k = 0;
+    for (const void *const *t = eo_registry_list(EO_KIND_INTEGRATOR); t && *t && k < MAX_SECTIONS; t++) {
+        const eo_method_info *mi = eo_method_info_of(*t);
+        if (mi->params && mi->params_size) names[k++] = mi->name;
+    }
+    names[k] = NULL;
+    int rc = eo_cfg_section(ctx, cfg, "time", eo_scene_time_opts_desc, &sc->time, names);
+    if (rc < 0) return rc;
+    if ((rc = eo_registry_find(ctx, EO_KIND_INTEGRATOR, sc->time.integrator, (const void **)&sc->integrator)) < 0)
+        return rc;
+    for (const void *const *t = eo_registry_list(EO_KIND_INTEGRATOR); t && *t; t++) {
+        const eo_method_info *mi = eo_method_info_of(*t);
+        if (!mi->params || !mi->params_size) continue;
+        void *p = eo_calloc(ctx, 1, mi->params_size);
+        if (!p) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (integrator parameters)");
+        eo_params_default(mi->params, p);
+        char path[96];
+        snprintf(path, sizeof path, "time.%s", mi->name);
+        if ((rc = eo_cfg_section(ctx, cfg, path, mi->params, p, NULL)) < 0) {
+            eo_free(ctx, p);
+            return rc;
+        }
+        if (*t == (const void *)sc->integrator && !sc->integrator_params) sc->integrator_params = p;
+        else eo_free(ctx, p);
+    }
+    return EO_OK;
+}
+
 /* ---------------------------------------------------------------- public */
 
 int eo_scene_cfg_load(eo_ctx *ctx, const char *path, const char *name, eo_cfg **out)
@@ -897,6 +954,7 @@ void eo_scene_destroy(eo_scene **psc)
     eo_free(ctx, sc->spring_ab);
     eo_free(ctx, sc->spring_k);
     eo_free(ctx, sc->collision);
+    eo_free(ctx, sc->integrator_params);
     eo_free(ctx, sc);
     *psc = NULL;
 }
@@ -920,8 +978,7 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     int rc;
     EO_TRY(rc = eo_cfg_section(ctx, cfg, "", eo_scene_opts_desc, &sc->opts, top));
     sc->lumped = strcmp(sc->opts.mass, "lumped") == 0;
-    EO_TRY(rc = eo_cfg_section(ctx, cfg, "time", eo_scene_time_opts_desc, &sc->time, NULL));
-    EO_TRY(rc = eo_registry_find(ctx, EO_KIND_INTEGRATOR, sc->time.integrator, (const void **)&sc->integrator));
+    EO_TRY(rc = load_time(ctx, cfg, sc));
     eo_params_default(eo_scene_damping_opts_desc, &sc->damping);
     EO_TRY(rc = eo_cfg_section(ctx, cfg, "damping", eo_scene_damping_opts_desc, &sc->damping, NULL));
     if ((sc->damping.viscous > 0 || sc->damping.rayleigh_alpha > 0 || sc->damping.rayleigh_beta > 0) &&
@@ -933,6 +990,13 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     if (sc->time.load_steps > 0 && sc->integrator->inertia) {
         rc = cfg_err(ctx, cfg, "time.load_steps", EO_ERR_INVALID,
                      "time.load_steps ramps the load of a quasi-static (static) run; %s is dynamic",
+                     sc->integrator->info.name);
+        goto fail;
+    }
+    if (sc->time.adaptive && sc->integrator->explicit_step) {
+        rc = cfg_err(ctx, cfg, "time.adaptive", EO_ERR_INVALID,
+                     "adaptive stepping retries steps whose minimization did not converge; %s is explicit (no "
+                     "minimization): reduce time.dt instead",
                      sc->integrator->info.name);
         goto fail;
     }
@@ -1014,7 +1078,11 @@ json_t *eo_scene_to_json(const eo_scene *sc)
         json_array_append_new(cols, e);
     }
     json_object_set_new(o, "collisions", cols);
-    json_object_set_new(o, "time", eo_params_to_json(eo_scene_time_opts_desc, &sc->time));
+    json_t *time = eo_params_to_json(eo_scene_time_opts_desc, &sc->time);
+    if (sc->integrator_params && sc->integrator->info.params)
+        json_object_set_new(time, sc->integrator->info.name,
+                            eo_params_to_json(sc->integrator->info.params, sc->integrator_params));
+    json_object_set_new(o, "time", time);
     json_object_set_new(o, "damping", eo_params_to_json(eo_scene_damping_opts_desc, &sc->damping));
     json_object_set_new(o, "output", eo_params_to_json(eo_scene_output_opts_desc, &sc->output));
     return o;

@@ -36,10 +36,91 @@ struct eo_sim {
     eo_solver *fb[EO_SIM_MAX_ENTRIES - 1]; /* solver.fallback entries */
     int nfb;
     int entry;           /* configuration running (or last run) */
+    /* adaptive stepping (time.adaptive; see adaptive_step) */
+    int adapt;           /* on */
+    int adapt_max_level; /* smallest substep dt/2^adapt_max_level (time.adaptive_min_fraction) */
+    int adapt_grow_after;
+    int adapt_streak;    /* converged substeps in a row */
+    double *hb;          /* a multistep integrator's history before a substep (NULL if none) */
     double *xyz;         /* rest positions of the free vertices (3 nv), for set_coordinates */
     const eo_solver *coord_solver; /* s->solver was given the coordinates of ... */
     int coord_n;                   /* ... an objective with coord_n free coordinates */
+    /* energy watch (eo_sim_energy_warning) */
+    int conservative;    /* scene and integrator keep the total energy */
+    double e0;           /* total energy of the initial state */
+    double eref0;        /* max(kinetic + elastic + contact at t = 0, m_total |g| L) */
+    double wmax;         /* max |work of the prescribed motions| so far */
+    double egrowth;      /* largest growth factor warned about (0: none) */
+    char ewarn[400];
 };
+
+/* Conservative: a dynamic integrator that is not dissipative, and no damping, spring
+ * damping or friction in the scene (collisions' penalty contact is a potential). */
+static int scene_conservative(const eo_scene *sc)
+{
+    const eo_integrator_type *it = sc->integrator;
+    int diss = it->is_dissipative ? it->is_dissipative(sc->integrator_params) : it->dissipative;
+    if (!it->inertia || diss) return 0;
+    if (sc->damping.viscous > 0 || sc->damping.rayleigh_alpha > 0 || sc->damping.rayleigh_beta > 0) return 0;
+    if (sc->springs.damping > 0) return 0;
+    for (int o = 0; o < sc->ncollision; o++)
+        if (sc->collision[o].opts.friction > 0) return 0;
+    return 1;
+}
+
+/* The reference energies of the watch from the current (initial) state. */
+static int energy_watch_init(eo_sim *s)
+{
+    eo_step_stats st;
+    int rc = eo_step_stats_compute(s->st, &st);
+    if (rc < 0) return rc;
+    s->conservative = scene_conservative(s->sc);
+    s->e0 = st.total_energy;
+    const eo_mesh *m = s->sc->mesh;
+    const double *mass = eo_step_vertex_mass(s->st), *g = s->sc->opts.gravity;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY}, mt = 0;
+    for (int v = 0; v < m->nv; v++) {
+        mt += mass[v];
+        for (int c = 0; c < 3; c++) lo[c] = fmin(lo[c], m->X[3 * v + c]), hi[c] = fmax(hi[c], m->X[3 * v + c]);
+    }
+    double L2 = 0;
+    for (int c = 0; c < 3 && m->nv > 0; c++) L2 += (hi[c] - lo[c]) * (hi[c] - lo[c]);
+    const double gscale = mt * sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) * sqrt(L2);
+    s->eref0 = fmax(st.kinetic + st.elastic + st.contact, gscale);
+    s->wmax = fabs(st.work_prescribed);
+    s->egrowth = 0;
+    s->ewarn[0] = 0;
+    return EO_OK;
+}
+
+/* After a step: warn (eo_log, once per new maximum) when the total energy of a
+ * conservative scene exceeds its initial value by more than (EO_SIM_ENERGY_GROWTH − 1)
+ * times the reference energy. */
+static void energy_watch(eo_sim *s, const eo_step_stats *st, int index)
+{
+    if (!s->conservative || !isfinite(st->total_energy)) return;
+    s->wmax = fmax(s->wmax, fabs(st->work_prescribed));
+    const double ref = fmax(s->eref0, s->wmax);
+    if (!(ref > 0)) return;
+    const double growth = 1.0 + (st->total_energy - s->e0) / ref;
+    if (!(growth > EO_SIM_ENERGY_GROWTH) || growth <= s->egrowth) return;
+    const char *name = s->sc->integrator->info.name;
+    const char *advice = s->sc->integrator->explicit_step
+                             ? "reduce time.dt or use an implicit integrator (implicit_midpoint, generalized_alpha)"
+                         : strcmp(name, "newmark") == 0
+                             ? "try implicit_midpoint or generalized_alpha"
+                             : "try generalized_alpha with time.generalized_alpha.rho_inf < 1, or a smaller time.dt";
+    const int first = s->egrowth == 0;
+    s->egrowth = growth;
+    snprintf(s->ewarn, sizeof s->ewarn,
+             "total energy grew x%.3g in %d steps with integrator %s (from %.6g J to %.6g J, reference %.6g J; not "
+             "energy-stable on this scene: %s)",
+             growth, index, name, s->e0, st->total_energy, ref, advice);
+    if (first) eo_log(s->ctx, EO_LOG_WARN, "%s", s->ewarn);
+}
+
+const char *eo_sim_energy_warning(const eo_sim *s) { return s->ewarn[0] ? s->ewarn : NULL; }
+int eo_sim_energy_conservative(const eo_sim *s) { return s->conservative; }
 
 static void fallback_clear(eo_solver **fb, int *nfb)
 {
@@ -47,17 +128,30 @@ static void fallback_clear(eo_solver **fb, int *nfb)
     *nfb = 0;
 }
 
+/* The default fallback chain of a scene's solver (EO_SIM_DEFAULT_FALLBACK, sim.h): used
+ * when the scene names no `solver.fallback` (an explicit [] turns it off) and the solver
+ * runs natively. Measured choice: README "Defaults that converge". */
+static const char default_fallback[] = EO_SIM_DEFAULT_FALLBACK;
+
 /* The solvers of cfg's `solver.fallback` (each entry merged over the `solver` section),
- * validated like the main one; the list is consumed in cfg. cfg NULL or no list: none. */
-static int fallback_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver **fb, int *nfb)
+ * validated like the main one; the list is consumed in cfg. cfg NULL or no list: none,
+ * or with use_default the default chain. */
+static int fallback_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver **fb, int *nfb, int use_default)
 {
     *nfb = 0;
     if (!cfg) return EO_OK;
     /* read without marking `solver` consumed whole (its keys are checked by its loads) */
     json_t *main_sec = json_object_get(eo_cfg_root(cfg), "solver");
     json_t *list = json_is_object(main_sec) ? json_object_get(main_sec, "fallback") : NULL;
-    if (!list) return EO_OK;
-    eo_cfg_consume(cfg, "solver.fallback");
+    json_t *deflist = NULL;
+    if (!list) {
+        json_t *be = json_is_object(main_sec) ? json_object_get(main_sec, "backend") : NULL;
+        if (!use_default || (be && !(json_is_string(be) && !strcmp(json_string_value(be), "native"))))
+            return EO_OK;
+        if (!(list = deflist = json_loads(default_fallback, 0, NULL)))
+            return eo_error(ctx, EO_ERR_NOMEM, "sim: out of memory");
+    }
+    if (!deflist) eo_cfg_consume(cfg, "solver.fallback");
     if (!json_is_array(list) || json_array_size(list) > EO_SIM_MAX_ENTRIES - 1)
         return eo_error(ctx, EO_ERR_TYPE, "%s: key 'solver.fallback': expected a list of at most %d solver sections",
                         eo_cfg_file(cfg), EO_SIM_MAX_ENTRIES - 1);
@@ -97,6 +191,7 @@ static int fallback_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver **fb, int *nfb)
             break;
         }
     }
+    json_decref(deflist);
     if (rc < 0) fallback_clear(fb, nfb);
     return rc;
 }
@@ -141,7 +236,7 @@ int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
     eo_solver_opts_default(&so);
     EO_TRY(rc = eo_solver_opts_load(ctx, cfg, &so));
     EO_TRY(rc = eo_solver_create(ctx, &so, cfg, &s->solver));
-    EO_TRY(rc = fallback_load(ctx, cfg, s->fb, &s->nfb));
+    EO_TRY(rc = fallback_load(ctx, cfg, s->fb, &s->nfb, !s->sc->integrator->explicit_step));
     if (s->sc->integrator->explicit_step && !s->sc->lumped && s->sc->mesh->nt > 0)
         EO_TRY(rc = mass_solver(ctx, cfg, so.linear, &mls));
     EO_TRY(rc = eo_cfg_finish(ctx, cfg));
@@ -156,10 +251,18 @@ int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
     s->vb = eo_malloc(ctx, nf * sizeof(double));
     s->x0b = s->nfb ? eo_malloc(ctx, nf * sizeof(double)) : NULL;
     s->xyz = eo_malloc(ctx, nf * sizeof(double));
-    if (!s->xb || !s->vb || (s->nfb && !s->x0b) || !s->xyz) {
+    const size_t hlen = eo_step_history_len(s->st);
+    s->hb = hlen ? eo_malloc(ctx, hlen * sizeof(double)) : NULL;
+    if (!s->xb || !s->vb || (s->nfb && !s->x0b) || !s->xyz || (hlen && !s->hb)) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "sim: out of memory");
         goto fail;
     }
+    EO_TRY(rc = energy_watch_init(s));
+    s->adapt = s->sc->time.adaptive;
+    s->adapt_grow_after = s->sc->time.adaptive_grow_after;
+    while (s->adapt_max_level < EO_STEP_MAX_SUBSTEP &&
+           ldexp(1.0, -(s->adapt_max_level + 1)) >= s->sc->time.adaptive_min_fraction)
+        s->adapt_max_level++;
     *out = s;
     return EO_OK;
 fail:
@@ -190,6 +293,7 @@ void eo_sim_destroy(eo_sim **ps)
     eo_free(ctx, s->xb);
     eo_free(ctx, s->vb);
     eo_free(ctx, s->x0b);
+    eo_free(ctx, s->hb);
     fallback_clear(s->fb, &s->nfb);
     eo_free(ctx, s->xyz);
     eo_solver_destroy(&s->solver);
@@ -212,7 +316,7 @@ int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solver_cfg)
     int nfb = 0;
     int rc = eo_solver_create(s->ctx, opts, solver_cfg, &sv);
     if (rc < 0) return rc;
-    if ((rc = fallback_load(s->ctx, solver_cfg, fb, &nfb)) < 0) {
+    if ((rc = fallback_load(s->ctx, solver_cfg, fb, &nfb, 0)) < 0) {
         eo_solver_destroy(&sv);
         return rc;
     }
@@ -271,12 +375,179 @@ static int sim_coordinates(eo_sim *s, eo_solver *solver)
     return EO_OK;
 }
 
+/* Solve the prepared step from x (in place, obj->n values) with `solver`, then while it
+ * has not converged with the fallback entries, each from the step's starting guess. r
+ * gets the chain, the kept run's iterations, reason, g and ‖∇g‖, and adds the time and
+ * evaluations of every run. */
+static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
+{
+    int rc;
+    const size_t nx = (size_t)s->obj->n * sizeof(double);
+    if (s->nfb) memcpy(s->x0b, x, nx);
+    for (int e = 0; e <= s->nfb; e++) {
+        eo_solve_result sr;
+        if (e > 0) memcpy(x, s->x0b, nx); /* again from the step's starting guess */
+        s->entry = e;
+        eo_solver *sv = e ? s->fb[e - 1] : s->solver;
+        if ((rc = sim_coordinates(s, sv)) < 0) return rc;
+        if ((rc = eo_solver_minimize(sv, s->obj, x, s->fn, s->user, &sr)) < 0) return rc;
+        r->entry = e;
+        r->n_entries = e + 1;
+        r->entry_reason[e] = sr.reason;
+        r->entry_iterations[e] = sr.iterations;
+        r->iterations = sr.iterations;
+        r->reason = sr.reason;
+        r->time += sr.time;
+        r->g = sr.g;
+        r->grad_norm = sr.grad_norm;
+        r->n_value += sr.n_value;
+        r->n_gradient += sr.n_gradient;
+        r->n_hessian += sr.n_hessian;
+        r->n_factor += sr.n_factor;
+        r->n_not_pd += sr.n_not_pd;
+        if (sr.reason >= 0 || sr.reason == EO_DIVERGED_EXTERNAL) break;
+    }
+    return EO_OK;
+}
+
+/* Accept x as the new state (eo_step_end) and check it: a non-finite state is undone
+ * (positions, velocities, time, index; with `whole`, also the substep progress and a
+ * multistep integrator's history) and *finite = 0. */
+static int accept(eo_sim *s, const double *x, int whole, int *finite)
+{
+    const size_t nf = (size_t)(3 * s->sc->mesh->nv) * sizeof(double);
+    const double t = eo_step_time(s->st);
+    const int index = eo_step_index(s->st);
+    const double work = eo_step_work_prescribed(s->st);
+    eo_step_substep ss;
+    int rc;
+    memcpy(s->xb, eo_step_x(s->st), nf);
+    memcpy(s->vb, eo_step_v(s->st), nf);
+    if (whole) {
+        eo_step_get_substep(s->st, &ss);
+        if (s->hb && (rc = eo_step_get_history(s->st, s->hb)) < 0) return rc;
+    }
+    if ((rc = eo_step_end(s->st, x)) < 0) return rc;
+    *finite = eo_step_state_finite(s->st);
+    if (!*finite) { /* keep the last finite state */
+        eo_step_set_state(s->st, s->xb, s->vb, t);
+        eo_step_set_index(s->st, index);
+        eo_step_set_work_prescribed(s->st, work);
+        if (whole && (rc = eo_step_set_substep(s->st, &ss)) < 0) return rc;
+        if (whole && s->hb && (rc = eo_step_set_history(s->st, s->hb)) < 0) return rc;
+    }
+    return EO_OK;
+}
+
+static void add_cost(eo_sim_step_result *r, const eo_sim_step_result *a)
+{
+    r->time += a->time;
+    r->n_value += a->n_value;
+    r->n_gradient += a->n_gradient;
+    r->n_hessian += a->n_hessian;
+    r->n_factor += a->n_factor;
+    r->n_not_pd += a->n_not_pd;
+}
+
+static void copy_chain(eo_sim_step_result *r, const eo_sim_step_result *a)
+{
+    r->entry = a->entry;
+    r->n_entries = a->n_entries;
+    memcpy(r->entry_reason, a->entry_reason, sizeof r->entry_reason);
+    memcpy(r->entry_iterations, a->entry_iterations, sizeof r->entry_iterations);
+}
+
+/* The next substeps at half the size (an attempt was rejected). */
+static int halve(eo_sim *s, eo_step_substep *ss)
+{
+    ss->level++;
+    s->adapt_streak = 0;
+    return eo_step_set_substep(s->st, ss);
+}
+
+/* Adaptive stepping (time.adaptive): the nominal step tₙ → tₙ + dt in substeps of
+ * dt/2^k (eo_step_set_substep; k persists between steps). Each substep is solved with the
+ * solver and its fallback chain; one that does not converge (or whose new state is not
+ * finite) is rejected and tried again from the same state with k + 1, down to k =
+ * adapt_max_level, where it is accepted as it is (not converged, like a step without
+ * adaptive stepping; a non-finite one is undone and ends the step with
+ * diverged_nonfinite). After adapt_grow_after converged substeps in a row k drops by one
+ * (the size doubles) where the progress allows it (a multiple of the doubled size, so
+ * that the substeps still end on tₙ + dt). A callback stop (diverged_external) is
+ * accepted at once and ends the call, possibly inside the nominal step (the next call
+ * completes it). With adaptive stepping off (eo_sim_set_adaptive) but a level left, the
+ * nominal step is completed at that level and the next ones are nominal. */
+static int adaptive_step(eo_sim *s, eo_sim_step_result *r)
+{
+    eo_step *st = s->st;
+    eo_step_substep ss;
+    int rc, failed = 0;
+    r->min_substep = INFINITY;
+    r->reason = EO_CONVERGED_EXPLICIT; /* replaced by the first substep's */
+    for (;;) {
+        eo_step_get_substep(st, &ss);
+        r->min_substep = fmin(r->min_substep, ldexp(s->sc->time.dt, -ss.level));
+        if ((rc = eo_sim_prepare(s, NULL, NULL)) < 0) return rc;
+        s->prepared = 0;
+        double *x = eo_step_guess(st);
+        eo_sim_step_result a;
+        memset(&a, 0, sizeof a);
+        if ((rc = solve_chain(s, x, &a)) < 0) return rc;
+        add_cost(r, &a);
+        copy_chain(r, &a);
+        const int conv = a.reason >= 0, ext = a.reason == EO_DIVERGED_EXTERNAL;
+        const int can_halve = s->adapt && ss.level < s->adapt_max_level && !ext;
+        if (!conv && can_halve) {
+            r->rejected++;
+            if ((rc = halve(s, &ss)) < 0) return rc;
+            continue;
+        }
+        int finite;
+        if ((rc = accept(s, x, 1, &finite)) < 0) return rc;
+        if (!finite) {
+            if (can_halve) {
+                r->rejected++;
+                if ((rc = halve(s, &ss)) < 0) return rc;
+                continue;
+            }
+            r->reason = EO_DIVERGED_NONFINITE;
+            r->g = a.g;
+            r->grad_norm = a.grad_norm;
+            return EO_OK;
+        }
+        r->substeps++;
+        r->iterations += a.iterations;
+        r->g = a.g;
+        r->grad_norm = a.grad_norm;
+        if (!failed) r->reason = a.reason; /* the first that failed, else the last */
+        failed |= !conv;
+        s->adapt_streak = conv ? s->adapt_streak + 1 : 0;
+        if (ext) return EO_OK;
+        eo_step_get_substep(st, &ss);
+        if (s->adapt && ss.level > 0 && s->adapt_streak >= s->adapt_grow_after) {
+            const double q = ldexp(ss.done, ss.level - 1); /* the doubled size fits */
+            if (q == floor(q)) {
+                ss.level--;
+                s->adapt_streak = 0;
+                if ((rc = eo_step_set_substep(st, &ss)) < 0) return rc;
+            }
+        }
+        if (ss.done == 0) break; /* the nominal step is complete */
+    }
+    if (!s->adapt && ss.level > 0) {
+        ss.level = 0;
+        if ((rc = eo_step_set_substep(st, &ss)) < 0) return rc;
+    }
+    return EO_OK;
+}
+
 int eo_sim_step(eo_sim *s, eo_sim_step_result *r)
 {
     eo_sim_step_result tmp;
     if (!r) r = &tmp;
     memset(r, 0, sizeof *r);
     r->g = r->grad_norm = NAN;
+    r->min_substep = s->sc->time.dt;
     int rc;
     if (eo_step_is_explicit(s->st)) {
         s->prepared = 0;
@@ -286,50 +557,27 @@ int eo_sim_step(eo_sim *s, eo_sim_step_result *r)
         s->entry = 0;
         r->n_entries = 1;
         r->entry_reason[0] = r->reason;
+        r->substeps = r->reason != EO_DIVERGED_NONFINITE;
     } else {
-        if ((rc = eo_sim_prepare(s, NULL, NULL)) < 0) return rc;
-        s->prepared = 0;
-        double *x = eo_step_guess(s->st);
-        const size_t nx = (size_t)s->obj->n * sizeof(double);
-        if (s->nfb) memcpy(s->x0b, x, nx);
-        /* the solver, then the fallback entries while the step has not converged */
-        for (int e = 0; e <= s->nfb; e++) {
-            eo_solve_result sr;
-            if (e > 0) memcpy(x, s->x0b, nx); /* again from the step's starting guess */
-            s->entry = e;
-            eo_solver *sv = e ? s->fb[e - 1] : s->solver;
-            if ((rc = sim_coordinates(s, sv)) < 0) return rc;
-            if ((rc = eo_solver_minimize(sv, s->obj, x, s->fn, s->user, &sr)) < 0) return rc;
-            r->entry = e;
-            r->n_entries = e + 1;
-            r->entry_reason[e] = sr.reason;
-            r->entry_iterations[e] = sr.iterations;
-            r->iterations = sr.iterations;
-            r->reason = sr.reason;
-            r->time += sr.time;
-            r->g = sr.g;
-            r->grad_norm = sr.grad_norm;
-            r->n_value += sr.n_value;
-            r->n_gradient += sr.n_gradient;
-            r->n_hessian += sr.n_hessian;
-            r->n_factor += sr.n_factor;
-            r->n_not_pd += sr.n_not_pd;
-            if (sr.reason >= 0 || sr.reason == EO_DIVERGED_EXTERNAL) break;
-        }
-        const size_t nf = (size_t)(3 * s->sc->mesh->nv) * sizeof(double);
-        const double t = eo_step_time(s->st);
-        const int index = eo_step_index(s->st);
-        memcpy(s->xb, eo_step_x(s->st), nf);
-        memcpy(s->vb, eo_step_v(s->st), nf);
-        if ((rc = eo_step_end(s->st, x)) < 0) return rc;
-        if (!eo_step_state_finite(s->st)) { /* keep the last finite state */
-            r->reason = EO_DIVERGED_NONFINITE;
-            eo_step_set_state(s->st, s->xb, s->vb, t);
-            eo_step_set_index(s->st, index);
+        eo_step_substep ss;
+        eo_step_get_substep(s->st, &ss);
+        if (s->adapt || ss.level || ss.done > 0) {
+            if ((rc = adaptive_step(s, r)) < 0) return rc;
+        } else {
+            if ((rc = eo_sim_prepare(s, NULL, NULL)) < 0) return rc;
+            s->prepared = 0;
+            double *x = eo_step_guess(s->st);
+            if ((rc = solve_chain(s, x, r)) < 0) return rc;
+            int finite;
+            if ((rc = accept(s, x, 0, &finite)) < 0) return rc;
+            if (!finite) r->reason = EO_DIVERGED_NONFINITE;
+            r->substeps = finite;
         }
     }
     r->t = eo_step_time(s->st);
-    return eo_step_stats_compute(s->st, &r->stats);
+    if ((rc = eo_step_stats_compute(s->st, &r->stats)) < 0) return rc;
+    if (r->reason != EO_DIVERGED_NONFINITE) energy_watch(s, &r->stats, eo_step_index(s->st));
+    return EO_OK;
 }
 
 int eo_sim_trial(eo_sim *s, eo_solver *solver, const double *x0, double *x, eo_iter_fn fn, void *user,
@@ -349,7 +597,9 @@ int eo_sim_trial(eo_sim *s, eo_solver *solver, const double *x0, double *x, eo_i
 int eo_sim_reset(eo_sim *s)
 {
     s->prepared = 0;
-    return eo_step_reset(s->st);
+    s->adapt_streak = 0;
+    int rc = eo_step_reset(s->st);
+    return rc < 0 ? rc : energy_watch_init(s);
 }
 
 void eo_sim_get_state(const eo_sim *s, double *x, double *v, double *t, int *index)
@@ -364,6 +614,7 @@ void eo_sim_get_state(const eo_sim *s, double *x, double *v, double *t, int *ind
 int eo_sim_set_state(eo_sim *s, const double *x, const double *v, double t, int index)
 {
     s->prepared = 0;
+    s->adapt_streak = 0;
     int rc = eo_step_set_state(s->st, x, v, t);
     if (rc >= 0) rc = eo_step_set_index(s->st, index);
     return rc;
@@ -375,6 +626,53 @@ int eo_sim_set_history(eo_sim *s, const double *h)
 {
     s->prepared = 0;
     return eo_step_set_history(s->st, h);
+}
+
+int eo_sim_adaptive(const eo_sim *s) { return s->adapt; }
+
+int eo_sim_set_adaptive(eo_sim *s, int on)
+{
+    if (on && eo_step_is_explicit(s->st))
+        return eo_error(s->ctx, EO_ERR_UNSUPPORTED, "sim: integrator %s is explicit: no adaptive stepping",
+                        s->sc->integrator->info.name);
+    s->adapt = on != 0;
+    eo_step_substep ss;
+    eo_step_get_substep(s->st, &ss);
+    if (!on && ss.level && ss.done == 0) { /* at a nominal boundary: nominal steps from now on */
+        ss.level = 0;
+        s->prepared = 0;
+        return eo_step_set_substep(s->st, &ss);
+    }
+    return EO_OK;
+}
+
+void eo_sim_get_adaptive_state(const eo_sim *s, int *level, int *streak)
+{
+    eo_step_substep ss = {0};
+    if (!eo_step_is_explicit(s->st)) eo_step_get_substep(s->st, &ss);
+    if (level) *level = ss.level;
+    if (streak) *streak = s->adapt_streak;
+}
+
+int eo_sim_set_adaptive_state(eo_sim *s, int level, int streak)
+{
+    if (streak < 0) return eo_error(s->ctx, EO_ERR_RANGE, "sim: adaptive streak %d < 0", streak);
+    if (eo_step_is_explicit(s->st)) {
+        if (level == 0) {
+            s->adapt_streak = streak;
+            return EO_OK;
+        }
+        return eo_error(s->ctx, EO_ERR_UNSUPPORTED, "sim: integrator %s is explicit: no substeps",
+                        s->sc->integrator->info.name);
+    }
+    eo_step_substep ss;
+    eo_step_get_substep(s->st, &ss);
+    ss.level = level;
+    int rc = eo_step_set_substep(s->st, &ss);
+    if (rc < 0) return rc;
+    s->prepared = 0;
+    s->adapt_streak = streak;
+    return EO_OK;
 }
 
 const eo_scene *eo_sim_scene(const eo_sim *s) { return s->sc; }

@@ -20,7 +20,13 @@
  *   implicit_midpoint  R = (1 + z/2)/(1 − z/2) (θ = ½: stepped in the midpoint, the
  *                      damping force at v_{n+½}): unconditional.
  *   bdf2               A-stable; a single step from (xₙ, vₙ) is its backward Euler start,
- *                      which is what this one-step measurement sees. */
+ *                      which is what this one-step measurement sees.
+ *   generalized_alpha  (default ρ∞) its state is (x, v, a); the one-step map measured
+ *                      here is the start from the consistent a₀ = −kx − cv (measured:
+ *                      unconditional on both axes; its norm, not its spectral radius,
+ *                      grows with hω: the method's velocity overshoot). The method's own
+ *                      3×3 amplification matrix has spectral radius → ρ∞ as hω → ∞
+ *                      (Chung & Hulbert 1993); no theory row. */
 #include <math.h>
 #include <string.h>
 
@@ -56,17 +62,22 @@ static int one_step(eo_ctx *ctx, const eo_integrator_type *it, double k, double 
         int rc = it->explicit_step(&ode, 0, h, x, v, work, 1);
         if (rc < 0) return rc;
     } else {
-        if (!it->weight || !it->predict || !it->velocity)
+        if (!(it->weight && it->predict && it->velocity) && !it->accel)
             return eo_error(ctx, EO_ERR_INVALID, "stability: integrator '%s' has neither explicit_step nor "
                             "weight/predict/velocity", it->info.name);
-        const double xn = *x, vn = *v, w = it->weight(h), th = it->theta > 0 ? it->theta : 1.0;
+        const int acc = it->accel;
+        const double xn = *x, vn = *v, an = -k * xn - c * vn; /* accel: the consistent start a₀ */
+        const double w = acc ? it->accel_weight(NULL, h) : it->weight(h);
+        const double th = acc ? it->accel_theta(NULL) : it->theta > 0 ? it->theta : 1.0;
         double xt, vs[2];
-        it->predict(1, h, &xn, &vn, &xt);
+        if (acc) it->accel_predict(NULL, 1, h, &xn, &vn, &an, &xt);
+        else it->predict(1, h, &xn, &vn, &xt);
         /* the damping force sees the stage velocity vₙ + θ(vₙ₊₁ − vₙ), affine in the
          * minimizer z (the stage; xₙ₊₁ = xₙ + (z − xₙ)/θ) */
         for (int j = 0; j < 2; j++) {
             double x1 = xn + (j - xn) / th, v1;
-            it->velocity(1, h, &xn, &vn, &x1, &v1);
+            if (acc) it->accel_velocity(NULL, 1, h, &xn, &vn, &an, &x1, &v1, NULL);
+            else it->velocity(1, h, &xn, &vn, &x1, &v1);
             vs[j] = vn + th * (v1 - vn);
         }
         const double alpha = vs[1] - vs[0], beta = vs[0], in = it->inertia ? 1.0 : 0.0;
@@ -74,7 +85,8 @@ static int one_step(eo_ctx *ctx, const eo_integrator_type *it, double k, double 
         const double den = in + w * (k + c * alpha);
         if (!(den > 0)) return EO_ERR_NONFINITE; /* g not strictly convex: no step */
         double xs = xn + ((in * xt - w * (c * beta - cn)) / den - xn) / th;
-        it->velocity(1, h, &xn, &vn, &xs, v);
+        if (acc) it->accel_velocity(NULL, 1, h, &xn, &vn, &an, &xs, v, NULL);
+        else it->velocity(1, h, &xn, &vn, &xs, v);
         *x = xs;
     }
     return isfinite(*x) && isfinite(*v) ? EO_OK : EO_ERR_NONFINITE;

@@ -61,8 +61,12 @@ void eo_step_destroy(eo_step **pst)
     eo_csc_destroy(&st->Mi);
     eo_free(ctx, st->fin);
     eo_free(ctx, st->vp);
+    eo_free(ctx, st->rpot);
+    eo_free(ctx, st->rpot1);
+    eo_free(ctx, st->an);
+    eo_free(ctx, st->anew);
     void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
-                      st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->inv_x, st->vbc,
+                      st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->inv_x, st->rs_a, st->vbc,
                       st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->tet_order, st->ord_tets, st->ord_dofs,
                       st->ord_Dminv, st->ord_vol, st->ord_psi, st->ord_rho, (void *)st->ord_type, (void *)st->ord_coef, st->sys.elem_g,
                       st->sys.elem_H};
@@ -138,7 +142,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->nv = m->nv;
     st->nt = m->nt;
     st->n_full = 3 * m->nv;
-    st->h = sc->time.dt;
+    st->h = st->h_nom = sc->time.dt;
     /* (at least 1: a mesh.points scene has no tets) */
     size_t nv = (size_t)(m->nv > 0 ? m->nv : 1), nt = (size_t)(m->nt > 0 ? m->nt : 1), nf = 3 * nv;
     st->Dminv = eo_malloc(ctx, 9 * nt * sizeof(double));
@@ -302,11 +306,27 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
             goto fail;
         }
     }
+    if (st->integ->accel) {
+        st->an = eo_calloc(ctx, nf, sizeof(double));
+        st->anew = eo_calloc(ctx, nf, sizeof(double));
+        if (!st->an || !st->anew) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (integrator acceleration)");
+            goto fail;
+        }
+    }
     if (st->integ->history) {
         st->xp = eo_calloc(ctx, nf, sizeof(double));
         st->vp = eo_calloc(ctx, nf, sizeof(double));
         if (!st->xp || !st->vp) {
             rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (integrator history)");
+            goto fail;
+        }
+    }
+    if (sc->nbc > 0) { /* the work of prescribed motions (eo_stepi_work_update) */
+        st->rpot = eo_malloc(ctx, nf * sizeof(double));
+        st->rpot1 = eo_malloc(ctx, nf * sizeof(double));
+        if (!st->rpot || !st->rpot1) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (boundary reactions)");
             goto fail;
         }
     }
@@ -353,10 +373,18 @@ int eo_step_free_to_full(const eo_step *st, int i)
 {
     return i >= 0 && i < st->nfree ? st->free2full[i] : -1;
 }
-size_t eo_step_history_len(const eo_step *st) { return st->integ->history ? 2 * (size_t)st->n_full + 1 : 0; }
+size_t eo_step_history_len(const eo_step *st)
+{
+    return st->integ->history ? 2 * (size_t)st->n_full + 1 : st->integ->accel ? (size_t)st->n_full + 1 : 0;
+}
 
 int eo_step_get_history(const eo_step *st, double *h)
 {
+    if (st->integ->accel) { /* aₙ, valid flag */
+        memcpy(h, st->an, (size_t)st->n_full * sizeof(double));
+        h[st->n_full] = st->hist_valid;
+        return EO_OK;
+    }
     if (!st->integ->history)
         return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "integrator %s keeps no history", st->integ->info.name);
     memcpy(h, st->xp, (size_t)st->n_full * sizeof(double));
@@ -367,6 +395,14 @@ int eo_step_get_history(const eo_step *st, double *h)
 
 int eo_step_set_history(eo_step *st, const double *h)
 {
+    if (st->integ->accel) {
+        const double valid = h[st->n_full];
+        if (valid != 0 && valid != 1)
+            return eo_error(st->ctx, EO_ERR_RANGE, "history: valid flag %g is neither 0 nor 1", valid);
+        memcpy(st->an, h, (size_t)st->n_full * sizeof(double));
+        st->hist_valid = valid == 1;
+        return EO_OK;
+    }
     if (!st->integ->history)
         return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "integrator %s keeps no history", st->integ->info.name);
     const double valid = h[2 * st->n_full];

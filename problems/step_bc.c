@@ -35,7 +35,7 @@ void eo_stepi_active_set(const eo_step *st, double t, int *vbc)
     for (int v = 0; v < st->nv; v++) vbc[v] = -1;
     for (int b = 0; b < st->sc->nbc; b++) {
         const eo_bc *bc = st->sc->bc + b;
-        if (!bc_active(bc, t, st->h)) continue;
+        if (!bc_active(bc, t, st->h_nom)) continue;
         for (int i = 0; i < bc->nverts; i++) vbc[bc->verts[i]] = b;
     }
 }
@@ -45,7 +45,7 @@ void eo_stepi_bc_motion(const eo_step *st, const eo_bc *bc, int v, double t, dou
 {
     const double *base = st->x0 + 3 * v;
     if (st->sc->time.load_steps > 0) /* load stepping: the motions reach their value at L·dt and hold */
-        t = fmin(t, st->sc->time.load_steps * st->h);
+        t = fmin(t, st->sc->time.load_steps * st->h_nom);
     int moving = !(bc->opts.until >= 0 && t >= bc->opts.until);
     double tau = moving ? t : bc->opts.until;
     for (int c = 0; c < 3; c++) {

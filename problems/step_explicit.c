@@ -44,6 +44,7 @@ static int factor_mass(eo_step *st)
     eo_csc_destroy(&st->Mc);
     int rc = eo_csc_clone(ctx, eo_assembler_matrix(st->as), &st->Mc);
     if (rc < 0) return rc;
+    st->Mc_pattern = st->pattern_id;
     eo_assembler_zero(st->as);
     if (!st->mls) {
         const eo_linsolve_type *lt;
@@ -73,7 +74,9 @@ static int explicit_accel(void *data, double t, const double *x, const double *v
     memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
     double e = 0;
     for (int i = 0; i < st->nterms; i++) {
-        if (st->terms[i] == st->damping) continue; /* a force of v, below */
+        const eo_term *t = st->terms[i];
+        if (t == st->damping) continue; /* a force of v, below */
+        if (t == st->inertia || t == st->linear || t == st->friction) continue; /* (implicit: eo_stepi_accel) */
         st->terms[i]->weight = 1;
         e += st->terms[i]->ops->gradient(st->terms[i], &st->sys, st->xw, st->gfull);
     }
@@ -87,7 +90,7 @@ static int explicit_accel(void *data, double t, const double *x, const double *v
         return EO_OK;
     }
     if (st->sc->lumped || !st->nt) {
-        for (int j = 0; j < st->n_full; j++) a[j] = -st->gfull[j] / st->vmass[j / 3];
+        for (int j = 0; j < st->n_full; j++) a[j] = st->vmass[j / 3] > 0 ? -st->gfull[j] / st->vmass[j / 3] : 0;
     } else {
         for (int i = 0; i < st->nfree; i++) st->vnew[i] = -st->gfull[st->free2full[i]];
         int rc = eo_linsolve_solve(st->mls, st->vnew, st->guess);
@@ -98,6 +101,17 @@ static int explicit_accel(void *data, double t, const double *x, const double *v
     for (int q = 0; q < st->nv; q++)
         if (st->vbc[q] >= 0) a[3 * q] = a[3 * q + 1] = a[3 * q + 2] = 0;
     return EO_OK;
+}
+
+int eo_stepi_accel(eo_step *st, double t, const double *x, const double *v, double *a)
+{
+    int rc;
+    if (!st->sc->lumped && st->nt && (!st->Mc || st->Mc->n != st->nfree || st->Mc_pattern != st->pattern_id) &&
+        (rc = factor_mass(st)) < 0)
+        return rc;
+    if ((rc = eo_stepi_damping_stiffness(st)) < 0) return rc;
+    st->enonfinite = 0;
+    return explicit_accel(st, t, x, v, a);
 }
 
 int eo_step_set_mass_solver(eo_step *st, eo_linsolve *ls)
@@ -163,12 +177,13 @@ int eo_step_advance(eo_step *st, int *reason)
         st->erestart = 1;
         return EO_OK;
     }
+    eo_stepi_work_update(st, st->xe, st->ve);
     memcpy(st->x, st->xe, (size_t)st->n_full * sizeof(double));
     memcpy(st->v, st->ve, (size_t)st->n_full * sizeof(double));
     st->t = t1;
     st->index++;
     st->erestart = 0;
-    *reason = EO_CONVERGED_EXPLICIT;
+    *reason = EO_REASON_EXPLICIT;
     return EO_OK;
 }
 

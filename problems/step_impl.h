@@ -6,7 +6,8 @@
  *   step_objective.c  the step objective's ops, eo_step_begin / eo_step_end
  *   step_initial.c    initial state (eo_step_reset) and eo_step_set_state
  *   step_explicit.c   explicit integrators: the ODE, consistent mass solve, advance
- *   step_stats.c      diagnostics (eo_step_stats) and per-tet fields */
+ *   step_stats.c      diagnostics (eo_step_stats) and per-tet fields
+ *   step_substep.c    substeps of the nominal step (eo_step_set_substep) */
 #ifndef ELASTOPT_STEP_IMPL_H
 #define ELASTOPT_STEP_IMPL_H
 
@@ -24,7 +25,13 @@ struct eo_step {
     const eo_integrator_type *integ;
     eo_sys sys;
     int nv, nt, n_full;
-    double h;
+    double h;             /* size of the next step: h_nom/2^sub_level */
+    /* substeps (eo_step_set_substep): the nominal step h_nom = time.dt, the level of the
+     * next steps, the fraction of the nominal step tₙ → tₙ + h_nom done (an exact binary
+     * fraction, 0 at nominal boundaries) and tₙ (valid while sub_done > 0) */
+    double h_nom;
+    int sub_level;
+    double sub_done, sub_t0;
     /* rest data */
     double *Dminv, *vol, *rho, *vmass;
     double *psi_rest;     /* nt: ψ(I) of each tet's material (reported energies are relative to it) */
@@ -61,6 +68,7 @@ struct eo_step {
     eo_linsolve *mls;           /* consistent mass: M_ff factored (eo_step_set_mass_solver) */
     int enonfinite;             /* a stage of this explicit step met a non-finite force */
     eo_csc *Mc;                 /* its values (a copy of the pattern) */
+    unsigned long Mc_pattern;   /* pattern_id Mc was assembled on */
     eo_pd_matrix pd;            /* constant_hessian cache (pd_matrix.c) */
     /* multistep integrators (integ->history): xₙ₋₁, vₙ₋₁ and whether they are valid */
     double *xp, *vp;
@@ -74,6 +82,10 @@ struct eo_step {
     /* op inverted_count: the count of the last op_gradient (the elastic term counts while
      * it evaluates) and its x; valid until the step's prescribed positions or pattern change */
     double *inv_x;              /* n_full (the first nfree used) */
+    /* objective op rounding_scale: per vertex a_v = Σ_{t ∋ v} (μₜ + λₜ) Vₜ^{2/3} (nv,
+     * allocated at the first call) and Σₜ Vₜ (μₜ + λₜ)²/μₜ; both depend only on the
+     * materials and the rest shape */
+    double *rs_a, rs_el;
     int inv_count, inv_valid;
     /* objective ops constant_factor / constant_solve: the own factor of L (step_pd.c) */
     int pd_mode;                /* EO_PD_FACTOR_* */
@@ -83,6 +95,15 @@ struct eo_step {
     unsigned char *pd_free;     /* free set of the variables of pd_all (scratch) */
     double *pd_b, *pd_x;        /* n_full each: right-hand sides and solutions */
     eo_step_pd_info pd_info;
+    /* energy balance (step_stats.c): work of the prescribed motions and the static
+     * reaction ∇(potentials) at xₙ (rpot, valid while rpot_valid; rpot1 scratch); both
+     * n_full, allocated only when the scene has boundary entries */
+    double work;
+    double *rpot, *rpot1;
+    int rpot_valid;
+    /* acceleration state (integ->accel, generalized_alpha): aₙ, valid while hist_valid;
+     * anew scratch for aₙ₊₁ */
+    double *an, *anew;
 };
 
 /* step_bc.c */
@@ -111,7 +132,25 @@ int eo_stepi_pd_matrix_all(eo_step *st, eo_csc **A);
 int eo_stepi_pd_factor(void *data);
 int eo_stepi_pd_solve(void *data, const double *b, double *x);
 void eo_stepi_pd_deinit(eo_step *st);
+/* End time of the next step: tₙ₊₁ = t + h for a nominal step (bit for bit as always),
+ * else tₙ + (done + 2^-level)·h_nom, exactly tₙ + h_nom for the last substep. */
+double eo_stepi_t1(const eo_step *st);
+/* Load fraction (index + done + 2^-level) of the step being posed (load stepping). */
+double eo_stepi_load_steps_done(const eo_step *st);
+/* After a step: advance the progress through the nominal step; 1 if the step ended a
+ * nominal step (the index advances), 0 if it was an inner substep. */
+int eo_stepi_substep_advance(eo_step *st);
 /* step_stats.c */
 double eo_stepi_tet_J(const eo_step *st, const double *x, int k);
+/* Add the work of the prescribed motions over the step xₙ, vₙ (st->x, st->v) → x1, v1
+ * (full vectors) to st->work, with st->vbc the constrained set at tₙ₊₁. Call before the
+ * new state is copied in. Uses st->gfull as scratch. */
+void eo_stepi_work_update(eo_step *st, const double *x1, const double *v1);
+/* step_explicit.c */
+/* a = M⁻¹(−∇V(x) − C v) at time t (prescribed vertices at their positions at t, a = 0
+ * there): the acceleration of the forces of the potentials (not the inertia, linear or
+ * friction terms), with the scene's mass matrix (consistent: factored on demand).
+ * Term weights are left at 1. Uses st->xw, gfull, vnew, guess as scratch. */
+int eo_stepi_accel(eo_step *st, double t, const double *x, const double *v, double *a);
 
 #endif

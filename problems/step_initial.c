@@ -101,6 +101,11 @@ int eo_step_reset(eo_step *st)
     if (!st->integ->inertia) memset(st->v, 0, (size_t)st->n_full * sizeof(double));
     st->erestart = 1;
     st->hist_valid = 0;
+    st->work = 0;
+    st->rpot_valid = 0;
+    st->sub_level = 0; /* nominal steps again */
+    st->h = st->h_nom;
+    st->sub_done = 0;
     return check_barrier_start(st);
 }
 
@@ -112,6 +117,10 @@ int eo_step_set_state(eo_step *st, const double *x, const double *v, double t)
     st->inv_valid = 0;
     st->erestart = 1;
     st->hist_valid = 0;
+    st->rpot_valid = 0; /* the work so far (st->work) is kept */
+    st->sub_level = 0; /* at a nominal step boundary, nominal steps (eo_step_set_substep) */
+    st->h = st->h_nom;
+    st->sub_done = 0;
     return EO_OK;
 }
 

@@ -150,6 +150,43 @@ static int op_metric_diag(void *data, double *d)
     return EO_OK;
 }
 
+/* Rounding scales of g at x (objective.h, rounding_scale): the inertia part Σ Dᵢxᵢ²
+ * (x − x̃ rounded at ε|x|, seen through M⁻¹), and the elastic part w Σ V(μ + λ)²/μ for
+ * the decrement (stresses rounded at (μ + λ)ε, through the softest mode μ) and
+ * 3w² Σ a_v²/m_v for the metric gradient norm (nodal forces rounded at ε(μ + λ)A). Tets
+ * only: springs and contact add no scale (their stiffness is not a material's). */
+static int op_rounding_scale(void *data, const double *x, double s[2])
+{
+    eo_step *st = data;
+    const eo_mesh *m = st->sys.mesh;
+    if (!st->rs_a) {
+        st->rs_a = eo_calloc(st->ctx, (size_t)(m->nv > 0 ? m->nv : 1), sizeof(double));
+        if (!st->rs_a) return eo_error(st->ctx, EO_ERR_NOMEM, "step: out of memory (rounding scale)");
+        double el = 0;
+        for (int t = 0; t < m->nt; t++) {
+            const eo_material_coef *c = st->tet_coef[t];
+            const double V = st->vol[t], ml = c->mu + c->lambda;
+            if (!(ml > 0)) continue;
+            const double mu = c->mu > 1e-12 * ml ? c->mu : 1e-12 * ml;
+            el += V * ml * ml / mu;
+            const double a = ml * cbrt(V * V);
+            for (int q = 0; q < 4; q++) st->rs_a[m->tets[4 * t + q]] += a;
+        }
+        st->rs_el = el;
+    }
+    double xd = 0, ag = 0;
+    for (int i = 0; i < st->nfree; i++) {
+        const int j = st->free2full[i], v = j / 3;
+        const double mv = st->vmass[v];
+        xd += mv * x[i] * x[i];
+        if (mv > 0) ag += st->rs_a[v] * st->rs_a[v] / mv;
+    }
+    const double w = st->w;
+    s[0] = xd + w * st->rs_el;
+    s[1] = xd + w * w * ag;
+    return EO_OK;
+}
+
 static int op_inverted_count(void *data, const double *x)
 {
     eo_step *st = data;
@@ -215,6 +252,7 @@ const eo_objective_ops eo_stepi_ops = {
     .element_residual = op_element_residual,
     .constant_factor = eo_stepi_pd_factor,
     .constant_solve = eo_stepi_pd_solve,
+    .rounding_scale = op_rounding_scale,
 };
 
 
@@ -257,15 +295,22 @@ static int use_history(const eo_step *st) { return st->integ->history && st->his
 
 double eo_stepi_weight(const eo_step *st)
 {
+    if (st->integ->accel) return st->integ->accel_weight(st->sc->integrator_params, st->h);
     if (!st->integ->weight) return 1.0; /* explicit: E(x) */
     return use_history(st) && st->integ->weight_history ? st->integ->weight_history(st->h) : st->integ->weight(st->h);
 }
 
-double eo_stepi_theta(const eo_step *st) { return st->integ->theta > 0 ? st->integ->theta : 1.0; }
+double eo_stepi_theta(const eo_step *st)
+{
+    if (st->integ->accel) return st->integ->accel_theta(st->sc->integrator_params);
+    return st->integ->theta > 0 ? st->integ->theta : 1.0;
+}
 
 void eo_stepi_velocity(const eo_step *st, const double *x, double *v)
 {
-    if (use_history(st) && st->integ->velocity_history)
+    if (st->integ->accel) /* aₙ is valid here: eo_step_begin set it up first */
+        st->integ->accel_velocity(st->sc->integrator_params, st->n_full, st->h, st->x, st->v, st->an, x, v, NULL);
+    else if (use_history(st) && st->integ->velocity_history)
         st->integ->velocity_history(st->n_full, st->h, st->x, st->xp, x, v);
     else
         st->integ->velocity(st->n_full, st->h, st->x, st->v, x, v);
@@ -312,18 +357,25 @@ static void damping_begin(eo_step *st)
 
 int eo_step_begin(eo_step *st, eo_objective **obj)
 {
-    const double h = st->h, t1 = st->t + h;
+    const double h = st->h, t1 = eo_stepi_t1(st);
     int rc;
     st->inv_valid = 0; /* new prescribed positions */
     /* constrained set at tₙ₊₁; rebuild the pattern if it changed */
     if ((rc = eo_stepi_update_constraints(st, t1, NULL)) < 0) return rc;
+    if (st->integ->accel && !st->hist_valid) { /* start: the consistent acceleration a = M⁻¹f(xₙ, vₙ) */
+        if ((rc = eo_stepi_accel(st, st->t, st->x, st->v, st->an)) < 0) return rc;
+        st->hist_valid = 1;
+    }
     const double w = st->w = eo_stepi_weight(st), theta = eo_stepi_theta(st);
     for (int i = 0; i < st->nterms; i++) st->terms[i]->weight = w;
     if (st->gravity && st->sc->time.load_steps > 0) /* load stepping: λ = min(1, k/L) of gravity */
-        st->gravity->weight = w * fmin(1.0, (double)(st->index + 1) / st->sc->time.load_steps);
+        st->gravity->weight = w * fmin(1.0, eo_stepi_load_steps_done(st) / st->sc->time.load_steps);
     if (st->inertia) {
         st->inertia->weight = 1;
-        if (use_history(st) && st->integ->predict_history)
+        if (st->integ->accel)
+            st->integ->accel_predict(st->sc->integrator_params, st->n_full, h, st->x, st->v, st->an,
+                                     st->inertia->vec);
+        else if (use_history(st) && st->integ->predict_history)
             st->integ->predict_history(st->n_full, h, st->x, st->v, st->xp, st->vp, st->inertia->vec);
         else
             st->integ->predict(st->n_full, h, st->x, st->v, st->inertia->vec);
@@ -377,7 +429,7 @@ int eo_step_end(eo_step *st, const double *x)
     if (st->integ->explicit_step)
         return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "integrator %s is explicit: advance with eo_step_advance",
                         st->integ->info.name);
-    const double h = st->h, t1 = st->t + h, theta = eo_stepi_theta(st);
+    const double t1 = eo_stepi_t1(st), theta = eo_stepi_theta(st);
     st->inv_valid = 0;
     eo_stepi_scatter_free(st, x);
     if (theta != 1) /* the minimizer is the stage z: xₙ₊₁ = xₙ + (z − xₙ)/θ */
@@ -388,21 +440,27 @@ int eo_step_end(eo_step *st, const double *x)
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
         for (int k = 0; k < 3; k++) st->xw[3 * v + k] = p[k];
     }
-    eo_stepi_velocity(st, st->xw, st->vnew);
+    if (st->integ->accel) /* vₙ₊₁ and aₙ₊₁ */
+        st->integ->accel_velocity(st->sc->integrator_params, st->n_full, st->h, st->x, st->v, st->an, st->xw, st->vnew,
+                                  st->anew);
+    else
+        eo_stepi_velocity(st, st->xw, st->vnew);
     for (int v = 0; v < st->nv; v++) {
         if (st->vbc[v] < 0) continue;
         double p[3], vel[3];
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
         for (int k = 0; k < 3; k++) st->vnew[3 * v + k] = st->integ->inertia ? vel[k] : 0;
     }
+    eo_stepi_work_update(st, st->xw, st->vnew);
     if (st->integ->history) {
         memcpy(st->xp, st->x, (size_t)st->n_full * sizeof(double));
         memcpy(st->vp, st->v, (size_t)st->n_full * sizeof(double));
         st->hist_valid = 1;
     }
+    if (st->integ->accel) memcpy(st->an, st->anew, (size_t)st->n_full * sizeof(double));
     memcpy(st->x, st->xw, (size_t)st->n_full * sizeof(double));
     memcpy(st->v, st->vnew, (size_t)st->n_full * sizeof(double));
+    if (eo_stepi_substep_advance(st)) st->index++; /* a substep inside the nominal step: not yet */
     st->t = t1;
-    st->index++;
     return EO_OK;
 }

@@ -42,7 +42,7 @@
 static int pd_supported(const eo_step *st)
 {
     return st->pd_mode != EO_PD_FACTOR_OFF && !st->damping && !st->collision && !st->friction &&
-           st->integ->weight != NULL;
+           (st->integ->weight != NULL || st->integ->accel);
 }
 
 /* the free set of the variables of pd_all under the current constraints */

@@ -1,6 +1,14 @@
 /* Diagnostics of the step engine's current state: eo_step_stats (centre of mass,
- * displacement, det F range, inverted tets, kinetic, elastic and gravity energy) and
- * the per-tet fields written to the frames. */
+ * displacement, det F range, inverted tets, kinetic, elastic, gravity and contact
+ * energy, the work of the prescribed motions and the total energy) and the per-tet
+ * fields written to the frames.
+ *
+ * Energy balance. With V = E_el + springs + gravity + contact and the prescribed
+ * (constrained) coordinates c moving on p(t), d/dt(½vᵀMv + V) = v_cᵀ r_c with the
+ * reaction r = Ma + ∇V (zero on the free coordinates of an undamped scene), so
+ *     total = ½vᵀMv + V − W,   W = ∫ r_c · dp
+ * is constant along an exact trajectory. W (st->work) is accumulated per accepted step
+ * by eo_stepi_work_update, see eo_step_work_prescribed in step.h. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -74,7 +82,89 @@ int eo_step_stats_compute(eo_step *st, eo_step_stats *s)
     const double *g = st->sc->opts.gravity;
     for (int i = 0; i < st->nv; i++)
         s->gravity -= st->vmass[i] * (g[0] * x[3 * i] + g[1] * x[3 * i + 1] + g[2] * x[3 * i + 2]);
+    if (st->collision) {
+        double wsave = st->collision->weight;
+        st->collision->weight = 1;
+        s->contact = st->collision->ops->energy(st->collision, &st->sys, x);
+        st->collision->weight = wsave;
+    }
+    s->potential = s->elastic + s->gravity + s->contact;
+    s->work_prescribed = st->work;
+    s->total_energy = s->kinetic + s->potential - s->work_prescribed;
     return EO_OK;
+}
+
+double eo_step_work_prescribed(const eo_step *st) { return st->work; }
+
+void eo_step_set_work_prescribed(eo_step *st, double w) { st->work = w; }
+
+/* r = ∇V(x) over all coordinates: the static reaction (elastic, springs, gravity,
+ * contact at weight 1) */
+static void potential_gradient(eo_step *st, const double *x, double *r)
+{
+    memset(r, 0, (size_t)st->n_full * sizeof(double));
+    eo_term *forces[4] = {st->elastic, st->spring, st->gravity, st->collision};
+    for (int i = 0; i < 4; i++) {
+        if (!forces[i]) continue;
+        double wsave = forces[i]->weight;
+        forces[i]->weight = 1;
+        forces[i]->ops->gradient(forces[i], &st->sys, x, r);
+        forces[i]->weight = wsave;
+    }
+}
+
+void eo_stepi_work_update(eo_step *st, const double *x1, const double *v1)
+{
+    const double *x = st->x, *v = st->v;
+    if (!st->rpot) return; /* no boundary entries: nothing prescribed */
+    int moving = 0;
+    for (int q = 0; q < st->nv && !moving; q++) {
+        if (st->vbc[q] < 0) continue;
+        for (int k = 0; k < 3; k++) {
+            const int j = 3 * q + k;
+            moving |= x1[j] != x[j] || v[j] + v1[j] != 0;
+        }
+    }
+    if (!moving) { /* fixed vertices: no work; the reaction at xₙ₊₁ is not needed */
+        st->rpot_valid = 0;
+        return;
+    }
+    if (!st->rpot_valid) potential_gradient(st, x, st->rpot);
+    potential_gradient(st, x1, st->rpot1);
+    /* M Δv (only the constrained entries are read) */
+    double *mdv = st->gfull;
+    if (st->sc->lumped || !st->nt) {
+        for (int j = 0; j < st->n_full; j++) mdv[j] = st->vmass[j / 3] * (v1[j] - v[j]);
+    } else {
+        memset(mdv, 0, (size_t)st->n_full * sizeof(double));
+        for (int k = 0; k < st->nt; k++) {
+            const int *tet = st->sc->mesh->tets + 4 * k;
+            const double m = st->rho[k] * st->vol[k] / 20.0;
+            double sum[3] = {0, 0, 0};
+            for (int a = 0; a < 4; a++)
+                for (int c = 0; c < 3; c++) sum[c] += v1[3 * tet[a] + c] - v[3 * tet[a] + c];
+            for (int a = 0; a < 4; a++)
+                for (int c = 0; c < 3; c++) {
+                    const int j = 3 * tet[a] + c;
+                    mdv[j] += m * (v1[j] - v[j] + sum[c]);
+                }
+        }
+        for (int i = 0; st->sc->pmass && i < st->nv; i++)
+            for (int c = 0; c < 3; c++) mdv[3 * i + c] += st->sc->pmass[i] * (v1[3 * i + c] - v[3 * i + c]);
+    }
+    double dw = 0;
+    for (int q = 0; q < st->nv; q++) {
+        if (st->vbc[q] < 0) continue;
+        for (int k = 0; k < 3; k++) {
+            const int j = 3 * q + k;
+            dw += 0.5 * (st->rpot[j] + st->rpot1[j]) * (x1[j] - x[j]) + 0.5 * (v[j] + v1[j]) * mdv[j];
+        }
+    }
+    st->work += dw;
+    double *tmp = st->rpot; /* the reaction at xₙ₊₁ is the next step's at xₙ */
+    st->rpot = st->rpot1;
+    st->rpot1 = tmp;
+    st->rpot_valid = 1;
 }
 
 int eo_step_fields(eo_step *st, double *psi, double *J, unsigned char *inverted)

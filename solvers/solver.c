@@ -5,6 +5,7 @@
 #include "elastopt/solver.h"
 #include "solver_registry.h"
 
+#include <float.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
@@ -29,6 +30,16 @@ struct eo_solver {
     int hf_set_up;
     eo_linsolve *linear;
     eo_profile prof;            /* accumulated over the minimizations (eo_solver_get_profile) */
+    struct eo_stop_state *stop; /* the convergence measure's state (eo_solver_stop_check) */
+};
+
+/* The convergence measure of one minimization (solver.h, eo_solver_stop_check): the
+ * inverse metric and what was measured at x₀. Sized with the optimizer's workspace. */
+struct eo_stop_state {
+    int n, begun;
+    double *dinv;              /* n: 1/Dᵢ of the objective's metric (1 where it has none) */
+    double g0, gm0, floor_dec, floor_grad;
+    double gm_last;            /* ‖∇g‖_{D⁻¹} of the last call with a gradient (same iterate) */
 };
 
 static const char *const linesearch_auto[] = {"auto", NULL};
@@ -70,6 +81,50 @@ const eo_param_desc eo_solver_opts_desc[] = {
 };
 
 void eo_solver_opts_default(eo_solver_opts *o) { eo_params_default(eo_solver_opts_desc, o); }
+
+static double metric_norm(const struct eo_stop_state *st, const double *v)
+{
+    double s = 0;
+    for (int i = 0; i < st->n; i++) s += v[i] * v[i] * st->dinv[i];
+    return sqrt(s);
+}
+
+/* The measure at x₀ (first call of a minimization): the metric, g₀, ‖∇g₀‖_{D⁻¹} and the
+ * rounding floors EO_STOP_FLOOR·ε²·s of the objective's rounding scales s. */
+static void stop_begin(const eo_solver_ctx *sc, struct eo_stop_state *st, const eo_stop_info *si, const double *x,
+                       const double *grad)
+{
+    eo_objective *obj = sc->obj;
+    int ok = obj->ops->metric_diag && obj->ops->metric_diag(obj->data, st->dinv) >= 0;
+    for (int i = 0; ok && i < st->n; i++) ok = isfinite(st->dinv[i]) && st->dinv[i] > 0;
+    for (int i = 0; i < st->n; i++) st->dinv[i] = ok ? 1 / st->dinv[i] : 1;
+    st->g0 = si->g;
+    st->gm0 = st->gm_last = grad ? metric_norm(st, grad) : NAN;
+    double rs[2] = {0, 0};
+    const double e2 = DBL_EPSILON * DBL_EPSILON;
+    if (x && eo_objective_rounding_scale(obj, x, rs) >= 0 && isfinite(rs[0]) && isfinite(rs[1])) {
+        st->floor_dec = EO_STOP_FLOOR * e2 * rs[0];
+        st->floor_grad = EO_STOP_FLOOR * e2 * rs[1];
+    } else {
+        st->floor_dec = st->floor_grad = 0;
+    }
+    st->begun = 1;
+}
+
+int eo_solver_stop_check(const eo_solver_ctx *sc, eo_stop_info *si, const double *x, const double *grad)
+{
+    struct eo_stop_state *st = sc->stop_state;
+    if (!st || st->n != sc->obj->n) return sc->stop->check(sc->stop_params, si);
+    if (!st->begun) stop_begin(sc, st, si, x, grad);
+    si->measure = sc->optimizer && sc->optimizer->newton_decrement ? EO_MEASURE_DECREMENT : EO_MEASURE_GRADIENT;
+    si->g0 = st->g0;
+    if (grad) st->gm_last = metric_norm(st, grad);
+    si->grad_metric = st->gm_last;
+    si->grad_metric0 = st->gm0;
+    si->floor_dec = st->floor_dec;
+    si->floor_grad = st->floor_grad;
+    return sc->stop->check(sc->stop_params, si);
+}
 
 int eo_solver_report(const eo_solver_ctx *sc, double t0, eo_iter_info *info)
 {
@@ -240,6 +295,8 @@ void eo_solver_destroy(eo_solver **sp)
     eo_free(ctx, s->hf_state);
     eo_linsolve_destroy(&s->linear);
     for (size_t i = 0; i < N_KINDS; i++) eo_free(ctx, s->params[i]);
+    if (s->stop) eo_free(ctx, s->stop->dinv);
+    eo_free(ctx, s->stop);
     eo_free(ctx, s);
     *sp = NULL;
 }
@@ -271,8 +328,16 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
             if (hf->setup && (rc = hf->setup(s->hf_state, s->params[SLOT_HESSFIX], obj->n, s->ctx)) < 0)
                 return res->status = rc;
         }
+        if (!s->stop && !(s->stop = eo_calloc(s->ctx, 1, sizeof *s->stop)))
+            return res->status = eo_error(s->ctx, EO_ERR_NOMEM, "solver: out of memory");
+        eo_free(s->ctx, s->stop->dinv);
+        s->stop->n = 0;
+        if (!(s->stop->dinv = eo_calloc(s->ctx, (size_t)(obj->n > 0 ? obj->n : 1), sizeof(double))))
+            return res->status = eo_error(s->ctx, EO_ERR_NOMEM, "solver: out of memory (n = %d)", obj->n);
+        s->stop->n = obj->n;
         s->n = obj->n;
     }
+    s->stop->begun = 0;
     eo_solver_ctx sc = {
         .obj = obj,
         .ctx = s->ctx,
@@ -290,6 +355,7 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         .on_iter = on_iter,
         .user = user,
         .optimizer = opt,
+        .stop_state = s->stop,
     };
     eo_linsolve_stats l0 = {0};
     if (s->linear) l0 = *eo_linsolve_get_stats(s->linear);

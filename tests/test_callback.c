@@ -151,10 +151,10 @@ int main(void)
 
     eo_callback_optimizer_def dd = {.name = "cb_newton", .summary = "Newton direction from a callback",
                                     .needs_hessian = 1, .needs_linear = 1,
-                                    .direction = cb_direction, .user = &ud};
+                                    .direction = cb_direction, .user = &ud, .newton_decrement = 1};
     eo_callback_optimizer_def dm = {.name = "cb_full_newton", .summary = "full Newton steps, minimize callback",
                                     .needs_hessian = 1, .needs_linear = 1,
-                                    .minimize = cb_minimize, .user = &um};
+                                    .minimize = cb_minimize, .user = &um, .newton_decrement = 1};
     CHECK(eo_callback_optimizer_register(ctx, &dd, &od) == EO_OK, "%s", eo_ctx_message(ctx));
     CHECK(eo_callback_optimizer_register(ctx, &dm, &om) == EO_OK, "%s", eo_ctx_message(ctx));
     const void *found = NULL;

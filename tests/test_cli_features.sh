@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # elastopt poisson and explicit runs (notes 001): `poisson` prints JSON with an O(h^2)
 # L2 error and converges with newton/cholmod, lbfgs and newton/pcg, exits 2 on bad input;
-# `run` with an explicit integrator records iterations 0 / converged_explicit per step and
+# `run` with an explicit integrator records iterations 0 / reason explicit per step and
 # exits 0; rk4 beyond its stability limit stops with exit 1, reason diverged_nonfinite
 # (summary stop_reason, the step's reason), finite values in the summary; `check` passes
 # on an explicit scene (the potential E(x) whose -grad is the force).
@@ -35,19 +35,25 @@ done
 [ $? -eq 1 ] && ok || bad "poisson capped should exit 1"
 
 # explicit run of the chain example
-"$EXE" run "$SRC/examples/spring_chain.json" --out chain --quiet -o time.integrator=verlet -o time.dt=0.002 \
-    -o time.steps=50 -o output.vtu=false
+"$EXE" run "$SRC/examples/spring_chain.json" --out chain -o time.integrator=verlet -o time.dt=0.002 \
+    -o time.steps=50 -o output.vtu=false > chain.out 2> chain.err
 rc=$?
 [ $rc -eq 0 ] && ok || bad "verlet chain exit $rc"
 python3 - chain/summary.json <<'PY' && ok || bad "verlet chain summary"
 import json, sys
 s = json.load(open(sys.argv[1]))
-assert s["all_converged"] and s["stop_reason"] is None and len(s["steps"]) == 50
+assert s["all_converged"] and s["stop_reason"] is None and len(s["steps"]) == 50 and s["not_converged"] == []
+# explicit steps are counted as such, not as converged
+assert s["step_counts"] == {"converged": 0, "explicit": 50, "not_converged": 0}, s["step_counts"]
 for st in s["steps"]:
-    assert st["iterations"] == 0 and st["reason"] == "converged_explicit" and st["g"] is None, st
+    assert st["iterations"] == 0 and st["reason"] == "explicit" and st["converged"] is False and st["g"] is None, st
 assert s["steps"][-1]["com"][2] < -1e-3
 PY
-[ "$(grep -c ',converged_explicit,0$' chain/iterations.csv)" -eq 50 ] && ok || bad "csv: one row per explicit step"
+[ "$(grep -c ',explicit,0$' chain/iterations.csv)" -eq 50 ] && ok || bad "csv: one row per explicit step"
+# steps.csv: reason explicit, converged 0 on every row
+[ "$(awk -F, 'NR > 1 && $4 == "explicit" && $5 == 0' chain/steps.csv | wc -l)" -eq 50 ] && ok || bad "steps.csv explicit rows"
+grep -q "50/50 explicit" chain.out chain.err && ! grep -q "converged" chain.out && ok ||
+    bad "closing line: $(cat chain.out chain.err)"
 
 # rk4 beyond its stability limit: a clear diagnosis, not NaN
 "$EXE" run --scene cantilever --out rk4 --quiet -o time.integrator=rk4 -o time.steps=100 -o output.vtu=false \
@@ -60,7 +66,8 @@ import json, math, sys
 s = json.load(open(sys.argv[1]))
 assert s["stop_reason"] == "diverged_nonfinite" and not s["all_converged"], s["stop_reason"]
 assert s["steps"][-1]["reason"] == "diverged_nonfinite" and s["steps_run"] < 100
-assert all(st["reason"] == "converged_explicit" for st in s["steps"][:-1])
+assert all(st["reason"] == "explicit" for st in s["steps"][:-1])
+assert s["step_counts"]["explicit"] == s["steps_run"] - 1 and s["step_counts"]["not_converged"] == 1
 PY
 "$EXE" check --scene cantilever -o time.integrator=heun >/dev/null && ok || bad "check on an explicit scene"
 

@@ -67,5 +67,19 @@ J
 "$EXE" run ov2.json --out ov2 > ov2.out 2> ov2.err
 [ $? -eq 0 ] && ! grep -q "warning: boundary" ov2.err && ok || bad "same-motion overlap must not warn: $(cat ov2.err)"
 
+# "did you mean": a subcommand, an option, a -o key, a mesh extension (exit 2 each)
+"$EXE" runn 2> dym1.err
+[ $? -eq 2 ] && grep -q "unknown command 'runn' (did you mean 'run'?); valid: list help run" dym1.err && ok ||
+    bad "subcommand hint: $(cat dym1.err)"
+"$EXE" run --qiet 2> dym2.err
+[ $? -eq 2 ] && grep -q "unknown option '--qiet' (did you mean '--quiet'?)" dym2.err && ok || bad "option hint: $(cat dym2.err)"
+"$EXE" run -o solver.hessianfix=abs --out dym 2> dym3.err
+[ $? -eq 2 ] && grep -q "solver.hessianfix: unknown key (did you mean 'solver.hessian_fix'?); valid keys here:" dym3.err &&
+    [ ! -e dym ] && ok || bad "key hint: $(cat dym3.err)"
+"$EXE" help lbgfs 2> dym5.err
+[ $? -eq 2 ] && grep -q "named 'lbgfs' (did you mean 'lbfgs'?)" dym5.err && ok || bad "help hint: $(cat dym5.err)"
+"$EXE" mesh nothing.msh4 2> dym4.err
+[ $? -eq 2 ] && grep -q "unknown mesh format (did you mean '.msh'?)" dym4.err && ok || bad "extension hint: $(cat dym4.err)"
+
 echo "cli_hostile: $pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -215,5 +215,11 @@ fi
 "$EXE" convert "$BAR" bar.vtu >/dev/null && ok || bad "convert bar -> vtu"
 check_json "$("$EXE" mesh --json bar.vtu)" 'assert o["vertices"] == 886 and o["tets"] == 2523 and close(o["volume"], 5.0), o'
 
+# Vega FEM .veg: read by extension, converted, refused as an output
+"$EXE" convert "${EO_SOURCE_ROOT:?}/tests/data/cube6.veg" cube6.msh > /dev/null && ok || bad "convert .veg"
+check_json "$("$EXE" mesh --json cube6.msh)" 'assert o["vertices"] == 8 and o["tets"] == 6 and close(o["volume"], 1.0), o'
+"$EXE" convert cube6.msh back.veg > /dev/null 2> veg.err
+[ $? -eq 2 ] && grep -q "veg files can be read, not written" veg.err && [ ! -e back.veg ] && ok || bad "write .veg: $(cat veg.err)"
+
 echo "cli_mesh: $pass passed, $fail failed"
 [ $fail -eq 0 ]

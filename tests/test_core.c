@@ -3,10 +3,13 @@
  * documents with -o overrides and unknown-key detection with file:line. */
 #include <jansson.h>
 #include <stddef.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "elastopt/config.h"
+#include "elastopt/io.h"
 #include "elastopt/registry.h"
+#include "elastopt/sim.h"
 #include "elastopt/status.h"
 #include "testutil.h"
 
@@ -44,6 +47,12 @@ static void test_status(void)
           eo_reason_name(EO_DIVERGED_MAX_ITERS));
     CHECK(strcmp(eo_reason_name(EO_REASON_ITERATING), "iterating") == 0, "%s", eo_reason_name(0));
     CHECK(eo_reason_is_converged(EO_CONVERGED_GRADIENT) && !eo_reason_is_converged(EO_DIVERGED_NONFINITE), "sign");
+    /* an explicit step: its own name, not a failure, not a convergence */
+    CHECK(strcmp(eo_reason_name(EO_REASON_EXPLICIT), "explicit") == 0, "%s", eo_reason_name(EO_REASON_EXPLICIT));
+    CHECK(eo_reason_is_converged(EO_REASON_EXPLICIT) && eo_reason_is_explicit(EO_REASON_EXPLICIT) &&
+              !eo_reason_is_explicit(EO_CONVERGED_STEP) && !eo_reason_is_explicit(EO_DIVERGED_MAX_ITERS),
+          "explicit: positive (no failure), told apart");
+    CHECK(EO_CONVERGED_EXPLICIT == EO_REASON_EXPLICIT, "former name kept");
 }
 
 static void test_ctx(void)
@@ -206,6 +215,134 @@ static void test_registry(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* Fixed-length arrays: the message names the expected and the given length, for the
+ * 3-vector parameters (gravity) and the scene's pairs, boxes and points. */
+static void test_fixed_arrays(void)
+{
+    char b[32];
+    json_t *a2 = json_pack("[ii]", 0, 1), *a0 = json_array(), *str = json_string("x"), *obj = json_object();
+    json_t *i1 = json_integer(1), *nul = json_null();
+    CHECK(strcmp(eo_json_describe(a2, b, sizeof b), "an array of 2") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(a0, b, sizeof b), "an empty array") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(str, b, sizeof b), "a string") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(obj, b, sizeof b), "an object") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(i1, b, sizeof b), "an integer") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(nul, b, sizeof b), "null") == 0, "'%s'", b);
+    CHECK(strcmp(eo_json_describe(NULL, b, sizeof b), "nothing") == 0, "'%s'", b);
+    json_decref(a2), json_decref(a0), json_decref(str), json_decref(obj), json_decref(i1), json_decref(nul);
+
+    static const struct {
+        const char *override, *message;
+    } cases[] = {
+        {"gravity=[0,-9.81]", "command line -o gravity: expected an array of 3 numbers, got an array of 2"},
+        {"gravity=[0,0,-9.81,1]", "expected an array of 3 numbers, got an array of 4"},
+        {"gravity=[]", "expected an array of 3 numbers, got an empty array"},
+        {"gravity=9.81", "expected an array of 3 numbers, got a number"},
+        {"gravity=[0,true,1]", "expected an array of 3 numbers, item 1 is a boolean"},
+        {"point_masses=[[0,1,2]]", "'point_masses.0': expected an array of 2 [vertex, kg], got an array of 3"},
+        {"boundary.0.box=[[0,0,0]]", "expected an array of 2 corners [[x0,y0,z0],[x1,y1,z1]], got an array of 1"},
+        {"boundary.0.box=[[0,0,0],[1,1]]", "corner 1: expected an array of 3 numbers, got an array of 2"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+        eo_ctx *ctx = eo_test_ctx();
+        eo_sim *sim = NULL;
+        const char *o[] = {cases[i].override, NULL};
+        int rc = eo_sim_create_from(ctx, NULL, NULL, o, &sim);
+        CHECK(rc == EO_ERR_TYPE && strstr(eo_ctx_message(ctx), cases[i].message), "%s: rc %d, '%s'",
+              cases[i].override, rc, eo_ctx_message(ctx));
+        eo_sim_destroy(&sim);
+        eo_test_ctx_done(&ctx);
+    }
+}
+
+/* Shortest round-trip decimal form: known values, random doubles of every exponent, the
+ * .pvd writer and eo_json_dumps. */
+static void test_fmt_double(void)
+{
+    char b[32];
+    static const struct {
+        double v;
+        const char *s;
+    } known[] = {{0.4, "0.4"}, {0.1 + 0.2, "0.30000000000000004"}, {1.0, "1"}, {-2.5e-7, "-2.5e-07"},
+                 {1e300, "1e+300"}, {0.1 * 3, "0.30000000000000004"}, {4 * 0.1, "0.4"}, {1.0 / 3, "0.3333333333333333"},
+                 {5e-324, "4.94065645841247e-324"}, {123456789012345680.0, "1.2345678901234568e+17"}};
+    for (size_t i = 0; i < sizeof known / sizeof *known; i++)
+        CHECK(strcmp(eo_fmt_double(b, known[i].v), known[i].s) == 0, "%.17g -> '%s', expected '%s'", known[i].v, b,
+              known[i].s);
+    /* 0.40000000000000002 is the %.17g form of 0.4: both name the same double */
+    CHECK(strtod("0.40000000000000002", NULL) == 0.4, "same double");
+    CHECK(strcmp(eo_fmt_double(b, NAN), "nan") == 0 || strcmp(b, "-nan") == 0, "nan '%s'", b);
+    eo_test_seed(42);
+    int bad = 0, shorter = 0;
+    for (int i = 0; i < 100000; i++) {
+        unsigned long long bits = 0;
+        for (int k = 0; k < 4; k++) bits = (bits << 16) ^ (unsigned long long)eo_test_rand(0, 65536);
+        double v;
+        memcpy(&v, &bits, sizeof v);
+        if (!isfinite(v)) continue;
+        eo_fmt_double(b, v);
+        if (strtod(b, NULL) != v || (v == 0 && signbit(v) != signbit(strtod(b, NULL)))) bad++;
+        char l[32];
+        snprintf(l, sizeof l, "%.17g", v);
+        shorter += strlen(b) < strlen(l);
+        /* shortest: one digit less does not read back */
+        char e[512];
+        int digits = 0;
+        const char *c = b + (b[0] == '-');
+        while (*c == '0' || *c == '.') c++; /* leading zeros are not significant */
+        for (; *c && *c != 'e'; c++) digits += *c >= '0' && *c <= '9';
+        if (digits > 15) {
+            snprintf(e, sizeof e, "%.*g", digits - 1, v);
+            if (strtod(e, NULL) == v) bad++;
+        }
+    }
+    CHECK(bad == 0, "%d random doubles did not round-trip or were not shortest", bad);
+    CHECK(shorter > 1000, "only %d of the random doubles got shorter than %%.17g", shorter);
+    /* the doubles nearest to k / 1000 print as k / 1000 */
+    for (int k = 0; k <= 1000; k++) {
+        char want[32];
+        snprintf(want, sizeof want, k % 1000 ? "%d.%03d" : "%d", k / 1000, k % 1000);
+        while (strchr(want, '.') && want[strlen(want) - 1] == '0') want[strlen(want) - 1] = 0;
+        CHECK(strcmp(eo_fmt_double(b, k / 1000.0), want) == 0, "%d/1000 -> '%s', expected '%s'", k, b, want);
+    }
+
+    /* the .pvd index */
+    eo_ctx *ctx = eo_test_ctx();
+    const char *dir = eo_test_tmpdir("core_fmt");
+    char path[4200];
+    snprintf(path, sizeof path, "%s/t.pvd", dir);
+    eo_pvd *pvd = NULL;
+    CHECK(eo_pvd_create(ctx, path, &pvd) == EO_OK, "pvd");
+    double t = 0;
+    for (int k = 0; k < 4; k++) t += 0.1; /* 0.30000000000000004 + 0.1 = 0.4 exactly */
+    CHECK(eo_pvd_add(ctx, pvd, 0.4, "a.vtu") == EO_OK && eo_pvd_add(ctx, pvd, 0.1 + 0.2, "b.vtu") == EO_OK &&
+              eo_pvd_add(ctx, pvd, t, "c.vtu") == EO_OK,
+          "pvd add");
+    eo_pvd_destroy(&pvd);
+    char *text = NULL;
+    size_t len = 0;
+    CHECK(eo_read_file(ctx, path, &text, &len) == EO_OK, "read pvd");
+    CHECK(text && strstr(text, "timestep=\"0.4\" ") && strstr(text, "timestep=\"0.30000000000000004\" ") &&
+              !strstr(text, "0.40000000000000002"),
+          "pvd text: %s", text ? text : "");
+    eo_free(ctx, text);
+    /* JSON: reals in their shortest form, still reals; strings untouched */
+    json_t *j = json_pack("{s:f, s:f, s:f, s:i, s:s, s:[f]}", "t", 0.4, "one", 1.0, "third", 1.0 / 3, "n", 7, "s",
+                          "0.40000000000000002", "a", 1e-7);
+    char *js = eo_json_dumps(j, JSON_COMPACT | JSON_PRESERVE_ORDER);
+    CHECK(js && strcmp(js, "{\"t\":0.4,\"one\":1.0,\"third\":0.3333333333333333,\"n\":7,"
+                           "\"s\":\"0.40000000000000002\",\"a\":[1e-07]}") == 0,
+          "json '%s'", js ? js : "");
+    json_t *back = js ? json_loads(js, 0, NULL) : NULL;
+    CHECK(back && json_is_real(json_object_get(back, "one")) &&
+              json_real_value(json_object_get(back, "third")) == 1.0 / 3,
+          "reads back");
+    json_decref(back);
+    free(js);
+    json_decref(j);
+    eo_test_ctx_done(&ctx);
+}
+
 int main(void)
 {
     test_status();
@@ -214,5 +351,7 @@ int main(void)
     test_locate();
     test_config();
     test_registry();
+    test_fixed_arrays();
+    test_fmt_double();
     return eo_test_finish("test_core");
 }

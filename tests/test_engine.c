@@ -428,7 +428,7 @@ static void test_fallback(void)
     eo_ctx *ctx = eo_test_ctx();
     const char *ov[] = {"solver.hessian_fix=none", "solver.max_iters=20", "time.steps=2",
                         "solver.fallback=[{\"hessian_fix\": \"clamp\", \"max_iters\": 100}]", NULL};
-    const char *ref[] = {"solver.hessian_fix=clamp", "solver.max_iters=100", "time.steps=2", NULL};
+    const char *ref[] = {"solver.hessian_fix=clamp", "solver.max_iters=100", "time.steps=2", "solver.fallback=[]", NULL};
     eo_sim *s = NULL, *sr = NULL;
     CHECK(eo_test_sim_open(&s, ctx, "inverted", NULL, ov) == 0, "open with fallback");
     CHECK(eo_test_sim_open(&sr, ctx, "inverted", NULL, ref) == 0, "open clamp");

@@ -116,7 +116,7 @@ static void test_pin(void)
         char fix[64];
         snprintf(fix, sizeof fix, "solver.hessian_fix=%s", p0->fix);
         /* pinned iterates of the old default stop (absolute decrement 1e-10) */
-        const char *ov[] = {fix, "time.steps=3", "solver.stop=newton_decrement", NULL};
+        const char *ov[] = {fix, "time.steps=3", "solver.stop=newton_decrement", "solver.fallback=[]", NULL};
         eo_ctx *ctx = eo_test_ctx();
         eo_sim *s = NULL;
         int rc = eo_test_sim_open(&s, ctx, p0->scene, NULL, ov);
@@ -266,8 +266,8 @@ static int run_first(const char *scene, const char *const *extra, const char *fi
     snprintf(op, sizeof op, "solver.optimizer=%s", opt);
     snprintf(t, sizeof t, "solver.tol=%s", tol);
     /* tol is an absolute decrement here (the old default rule) */
-    const char *ov[16] = {f, op, t, "solver.max_iters=500", "solver.stop=newton_decrement"};
-    int k = 5;
+    const char *ov[16] = {f, op, t, "solver.max_iters=500", "solver.stop=newton_decrement", "solver.fallback=[]"};
+    int k = 6;
     for (const char *const *e = extra; e && *e && k < 15; e++) ov[k++] = *e;
     ov[k] = NULL;
     eo_ctx *ctx = eo_test_ctx();

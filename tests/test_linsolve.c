@@ -15,7 +15,10 @@
  *        the column, cg/pcg report it from solve; spqr and cholmod_ldlt
  *        (allow_indefinite) solve it;
  *   no context allocation in factor/solve; failure injection over create/analyze.
- * References are dense LAPACKE dposv / dgesv. */
+ * References are dense LAPACKE dposv / dgesv.
+ * `test_linsolve quick` (the quick suite): the same contract on a 6x6x5 grid instead of
+ * 10x10x9, every solver with its defaults only (no parameter variants), no 50k-tet
+ * assembly timing; the full suite runs both. */
 #include <jansson.h>
 #include <lapacke.h>
 #include <stdlib.h>
@@ -568,6 +571,8 @@ static int run(eo_ctx *ctx, eo_linsolve *ls, const eo_csc *A, const double *b, d
     return rc;
 }
 
+static int g_quick; /* `quick` argument: smaller contract grid, no variants, no timing */
+
 static void contract_one(solver_cfg *c)
 {
     eo_ctx *ctx = eo_test_ctx();
@@ -575,7 +580,7 @@ static void contract_one(solver_cfg *c)
     const int jac = strcmp(name, "jacobi") == 0;
     eo_linsolve *ls = NULL;
     testmat T;
-    CHECK(testmat_create(ctx, 10, 10, 9, 150, &T) == EO_OK, "test matrix");
+    CHECK(testmat_create(ctx, g_quick ? 6 : 10, g_quick ? 6 : 10, g_quick ? 5 : 9, 150, &T) == EO_OK, "test matrix");
     eo_csc *A = eo_assembler_matrix(T.as);
     const int n = A->n;
     double *b = malloc((size_t)n * sizeof(double)), *x = malloc((size_t)n * sizeof(double));
@@ -747,7 +752,7 @@ static void test_contract(void)
         double t0 = eo_wtime();
         contract_one(&c);
         printf("contract %-28s %.3f s\n", c.label, eo_wtime() - t0);
-        for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
+        for (size_t v = 0; v < (g_quick ? 0 : sizeof variants / sizeof variants[0]); v++) {
             if (strcmp(variants[v].name, (*(const eo_linsolve_type *const *)t)->info.name)) continue;
             cfg_init(ctx, &c, *t);
             CHECK(set_param(ctx, &c, variants[v].key, variants[v].value) == EO_OK, "variant %s.%s: %s",
@@ -1046,13 +1051,14 @@ static void test_linsolve_fail(void)
     eo_test_ctx_done(&ctx);
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    g_quick = argc > 1 && strcmp(argv[1], "quick") == 0;
     test_assembler_tiny();
     test_assembler_random();
     test_assembler_blocks();
     test_assembler_fail();
-    test_assembler_timing();
+    if (!g_quick) test_assembler_timing();
     test_api();
     test_linsolve_fail();
     test_contract();

@@ -63,7 +63,7 @@ static double spring_period(const char *integrator, double dt, int steps, double
     for (int k = 0; k < steps; k++) {
         eo_sim_step_result r;
         CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0 && eo_reason_is_converged(r.reason) &&
-                  (r.reason == EO_CONVERGED_EXPLICIT) == eo_sim_is_explicit(s),
+                  (r.reason == EO_REASON_EXPLICIT) == eo_sim_is_explicit(s),
               "step %d: %s", k, eo_reason_name(r.reason));
         double z = eo_step_x(eo_sim_step_problem(s))[5] + 1, t = eo_step_time(eo_sim_step_problem(s));
         if (k > 0 && zprev < 0 && z >= 0) {
@@ -315,7 +315,7 @@ static void test_explicit_freefall(void)
         eo_step_stats_compute(eo_sim_step_problem(s), &s0);
         for (int k = 0; k < 40; k++) {
             eo_sim_step_result r;
-            CHECK(eo_sim_step(s, &r) == 0 && r.reason == EO_CONVERGED_EXPLICIT && r.iterations == 0 && isnan(r.g),
+            CHECK(eo_sim_step(s, &r) == 0 && r.reason == EO_REASON_EXPLICIT && r.iterations == 0 && isnan(r.g),
                   "advance");
         }
         eo_step_stats_compute(eo_sim_step_problem(s), &sk);
@@ -340,7 +340,7 @@ static void test_explicit_diverges(void)
         eo_sim_step_result r;
         CHECK(eo_sim_step(s, &r) == 0, "advance");
         reason = r.reason;
-        if (reason != EO_CONVERGED_EXPLICIT) break;
+        if (reason != EO_REASON_EXPLICIT) break;
     }
     printf("rk4 at h w = 5: %s after %d steps (t = %g)\n", eo_reason_name(reason), k, eo_step_time(eo_sim_step_problem(s)));
     CHECK(reason == EO_DIVERGED_NONFINITE, "reason %s", eo_reason_name(reason));
@@ -412,7 +412,7 @@ static void test_explicit_blowup_cantilever(void)
         int k, rc = 0;
         for (k = 0; k < 300; k++) {
             eo_sim_get_state(s, xb, vb, NULL, NULL);
-            if ((rc = eo_sim_step(s, &r)) < 0 || r.reason != EO_CONVERGED_EXPLICIT) break;
+            if ((rc = eo_sim_step(s, &r)) < 0 || r.reason != EO_REASON_EXPLICIT) break;
         }
         double t;
         int index;
@@ -455,7 +455,7 @@ static void test_mass_solver(void)
         if (!s[q]) return;
         for (int k = 0; k < 60; k++) {
             eo_sim_step_result r;
-            CHECK(eo_sim_step(s[q], &r) == EO_OK && r.reason == EO_CONVERGED_EXPLICIT, "%s step %d", lin[q][0], k);
+            CHECK(eo_sim_step(s[q], &r) == EO_OK && r.reason == EO_REASON_EXPLICIT, "%s step %d", lin[q][0], k);
         }
     }
     const eo_step *a = eo_sim_step_problem(s[0]), *b = eo_sim_step_problem(s[1]);

@@ -409,6 +409,107 @@ static void test_medit(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* ---- Vega .veg ---------------------------------------------------------------------- */
+
+typedef struct {
+    char text[2048];
+} log_capture;
+
+static void capture_log(eo_log_level level, const char *msg, void *user)
+{
+    log_capture *c = user;
+    size_t k = strlen(c->text);
+    if (level <= EO_LOG_INFO) snprintf(c->text + k, sizeof c->text - k, "%s\n", msg);
+}
+
+static void test_veg(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    log_capture logs = {{0}};
+    eo_ctx_set_logger(ctx, capture_log, &logs, EO_LOG_INFO);
+    eo_mesh *m = NULL;
+    const char *path = eo_test_src_path("tests/data/cube6.veg");
+    CHECK(eo_mesh_format_from_path(path) == EO_MESH_VEG && strcmp(eo_mesh_format_name(EO_MESH_VEG), "veg") == 0,
+          "chosen by extension");
+    int rc = eo_mesh_read(ctx, path, NULL, &m);
+    CHECK(rc == EO_OK, "veg: %s", eo_ctx_message(ctx));
+    if (m) {
+        CHECK(m->nv == 8 && m->nt == 6, "counts %d %d", m->nv, m->nt);
+        for (int v = 0; v < 8; v++) /* vertex n = i + 2 j + 4 k + 1 at (i, j, k) */
+            CHECK(m->X[3 * v] == (v & 1) && m->X[3 * v + 1] == ((v >> 1) & 1) && m->X[3 * v + 2] == ((v >> 2) & 1),
+                  "vertex %d at (%g, %g, %g)", v + 1, m->X[3 * v], m->X[3 * v + 1], m->X[3 * v + 2]);
+        CHECK_CLOSE(eo_mesh_volume(m), 1.0, 1e-14);
+        for (int t = 0; t < 6; t++) {
+            CHECK_CLOSE(eo_tet_volume(m->X, m->tets + 4 * t), 1.0 / 6, 1e-14);
+            CHECK(m->tets[4 * t] == 0 && m->tets[4 * t + 3] == 7, "tet %d runs along the diagonal 1-8", t + 1);
+        }
+        /* 0-based sets: tet 4 "1, 3, 7, 8" */
+        int set4[4] = {m->tets[12], m->tets[13], m->tets[14], m->tets[15]};
+        sort3(set4 + 1);
+        CHECK(set4[0] == 0 && set4[1] == 2 && set4[2] == 6 && set4[3] == 7, "tet 4 with commas");
+        round_trip(ctx, m, "veg", 0);
+    }
+    eo_mesh_destroy(&m);
+    CHECK(strstr(logs.text, "cube6.veg:25: veg: section *MATERIAL ignored") &&
+              strstr(logs.text, "cube6.veg:28: veg: section *SET ignored") &&
+              strstr(logs.text, "veg: section *REGION ignored"),
+          "notes: %s", logs.text);
+    eo_ctx_set_logger(ctx, NULL, NULL, EO_LOG_ERROR);
+
+    /* 0-based file (Vega accepts both): same mesh */
+    put_file("zero.veg", "*VERTICES\n4 3 0 0\n0 0 0 0\n1 1 0 0\n2 0 1 0\n3 0 0 1\n*ELEMENTS\nTET\n1 4 0\n0 0 1 2 3\n");
+    rc = read_file_status(ctx, "zero.veg", NULL, &m);
+    CHECK(rc == EO_OK && m && m->nt == 1 && fabs(eo_mesh_volume(m) - 1.0 / 6) < 1e-15, "0-based: %s",
+          eo_ctx_message(ctx));
+    eo_mesh_destroy(&m);
+
+    /* errors name file, line and item */
+    static const struct {
+        const char *name, *text;
+        int status;
+        const char *msg1, *msg2;
+    } bad[] = {
+        {"count.veg", "*VERTICES\n5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n*ELEMENTS\nTET\n1 4 0\n1 1 2 3 4\n",
+         EO_ERR_PARSE, "count.veg:7: vertex 5: ", "expected vertex index, got '*ELEMENTS'"},
+        {"range.veg", "*VERTICES\n4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n*ELEMENTS\nTET\n2 4 0\n1 1 2 3 4\n2 1 2 3 5\n",
+         EO_ERR_MESH, "range.veg:11: tet 2: ", "expected vertex index in [1, 4], got 5"},
+        {"trunc.veg", "*VERTICES\n4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n*ELEMENTS\nTET\n2 4 0\n1 1 2 3 4\n2 1 2",
+         EO_ERR_PARSE, "trunc.veg:11: tet 2: ", "expected vertex index, got end of"},
+        {"cut.veg", "*VERTICES\n4 3 0 0\n1 0 0 0\n2 1 0\n", EO_ERR_PARSE, "cut.veg:4: vertex 2: ",
+         "expected z coordinate, got end of line"},
+        {"bigcount.veg", "*VERTICES\n99999999 3 0 0\n1 0 0 0\n", EO_ERR_PARSE, "bigcount.veg:2:",
+         "vertex count between 0 and"},
+        {"order.veg", "*VERTICES\n3 3 0 0\n1 0 0 0\n3 1 0 0\n2 0 1 0\n", EO_ERR_PARSE, "order.veg:4: vertex 2: ",
+         "expected vertex index 2 (indices follow on), got 3"},
+        {"cubic.veg", "*VERTICES\n1 3 0 0\n1 0 0 0\n*ELEMENTS\nCUBIC\n1 8 0\n", EO_ERR_UNSUPPORTED, "cubic.veg:5:",
+         "element type CUBIC (hexahedra) is not supported; expected TET"},
+        {"hex.veg", "*VERTICES\n1 3 0 0\n1 0 0 0\n*ELEMENTS\nHEX\n", EO_ERR_PARSE, "hex.veg:5:",
+         "expected element type TET, got 'HEX'"},
+        {"width.veg", "*VERTICES\n1 2 0 0\n", EO_ERR_PARSE, "width.veg:2:", "expected coordinates per vertex 3 in [3, 3]"},
+        {"incl.veg", "*VERTICES\n1 3 0 0\n1 0 0 0\n*INCLUDE more.veg\n", EO_ERR_UNSUPPORTED, "incl.veg:4:",
+         "*INCLUDE is not supported"},
+        {"none.veg", "# nothing\n*MATERIAL m\nENU, 1, 2, 0.3\n", EO_ERR_PARSE, "none.veg:", "expected a *VERTICES section"},
+        {"notets.veg", "*VERTICES\n1 3 0 0\n1 0 0 0\n", EO_ERR_MESH, "notets.veg:", "expected an *ELEMENTS section"},
+        {"junk.veg", "VERTICES\n", EO_ERR_PARSE, "junk.veg:1:", "expected a section keyword such as '*VERTICES'"},
+        {"flat.veg", "*VERTICES\n4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 1 1 0\n*ELEMENTS\nTET\n1 4 0\n1 1 2 3 4\n",
+         EO_ERR_MESH, "flat.veg:10", "tet 1"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        put_file(bad[i].name, bad[i].text);
+        expect_err(ctx, read_file_status(ctx, bad[i].name, NULL, &m), bad[i].status, bad[i].name, bad[i].msg1,
+                   bad[i].msg2, NULL);
+        CHECK(m == NULL, "%s: no mesh", bad[i].name);
+    }
+    /* a writer is not there: .veg is read only */
+    eo_mesh *g = NULL;
+    eo_mesh_gen_opts go = eo_mesh_gen_opts_default();
+    CHECK(eo_mesh_generate_box(ctx, &go, &g) == EO_OK, "generate");
+    expect_err(ctx, eo_mesh_write(ctx, g, tpath("out.veg"), EO_MESH_AUTO), EO_ERR_UNSUPPORTED, "write veg",
+               "veg files can be read, not written", NULL);
+    eo_mesh_destroy(&g);
+    eo_test_ctx_done(&ctx);
+}
+
 /* ---- VTU / PVD / OBJ ------------------------------------------------------------- */
 
 static char *slurp(const char *path, size_t *n)
@@ -1424,6 +1525,7 @@ int main(void)
     test_vtu_read();
     test_paths();
     test_scene_selectors();
+    test_veg();
     FILE *probe = fopen(eo_test_shared_path("meshes/ipc_bar-2523.msh"), "rb");
     if (!probe) {
         printf("test_mesh: shared meshes not found at %s (set EO_SHARED): the rest skipped\n",

@@ -16,6 +16,10 @@
 #  - hostile paths (FIFO, device, folder for a file, file for a folder, too long) exit 2
 #    at once (timeout 10) for run, convert, poisson --vtu, stability --png, bench --out,
 #    check; convert never changes a file that existed before it
+#  - bdf2 and generalized_alpha restart parity (their histories in restart.dat)
+#  - steps.csv / summary.json energy columns add up (total = kinetic + potential − work),
+#    and a free pre-stretched stiff bar gets "energy_warning" (and the stderr warning)
+#    under newmark, none under implicit_midpoint
 set -u
 EXE="$(cd "$(dirname "$1")" && pwd)/$(basename "$1")"
 SRC="${EO_SOURCE_ROOT:-$(dirname "$0")/..}"
@@ -38,7 +42,7 @@ want = int(sys.argv[3]) if len(sys.argv) > 3 else None
 s = json.load(open(d + "/summary.json"))
 assert str(s["stop_reason"]) == stop, (s["stop_reason"], stop)
 if want is not None: assert s["steps_run"] == want, (s["steps_run"], want)
-for name, nf in (("steps.csv", 24), ("iterations.csv", 11)):
+for name, nf in (("steps.csv", 31), ("iterations.csv", 11)):
     text = open(d + "/" + name).read()
     assert text.endswith("\n"), name + ": incomplete last line"
     rows = text.splitlines()
@@ -182,7 +186,7 @@ echo $D >locked/run.lock
 "$EXE" run --out locked -q -o time.steps=1 && [ ! -e locked/run.lock ] && ok || bad "stale lock not replaced"
 
 # --- terminal output
-out=$("$EXE" run --out capped -o solver.max_iters=1 -o solver.tol=1e-40 -o time.steps=2 -o output.vtu=false 2>/dev/null)
+out=$("$EXE" run --out capped -o solver.max_iters=1 -o "solver.fallback=[]" -o solver.tol=1e-40 -o time.steps=2 -o output.vtu=false 2>/dev/null)
 [ $? -eq 1 ] && printf '%s' "$out" |
     grep -q "^cantilever: 0/2 converged; steps 1, 2: diverged_max_iters (1 iteration); .*summary: capped/summary.json$" &&
     ok || bad "closing line: $out"
@@ -227,6 +231,43 @@ timeout 10 "$EXE" convert gen:1,1,1:3,3,3 pair.node >/dev/null 2>&1
 cmp -s bd6/restart.dat bd12/restart.dat && cmp -s bd6/frame_000012.vtu bd12/frame_000012.vtu && ok ||
     bad "bdf2 restart parity: 6 + restart to 12 differs from 12 steps"
 grep -q "history" bd6/restart.dat && ok || bad "bdf2 restart.dat lacks its history array"
+
+# generalized-alpha: its acceleration history travels in restart.dat (same parity)
+"$EXE" run -q -o time.integrator=generalized_alpha -o time.steps=12 --out ga12 >/dev/null 2>&1
+"$EXE" run -q -o time.integrator=generalized_alpha -o time.steps=6 --out ga6 >/dev/null 2>&1
+"$EXE" run -q --restart ga6 -o time.steps=12 >/dev/null 2>&1
+cmp -s ga6/restart.dat ga12/restart.dat && cmp -s ga6/frame_000012.vtu ga12/frame_000012.vtu && ok ||
+    bad "generalized_alpha restart parity: 6 + restart to 12 differs from 12 steps"
+
+# energy columns and the energy warning: a free pre-stretched stiff bar under newmark
+cat > bar.json <<'EOF2'
+{"mesh": {"generate": {"size": [1.0, 0.1, 0.1], "cells": [10, 1, 1], "split": 5}},
+ "material": {"model": "corotated", "E": 1e7, "nu": 0.3, "density": 1000},
+ "gravity": [0, 0, 0], "initial": {"scale": [1.1, 1, 1]},
+ "time": {"integrator": "newmark", "dt": 0.01, "steps": 30}, "output": {"vtu": false}}
+EOF2
+"$EXE" run -q bar.json --out bar_nm >/dev/null 2>bar_nm.err
+"$EXE" run -q bar.json -o time.integrator=implicit_midpoint --out bar_im >/dev/null 2>bar_im.err
+$PY - <<'PY' && ok || bad "energy columns / energy_warning"
+import csv, json
+for d, warn in (("bar_nm", True), ("bar_im", False)):
+    rows = list(csv.DictReader(open(d + "/steps.csv")))
+    s = json.load(open(d + "/summary.json"))
+    e0 = s["initial"]["total_energy"]
+    for r in rows:
+        tot = float(r["kinetic"]) + float(r["potential"]) - float(r["work_prescribed"])
+        assert abs(float(r["total_energy"]) - tot) <= 1e-9 * abs(tot), (d, r["step"])
+        assert float(r["potential"]) == float(r["elastic"]) + float(r["gravity_potential"]) + float(r["contact"])
+    grow = max(float(r["total_energy"]) for r in rows) / e0
+    assert (s["energy_warning"] is not None) == warn, (d, s["energy_warning"])
+    if warn:
+        assert "newmark" in s["energy_warning"] and grow > 1.5, (grow, s["energy_warning"])
+    else:
+        assert abs(grow - 1) < 0.01, grow
+    assert abs(s["steps"][-1]["total_energy"] - float(rows[-1]["total_energy"])) <= 1e-9 * abs(e0)
+PY
+grep -q "warning: total energy grew" bar_nm.err && ok || bad "newmark energy warning not on stderr"
+grep -q "total energy grew" bar_im.err && bad "implicit_midpoint warned: $(cat bar_im.err)" || ok
 
 echo "run_io: $pass passed, $fail failed"
 [ $fail -eq 0 ]

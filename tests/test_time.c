@@ -187,7 +187,7 @@ static double be_step(eo_ctx *ctx, double h, const char *optimizer, const char *
     snprintf(in, sizeof in, "solver.fixed_point.init=%s", init ? init : "previous");
     char dt[64];
     snprintf(dt, sizeof dt, "time.dt=%.17g", h);
-    const char *ov[] = {"time.integrator=backward_euler", o, in, "solver.max_iters=1000", dt, NULL};
+    const char *ov[] = {"time.integrator=backward_euler", o, in, "solver.max_iters=1000", dt, "solver.fallback=[]", NULL};
     eo_sim *s = NULL;
     if (eo_test_sim_open(&s, ctx, NULL, spring, ov) < 0) {
         CHECK(0, "open spring");
@@ -251,7 +251,7 @@ static void test_fixed_point_mesh(eo_ctx *ctx)
         const char *ovn[] = {"mesh.generate.cells=[6,2,2]", "time.integrator=backward_euler", dt, "solver.tol=1e-24",
                              "solver.max_iters=2000", "initial.scale=[1.01,1,1]", NULL};
         const char *ovf[] = {"mesh.generate.cells=[6,2,2]", "time.integrator=backward_euler", dt, "solver.tol=1e-24",
-                             "solver.max_iters=2000", "initial.scale=[1.01,1,1]", "solver.optimizer=fixed_point", NULL};
+                             "solver.max_iters=2000", "initial.scale=[1.01,1,1]", "solver.optimizer=fixed_point", "solver.fallback=[]", NULL};
         eo_sim *a = NULL, *b = NULL;
         if (eo_test_sim_open(&a, ctx, "cantilever", NULL, ovn) < 0 || eo_test_sim_open(&b, ctx, "cantilever", NULL, ovf) < 0) {
             CHECK(0, "open cantilever");

@@ -16,7 +16,10 @@
  *   trajectory  each configuration with its own stopping rule from the scene's initial
  *               state over all skip + S steps (the whole benchmark scene), stopping at
  *               the first step its rule does not meet; distance per frame to the
- *               reference positions.
+ *               reference positions. A suite scene with time.adaptive = true (a scene
+ *               key like any other, `set` in the suite) steps these runs adaptively
+ *               (sim.h: a step that fails is retried in substeps, frames stay at n·dt);
+ *               the reference and the fixed-budget runs always take nominal steps.
  *
  * Every step runs through eo_sim (sim.h), the library's one copy of the step protocol:
  * the reference and the trajectories with eo_sim_step (the sim's solver swapped with
@@ -40,6 +43,7 @@
 #include "elastopt/registry.h"
 #include "elastopt/scene.h"
 #include "elastopt/sim.h"
+#include "elastopt/suggest.h"
 
 #define SZ(T, f) sizeof(((T *)0)->f)
 
@@ -336,7 +340,8 @@ static int number_list(eo_ctx *ctx, eo_cfg *cfg, const char *key, double *out, i
     json_t *v = eo_cfg_get(cfg, key);
     if (!v) return EO_OK;
     if (!json_is_array(v) || json_array_size(v) < 1 || json_array_size(v) > BENCH_MAX_LIST)
-        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of 1 to %d positive numbers", BENCH_MAX_LIST);
+        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of 1 to %d positive numbers, got %s", BENCH_MAX_LIST,
+                         eo_json_describe(v, (char[32]){0}, 32));
     *n = 0;
     size_t i;
     json_t *e;
@@ -355,7 +360,8 @@ static int int_list(eo_ctx *ctx, eo_cfg *cfg, const char *key, int *out, int *n)
     json_t *v = eo_cfg_get(cfg, key);
     if (!v) return EO_OK;
     if (!json_is_array(v) || json_array_size(v) > BENCH_MAX_LIST)
-        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of at most %d positive integers", BENCH_MAX_LIST);
+        return suite_err(ctx, cfg, key, EO_ERR_TYPE, "expected a list of at most %d positive integers, got %s",
+                         BENCH_MAX_LIST, eo_json_describe(v, (char[32]){0}, 32));
     *n = 0;
     size_t i;
     json_t *e;
@@ -499,7 +505,10 @@ static int load_config_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int id
     json_object_foreach(item, key, v) {
         if (strcmp(key, "name") && strcmp(key, "set")) {
             snprintf(sub, sizeof sub, "%s.%s", path, key);
-            return suite_err(ctx, cfg, sub, EO_ERR_UNKNOWN_KEY, "unknown key; valid keys here: name, set");
+            char prefix[72], hint[200];
+            snprintf(prefix, sizeof prefix, "%s.", path);
+            eo_suggest_hint(key, "name, set", prefix, hint, sizeof hint);
+            return suite_err(ctx, cfg, sub, EO_ERR_UNKNOWN_KEY, "unknown key%s; valid keys here: name, set", hint);
         }
     }
     json_t *name = json_object_get(item, "name");
@@ -548,8 +557,11 @@ static int load_matrix_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int id
         for (const char *const *k = keys; *k; k++) ok |= strcmp(*k, key) == 0;
         if (!ok) {
             snprintf(sub, sizeof sub, "%s.%s", path, key);
+            char prefix[72], hint[200];
+            snprintf(prefix, sizeof prefix, "%s.", path);
+            eo_suggest_hint(key, "optimizer, hessian_fix, linesearch, set", prefix, hint, sizeof hint);
             return suite_err(ctx, cfg, sub, EO_ERR_UNKNOWN_KEY,
-                             "unknown key; valid keys here: optimizer, hessian_fix, linesearch, set");
+                             "unknown key%s; valid keys here: optimizer, hessian_fix, linesearch, set", hint);
         }
     }
     const char *opt[16], *fix[16], *ls[16];
@@ -1337,6 +1349,10 @@ static int run_scene(run_ctx *r, int si)
     rso.max_iters = s->o.ref_max_iters;
     rso.time_budget = 0;
     EO_TRY(rc = eo_sim_set_solver(sim, &rso, NULL));
+    /* the reference solves the nominal steps' problems (a scene's time.adaptive acts in
+     * the trajectory runs only) */
+    const int adaptive = eo_sim_adaptive(sim);
+    EO_TRY(rc = eo_sim_set_adaptive(sim, 0));
     ref_state rs;
     eo_sim_set_iter_callback(sim, ref_iter, &rs);
     eo_objective *obj;
@@ -1490,6 +1506,7 @@ static int run_scene(run_ctx *r, int si)
             eo_solver_opts tso = so;
             tso.time_budget = budget;
             EO_TRY(rc = eo_sim_set_solver(sim, &tso, ccfg));
+            EO_TRY(rc = eo_sim_set_adaptive(sim, adaptive)); /* the scene's time.adaptive */
             EO_TRY(rc = eo_sim_set_state(sim, fx + (size_t)t0 * nf, fv + (size_t)t0 * nf, ft[t0], t0));
             if (s->o.warmup_iters > 0) {
                 int left = s->o.warmup_iters;
@@ -1532,6 +1549,8 @@ static int run_scene(run_ctx *r, int si)
          * warmed up (untimed) on the window's first step before its timed frames. */
         if (b->nibud_on) {
             progress(r, si, ci, "fixed");
+            /* exactly k iterations per nominal step: no substeps */
+            EO_TRY(rc = eo_sim_set_adaptive(sim, 0));
             const size_t fr = (size_t)sr->win0 * nf;
             int limit_cb = 0; /* backstop for optimizers with their own loops (nlopt counts evaluations) */
             for (int j = 0; j < s->nibud; j++) {

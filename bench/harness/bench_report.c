@@ -201,7 +201,8 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
                     q->converged, q->rounding);
             m += meas;
             eo_bench_csv_num(f, q->time);
-            fprintf(f, ",%.17g,%.17g", q->g0, q->gstar);
+            char gb[2][32];
+            fprintf(f, ",%s,%s", eo_fmt_double(gb[0], q->g0), eo_fmt_double(gb[1], q->gstar));
             eo_bench_csv_num(f, q->dec);
             eo_bench_csv_num(f, q->floor);
             eo_bench_csv_num(f, sr->motion[k]);
@@ -950,6 +951,9 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             mach.cpu, mach.cores, mach.omp_threads);
     fprintf(f, "| OMP_NUM_THREADS / OPENBLAS_NUM_THREADS | %s / %s |\n", env_or("OMP_NUM_THREADS", "unset"),
             env_or("OPENBLAS_NUM_THREADS", "unset"));
+    char blas_line[640];
+    eo_blas_describe(blas_line, sizeof blas_line);
+    fprintf(f, "| BLAS | %s |\n", blas_line + (strncmp(blas_line, "BLAS ", 5) == 0 ? 5 : 0));
     fprintf(f, "| load average at start / end | %s / %s |\n", b->load_start, b->load_end);
     fprintf(f, "| elastopt | %s, build type %s, %s, git %s |\n\n", mach.version, mach.build_type, mach.compiler,
             mach.revision);

@@ -114,7 +114,7 @@ static int hb_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
         eo_stop_info si = {.iteration = k, .g = g, .g_prev = g_prev, .grad_norm = gn, .grad_norm0 = gn0,
                            .decrement = NAN, .step_norm = step_norm, .x_norm = sqrt(dot(n, x, x)), .tol = sc->tol};
         if (!isfinite(g) || !isfinite(gn)) reason = EO_DIVERGED_NONFINITE;
-        if (!reason) reason = sc->stop->check(sc->stop_params, &si);
+        if (!reason) reason = eo_solver_stop_check(sc, &si, x, st->grad);
         if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget) reason = EO_DIVERGED_TIME_BUDGET;
         double dg = 0, alpha0 = 1;
         if (!reason) {
@@ -144,7 +144,7 @@ static int hb_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
             if (!(dg < 0)) reason = EO_DIVERGED_NOT_DESCENT;
             else if (sc->stop->needs_direction) {
                 si.decrement = info.decrement;
-                reason = sc->stop->check(sc->stop_params, &si);
+                reason = eo_solver_stop_check(sc, &si, x, st->grad);
             }
         }
         if (!reason && k >= sc->max_iters) reason = EO_DIVERGED_MAX_ITERS;

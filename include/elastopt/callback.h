@@ -69,6 +69,10 @@ typedef struct eo_callback_optimizer_def {
     eo_callback_minimize_fn minimize;
     eo_callback_direction_fn direction;
     void *user;              ///< passed back to minimize / direction (borrowed)
+    /// 1 if the direction is a Newton direction p = −H⁻¹∇g with a Hessian H of g, so
+    /// that the stopping rules measure progress by its decrement λ_k/λ_0 (as `newton`);
+    /// 0 (default): by the metric gradient norm (solver.h, eo_optimizer_type)
+    int newton_decrement;
 } eo_callback_optimizer_def;
 
 typedef struct eo_callback_optimizer eo_callback_optimizer;

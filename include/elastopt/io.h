@@ -55,6 +55,14 @@ EO_API int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len)
 EO_API int eo_read_file_max(eo_ctx *ctx, const char *path, size_t max_bytes, const char *what, char **text,
                             size_t *len);
 
+/// A double in the shortest decimal form that reads back (strtod) to the same value:
+/// the first of %.15g, %.16g, %.17g that round-trips ("0.4", not "0.40000000000000002";
+/// 0.1 + 0.2 stays "0.30000000000000004"). Non-finite values print as %g does ("nan",
+/// "inf", "-inf"). Every text writer of times and coordinates uses it (.pvd times,
+/// steps.csv, summary.json and run.json through eo_json_dumps, MEDIT/Gmsh/TetGen/OBJ
+/// coordinates). Writes into buf and returns it.
+EO_API const char *eo_fmt_double(char buf[32], double v);
+
 /// Per-frame fields for VTU output; any pointer may be NULL to omit the field.
 typedef struct eo_vtu_fields {
     const double *x;          ///< current positions 3*nv (NULL: rest positions)

@@ -5,7 +5,8 @@
 /// oriented after loading), an optional per-tet attribute (region id), an optional
 /// per-vertex marker and optional tagged triangles (boundary or interface faces with a
 /// tag each). Readers: TetGen .node/.ele[/.face], MEDIT .mesh, Gmsh .msh 2.2 and 4.1
-/// ASCII, VTU (ASCII, inline base64 binary, appended raw or base64; tets), and closed
+/// ASCII, VTU (ASCII, inline base64 binary, appended raw or base64; tets), Vega FEM .veg
+/// (vertices and TET elements; *MATERIAL, *SET, *REGION ignored, *INCLUDE refused), and closed
 /// surface meshes .obj, .off, .stl (ASCII/binary), .ply (ASCII/binary_little_endian)
 /// tetrahedralized by the TetGen library (built with -Dtetgen; otherwise reading them
 /// fails with EO_ERR_UNSUPPORTED naming the option). Writers: TetGen, MEDIT, Gmsh, VTU
@@ -19,6 +20,7 @@
 /// | MEDIT | Tetrahedra reference | Triangles with their reference | Vertices reference |
 /// | TetGen | first region attribute of .ele | .face (if present, with markers) | .node boundary marker |
 /// | VTU | cell data "region" (Int) | - | - |
+/// | Vega .veg | - | - | - |
 /// | surface (TetGen) | - | - | - |
 /// Triangles need not be on the boundary; they are kept as the file gives them
 /// (0-based vertex indices, validated: in range, 3 distinct vertices).
@@ -69,7 +71,8 @@ typedef enum eo_mesh_format {
     EO_MESH_OBJ,      ///< .obj (read: closed surface, tetrahedralized; write: boundary)
     EO_MESH_OFF,      ///< .off closed surface (read only, tetrahedralized)
     EO_MESH_STL,      ///< .stl ASCII or binary closed surface (read only, tetrahedralized)
-    EO_MESH_PLY       ///< .ply ASCII or binary_little_endian surface (read only, tetrahedralized)
+    EO_MESH_PLY,      ///< .ply ASCII or binary_little_endian surface (read only, tetrahedralized)
+    EO_MESH_VEG       ///< .veg Vega FEM tet mesh (read only: vertices and TET elements)
 } eo_mesh_format;
 
 typedef struct eo_mesh_read_opts {

@@ -101,6 +101,17 @@ typedef struct eo_objective_ops {
     /// x = L⁻¹ b (n values each, distinct arrays) with that factor, after constant_factor
     /// returned EO_OK and until the objective changes. No allocation.
     int (*constant_solve)(void *data, const double *b, double *x);
+    /// Optional: the rounding scales of g at x, in the units of g, for the stopping
+    /// rules' floor (solver.h, "The convergence measure"): s[0] bounds the decrement
+    /// λ² = ∇gᵀH⁻¹∇g that the rounding of ∇g alone produces, s[1] the metric gradient
+    /// norm ‖∇g‖²_{D⁻¹} (D = metric_diag), both as s·ε², ε the double rounding unit.
+    /// The step objective (problems/step_objective.c) gives
+    ///   s[0] = Σᵢ Dᵢ xᵢ² + w Σₜ Vₜ (μₜ + λₜ)²/μₜ,
+    ///   s[1] = Σᵢ Dᵢ xᵢ² + 3 w² Σ_v a_v²/m_v,   a_v = Σ_{t ∋ v} (μₜ + λₜ) Vₜ^{2/3},
+    /// the rounding of x − x̃ (inertia) and of the stresses (elasticity: a stress
+    /// rounded at (μ + λ)ε per unit area, seen through the softest element mode μ).
+    /// NULL: no floor (the rules then stop only on measured progress).
+    int (*rounding_scale)(void *data, const double *x, double s[2]);
 } eo_objective_ops;
 
 typedef struct eo_objective {
@@ -131,6 +142,13 @@ static inline int eo_objective_constant_hessian(eo_objective *o, eo_csc **L, uns
 {
     if (!o->ops->constant_hessian) return EO_ERR_UNSUPPORTED;
     return o->ops->constant_hessian(o->data, L, version);
+}
+
+/// The rounding scales of ops->rounding_scale at x; EO_ERR_UNSUPPORTED if none.
+static inline int eo_objective_rounding_scale(eo_objective *o, const double *x, double s[2])
+{
+    if (!o->ops->rounding_scale) return EO_ERR_UNSUPPORTED;
+    return o->ops->rounding_scale(o->data, x, s);
 }
 
 /// Number of elements of the per-element ops, or EO_ERR_UNSUPPORTED (< 0) if the

@@ -123,6 +123,16 @@ EO_API long eo_utf8_invalid_at(const char *s);
 EO_API int eo_json_locate(const char *text, const char *path, long *line, long *col);
 /// Name of a JSON value's type ("number", "string", ...).
 EO_API const char *eo_json_type_name(const json_t *v);
+/// json_dumps(j, flags) with every real written in its shortest round-trip form
+/// (eo_fmt_double of io.h: 0.4 as 0.4, not 0.40000000000000002), still marked as a real
+/// ("1.0"); any JSON_REAL_PRECISION in flags is replaced. Returns a malloc'ed string
+/// (free() it), NULL when out of memory.
+EO_API char *eo_json_dumps(const json_t *j, size_t flags);
+/// A JSON value for messages, with its article and, for arrays, its length: "an array
+/// of 2", "an empty array", "a string", "an integer", "a number", "a boolean", "null",
+/// "an object", "nothing" (v NULL). Written into buf (n bytes, 32 is enough) and returned.
+/// Every "expected an array of N ..." message uses it: "got an array of 2".
+EO_API const char *eo_json_describe(const json_t *v, char *buf, size_t n);
 
 #ifdef __cplusplus
 }

@@ -76,7 +76,8 @@
 ///                      random_ball; velocity is the uniform initial velocity
 ///   damping.{viscous, rayleigh_alpha, rayleigh_beta}
 ///                      damping force −C v, C = γI + αM + βK₀ (eo_scene_damping_opts)
-///   time.integrator, time.dt, time.steps, time.load_steps
+///   time.integrator, time.dt, time.steps, time.load_steps, time.adaptive (+ _min_fraction,
+///   _grow_after)
 ///   output.dir, output.every, output.vtu, output.summary_every
 ///   solver.*           the solver's section (solver.h), loaded by the caller
 #ifndef ELASTOPT_SCENE_H
@@ -176,12 +177,25 @@ typedef struct eo_scene_generate_opts {
 
 /// `time` section.
 typedef struct eo_scene_time_opts {
-    char integrator[32];    ///< newmark | backward_euler | static. Default "newmark".
+    char integrator[32];    ///< a registered integrator (newmark, implicit_midpoint,
+                            ///< generalized_alpha, backward_euler, bdf2, static, explicit
+                            ///< ones); its parameters, if any, in time.<name> (e.g.
+                            ///< time.generalized_alpha.rho_inf). Default "newmark".
     double dt;              ///< step, s; > 0. Default 0.01.
     int steps;              ///< number of steps, >= 1. Default 30.
     int load_steps;         ///< static only: gravity and prescribed motions ramp linearly over
                             ///< this many steps (step k applies k/load_steps of the load; then
                             ///< the full load), 0 = full load from the first step. Default 0.
+    /// Adaptive stepping (eo_sim_step, sim.h; implicit integrators only: an explicit one
+    /// with adaptive on is a config error). A step that does not converge after the
+    /// solver.fallback chain is retried as two half steps, recursively, down to
+    /// adaptive_min_fraction·dt; the substep size doubles again after adaptive_grow_after
+    /// consecutive converged substeps, never beyond dt and never past the end of the
+    /// nominal step (steps end at t = n·dt as without adaptive stepping).
+    int adaptive;           ///< Default false.
+    double adaptive_min_fraction;  ///< smallest substep / dt, in (0, 1]; rounded down to a power
+                            ///< of two, at least 2^-30. Default 1/64 (0.015625).
+    int adaptive_grow_after;       ///< converged substeps in a row before the size doubles, >= 1. Default 2.
 } eo_scene_time_opts;
 
 /// `damping` section (001 §2.1–2.2): damping force −C v with
@@ -331,6 +345,8 @@ typedef struct eo_scene {
     eo_scene_obstacle *collision;      ///< owned, ncollision obstacles (`collisions`)
     char file[512];                    ///< config file ("<builtin>" if none)
     eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
+    void *integrator_params;           ///< owned: the integrator's params struct (its info.params,
+                                       ///< section time.<integrator>), NULL if it has none
 } eo_scene;
 
 /// Memory an implicit simulation needs per tet, bytes (mesh, step engine, Hessian pattern

@@ -40,16 +40,30 @@
 /// is Newton's first iteration on a Hessian whose pattern it has not seen
 /// (eo_linsolve_analyze, once per pattern).
 ///
-/// The tolerance `solver.tol` (default 1e-10) is read by the stopping rule:
-///  - relative_decrement (the default): λ_k ≤ tol·λ_0 with λ² = −∇gᵀp = ‖p‖²_H and λ_0 the
-///    decrement of the first direction: the iterate is within about tol of x*, relative
-///    to the step's own motion ‖x_0 − x*‖_H (scale-aware: units and magnitudes cancel);
-///    also converged at the rounding floor, λ²/2 ≤ plateau·|g| (1e-16) with λ² no longer
-///    falling (λ_k² > λ_{k−1}²/4). With tol = 1e-10 the static StVK cantilever's tip is
-///    within 3.7e-11 and the dynamic cantilever's after 50 steps within 2.3e-10 of the
-///    converged answer (the absolute newton_decrement 1e-10: 2.2e-6 and 6e-2).
-///    Linearly converging methods (projective dynamics, first-order methods) need many
-///    iterations for 1e-10: give them a looser tol (e.g. 1e-5).
+/// The convergence measure. Every optimizer tests its iterates through
+/// eo_solver_stop_check, so `solver.tol` means the same accuracy whichever runs:
+///  - progress is relative to the start x₀ of the minimization (each time step starts
+///    one) and measured the same way for all: by the Newton decrement λ_k/λ_0
+///    (λ² = −∇gᵀp = ‖p‖²_H) for optimizers whose direction is a Newton direction
+///    (eo_optimizer_type.newton_decrement: newton), by the metric gradient norm
+///    ‖∇g_k‖_{D⁻¹}/‖∇g_0‖_{D⁻¹} (D the objective's metric, the lumped mass) for every
+///    other one. Both estimate ‖x_k − x*‖ relative to the step's motion ‖x_0 − x*‖; the
+///    gradient ratio bounds it from above where H ≥ D (stiff modes weigh more), so a
+///    first-order method is never declared converged further from x* than Newton.
+///  - an absolute floor tied to the rounding level at x₀: λ²/2 (or ‖∇g‖²_{D⁻¹}/2) below
+///    EO_STOP_FLOOR·ε²·s, s the objective's rounding scales (objective.h), is converged:
+///    a step that starts at (or reaches) its minimizer, a body at rest, converges.
+///  - no optimizer is declared converged without measuring its own progress: where no
+///    first decrement exists the ratio is of gradients, never an absolute test.
+/// The rules (solver.stop; tol = solver.tol, default 1e-10):
+///  - relative_decrement (the default): the measure above ≤ tol; for Newton also
+///    converged at the plateau, λ²/2 ≤ plateau·max(|g(x₀)|, |g|) (1e-16) with λ² no longer
+///    falling (λ_k² > λ_{k−1}²/4), where g cannot resolve further progress. With
+///    tol = 1e-10 the static StVK cantilever's tip is within 3.7e-11 and the dynamic
+///    cantilever's after 50 steps within 2.3e-10 of the converged answer; at tol = 1e-8
+///    newton, newton_tr, lbfgs, ncg, gradient_descent and projective_dynamics all end
+///    within 4e-9 of the motion on the first cantilever step (tests/test_converge.c).
+///    Linearly converging methods need many iterations for 1e-10: give them a looser tol.
 ///  - newton_decrement: λ²/2 = −∇gᵀp/2 ≤ tol, in the units of g (for the step objective
 ///    ½‖x − x̃‖²_M + w E, kg·m²). λ²/2 estimates g(x) − g*, so tol = 1e-10 means
 ///    ‖x − x*‖_H ≲ √(2·tol) ≈ 1.4e-5 m·√kg.
@@ -116,7 +130,30 @@ typedef struct eo_stop_info {
     double step_norm;     ///< ‖α p‖₂ of the last step (NAN at first)
     double x_norm;        ///< ‖x‖₂
     double tol;           ///< solver.tol
+    /// Filled by eo_solver_stop_check (0 / NAN from optimizers that call the rule
+    /// directly, which then get the rules' legacy behaviour): see "The convergence
+    /// measure" above.
+    int measure;          ///< EO_MEASURE_DECREMENT, EO_MEASURE_GRADIENT or 0 (unknown)
+    double g0;            ///< g(x₀) of this minimization
+    double grad_metric;   ///< ‖∇g(x)‖_{D⁻¹}, D the objective's metric (identity if none)
+    double grad_metric0;  ///< the same at x₀
+    double floor_dec;     ///< rounding floor of λ²/2 at x₀, units of g (0: none)
+    double floor_grad;    ///< rounding floor of ‖∇g‖²_{D⁻¹}/2 at x₀, units of g (0: none)
 } eo_stop_info;
+
+/// Which measure of progress eo_stop_info carries (eo_stop_info.measure).
+enum {
+    EO_MEASURE_DECREMENT = 1, ///< λ² = −∇gᵀp with p from a Hessian of g (newton)
+    EO_MEASURE_GRADIENT = 2   ///< ‖∇g‖_{D⁻¹} (every other optimizer)
+};
+
+/// Rounding floor of the stopping rules, in units of ε² (ε = DBL_EPSILON) times the
+/// objective's rounding scale s (objective.h, rounding_scale): an iterate whose λ²/2 (or
+/// ‖∇g‖²_{D⁻¹}/2) lies below EO_STOP_FLOOR·ε²·s is at what rounding alone produces at
+/// the step's start, and converged. Measured at rest on the cantilever (E = 1e5…1e10,
+/// ν = 0.3…0.4999): λ²/2 = 1e-3…2.4 ε²·s[0], ‖∇g‖²_{D⁻¹}/2 ≤ 0.2 ε²·s[1]; on that bar
+/// the floor is a motion of ~1e-14 m.
+#define EO_STOP_FLOOR 1e4
 
 typedef struct eo_stop_type {
     eo_method_info info;
@@ -486,7 +523,18 @@ typedef struct eo_solver_ctx {
     /// minimize function can serve several tables (callback.h: each table embedded in
     /// an object with its callbacks). Appended last: earlier fields keep their offsets.
     const struct eo_optimizer_type *optimizer;
+    /// State of the convergence measure of this minimization (eo_solver_stop_check);
+    /// owned by the solver, NULL in a context built by hand.
+    struct eo_stop_state *stop_state;
 } eo_solver_ctx;
+
+/// The stopping test every optimizer calls at each iterate (instead of sc->stop->check):
+/// fills the measure fields of *si (g₀, the metric gradient norms, the rounding floors
+/// from the objective at the first call of the minimization, which must be at x₀ with
+/// k = 0) from x and grad = ∇g(x) (grad NULL: the metric norm of the last call, at the
+/// same iterate), then applies
+/// the rounding floor and sc->stop. Returns the rule's positive eo_reason or 0.
+EO_API int eo_solver_stop_check(const eo_solver_ctx *sc, eo_stop_info *si, const double *x, const double *grad);
 
 /// Result of one minimization.
 typedef struct eo_solve_result {
@@ -573,6 +621,10 @@ typedef struct eo_optimizer_type {
     int (*minimize)(void *st, const void *params, const eo_solver_ctx *sc, double *x,
                     eo_solve_result *res);
     void (*destroy)(void *st, eo_ctx *ctx);
+    /// 1 if the decrement it reports is λ² = −∇gᵀp with p = −H⁻¹∇g for a Hessian H of g
+    /// (newton): the stopping rules then measure progress by λ_k/λ_0. 0 (the default, also
+    /// for plug-ins): by the metric gradient norm ‖∇g_k‖_{D⁻¹}/‖∇g_0‖_{D⁻¹}.
+    int newton_decrement;
 } eo_optimizer_type;
 
 EO_API extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_newton_tr,

@@ -7,7 +7,8 @@
 ///    message with file, line and element index of the last error.
 ///  - a convergence reason (`eo_reason`): positive = converged and why, negative =
 ///    stopped without converging and why, 0 = still iterating. Hitting the iteration
-///    cap is a reason, not an error.
+///    cap is a reason, not an error. An explicit integrator's step has its own positive
+///    reason, EO_REASON_EXPLICIT ("explicit"): nothing was solved, nothing failed.
 ///  - assertions for programmer errors (EO_ASSERT in ctx.h).
 ///
 /// Both lists are X-macros: the enum values and their strings come from one table.
@@ -52,7 +53,7 @@ extern "C" {
     X(EO_CONVERGED_STEP, 3, "step below tolerance")                              \
     X(EO_CONVERGED_ENERGY, 4, "energy change below tolerance")                   \
     X(EO_CONVERGED_EXTERNAL, 5, "external solver reports convergence")           \
-    X(EO_CONVERGED_EXPLICIT, 6, "explicit time step (nothing to solve)")        \
+    X(EO_REASON_EXPLICIT, 6, "explicit time step (nothing to solve)")           \
     X(EO_DIVERGED_MAX_ITERS, -1, "maximum iterations reached")                   \
     X(EO_DIVERGED_LINESEARCH, -2, "line search failed")                          \
     X(EO_DIVERGED_NONFINITE, -3, "non-finite objective or gradient")             \
@@ -77,8 +78,15 @@ EO_API const char *eo_status_name(int status);
 EO_API const char *eo_reason_string(int reason);
 /// Short symbolic name of a reason, lower case without prefix ("converged_decrement").
 EO_API const char *eo_reason_name(int reason);
-/// 1 if the reason means converged (positive).
+/// Former name of EO_REASON_EXPLICIT (its reason name was "converged_explicit").
+#define EO_CONVERGED_EXPLICIT EO_REASON_EXPLICIT
+
+/// 1 if the reason is positive: nothing failed (an optimization converged, or an
+/// explicit step had nothing to solve). Exit statuses and "all converged" use this.
 static inline int eo_reason_is_converged(int reason) { return reason > 0; }
+/// 1 if an explicit time step advanced the state (EO_REASON_EXPLICIT): no optimization
+/// ran; reports count such steps as "explicit", not as converged.
+static inline int eo_reason_is_explicit(int reason) { return reason == EO_REASON_EXPLICIT; }
 
 #ifdef __cplusplus
 }

@@ -20,6 +20,11 @@
 ///   bdf2                    w = 4h²/9, x̃ = (4xₙ − xₙ₋₁)/3 + (2h/9)(4vₙ − vₙ₋₁),
 ///                           vₙ₊₁ = (3xₙ₊₁ − 4xₙ + xₙ₋₁)/(2h); backward Euler on the
 ///                           first step (history: eo_step_get_history)
+///   generalized_alpha       (Chung & Hulbert 1993, parameter ρ∞) in the stage
+///                           z = xₙ + (1 − α_f)(xₙ₊₁ − xₙ): w = (1 − α_f)βh²/(1 − α_m),
+///                           z̃ = xₙ + (1 − α_f)(h vₙ + h²((½ − β) − βα_m/(1 − α_m)) aₙ),
+///                           keeps the acceleration aₙ (history; problems/integrators/
+///                           generalized_alpha.c)
 ///   forward_euler, symplectic_euler, symplectic_euler_x, heun, midpoint, rk4, verlet,
 ///   leapfrog
 ///                           explicit (001 §2.5): no optimization problem, see
@@ -113,6 +118,32 @@ typedef struct eo_integrator_type {
                             const double *vp, double *xt);
     /// Velocity vₙ₊₁ from xₙ, xp = xₙ₋₁ and the solution x.
     void (*velocity_history)(int n, double h, const double *xn, const double *xp, const double *x, double *v);
+    /// 1: the integrator removes energy from oscillations by design (numerical
+    /// dissipation: backward_euler, bdf2), or has no dynamics (static); eo_sim then does
+    /// not watch the total energy for growth (eo_sim_energy_warning). 0: meant to keep it.
+    int dissipative;
+    /// Optional: dissipation that depends on the parameters (params: the integrator's
+    /// params struct, info.params; NULL = its defaults); 1 = dissipative. Overrides
+    /// `dissipative` when set.
+    int (*is_dissipative)(const void *params);
+    /// Implicit with an acceleration state, optional (generalized_alpha). accel = 1: the
+    /// engine keeps the algorithmic acceleration aₙ (n coordinates) with the state and
+    /// uses the four accel_* ops in place of weight, predict, velocity and theta (the
+    /// minimizer is the stage z = xₙ + θ(xₙ₊₁ − xₙ), as for `theta`). `params` is the
+    /// integrator's params struct (info.params, loaded from the scene's time.<name>
+    /// section; NULL = its defaults). While the engine has no valid aₙ (first step, after
+    /// a reset, a set_state or a rejected step) it starts from the consistent
+    /// a₀ = M⁻¹(−∇V(xₙ) − C vₙ) (prescribed vertices: a = 0). aₙ and its valid flag are
+    /// the restart history (eo_step_get_history).
+    int accel;
+    double (*accel_weight)(const void *params, double h);
+    double (*accel_theta)(const void *params);
+    /// Predictor z̃ of the stage from xₙ, vₙ, aₙ.
+    void (*accel_predict)(const void *params, int n, double h, const double *xn, const double *vn,
+                          const double *an, double *zt);
+    /// vₙ₊₁, and aₙ₊₁ into a (unless NULL), from xₙ, vₙ, aₙ and the end positions x.
+    void (*accel_velocity)(const void *params, int n, double h, const double *xn, const double *vn,
+                           const double *an, const double *x, double *v, double *a);
 } eo_integrator_type;
 
 typedef struct eo_step eo_step;
@@ -163,13 +194,43 @@ EO_API int eo_step_end(eo_step *st, const double *x);
 /// The previous state of a multistep integrator (eo_integrator_type.history = 1; bdf2),
 /// for restarts: 2·3·nv + 1 doubles laid out as xₙ₋₁ (3·nv), vₙ₋₁ (3·nv), then 1 if
 /// they are valid, 0 if not (right after a reset, set_state or rejected step: the next
-/// step is the one-step start). 0 for integrators without history.
+/// step is the one-step start). With an acceleration state (eo_integrator_type.accel;
+/// generalized_alpha): 3·nv + 1 doubles, aₙ then the valid flag (0: the next step starts
+/// from the consistent acceleration). 0 for integrators without history.
 EO_API size_t eo_step_history_len(const eo_step *st);
 /// Copy the history out (h: eo_step_history_len doubles). EO_ERR_UNSUPPORTED if none.
 EO_API int eo_step_get_history(const eo_step *st, double *h);
 /// Set the history (copied; after eo_step_set_state, which clears it). EO_ERR_UNSUPPORTED
 /// if the integrator has none, EO_ERR_RANGE if the last entry is neither 0 nor 1.
 EO_API int eo_step_set_history(eo_step *st, const double *h);
+
+/// Substeps of the nominal step h = time.dt (implicit integrators; eo_sim's adaptive
+/// stepping, sim.h). At level k the following steps are h/2^k long: eo_step_begin poses
+/// the step problem with that size (weight, predictor, velocity update, damping and
+/// friction follow it) and the engine counts the progress p through the current nominal
+/// step tₙ → tₙ + h as an exact binary fraction. A substep ends at tₙ + (p + 2^-k)·h,
+/// the last one (p + 2^-k = 1) exactly at tₙ + h, the time a nominal step ends at; only
+/// that one advances the step index (eo_step_index counts nominal steps). Level 0 with
+/// p = 0 is the nominal step, bit for bit as without substeps. Prescribed motions,
+/// releases and time.load_steps follow the time (a substep applies its share).
+/// A multistep integrator (bdf2) keeps the previous step only while the size does not
+/// change: a change of level marks the history invalid, so the first step after it is
+/// the one-step start (backward Euler for bdf2) and the following steps of the new size
+/// the fixed-step formula again (the restart choice; variable-step BDF2 coefficients are
+/// not used). eo_step_reset and eo_step_set_state go back to level 0, p = 0.
+#define EO_STEP_MAX_SUBSTEP 30
+typedef struct eo_step_substep {
+    int level;          ///< steps of h/2^level, 0..EO_STEP_MAX_SUBSTEP
+    double done;        ///< p: fraction of the current nominal step done, a multiple of 2^-level in [0, 1)
+    double t_start;     ///< tₙ, where the current nominal step started (the time when done = 0)
+} eo_step_substep;
+/// The current level, progress and start of the nominal step.
+EO_API void eo_step_get_substep(const eo_step *st, eo_step_substep *s);
+/// Set the level of the following steps (and the progress, to restore a saved state:
+/// after eo_step_set_state, before eo_step_set_history). EO_ERR_RANGE for a level outside
+/// 0..EO_STEP_MAX_SUBSTEP or a progress that is not a multiple of 2^-level in [0, 1);
+/// EO_ERR_UNSUPPORTED for an explicit integrator.
+EO_API int eo_step_set_substep(eo_step *st, const eo_step_substep *s);
 
 /// 1 if the scene's integrator is explicit (eo_integrator_type.explicit_step set). For
 /// those, eo_step_begin builds the potential-energy objective E(x) (weight 1, no
@@ -181,7 +242,7 @@ EO_API int eo_step_is_explicit(const eo_step *st);
 /// prescribed accelerations taken as 0 in its coupling) is factored once per set of
 /// constrained vertices with the mass solver (eo_step_set_mass_solver; default
 /// cholmod). Prescribed vertices follow their motion exactly.
-/// *reason: EO_CONVERGED_EXPLICIT, or EO_DIVERGED_NONFINITE when a non-finite energy or
+/// *reason: EO_REASON_EXPLICIT, or EO_DIVERGED_NONFINITE when a non-finite energy or
 /// force was met at any stage of the step (any term) or the new state is not finite
 /// (the state then stays at tₙ, the last finite one, and the step counter does not
 /// advance).
@@ -291,8 +352,29 @@ typedef struct eo_step_stats {
     double kinetic;         ///< ½ vᵀMv with the scene's mass matrix
     double elastic;         ///< Σₜ Vₜ (ψ(Fₜ) − ψ(I)): zero at rest
     double gravity;         ///< −f_gᵀx
+    /* appended: the energy balance (fields above keep their offsets) */
+    double contact;         ///< penalty potential of the obstacles (collisions), 0 if none
+    double potential;       ///< elastic + gravity + contact: every conservative potential
+    double work_prescribed; ///< work done ON the body by the prescribed motions since t = 0
+                            ///< (eo_step_work_prescribed; trapezoidal, see there)
+    double total_energy;    ///< kinetic + potential − work_prescribed: constant for an exact
+                            ///< integration of a scene without damping or friction
 } eo_step_stats;
+/// Statistics of the current state (energies with weight 1, whatever the integrator's).
 EO_API int eo_step_stats_compute(eo_step *st, eo_step_stats *s);
+/// Work W done on the body by the prescribed motions (moving Dirichlet boundaries) from
+/// t = 0 to the current state, J. Accumulated by every accepted step (eo_step_end,
+/// eo_step_advance) as the trapezoidal rule of reaction force · boundary increment,
+///     ΔW = Σ_c ½(r_c(xₙ) + r_c(xₙ₊₁))·(x_c,ₙ₊₁ − x_c,ₙ) + v̄_cᵀ[M(vₙ₊₁ − vₙ)]_c,
+/// over the coordinates c constrained at tₙ₊₁, with r = ∇(E_el + springs + gravity +
+/// contact) the static reaction and v̄_c = ½(v_c,ₙ + v_c,ₙ₊₁) (the second sum, the
+/// inertial reaction, is the exact change of the constrained vertices' kinetic energy
+/// with lumped mass; a trapezoidal approximation of its coupling with consistent mass).
+/// Fixed vertices do no work (ΔW = 0 without evaluating anything). Damping and friction
+/// forces at constrained vertices are not counted. eo_step_reset sets W = 0;
+/// eo_step_set_state keeps it (restore it with eo_step_set_work_prescribed).
+EO_API double eo_step_work_prescribed(const eo_step *st);
+EO_API void eo_step_set_work_prescribed(eo_step *st, double w);
 /// Per-tet fields of the current state: energy density ψ, det F, inverted flag (any
 /// pointer may be NULL; arrays of nt).
 EO_API int eo_step_fields(eo_step *st, double *psi, double *J, unsigned char *inverted);

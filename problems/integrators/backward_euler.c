@@ -26,6 +26,7 @@ const eo_integrator_type eo_integrator_backward_euler = {
              .summary = "implicit Euler: weight h^2, first order, dissipative"},
     .inertia = 1,
     .force_n = 0,
+    .dissipative = 1,
     .weight = weight,
     .predict = predict,
     .velocity = velocity,

@@ -49,6 +49,7 @@ const eo_integrator_type eo_integrator_bdf2 = {
              .summary = "implicit BDF2 (weight 4h^2/9, backward Euler start): second order, dissipative"},
     .inertia = 1,
     .force_n = 0,
+    .dissipative = 1,
     .weight = weight,
     .predict = predict,
     .velocity = velocity,

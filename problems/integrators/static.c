@@ -40,6 +40,7 @@ const eo_integrator_type eo_integrator_static = {
     .info = {.name = "static", .summary = "static equilibrium min E(x), no inertia, velocity 0"},
     .inertia = 0,
     .force_n = 0,
+    .dissipative = 1,
     .weight = weight,
     .predict = predict,
     .velocity = velocity,

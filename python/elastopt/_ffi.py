@@ -74,6 +74,7 @@ typedef struct eo_objective_ops {
     int (*inertia)(void *data, void *out);
     int (*constant_factor)(void *data);
     int (*constant_solve)(void *data, const double *b, double *x);
+    int (*rounding_scale)(void *data, const double *x, double *s);
 } eo_objective_ops;
 typedef struct eo_objective {
     int n; const eo_objective_ops *ops; void *data; long n_value, n_gradient, n_hessian;
@@ -97,6 +98,7 @@ typedef int (*eo_iter_fn)(const eo_iter_info *info, void *user);
 typedef struct eo_stop_info {
     int iteration; double g, g_prev; double grad_norm; double grad_norm0; double decrement;
     double decrement0; double decrement_prev; double step_norm; double x_norm; double tol;
+    int measure; double g0; double grad_metric; double grad_metric0; double floor_dec; double floor_grad;
 } eo_stop_info;
 typedef struct eo_stop_type {
     eo_method_info info;
@@ -113,6 +115,7 @@ typedef struct eo_linesearch_type {
                   double *alpha, int *nevals, double *work, eo_ctx *ctx, eo_ls_extra *extra);
 } eo_linesearch_type;
 struct eo_optimizer_type;
+struct eo_stop_state;
 typedef struct eo_solver_ctx {
     eo_objective *obj; eo_ctx *ctx; eo_linsolve *linear;
     const eo_hessfix_type *hessfix; const void *hessfix_params; void *hessfix_state;
@@ -121,7 +124,9 @@ typedef struct eo_solver_ctx {
     double tol; int max_iters; double time_budget;
     eo_iter_fn on_iter; void *user;
     const struct eo_optimizer_type *optimizer;
+    struct eo_stop_state *stop_state;
 } eo_solver_ctx;
+int eo_solver_stop_check(const eo_solver_ctx *sc, eo_stop_info *si, const double *x, const double *grad);
 typedef struct eo_solve_result {
     int reason; int iterations; double g, grad_norm, decrement; double time;
     long n_value, n_gradient, n_hessian, n_factor; int status; long n_fallback;
@@ -150,6 +155,7 @@ typedef int (*eo_callback_direction_fn)(void *user, const eo_solver_ctx *sc, con
 typedef struct eo_callback_optimizer_def {
     const char *name; const char *summary; int needs_hessian; int needs_linear;
     eo_callback_minimize_fn minimize; eo_callback_direction_fn direction; void *user;
+    int newton_decrement;
 } eo_callback_optimizer_def;
 int eo_callback_optimizer_register(eo_ctx *ctx, const eo_callback_optimizer_def *def,
                                    eo_callback_optimizer **out);
@@ -167,6 +173,7 @@ json_t *eo_scene_to_json(const eo_scene *sc);
 typedef struct eo_step_stats {
     double com[3]; double max_disp; double min_J; double max_J; int inverted;
     double kinetic; double elastic; double gravity;
+    double contact; double potential; double work_prescribed; double total_energy;
 } eo_step_stats;
 const double *eo_step_x0(const eo_step *st);
 const eo_mesh *eo_step_mesh(const eo_step *st);
@@ -183,6 +190,7 @@ typedef struct eo_sim_step_result {
     int iterations; int reason; double t; double time; double g, grad_norm;
     long n_value, n_gradient, n_hessian, n_factor; eo_step_stats stats;
     int entry; int n_entries; int entry_reason[8]; int entry_iterations[8];
+    int rejected; int substeps; double min_substep;
     long n_not_pd;
 } eo_sim_step_result;
 int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out);
@@ -254,7 +262,7 @@ KINDS = ["material", "optimizer", "hessian_fix", "linesearch", "stop", "linear",
 PROJ = {"none": 0, "clamp": 1, "abs": 2}
 REASONS = {  # name -> value (status.h EO_REASON_LIST)
     "iterating": 0, "converged_decrement": 1, "converged_gradient": 2, "converged_step": 3,
-    "converged_energy": 4, "converged_external": 5, "converged_explicit": 6,
+    "converged_energy": 4, "converged_external": 5, "explicit": 6,
     "diverged_max_iters": -1, "diverged_linesearch": -2, "diverged_nonfinite": -3,
     "diverged_not_descent": -4, "diverged_linsolve": -5, "diverged_not_pd": -6,
     "diverged_time_budget": -7, "diverged_external": -8, "diverged_stagnated": -9,

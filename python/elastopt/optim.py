@@ -64,10 +64,14 @@ class SolveProblem(Objective):
         return lib.eo_wtime() - self._t0
 
     def stop(self, g, grad_norm, decrement=math.nan, *, g_prev=math.nan, step_norm=math.nan,
-             x_norm=math.nan, iteration=None):
+             x_norm=math.nan, iteration=None, x=None, grad=None):
         """The configured stopping rule (solver.stop with solver.tol) at an iterate:
         the reason name if converged ("converged_decrement", ...), else None. A rule that
-        needs the decrement (newton_decrement) says None while decrement is NaN."""
+        needs the decrement (newton_decrement) says None while decrement is NaN. With the
+        iterate x and its gradient grad the library's convergence measure applies (the
+        rounding floor of the step's start, progress by the metric gradient norm unless
+        the optimizer was registered with newton_decrement=True; eo_solver_stop_check);
+        without them the rule sees the decrement only."""
         sc = self._sc
         it = self._k if iteration is None else iteration
         if math.isfinite(decrement) and (it == 0 or not math.isfinite(self._dec0)):
@@ -77,7 +81,13 @@ class SolveProblem(Objective):
             "grad_norm": grad_norm, "grad_norm0": self._gn0, "decrement": decrement,
             "decrement0": self._dec0, "decrement_prev": self._dec_prev,
             "step_norm": step_norm, "x_norm": x_norm, "tol": sc.tol})
-        r = sc.stop.check(sc.stop_params, si)
+        if x is not None and grad is not None:
+            n = sc.obj.n
+            _, px = as_c(x, n)
+            _, pg = as_c(grad, n, "grad")
+            r = lib.eo_solver_stop_check(sc, si, px, pg)
+        else:
+            r = sc.stop.check(sc.stop_params, si)
         self._dec_prev = decrement
         return reason_name(r) if r > 0 else None
 
@@ -173,7 +183,7 @@ def _reason_value(r):
 
 
 class _Registration:
-    def __init__(self, name, minimize, direction, summary, needs_hessian, needs_linear):
+    def __init__(self, name, minimize, direction, summary, needs_hessian, needs_linear, newton_decrement=False):
         self.name = name
         self.minimize = minimize
         self.direction = direction
@@ -187,7 +197,8 @@ class _Registration:
         d = ffi.new("eo_callback_optimizer_def *", {
             "name": self._name_c, "summary": self._summary_c,
             "needs_hessian": int(bool(needs_hessian)), "needs_linear": int(bool(needs_linear)),
-            "minimize": self._cb_min, "direction": self._cb_dir, "user": ffi.NULL})
+            "minimize": self._cb_min, "direction": self._cb_dir, "user": ffi.NULL,
+            "newton_decrement": int(bool(newton_decrement))})
         self._p = ffi.new("eo_callback_optimizer **")
         check(lib.eo_callback_optimizer_register(ctx, d, self._p))
 
@@ -263,10 +274,12 @@ class _Registration:
 
 
 def register_optimizer(name, minimize=None, direction=None, *, summary=None,
-                       needs_hessian=False):
+                       needs_hessian=False, newton_decrement=False):
     """Register a Python optimizer under `name` (see the module text). Exactly one of
     `minimize` and `direction`. `needs_hessian`: it evaluates Hessians (a bench matrix
-    then makes one configuration per Hessian fix). Returns the name. ElastoptError if
+    then makes one configuration per Hessian fix). `newton_decrement`: its directions are
+    Newton directions, so the stopping rules measure progress by their decrement (else by
+    the metric gradient norm, the same for every optimizer). Returns the name. ElastoptError if
     the name is taken or not a word of letters, digits, '_' and '-'."""
     if (minimize is None) == (direction is None):
         raise ValueError("register_optimizer: give exactly one of minimize and direction")
@@ -275,7 +288,8 @@ def register_optimizer(name, minimize=None, direction=None, *, summary=None,
         doc = (fn.__doc__ or "").strip().splitlines()
         summary = (doc[0] if doc else f"Python optimizer {getattr(fn, '__name__', name)}")
     summary = summary + " (Python)" if "python" not in summary.lower() else summary
-    _registered[name] = _Registration(name, minimize, direction, summary, needs_hessian, False)
+    _registered[name] = _Registration(name, minimize, direction, summary, needs_hessian, False,
+                                      newton_decrement)
     return name
 
 

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ._core import check, ctx, overrides_list, reason_name, take_json, set_pending
-from ._ffi import ffi, lib
+from ._ffi import REASONS, ffi, lib
 from .objective import Objective, as_c, from_c
 
 
@@ -14,14 +14,18 @@ from .objective import Objective, as_c, from_c
 class StepResult:
     """What one step did (eo_sim_step_result)."""
     iterations: int
-    reason: str           # "converged_decrement", "diverged_max_iters", ...
-    converged: bool       # reason > 0
+    reason: str           # "converged_decrement", "diverged_max_iters", "explicit", ...
+    converged: bool       # an optimization converged (reason > 0, not "explicit")
     t: float              # time after the step
     time: float           # seconds spent minimizing / advancing
     g: float
     grad_norm: float
     evaluations: dict     # value, gradient, hessian, factor
-    stats: dict           # com, max_disp, min_J, max_J, inverted, kinetic, elastic, gravity
+    stats: dict           # com, max_disp, min_J, max_J, inverted, kinetic, elastic, gravity,
+                          # contact, potential, work_prescribed, total_energy
+    rejected: int = 0     # adaptive stepping (time.adaptive): attempts rejected,
+    substeps: int = 1     # substeps accepted,
+    min_substep: float = 0.0  # smallest step size tried (s)
 
 
 @dataclass
@@ -40,7 +44,9 @@ class SolveResult:
 def _stats(s):
     return {"com": [s.com[0], s.com[1], s.com[2]], "max_disp": s.max_disp, "min_J": s.min_J,
             "max_J": s.max_J, "inverted": s.inverted, "kinetic": s.kinetic,
-            "elastic": s.elastic, "gravity": s.gravity}
+            "elastic": s.elastic, "gravity": s.gravity, "contact": s.contact,
+            "potential": s.potential, "work_prescribed": s.work_prescribed,
+            "total_energy": s.total_energy}
 
 
 def _solve_result(r):
@@ -355,10 +361,11 @@ class Sim:
             self._cur_n = o[0].n
         self._changed()
         check(lib.eo_sim_step(self._live(), r))
-        return StepResult(r.iterations, reason_name(r.reason), r.reason > 0, r.t, r.time, r.g,
+        return StepResult(r.iterations, reason_name(r.reason), r.reason > 0 and r.reason != REASONS["explicit"],
+                          r.t, r.time, r.g,
                           r.grad_norm, {"value": r.n_value, "gradient": r.n_gradient,
                                         "hessian": r.n_hessian, "factor": r.n_factor},
-                          _stats(r.stats))
+                          _stats(r.stats), r.rejected, r.substeps, r.min_substep)
 
     def run(self, steps=None):
         """`steps` steps (default: the scene's time.steps minus the steps done); stops

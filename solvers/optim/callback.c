@@ -124,6 +124,7 @@ int eo_callback_optimizer_register(eo_ctx *ctx, const eo_callback_optimizer_def 
         .setup = cb_setup,
         .minimize = cb_minimize,
         .destroy = cb_destroy,
+        .newton_decrement = def->newton_decrement ? 1 : 0,
     };
     EO_TRY(rc = eo_registry_add(ctx, &eo_reg_optimizer, &o->type));
     o->registered = 1;

@@ -142,7 +142,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                            .x_norm = eo_norm2(n, x), .tol = sc->tol};
         double dg = NAN, alpha0 = 1;
         if (!isfinite(g) || !isfinite(gn)) reason = EO_DIVERGED_NONFINITE;
-        if (!reason) reason = sc->stop->check(sc->stop_params, &si);
+        if (!reason) reason = eo_solver_stop_check(sc, &si, x, grad);
         if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget)
             reason = EO_DIVERGED_TIME_BUDGET;
         if (!reason && k > 0 && sc->stop->needs_direction && ops->decrement_estimate) {
@@ -151,7 +151,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
             if (rc < 0) goto done;
             if (est >= 0 && isfinite(est)) {
                 si.decrement = est;
-                int r = sc->stop->check(sc->stop_params, &si);
+                int r = eo_solver_stop_check(sc, &si, x, grad);
                 si.decrement = NAN;
                 if (r > 0) {
                     reason = r;
@@ -185,7 +185,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                     if (k == 0) si.decrement0 = dec0 = last_dec;
                     if (sc->stop->needs_direction) {
                         si.decrement = info.decrement;
-                        reason = sc->stop->check(sc->stop_params, &si);
+                        reason = eo_solver_stop_check(sc, &si, x, grad);
                     }
                 }
             }

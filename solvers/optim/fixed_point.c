@@ -161,7 +161,7 @@ static int fp_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
                            .decrement = NAN, .step_norm = step_norm, .x_norm = eo_norm2(n, x), .tol = sc->tol};
         double dn = NAN;
         if (!reason && (!isfinite(g) || !isfinite(gn))) reason = EO_DIVERGED_NONFINITE;
-        if (!reason) reason = sc->stop->check(sc->stop_params, &si);
+        if (!reason) reason = eo_solver_stop_check(sc, &si, x, st->grad);
         if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget) reason = EO_DIVERGED_TIME_BUDGET;
         if (!reason) { /* Δ = −M⁻¹∇g */
             for (int i = 0; i < n; i++) st->grad[i] = -st->grad[i];
@@ -179,7 +179,7 @@ static int fp_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
             if (!isfinite(dn)) reason = EO_DIVERGED_NONFINITE;
             else if (sc->stop->needs_direction) {
                 si.decrement = info.decrement;
-                reason = sc->stop->check(sc->stop_params, &si);
+                reason = eo_solver_stop_check(sc, &si, x, NULL); /* st->grad holds −∇g now */
             }
         }
         if (!reason) { /* contraction ratio over the last m updates */

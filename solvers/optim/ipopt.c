@@ -283,7 +283,7 @@ static Bool ip_intermediate(Index alg_mod, Index iter_count, Number obj_value, N
                            .grad_norm = gn, .grad_norm0 = st->gn0, .decrement = dec,
                            .step_norm = st->kcur ? sqrt(s2) : NAN, .x_norm = eo_norm2(n, st->xcur),
                            .tol = sc->tol};
-        reason = sc->stop->check(sc->stop_params, &si);
+        reason = eo_solver_stop_check(sc, &si, st->xcur, st->gradcur);
     }
     if (!reason && sc->time_budget > 0 && eo_wtime() - st->t0 > sc->time_budget)
         reason = EO_DIVERGED_TIME_BUDGET;
@@ -382,7 +382,7 @@ static int ip_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
         eo_stop_info si = {.iteration = 0, .g = st->gcur, .g_prev = NAN, .grad_norm = st->gncur,
                            .grad_norm0 = st->gn0, .decrement = NAN, .step_norm = NAN,
                            .x_norm = eo_norm2(n, x), .tol = sc->tol};
-        reason = sc->stop->check(sc->stop_params, &si);
+        reason = eo_solver_stop_check(sc, &si, x, st->gradcur);
         if (!reason && sc->max_iters <= 0) reason = EO_DIVERGED_MAX_ITERS;
     }
     if (!reason) {

@@ -387,4 +387,5 @@ const eo_optimizer_type eo_optimizer_newton = {
     .setup = newton_setup,
     .minimize = newton_minimize,
     .destroy = newton_destroy,
+    .newton_decrement = 1,
 };

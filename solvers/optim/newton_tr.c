@@ -300,7 +300,7 @@ static int tr_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
         eo_stop_info si = {.iteration = k, .g = g, .g_prev = g_prev, .grad_norm = gn, .grad_norm0 = gn0,
                            .decrement = NAN, .step_norm = step_norm, .x_norm = eo_norm2(n, x), .tol = sc->tol};
         if (!isfinite(g) || !isfinite(gn)) reason = EO_DIVERGED_NONFINITE;
-        if (!reason) reason = sc->stop->check(sc->stop_params, &si);
+        if (!reason) reason = eo_solver_stop_check(sc, &si, x, grad);
         if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget) reason = EO_DIVERGED_TIME_BUDGET;
         eo_csc *H = NULL;
         if (!reason) {
@@ -337,7 +337,7 @@ static int tr_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
                     info.decrement = last_dec = co.pred;
                     if (sc->stop->needs_direction) {
                         si.decrement = co.pred;
-                        reason = sc->stop->check(sc->stop_params, &si);
+                        reason = eo_solver_stop_check(sc, &si, x, grad);
                     }
                 }
             }

@@ -173,7 +173,7 @@ static void nl_improved(nl_state *st, const double *x, double g, double gn)
     eo_stop_info si = {.iteration = st->k, .g = g, .g_prev = st->g_prev, .grad_norm = gn,
                        .grad_norm0 = st->gn0, .decrement = NAN, .step_norm = st->step_norm,
                        .x_norm = eo_norm2(n, x), .tol = sc->tol};
-    int reason = eo_external_stop(sc, &si);
+    int reason = eo_external_stop(sc, &si, x, st->gradw);
     if (!reason && sc->time_budget > 0 && eo_wtime() - st->t0 > sc->time_budget)
         reason = EO_DIVERGED_TIME_BUDGET;
     if (!reason && st->k >= sc->max_iters) reason = EO_DIVERGED_MAX_ITERS;
@@ -283,7 +283,7 @@ static int nl_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
         eo_stop_info si = {.iteration = 0, .g = st->gbest, .g_prev = NAN, .grad_norm = st->gnbest,
                            .grad_norm0 = st->gn0, .decrement = NAN, .step_norm = NAN,
                            .x_norm = eo_norm2(n, x), .tol = sc->tol};
-        reason = eo_external_stop(sc, &si);
+        reason = eo_external_stop(sc, &si, x, st->gradw);
         if (!reason && sc->max_iters <= 0) reason = EO_DIVERGED_MAX_ITERS;
     }
     if (!reason) {

@@ -239,7 +239,7 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
                            .decrement = NAN, .decrement0 = dec0, .decrement_prev = dec_prev,
                            .step_norm = step_norm, .x_norm = eo_norm2(n, x), .tol = sc->tol};
         if (!reason && (!isfinite(g) || !isfinite(gn))) reason = EO_DIVERGED_NONFINITE;
-        if (!reason) reason = sc->stop->check(sc->stop_params, &si);
+        if (!reason) reason = eo_solver_stop_check(sc, &si, x, st->grad);
         if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget) reason = EO_DIVERGED_TIME_BUDGET;
         if (!reason) { /* global step: d = −L⁻¹∇g */
             info.shift = st->pf.shift;
@@ -256,7 +256,7 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
                     if (k == 0) si.decrement0 = dec0 = last_dec;
                     if (sc->stop->needs_direction) {
                         si.decrement = info.decrement;
-                        reason = sc->stop->check(sc->stop_params, &si);
+                        reason = eo_solver_stop_check(sc, &si, x, st->grad);
                     }
                 }
             }

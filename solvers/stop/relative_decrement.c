@@ -29,9 +29,18 @@
  * that point g cannot tell it is still making progress.
  *
  * λ_0 is the decrement of the first direction of the minimization (eo_stop_info
- * decrement0); optimizers that do not provide it (decrement0 not > 0) get the absolute
- * test λ²/2 ≤ tol of newton_decrement. Also converged when ‖∇g‖ is exactly 0. Checked
- * after the direction is computed (needs_direction = 1), like newton_decrement, and with
+ * decrement0). That measure is used only for optimizers whose direction is a Newton
+ * direction (si->measure = EO_MEASURE_DECREMENT, eo_optimizer_type.newton_decrement):
+ * every other optimizer is measured by the metric gradient norm, ‖∇g_k‖_{D⁻¹} ≤
+ * tol·‖∇g_0‖_{D⁻¹} (the same acceptance set whichever optimizer produced x_k), and so is
+ * a caller that reports no first decrement (never the absolute λ²/2 ≤ tol it once fell
+ * back to: fixed_point and newton_tr were declared converged at a distance). Both
+ * measures also stop at the rounding floor of the step's start (si->floor_dec,
+ * floor_grad from eo_solver_stop_check), so a step that starts at its minimizer
+ * converges at once; the plateau is scaled by max(|g(x₀)|, |g(x_k)|), not by the final
+ * |g| alone (a step whose g falls from 50 to 0.02 reached 9e-16 and was declared
+ * stagnated). Also converged when ‖∇g‖ is exactly 0. Checked after the direction is
+ * computed (needs_direction = 1), like newton_decrement, and with
  * the same caveats for non-Newton directions (λ is then only an estimate). */
 #include <math.h>
 #include <stddef.h>
@@ -46,6 +55,18 @@ static const eo_param_desc reldec_desc[] = {
     {0},
 };
 
+/* Progress by the metric gradient norm: ‖∇g_k‖_{D⁻¹} ≤ tol·‖∇g_0‖_{D⁻¹} (the Euclidean
+ * norms for a caller that does not fill the metric ones). */
+static int gradient_measure(const eo_stop_info *si)
+{
+    if (si->floor_grad > 0 && isfinite(si->grad_metric) &&
+        si->grad_metric * si->grad_metric / 2 <= si->floor_grad)
+        return EO_CONVERGED_GRADIENT;
+    double r = si->grad_metric / si->grad_metric0;
+    if (!(si->measure == EO_MEASURE_GRADIENT && isfinite(r))) r = si->grad_norm / si->grad_norm0;
+    return r <= si->tol ? EO_CONVERGED_GRADIENT : 0;
+}
+
 static int reldec_check(const void *params, const eo_stop_info *si)
 {
     eo_stop_relative_decrement_params def;
@@ -55,12 +76,18 @@ static int reldec_check(const void *params, const eo_stop_info *si)
         p = &def;
     }
     if (si->grad_norm == 0) return EO_CONVERGED_GRADIENT;
+    if (si->measure == EO_MEASURE_GRADIENT) return gradient_measure(si);
     if (isnan(si->decrement)) return 0;
-    if (!(si->decrement0 > 0) || !isfinite(si->decrement0))
-        return si->decrement <= si->tol ? EO_CONVERGED_DECREMENT : 0;
+    /* at the rounding floor of the step's start: a step that starts at (or reaches) its
+     * minimizer */
+    if (si->floor_dec > 0 && si->decrement <= si->floor_dec) return EO_CONVERGED_DECREMENT;
+    /* no first decrement measured: progress by the gradient, never an absolute test */
+    if (!(si->decrement0 > 0) || !isfinite(si->decrement0)) return gradient_measure(si);
     if (si->decrement <= si->tol * si->tol * si->decrement0) return EO_CONVERGED_DECREMENT;
-    if (si->decrement <= p->plateau * fabs(si->g) && si->decrement > si->decrement_prev / 4)
-        return EO_CONVERGED_DECREMENT;
+    /* the plateau: below what g resolves, at the scale of g at the start or now */
+    double gs = fabs(si->g);
+    if (isfinite(si->g0) && fabs(si->g0) > gs) gs = fabs(si->g0);
+    if (si->decrement <= p->plateau * gs && si->decrement > si->decrement_prev / 4) return EO_CONVERGED_DECREMENT;
     return 0;
 }
 

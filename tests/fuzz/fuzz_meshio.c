@@ -2,8 +2,8 @@
  * eo_mesh_read_buffer), the surface parsers OBJ, OFF, STL (ASCII/binary), PLY
  * (ASCII/binary) up to the closed-surface checks (eo_surface_parse: the fuzz build has
  * no TetGen), and the tag paths of Gmsh 4.1 ($Entities, triangles), MEDIT (Triangles)
- * and TetGen (.face: node NUL ele NUL face).
- * Input: byte 0 picks the reader (% 8: vtu, obj, off, stl, ply, gmsh, medit, tetgen),
+ * and TetGen (.face: node NUL ele NUL face), and Vega FEM .veg.
+ * Input: byte 0 picks the reader (% 9: vtu, obj, off, stl, ply, gmsh, medit, tetgen, veg),
  * byte 1 the options (bit 0/1 drop_degenerate/drop_unreferenced; 0xE0 all set: run a
  * second pass with an allocation failure injected after 1 + (byte1 & 0x1C)). Aborts on
  * leaks, on success without a valid result (positive tets, indices in range, tagged
@@ -29,9 +29,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     if (size < 2) return 0;
-    static const eo_mesh_format fmts[8] = {EO_MESH_VTU, EO_MESH_OBJ,  EO_MESH_OFF,   EO_MESH_STL,
-                                           EO_MESH_PLY, EO_MESH_GMSH, EO_MESH_MEDIT, EO_MESH_TETGEN};
-    eo_mesh_format fmt = fmts[data[0] % 8];
+    static const eo_mesh_format fmts[9] = {EO_MESH_VTU, EO_MESH_OBJ,   EO_MESH_OFF,    EO_MESH_STL, EO_MESH_PLY,
+                                           EO_MESH_GMSH, EO_MESH_MEDIT, EO_MESH_TETGEN, EO_MESH_VEG};
+    eo_mesh_format fmt = fmts[data[0] % 9];
     eo_mesh_read_opts o = eo_mesh_read_opts_default();
     o.drop_degenerate = data[1] & 1;
     o.drop_unreferenced = (data[1] >> 1) & 1;

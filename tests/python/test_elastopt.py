@@ -38,7 +38,7 @@ def py_newton_minimize(prob, x):
     for k in range(prob.max_iters + 1):
         p = spla.spsolve(prob.hessian(x, proj="clamp"), -grad)
         dec = -grad @ p / 2
-        reason = prob.stop(g, np.linalg.norm(grad), dec)
+        reason = prob.stop(g, np.linalg.norm(grad), dec, x=x, grad=grad)
         if reason or k == prob.max_iters:
             return x, k, reason
         a = 1.0
@@ -55,7 +55,7 @@ def py_gradient_descent(prob, x):
     g, grad = prob.g0, prob.grad0
     M = prob.metric()
     for k in range(prob.max_iters + 1):
-        reason = prob.stop(g, np.linalg.norm(grad))
+        reason = prob.stop(g, np.linalg.norm(grad), x=x, grad=grad)
         if reason or k == prob.max_iters:
             return x, k, reason
         # the configured line search (backtracking here)
@@ -70,8 +70,10 @@ def py_gradient_descent(prob, x):
 def setUpModule():
     TMP.mkdir(parents=True, exist_ok=True)
     if spla is not None:
-        eo.register_optimizer("py_newton", direction=py_newton_direction, needs_hessian=True)
-        eo.register_optimizer("py_newton_min", minimize=py_newton_minimize, needs_hessian=True)
+        eo.register_optimizer("py_newton", direction=py_newton_direction, needs_hessian=True,
+                              newton_decrement=True)
+        eo.register_optimizer("py_newton_min", minimize=py_newton_minimize, needs_hessian=True,
+                              newton_decrement=True)
         eo.register_optimizer("py_gd", minimize=py_gradient_descent)
 
 
@@ -143,6 +145,16 @@ class Stepping(unittest.TestCase):
             self.assertLessEqual(np.abs(frame["point_data"]["velocity"] - v).max(), 1e-12)
             moved = np.abs(x - sim.initial_positions).max()
             self.assertGreater(moved, 1e-3)   # the bar really twisted
+
+    def test_explicit_steps_are_not_counted_as_converged(self):
+        """An explicit integrator's steps: reason "explicit", converged False, free fall exact."""
+        ov = {"time.integrator": "verlet", "time.steps": 3, "time.dt": 1e-4, "mesh.generate.cells": [4, 1, 1]}
+        with eo.Sim(scene="freefall", overrides=ov) as sim:
+            rs = sim.run()
+            self.assertEqual([r.reason for r in rs], ["explicit"] * 3)
+            self.assertFalse(any(r.converged for r in rs))
+            self.assertEqual([r.iterations for r in rs], [0, 0, 0])
+        self.assertEqual(eo.reason_name(6), "explicit")
 
     def test_state_roundtrip_and_restart(self):
         """A state copied into another sim continues the same trajectory, bit for bit."""
