@@ -201,7 +201,7 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
     json_object_set_new(ini, "total_energy", real_or_null(s0->total_energy));
     json_t *steps = json_array(), *bad = json_array();
     int all = 1, nconv = 0, nexpl = 0;
-    long total_iters = 0, total_rejected = 0, total_substeps = 0;
+    long total_iters = 0, total_rejected = 0, total_substeps = 0, total_not_pd = 0;
     double total_time = 0, min_substep = INFINITY;
     for (int k = 0; k < nrec; k++) {
         const eo_run_record *r = rec + k;
@@ -212,6 +212,7 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
         nexpl += expl_step;
         if (!ok) json_array_append_new(bad, json_integer(r->step));
         total_iters += r->iterations;
+        total_not_pd += r->n_not_pd;
         total_time += r->time;
         json_t *e = json_object();
         json_object_set_new(e, "step", json_integer(r->step));
@@ -230,9 +231,10 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
         json_object_set_new(e, "wall_time", real_or_null(r->wall));
         json_object_set_new(e, "g", real_or_null(r->g));
         json_object_set_new(e, "grad_norm", real_or_null(r->grad_norm));
-        json_object_set_new(e, "evaluations", json_pack("{s:I, s:I, s:I, s:I}", "value", (json_int_t)r->n_value,
+        json_object_set_new(e, "evaluations", json_pack("{s:I, s:I, s:I, s:I, s:I}", "value", (json_int_t)r->n_value,
                                                         "gradient", (json_int_t)r->n_gradient, "hessian",
-                                                        (json_int_t)r->n_hessian, "factor", (json_int_t)r->n_factor));
+                                                        (json_int_t)r->n_hessian, "factor", (json_int_t)r->n_factor,
+                                                        "not_pd", (json_int_t)r->n_not_pd));
         json_object_set_new(e, "com", vec3(r->stats.com));
         json_object_set_new(e, "max_disp", real_or_null(r->stats.max_disp));
         json_object_set_new(e, "min_J", real_or_null(r->stats.min_J));
@@ -264,6 +266,9 @@ static int write_summary(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc, const eo_
                                                        "not_converged", nrec - nconv - nexpl));
     json_object_set_new(root, "total_iterations", json_integer(total_iters));
     json_object_set_new(root, "total_solve_time", json_real(total_time));
+    /* factorizations that found the matrix not positive definite (project_on_demand's
+     * fallbacks to the projected Hessian): counted here, not printed */
+    json_object_set_new(root, "total_not_pd", json_integer(total_not_pd));
     json_object_set_new(root, "adaptive", json_pack("{s:b, s:I, s:I, s:o}", "on", sc->time.adaptive, "rejected",
                                                     (json_int_t)total_rejected, "substeps", (json_int_t)total_substeps,
                                                     "min_substep", real_or_null(min_substep)));
@@ -355,7 +360,7 @@ static int read_run_json(eo_ctx *ctx, const char *dir, run_origin *o, json_t **d
         return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(dir, -1),
                            "no run.json: not the output folder of an elastopt run (or of one from a version without "
                            "restarts)");
-    int rc = eo_read_file(ctx, path, &text, &len);
+    int rc = eo_read_file_max(ctx, path, 2 * EO_CFG_MAX_BYTES, "a run's run.json (2 EO_CFG_MAX_BYTES)", &text, &len);
     if (rc < 0) return rc;
     json_error_t err;
     *doc = json_loads(text, 0, &err);
@@ -684,7 +689,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         *e = (eo_run_record){.step = k + 1, .iterations = r.iterations, .reason = r.reason, .t = r.t,
                              .time = r.time, .wall = wall, .g = r.g, .grad_norm = r.grad_norm,
                              .n_value = r.n_value, .n_gradient = r.n_gradient, .n_hessian = r.n_hessian,
-                             .n_factor = r.n_factor, .stats = r.stats, .entry = r.entry,
+                             .n_factor = r.n_factor, .n_not_pd = r.n_not_pd, .stats = r.stats, .entry = r.entry,
                              .n_entries = r.n_entries, .rejected = r.rejected, .substeps = r.substeps,
                              .min_substep = r.min_substep};
         memcpy(e->entry_reason, r.entry_reason, sizeof e->entry_reason);

@@ -23,6 +23,7 @@
 #include <unistd.h>
 
 #include "eo_build_config.h"
+#include "elastopt/config.h"
 #include "elastopt/plugin.h"
 #include "petsc/petsc_options.h"
 
@@ -94,7 +95,7 @@ static int file_mentions(const char *path)
         path = run;
         if (stat(path, &st) != 0) return 0;
     }
-    if (!S_ISREG(st.st_mode) || st.st_size > (4 << 20)) return 0;
+    if (!S_ISREG(st.st_mode) || (size_t)st.st_size > 2 * EO_CFG_MAX_BYTES) return 0;
     FILE *f = fopen(path, "rb");
     if (!f) return 0;
     char *buf = malloc((size_t)st.st_size + 1);

@@ -51,9 +51,9 @@ void eo_cli_profile_step(eo_cli_profile *p, const eo_sim *sim, int step)
     double ratio = eo_profile_iteration_ratio(&d);
     fprintf(p->out,
             "profile step %d: %ld it %.4f s | assembly %.4f (%ld) | factor symbolic %.4f (%ld) numeric %.4f (%ld) | "
-            "solve %.4f (%ld) | line search %.4f (%ld evals) | gradient %.4f (%ld) | other %.4f | iteration/factor ",
+            "not PD %ld | solve %.4f (%ld) | line search %.4f (%ld evals) | gradient %.4f (%ld) | other %.4f | iteration/factor ",
             step, d.iterations, d.t_total, d.t_assembly, d.n_assembly, d.t_analyze, d.n_analyze, d.t_factor,
-            d.n_factor, d.t_solve, d.n_solve, d.t_linesearch, d.n_ls_evals, d.t_gradient, d.n_gradient,
+            d.n_factor, d.n_not_pd, d.t_solve, d.n_solve, d.t_linesearch, d.n_ls_evals, d.t_gradient, d.n_gradient,
             eo_profile_other(&d));
     if (isfinite(ratio)) fprintf(p->out, "%.3f\n", ratio);
     else fprintf(p->out, "-\n");
@@ -75,6 +75,7 @@ void eo_cli_profile_print(FILE *out, const char *title, const eo_profile *pr)
     row(out, "assembly (Hessian)", pr->t_assembly, pr->n_assembly, T);
     row(out, "factor: symbolic", pr->t_analyze, pr->n_analyze, T);
     row(out, "factor: numeric", pr->t_factor, pr->n_factor, T);
+    fprintf(out, "  %-22s %10s %7s %8ld\n", "  not pos. definite", "", "", pr->n_not_pd);
     row(out, "solve", pr->t_solve, pr->n_solve, T);
     row(out, "line search", pr->t_linesearch, pr->n_ls_evals, T);
     row(out, "gradient", pr->t_gradient, pr->n_gradient, T);

@@ -237,7 +237,9 @@ void eo_run_record_write(FILE *f, const eo_run_record *r)
             eo_run_num(b[13], s->contact, 17), eo_run_num(b[14], s->potential, 17),
             eo_run_num(b[15], s->work_prescribed, 17), eo_run_num(b[16], s->total_energy, 17));
     /* appended: adaptive stepping */
-    fprintf(f, ",%d,%d,%s\n", r->rejected, r->substeps, eo_run_num(b[13], r->min_substep, 17));
+    fprintf(f, ",%d,%d,%s", r->rejected, r->substeps, eo_run_num(b[13], r->min_substep, 17));
+    /* appended: factorizations that found the matrix not positive definite */
+    fprintf(f, ",%ld\n", r->n_not_pd);
 }
 
 static int reason_from_name(const char *s, int *reason)
@@ -259,7 +261,8 @@ static int reason_from_name(const char *s, int *reason)
 /* parse one row (NUL-terminated, no newline) */
 static int parse_record(char *line, eo_run_record *r)
 {
-    enum { NF = 30, NF_E = 27, NF_OLD = 23 }; /* NF_OLD: before the energy columns, NF_E: before the adaptive ones */
+    enum { NF = 31, NF_A = 30, NF_E = 27, NF_OLD = 23 }; /* NF_OLD: before the energy columns, NF_E: before the
+                                                           adaptive ones, NF_A: before n_not_pd */
     char *f[NF];
     int n = 0;
     for (char *p = line; n < NF; n++) {
@@ -272,7 +275,7 @@ static int parse_record(char *line, eo_run_record *r)
         *c = 0;
         p = c + 1;
     }
-    if (n != NF && n != NF_E && n != NF_OLD) return -1;
+    if (n != NF && n != NF_A && n != NF_E && n != NF_OLD) return -1;
     memset(r, 0, sizeof *r);
     r->step = atoi(f[0]);
     r->t = num_field(f[1]);
@@ -300,11 +303,12 @@ static int parse_record(char *line, eo_run_record *r)
     r->stats.total_energy = n >= NF_E ? num_field(f[26]) : NAN;
     r->substeps = 1;
     r->min_substep = NAN;
-    if (n == NF) {
+    if (n >= NF_A) {
         r->rejected = atoi(f[27]);
         r->substeps = atoi(f[28]);
         r->min_substep = num_field(f[29]);
     }
+    r->n_not_pd = n == NF ? strtol(f[30], NULL, 10) : 0;
     return 0;
 }
 
@@ -403,7 +407,12 @@ int eo_run_restart_read(eo_ctx *ctx, const char *path, int *step, double *t, int
 {
     char *text = NULL;
     size_t len = 0;
-    int rc = eo_read_file(ctx, path, &text, &len);
+    /* the largest file this scene can have: its arrays plus the text lines (each < 256
+     * bytes); checked from the file's size before anything is allocated */
+    size_t max_bytes = 8 * 256;
+    for (int i = 0; i < na; i++) max_bytes += a[i].count * sizeof(double) + 256;
+    int rc = eo_read_file_max(ctx, path, max_bytes, "the restart file of this scene (its arrays and header)", &text,
+                              &len);
     if (rc < 0) return rc;
     const char *p = text, *end = text + len;
     char line[256], name[128], endian[16];
@@ -444,6 +453,13 @@ int eo_run_restart_read(eo_ctx *ctx, const char *path, int *step, double *t, int
                 if (strcmp(a[i].name, name) != 0) continue;
                 if (count != a[i].count) BAD("array %s has %zu values; this scene needs %zu", name, count, a[i].count);
                 memcpy(a[i].data, p, bytes);
+                for (size_t j = 0; j < count; j++) /* a state that would fail steps later */
+                    if (!isfinite(a[i].data[j])) {
+                        if (strcmp(name, "x") == 0 || strcmp(name, "v") == 0)
+                            BAD("array %s: value %zu (vertex %zu, %c) is %g; a restart state must be finite", name, j,
+                                j / 3, "xyz"[j % 3], a[i].data[j]);
+                        BAD("array %s: value %zu is %g; a restart state must be finite", name, j, a[i].data[j]);
+                    }
                 a[i].present = 1;
             }
             p += bytes + 1;

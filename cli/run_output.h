@@ -27,6 +27,7 @@ typedef struct eo_run_record {
     int step, iterations, reason;
     double t, time, wall, g, grad_norm;
     long n_value, n_gradient, n_hessian, n_factor;
+    long n_not_pd;        /* factorizations that found the matrix not positive definite */
     eo_step_stats stats;
     int entry;            /* the fallback-chain entry whose result was kept (0 = solver) */
     int n_entries;        /* entries run (0 when read back from steps.csv) */
@@ -40,7 +41,7 @@ typedef struct eo_run_record {
 #define EO_RUN_STEPS_CSV_HEADER                                                                           \
     "step,t,iterations,reason,converged,solve_time,wall_time,g,grad_norm,n_value,n_gradient,n_hessian,"     \
     "n_factor,com_x,com_y,com_z,max_disp,min_J,inverted,kinetic,elastic,gravity_potential,entry,"         \
-    "contact,potential,work_prescribed,total_energy,rejected,substeps,min_substep"
+    "contact,potential,work_prescribed,total_energy,rejected,substeps,min_substep,n_not_pd"
 #define EO_RUN_ITER_CSV_HEADER "step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason,entry"
 
 /* The folder, locked. */
@@ -90,7 +91,12 @@ int eo_run_logs_resume(eo_ctx *ctx, const eo_run_dir *d, int steps, eo_run_recor
  *   then per array "array NAME COUNT\n" followed by COUNT raw doubles and "\n", then
  *   "end\n". Arrays are looked up by name: adding one (e.g. the previous positions of a
  *   multistep integrator) is one more entry in the caller's table; an optional array
- *   missing from the file is left as it is (present = 0), an unknown one is skipped. */
+ *   missing from the file is left as it is (present = 0), an unknown one is skipped.
+ * Reading checks before trusting: the file's size against the most this scene's arrays
+ * and header can take (Σ 8·count + 256 per array + 2 KiB, from stat, before allocating:
+ * EO_ERR_RANGE), every header line, every array's count, and every value finite (a NaN
+ * or Inf is EO_ERR_PARSE naming the array, the value's index, and for x and v the vertex
+ * and coordinate). */
 typedef struct eo_run_array {
     const char *name;
     double *data;     /* count values (caller's) */

@@ -70,7 +70,8 @@ int eo_cfg_load(eo_ctx *ctx, const char *path, const char *builtin_text, eo_cfg 
     if (rc < 0) return rc;
     if (path) {
         size_t len;
-        rc = eo_read_file(ctx, path, &c->text, &len);
+        rc = eo_read_file_max(ctx, path, EO_CFG_MAX_BYTES, "a configuration file (EO_CFG_MAX_BYTES)", &c->text,
+                              &len);
         if (rc < 0) goto fail;
         if (strlen(c->text) != len) {
             rc = eo_error_at(ctx, EO_ERR_PARSE, EO_ERRLOC_FILE(path, -1),
@@ -126,6 +127,10 @@ int eo_cfg_override(eo_ctx *ctx, eo_cfg *cfg, const char *assignment)
     if (bad >= 0)
         return eo_error(ctx, EO_ERR_INVALID, "command line -o: invalid UTF-8 at byte %ld of '%.*s...'", bad + 1,
                         (int)(bad < 64 ? bad : 64), assignment);
+    size_t alen = strnlen(assignment, EO_CFG_MAX_BYTES + 1);
+    if (alen > EO_CFG_MAX_BYTES)
+        return eo_error(ctx, EO_ERR_RANGE, "command line -o '%.40s...': more than %zu bytes (EO_CFG_MAX_BYTES)",
+                        assignment, EO_CFG_MAX_BYTES);
     const char *eq = strchr(assignment, '=');
     if (!eq || eq == assignment)
         return eo_error(ctx, EO_ERR_INVALID, "override '%s': expected key=value", assignment);

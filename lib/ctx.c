@@ -26,6 +26,7 @@ struct eo_ctx {
     char message[EO_MSG_MAX];
     eo_mesh_source_fn mesh_source; /* eo_mesh_read's replacement (NULL: read the file) */
     void *mesh_source_user;
+    int quiet_warnings; /* eo_ctx_set_quiet_warnings */
 };
 
 /* header keeps max alignment */
@@ -183,6 +184,7 @@ int eo_error_atv(eo_ctx *ctx, int status, eo_errloc loc, const char *fmt, va_lis
         n += (size_t)snprintf(m + n, cap - n, "%s %ld: ", loc.kind ? loc.kind : "item", loc.index);
     if (n < cap) vsnprintf(m + n, cap - n, fmt, ap);
     ctx->last_status = status;
+    if (status > 0 && ctx->quiet_warnings) return status;
     eo_log(ctx, status < 0 ? EO_LOG_DEBUG : EO_LOG_WARN, "%s", ctx->message);
     return status;
 }
@@ -195,6 +197,15 @@ int eo_error_at(eo_ctx *ctx, int status, eo_errloc loc, const char *fmt, ...)
     va_end(ap);
     return status;
 }
+
+int eo_ctx_set_quiet_warnings(eo_ctx *ctx, int on)
+{
+    int old = ctx->quiet_warnings;
+    ctx->quiet_warnings = on != 0;
+    return old;
+}
+
+int eo_ctx_get_quiet_warnings(const eo_ctx *ctx) { return ctx->quiet_warnings; }
 
 const char *eo_ctx_message(const eo_ctx *ctx) { return ctx->message; }
 int eo_ctx_status(const eo_ctx *ctx) { return ctx->last_status; }

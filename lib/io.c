@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <math.h>
 #include <fcntl.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -132,6 +133,11 @@ int eo_mkdir_p(eo_ctx *ctx, const char *path)
 
 int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len)
 {
+    return eo_read_file_max(ctx, path, SIZE_MAX, NULL, text, len);
+}
+
+int eo_read_file_max(eo_ctx *ctx, const char *path, size_t max_bytes, const char *what, char **text, size_t *len)
+{
     *text = NULL;
     *len = 0;
     /* O_NONBLOCK: opening a FIFO must not wait for a writer; anything but a regular file
@@ -149,6 +155,12 @@ int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len)
         close(fd);
         return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot read: it is %s; expected a regular file",
                            what);
+    }
+    if ((unsigned long long)st.st_size > (unsigned long long)max_bytes) {
+        close(fd);
+        return eo_error_at(ctx, EO_ERR_RANGE, EO_ERRLOC_FILE(path, -1),
+                           "%lld bytes (%.3g MB); the limit for %s is %zu bytes (%.3g MB)", (long long)st.st_size,
+                           (double)st.st_size / 1e6, what ? what : "this file", max_bytes, (double)max_bytes / 1e6);
     }
     int fl = fcntl(fd, F_GETFL);
     if (fl >= 0) fcntl(fd, F_SETFL, fl & ~O_NONBLOCK);
@@ -178,6 +190,13 @@ int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len)
         size_t r = fread(buf + n, 1, cap - 1 - n, fp);
         n += r;
         if (r == 0) break;
+        if (n > max_bytes) { /* grew while being read */
+            eo_free(ctx, buf);
+            fclose(fp);
+            return eo_error_at(ctx, EO_ERR_RANGE, EO_ERRLOC_FILE(path, -1),
+                               "more than %zu bytes (it grew while being read); the limit for %s", max_bytes,
+                               what ? what : "this file");
+        }
     }
     int bad = ferror(fp);
     fclose(fp);

@@ -27,7 +27,7 @@ static const eo_cfg_raw_doc raw_docs[] = {
      "centroid inside [[lo],[hi]]) and sets any key of `material` (inherited otherwise); the last match wins"},
     {"materials.N.attribute", "{\"type\": \"integer\"}", "select the tets whose mesh attribute equals this integer"},
     {"materials.N.box", BOX, "select the tets whose centroid is inside [[x0,y0,z0],[x1,y1,z1]]"},
-    {"boundary", NULL, "list of constrained vertex sets, later entries override earlier ones"},
+    {"boundary", NULL, "list of constrained vertex sets, later entries override earlier ones; with time.integrator = static a body left with a rigid-body mode that gravity does not hold (no constrained vertex, one point, a vertical line) is an error at load naming the mode (docs/diagnostics.md)"},
     {"boundary.N.box", BOX,
      "select rest vertices inside [[x0,y0,z0],[x1,y1,z1]] (inclusive, tolerance 1e-9 of the mesh size)"},
     {"collisions", NULL, "list of static obstacles (plane, sphere, box): penalty contact, optional Coulomb friction"},

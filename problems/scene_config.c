@@ -21,6 +21,7 @@
 #include "elastopt/step.h"
 #include "lattice.h"
 #include "obstacle.h"
+#include "supports.h"
 
 /* ---------------------------------------------------------------- descriptor tables */
 
@@ -129,7 +130,7 @@ const eo_param_desc eo_scene_generate_opts_desc[] = {
 const eo_param_desc eo_scene_time_opts_desc[] = {
     {.key = "integrator", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_scene_time_opts, integrator),
      .size = SZ(eo_scene_time_opts, integrator), .def.s = "newmark", .registry = &eo_reg_integrator,
-     .help = "time integrator (registered name)"},
+     .help = "time integrator (registered name); static (no inertia) is refused at load when a body keeps a free rigid-body mode (see boundary)"},
     {.key = "dt", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_time_opts, dt), .def.d = 0.01,
      .min = 0, .range = EO_RANGE_POSITIVE, .help = "time step (s)"},
     {.key = "steps", .kind = EO_PARAM_INT, .offset = offsetof(eo_scene_time_opts, steps), .def.i = 30,
@@ -1011,6 +1012,7 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     EO_TRY(rc = load_point_masses(ctx, cfg, sc));
     EO_TRY(rc = load_springs(ctx, cfg, sc));
     EO_TRY(rc = load_collisions(ctx, cfg, sc));
+    EO_TRY(rc = eo_scene_check_supports(ctx, cfg, sc));
     *out = sc;
     return EO_OK;
 fail:

@@ -404,6 +404,7 @@ static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
         r->n_gradient += sr.n_gradient;
         r->n_hessian += sr.n_hessian;
         r->n_factor += sr.n_factor;
+        r->n_not_pd += sr.n_not_pd;
         if (sr.reason >= 0 || sr.reason == EO_DIVERGED_EXTERNAL) break;
     }
     return EO_OK;
@@ -445,6 +446,7 @@ static void add_cost(eo_sim_step_result *r, const eo_sim_step_result *a)
     r->n_gradient += a->n_gradient;
     r->n_hessian += a->n_hessian;
     r->n_factor += a->n_factor;
+    r->n_not_pd += a->n_not_pd;
 }
 
 static void copy_chain(eo_sim_step_result *r, const eo_sim_step_result *a)

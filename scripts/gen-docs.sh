@@ -12,6 +12,8 @@ exe=${1:-build/cli/elastopt}
   echo "Every key can be set in a scene JSON file or overridden with \`-o key=value\`."
   echo "Method parameters live in \`solver.<method>.<key>\` (or \`material.<model>\`, \`time.<integrator>\`) and are"
   echo "only used when that method is selected; sections of unselected methods are still checked."
+  echo "A configuration file (scene or suite) may hold at most 8 MiB (EO_CFG_MAX_BYTES, config.h),"
+  echo "checked from its size before it is read; see docs/diagnostics.md for every input cap."
   echo
   echo '```'
   "$exe" help

@@ -379,6 +379,8 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         p->n_factor += l->n_factor - l0.n_factor;
         p->t_solve += l->t_solve - l0.t_solve;
         p->n_solve += l->n_solve - l0.n_solve;
+        res->n_not_pd = l->n_not_pd - l0.n_not_pd;
+        p->n_not_pd += res->n_not_pd;
     }
     return rc;
 }
@@ -403,6 +405,7 @@ void eo_profile_diff(const eo_profile *a, const eo_profile *b, eo_profile *o)
     o->n_solve = a->n_solve - b->n_solve;
     o->n_ls_evals = a->n_ls_evals - b->n_ls_evals;
     o->n_gradient = a->n_gradient - b->n_gradient;
+    o->n_not_pd = a->n_not_pd - b->n_not_pd;
 }
 
 double eo_profile_other(const eo_profile *p)

@@ -2,7 +2,7 @@
 # elastopt run with adaptive time stepping (time.adaptive), on the cantilever at dt = 0.03
 # with solver.max_iters = 4 (the nominal steps 2.. do not converge):
 #  - without it exit 1 (steps not converged), with it exit 0; steps.csv has the appended
-#    columns rejected, substeps, min_substep (30 fields, the first 27 as before): rows
+#    columns rejected, substeps, min_substep (then n_not_pd: 31 fields, the first 27 as before): rows
 #    with rejected > 0 have substeps > 1 and min_substep < dt, t stays n*dt exactly as in
 #    the run without; summary.json per step and the totals under "adaptive" agree with it
 #  - restart in the middle (3 steps, then --restart to 5) == an uninterrupted 5-step run:
@@ -32,8 +32,8 @@ import csv, json
 on = list(csv.DictReader(open("on/steps.csv")))
 off = list(csv.DictReader(open("off/steps.csv")))
 head = open("on/steps.csv").readline().strip().split(",")
-assert head[-4:] == ["total_energy", "rejected", "substeps", "min_substep"], head
-assert all(len(r) == 30 for r in on), "field count"
+assert head[-5:] == ["total_energy", "rejected", "substeps", "min_substep", "n_not_pd"], head
+assert all(len(r) == 31 for r in on), "field count"
 assert [r["t"] for r in on] == [r["t"] for r in off], "t differs from the run without substeps"
 assert all(r["converged"] == "1" for r in on), [r["reason"] for r in on]
 assert any(r["converged"] == "0" for r in off)

@@ -42,7 +42,7 @@ want = int(sys.argv[3]) if len(sys.argv) > 3 else None
 s = json.load(open(d + "/summary.json"))
 assert str(s["stop_reason"]) == stop, (s["stop_reason"], stop)
 if want is not None: assert s["steps_run"] == want, (s["steps_run"], want)
-for name, nf in (("steps.csv", 30), ("iterations.csv", 11)):
+for name, nf in (("steps.csv", 31), ("iterations.csv", 11)):
     text = open(d + "/" + name).read()
     assert text.endswith("\n"), name + ": incomplete last line"
     rows = text.splitlines()

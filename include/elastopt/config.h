@@ -27,8 +27,18 @@ extern "C" {
 
 typedef struct eo_cfg eo_cfg;
 
+/// Largest configuration file read (scene, suite, a run's run.json: twice this, it holds
+/// the config with indentation) and largest `-o` assignment, bytes: 8 MiB. The size is
+/// checked before anything is read (a larger file is refused with EO_ERR_RANGE naming its
+/// size and this cap); jansson needs about ten times the text in memory, so the cap keeps
+/// a config load under ~100 MB. A scene far beyond it (mesh.points of > 100k points,
+/// springs.list of > 300k pairs) belongs in a mesh file (mesh.file), which has no cap.
+#define EO_CFG_MAX_BYTES ((size_t)8 << 20)
+
 /// Parse `path` (or, if path is NULL, `builtin_text` named "<builtin>"). Malformed JSON:
-/// EO_ERR_PARSE with file:line:column and jansson's description. Missing file: EO_ERR_IO.
+/// EO_ERR_PARSE with file:line:column and jansson's description (numbers that overflow a
+/// double, 1e999, are malformed JSON: no value of a config is ever infinite or NaN).
+/// Missing file: EO_ERR_IO. A file over EO_CFG_MAX_BYTES: EO_ERR_RANGE, nothing read.
 EO_API int eo_cfg_load(eo_ctx *ctx, const char *path, const char *builtin_text, eo_cfg **out);
 /// An empty document.
 EO_API int eo_cfg_create_empty(eo_ctx *ctx, eo_cfg **out);

@@ -102,6 +102,15 @@ EO_API int eo_error_atv(eo_ctx *ctx, int status, eo_errloc loc, const char *fmt,
 /// Shorthand without location.
 #define eo_error(ctx, status, ...) eo_error_at((ctx), (status), EO_ERRLOC_NONE, __VA_ARGS__)
 
+/// Quiet warnings: while on (1), a warning recorded with eo_error_at (positive status) is
+/// kept as the context's message but not passed to the logger (errors are logged at
+/// debug level either way). For a caller that reports the warning itself, or counts an
+/// expected one (eo_linsolve_factor and a not-positive-definite factorization). Returns
+/// the previous setting; default 0.
+EO_API int eo_ctx_set_quiet_warnings(eo_ctx *ctx, int on);
+/// The current setting of eo_ctx_set_quiet_warnings.
+EO_API int eo_ctx_get_quiet_warnings(const eo_ctx *ctx);
+
 /// The last error message ("" if none) and its status.
 EO_API const char *eo_ctx_message(const eo_ctx *ctx);
 EO_API int eo_ctx_status(const eo_ctx *ctx);

@@ -49,6 +49,11 @@ EO_API int eo_mkdir_p(eo_ctx *ctx, const char *path);
 /// unreadable or not a regular file (a FIFO, device or folder is refused at once: the
 /// file is opened with O_NONBLOCK and checked before any read, so nothing blocks).
 EO_API int eo_read_file(eo_ctx *ctx, const char *path, char **text, size_t *len);
+/// eo_read_file for a file of at most max_bytes: a larger regular file is refused from its
+/// size before anything is allocated or read (EO_ERR_RANGE: "PATH: N bytes; the limit for
+/// WHAT is M bytes"); what names the kind of file ("a configuration file").
+EO_API int eo_read_file_max(eo_ctx *ctx, const char *path, size_t max_bytes, const char *what, char **text,
+                            size_t *len);
 
 /// A double in the shortest decimal form that reads back (strtod) to the same value:
 /// the first of %.15g, %.16g, %.17g that round-trips ("0.4", not "0.40000000000000002";

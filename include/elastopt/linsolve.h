@@ -66,6 +66,9 @@ typedef struct eo_linsolve_stats {
     /// pcg with a reused factor (cholmod_reuse): numeric refactorizations done so far.
     long n_refactor;
     long n_analyze;      ///< analyze calls (symbolic factorizations) so far
+    /// factorizations that reported EO_WARN_NOT_PD so far (expected or not, see
+    /// eo_linsolve_set_expect_not_pd)
+    long n_not_pd;
 } eo_linsolve_stats;
 
 typedef struct eo_linsolve_type {
@@ -98,6 +101,22 @@ EO_API int eo_linsolve_analyze(eo_linsolve *ls, const eo_csc *A);
 /// Numeric phase for A (same pattern as at analyze). EO_OK, EO_WARN_NOT_PD (column in
 /// stats.not_pd_column), EO_ERR_INVALID (pattern changed / not analyzed), EO_ERR_*.
 EO_API int eo_linsolve_factor(eo_linsolve *ls, const eo_csc *A);
+/// A failed factorization (EO_WARN_NOT_PD) is counted in stats.n_not_pd and its message
+/// ("cholmod: matrix not positive definite ...") kept as the context's message; it is
+/// logged as a warning only when not expected (eo_linsolve_set_expect_not_pd) and only
+/// the first time for this solver (the line says later ones are counted), later ones
+/// at debug level.
+///
+/// Whether a not-positive-definite matrix is a normal outcome of the next factorizations
+/// (on = 1: a Hessian fix factoring the true, possibly indefinite Hessian —
+/// project_on_demand, shift, none — counts it silently) or a surprise (0, the default: a
+/// projected Hessian, a mass or projective-dynamics matrix; warned once). Returns the
+/// previous setting.
+EO_API int eo_linsolve_set_expect_not_pd(eo_linsolve *ls, int on);
+/// The current setting of eo_linsolve_set_expect_not_pd.
+EO_API int eo_linsolve_get_expect_not_pd(const eo_linsolve *ls);
+/// A solve that meets non-positive curvature (EO_WARN_NOT_PD from cg/pcg/gmres) is logged
+/// like a failed factorization (silent when expected, else one warning per solver).
 /// x = A⁻¹ b. EO_OK, EO_WARN_NOT_CONVERGED, EO_WARN_NOT_PD (cg/pcg; stats.curvature),
 /// EO_ERR_*.
 EO_API int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x);

@@ -393,6 +393,45 @@ EO_API int eo_scene_up_guess(eo_ctx *ctx, const eo_scene *sc, eo_scene_up *up);
 /// eo_scene_up_guess). EO_ERR_NOMEM.
 EO_API int eo_scene_describe(eo_ctx *ctx, const eo_scene *sc, char **text);
 
+/// Relative tolerance of the rigid-mode ranks (eo_scene_rigid_modes): an eigenvalue of a
+/// 6×6 Gram matrix below EO_RIGID_RTOL × its largest counts as zero (constrained vertices
+/// off a common line by less than about 1e-5 of the body's size count as collinear).
+#define EO_RIGID_RTOL 1e-10
+
+/// Rigid-body modes left free by a set of constrained vertices (eo_scene_rigid_modes).
+typedef struct eo_rigid_modes {
+    int n_components;       ///< bodies: connected components of the vertices (tets and springs join them)
+    int n_free;             ///< free rigid modes summed over every body
+    int n_free_components;  ///< bodies with at least one free mode
+    int n_unheld;           ///< free modes that gravity does not hold either (see eo_scene_rigid_modes)
+    int worst;              ///< the body (0-based, numbered by lowest vertex) with the most unheld, then
+                            ///< free, modes; -1 if none is free
+    int worst_free;         ///< its free modes (0..6)
+    int worst_unheld;       ///< its free modes gravity does not hold (0..worst_free)
+    int worst_vertices;     ///< its vertex count
+    int worst_first_vertex; ///< its lowest vertex index
+    char modes[320];        ///< its free modes named, e.g. "translations x, y, z; rotations about x, y, z"
+    char held[160];         ///< what gravity does to them, e.g. "gravity holds it (the body hangs below
+                            ///< the line)"; "" for a body without constrained vertex (never held)
+} eo_rigid_modes;
+
+/// Count the rigid-body modes (infinitesimal translations and rotations of a body) that
+/// the constrained vertices leave free, per body (connected component of the rest mesh:
+/// tets and scene/lattice springs join vertices). Mathematics: problems/rigid_modes.c
+/// (rank of the 6×6 Gram matrix of the modes restricted to the constrained vertices, with
+/// EO_RIGID_RTOL). constrained: nv flags (1 = prescribed position), NULL = none. Free
+/// modes per body: 6 with no constrained vertex, 3 rotations if they all sit at one point,
+/// 1 rotation about their line if they are collinear, else 0. Gravity (sc->opts.gravity)
+/// holds some of them at the equilibrium it leads to: a body hanging from one point keeps
+/// only the rotation about the vertical through it free (a collinear body, a chain: none),
+/// a body on a hinge line is held unless the line is vertical; neither if g = 0 or the
+/// centroid is on the point or line; a body without constrained vertex never. A scene with
+/// the `static` integrator is refused at eo_scene_load when a body has a free mode that
+/// gravity does not hold (n_unheld > 0: the step Hessian is singular at every candidate
+/// equilibrium); collision obstacles are not supports. EO_OK, EO_ERR_NOMEM.
+EO_API int eo_scene_rigid_modes(eo_ctx *ctx, const eo_scene *sc, const unsigned char *constrained,
+                                eo_rigid_modes *out);
+
 /// A built-in scene: the registry (EO_KIND_SCENE) entry, JSON text identical in
 /// meaning to examples/<name>.json.
 typedef struct eo_scene_type {

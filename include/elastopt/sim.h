@@ -84,6 +84,11 @@ typedef struct eo_sim_step_result {
     int rejected;
     int substeps;
     double min_substep;
+    /// Factorizations of this step that found the matrix not positive definite
+    /// (eo_solve_result.n_not_pd, added up like the evaluation counts: every entry run and
+    /// every substep attempt): the default project_on_demand's fallbacks to the projected
+    /// Hessian are counted here, not printed.
+    long n_not_pd;
 } eo_sim_step_result;
 
 /// Create a simulation from a scene config document (eo_scene_cfg_load + the caller's

@@ -567,6 +567,10 @@ typedef struct eo_solve_result {
     int decrement_estimated;  ///< 1: stopped on the decrement estimated from the previous
                               ///< factor (newton + newton_decrement), `decrement` is that
                               ///< estimate; 0: from the direction at the returned x
+    long n_not_pd;        ///< factorizations of the solver's linear solver that found the matrix
+                          ///< not positive definite (EO_WARN_NOT_PD; for project_on_demand the
+                          ///< directions that fell back to the projected Hessian), counted
+                          ///< by eo_solver_minimize from eo_linsolve_stats.n_not_pd
 } eo_solve_result;
 
 /// Where a solver's time went: wall seconds and counts accumulated over every
@@ -584,6 +588,7 @@ typedef struct eo_profile {
     double t_linesearch;  ///< line searches, their value/gradient calls included
     double t_gradient;    ///< gradients outside the line search (start point, accepted point)
     long n_assembly, n_analyze, n_factor, n_solve, n_ls_evals, n_gradient;
+    long n_not_pd;        ///< numeric factorizations that found the matrix not positive definite
 } eo_profile;
 
 /// The solver's accumulated profile (borrowed, updated by every minimize).

@@ -133,6 +133,7 @@ typedef struct eo_solve_result {
     long n_shifted; double projected; long n_inner; long n_negcurv; long lin_iters;
     long n_neg_curvature; double t_assembly; double t_linesearch; double t_gradient;
     long n_assembly, n_ls_evals, n_gradient_outside; int decrement_estimated;
+    long n_not_pd;
 } eo_solve_result;
 typedef struct eo_solver_opts {
     char optimizer[32]; char hessian_fix[32]; char linesearch[32]; char stop[32];
@@ -190,6 +191,7 @@ typedef struct eo_sim_step_result {
     long n_value, n_gradient, n_hessian, n_factor; eo_step_stats stats;
     int entry; int n_entries; int entry_reason[8]; int entry_iterations[8];
     int rejected; int substeps; double min_substep;
+    long n_not_pd;
 } eo_sim_step_result;
 int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out);
 int eo_sim_create_from(eo_ctx *ctx, const char *path, const char *builtin,

@@ -131,7 +131,13 @@ int eo_shift_assemble_factor(eo_shift_ws *w, const eo_hessfix_shift_params *hp, 
         out->factored = 0;
         return 0;
     }
-    return eo_shift_factor(w, hp, shifting, env, A, p, out);
+    /* the true Hessian (no projection, or a partial one) may be indefinite: a failed
+     * factorization is the fix's normal path, counted and not printed; a projected one
+     * failing is a surprise (warned once by the linear solver) */
+    int old = eo_linsolve_set_expect_not_pd(env->linear, proj == EO_PROJ_NONE);
+    int r = eo_shift_factor(w, hp, shifting, env, A, p, out);
+    eo_linsolve_set_expect_not_pd(env->linear, old);
+    return r;
 }
 
 void eo_shift_fallback(eo_shift_ws *w, const eo_hessfix_env *env, double *p, eo_hessfix_out *out)

@@ -16,6 +16,7 @@ struct eo_linsolve {
     void *params;  /* copy, inside this block */
     void *state;   /* inside this block */
     int analyzed, factored, set_up;
+    int expect_not_pd, warned_not_pd; /* eo_linsolve_set_expect_not_pd; the one warning given */
     int n, nnz;
     eo_linsolve_stats stats;
 };
@@ -114,12 +115,35 @@ int eo_linsolve_factor(eo_linsolve *ls, const eo_csc *A)
     ls->stats.not_pd_column = -1;
     ls->stats.n_negative = ls->stats.n_zero = -1;
     double t = eo_wtime();
+    int quiet = eo_ctx_set_quiet_warnings(ls->ctx, 1); /* a not-PD message is reported below */
     int rc = ls->type->factor(ls->state, A, &ls->stats, ls->ctx);
+    eo_ctx_set_quiet_warnings(ls->ctx, quiet);
     ls->stats.t_factor += eo_wtime() - t;
     ls->stats.n_factor++;
     if (rc == EO_OK) ls->factored = 1;
+    if (rc == EO_WARN_NOT_PD) {
+        ls->stats.n_not_pd++;
+        if (!ls->expect_not_pd && !ls->warned_not_pd && !quiet) {
+            ls->warned_not_pd = 1;
+            eo_log(ls->ctx, EO_LOG_WARN, "%s (a matrix expected to be positive definite; later failures of this "
+                   "solver are counted as n_not_pd, not printed)", eo_ctx_message(ls->ctx));
+        } else {
+            eo_log(ls->ctx, EO_LOG_DEBUG, "%s", eo_ctx_message(ls->ctx));
+        }
+    } else if (rc > 0 && !quiet) {
+        eo_log(ls->ctx, EO_LOG_WARN, "%s", eo_ctx_message(ls->ctx));
+    }
     return rc;
 }
+
+int eo_linsolve_set_expect_not_pd(eo_linsolve *ls, int on)
+{
+    int old = ls->expect_not_pd;
+    ls->expect_not_pd = on != 0;
+    return old;
+}
+
+int eo_linsolve_get_expect_not_pd(const eo_linsolve *ls) { return ls->expect_not_pd; }
 
 int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x)
 {
@@ -130,9 +154,22 @@ int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x)
     ls->stats.residual = -1;
     ls->stats.curvature = 0;
     double t = eo_wtime();
+    int quiet = eo_ctx_set_quiet_warnings(ls->ctx, 1);
     int rc = ls->type->solve(ls->state, b, x, &ls->stats, ls->ctx);
+    eo_ctx_set_quiet_warnings(ls->ctx, quiet);
     ls->stats.t_solve += eo_wtime() - t;
     ls->stats.n_solve++;
+    /* cg/pcg/gmres meeting pᵀAp <= 0: expected on an unprojected Hessian like a failed
+     * factorization (the caller counts it, eo_solve_result.n_neg_curvature) */
+    if (rc == EO_WARN_NOT_PD && (ls->expect_not_pd || ls->warned_not_pd || quiet)) {
+        eo_log(ls->ctx, EO_LOG_DEBUG, "%s", eo_ctx_message(ls->ctx));
+    } else if (rc == EO_WARN_NOT_PD) {
+        ls->warned_not_pd = 1;
+        eo_log(ls->ctx, EO_LOG_WARN, "%s (a matrix expected to be positive definite; later failures of this "
+               "solver are counted, not printed)", eo_ctx_message(ls->ctx));
+    } else if (rc > 0 && !quiet) {
+        eo_log(ls->ctx, EO_LOG_WARN, "%s", eo_ctx_message(ls->ctx));
+    }
     return rc;
 }
 
