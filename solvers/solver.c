@@ -38,7 +38,7 @@ struct eo_solver {
 struct eo_stop_state {
     int n, begun;
     double *dinv;              /* n: 1/Dᵢ of the objective's metric (1 where it has none) */
-    double g0, gm0, floor_dec, floor_grad;
+    double g0, gm0, floor_dec, floor_grad, g_scale;
     double gm_last;            /* ‖∇g‖_{D⁻¹} of the last call with a gradient (same iterate) */
 };
 
@@ -105,8 +105,9 @@ static void stop_begin(const eo_solver_ctx *sc, struct eo_stop_state *st, const 
     if (x && eo_objective_rounding_scale(obj, x, rs) >= 0 && isfinite(rs[0]) && isfinite(rs[1])) {
         st->floor_dec = EO_STOP_FLOOR * e2 * rs[0];
         st->floor_grad = EO_STOP_FLOOR * e2 * rs[1];
+        st->g_scale = rs[0];
     } else {
-        st->floor_dec = st->floor_grad = 0;
+        st->floor_dec = st->floor_grad = st->g_scale = 0;
     }
     st->begun = 1;
 }
@@ -123,6 +124,7 @@ int eo_solver_stop_check(const eo_solver_ctx *sc, eo_stop_info *si, const double
     si->grad_metric0 = st->gm0;
     si->floor_dec = st->floor_dec;
     si->floor_grad = st->floor_grad;
+    si->g_scale = st->g_scale;
     return sc->stop->check(sc->stop_params, si);
 }
 

@@ -139,6 +139,8 @@ typedef struct eo_stop_info {
     double grad_metric0;  ///< the same at x₀
     double floor_dec;     ///< rounding floor of λ²/2 at x₀, units of g (0: none)
     double floor_grad;    ///< rounding floor of ‖∇g‖²_{D⁻¹}/2 at x₀, units of g (0: none)
+    double g_scale;       ///< the objective's rounding scale s[0] at x₀ (units of g; 0: none):
+                          ///< ε·g_scale is the rounding level of g itself
 } eo_stop_info;
 
 /// Which measure of progress eo_stop_info carries (eo_stop_info.measure).

@@ -99,6 +99,7 @@ typedef struct eo_stop_info {
     int iteration; double g, g_prev; double grad_norm; double grad_norm0; double decrement;
     double decrement0; double decrement_prev; double step_norm; double x_norm; double tol;
     int measure; double g0; double grad_metric; double grad_metric0; double floor_dec; double floor_grad;
+    double g_scale;
 } eo_stop_info;
 typedef struct eo_stop_type {
     eo_method_info info;

@@ -84,9 +84,12 @@ static int reldec_check(const void *params, const eo_stop_info *si)
     /* no first decrement measured: progress by the gradient, never an absolute test */
     if (!(si->decrement0 > 0) || !isfinite(si->decrement0)) return gradient_measure(si);
     if (si->decrement <= si->tol * si->tol * si->decrement0) return EO_CONVERGED_DECREMENT;
-    /* the plateau: below what g resolves, at the scale of g at the start or now */
+    /* the plateau: below what g resolves, at the scale of g at the start or now, or of
+     * the terms g is summed from (the objective's rounding scale: g itself may be a
+     * small difference of large terms, e.g. a body at rest) */
     double gs = fabs(si->g);
     if (isfinite(si->g0) && fabs(si->g0) > gs) gs = fabs(si->g0);
+    if (si->g_scale > gs) gs = si->g_scale;
     if (si->decrement <= p->plateau * gs && si->decrement > si->decrement_prev / 4) return EO_CONVERGED_DECREMENT;
     return 0;
 }
