@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import logging
+import os
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Tuple, Union
 
 from ._ffi import ffi, lib, string
@@ -53,6 +54,7 @@ _pending = []
 
 
 def set_pending(exc: BaseException) -> None:
+    """Keep an exception raised in a callback called from C; check() re-raises it."""
     _pending.append(exc)
 
 

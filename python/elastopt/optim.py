@@ -184,7 +184,8 @@ class SolveProblem(Objective):
         return self._k
 
 
-def string_or(p):
+def string_or(p: Any) -> str:
+    """C string to str ('' for NULL)."""
     return ffi.string(p).decode() if p != ffi.NULL else ""
 
 

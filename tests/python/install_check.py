@@ -2,7 +2,6 @@
 venv's python from a folder outside the source tree, with no variable pointing at the
 build tree. Usage: install_check.py SOURCE_ROOT (only to assert nothing is loaded from it)."""
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
