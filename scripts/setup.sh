@@ -7,6 +7,7 @@ pkgs=(meson ninja-build pkg-config gcc liblapacke-dev libopenblas-dev libsuitesp
       libnlopt-dev coinor-libipopt-dev libhypre-dev libjansson-dev gnuplot-nox valgrind python3-jsonschema
       g++ libtet1.5-dev   # g++ + libtet1.5-dev: TetGen for surface meshes (-Dtetgen)
       python3-numpy python3-cffi python3-scipy   # the Python package (python/elastopt)
+      python3-mesonpy python3-venv               # pip install of it (pyproject.toml, docs/python.md)
       petsc-dev openmpi-bin libopenmpi-dev)      # the PETSc / MPI backend (-Dpetsc) and its mpirun tests
 missing=()
 for p in "${pkgs[@]}"; do

@@ -1,17 +1,30 @@
 """The process-wide context, errors and small helpers shared by the modules."""
+from __future__ import annotations
+
 import json
 import logging
+import os
+from typing import Any, Dict, Iterable, List, Mapping, Optional, Tuple, Union
 
 from ._ffi import ffi, lib, string
 
 log = logging.getLogger("elastopt")
 
 
+#: scene / solver overrides: a dict {"time.steps": 20, ...} or "key=value" strings (the CLI's -o)
+Overrides = Union[Mapping[str, Any], Iterable[str], str, None]
+
+
 class ElastoptError(Exception):
     """An error returned by the C library: `status` (negative eo_status), `name`
-    ("EO_ERR_PARSE") and `message` (the context's message: file, line, element)."""
+    ("EO_ERR_PARSE") and `message` (the context's message: file, line, element);
+    str(error) is "message [name]"."""
 
-    def __init__(self, status, message):
+    status: int
+    name: str
+    message: str
+
+    def __init__(self, status: int, message: str) -> None:
         self.status = status
         self.name = string(lib.eo_status_name(status))
         self.message = message
@@ -40,11 +53,12 @@ lib.eo_ctx_set_logger(ctx, _logger, ffi.NULL, 2)
 _pending = []
 
 
-def set_pending(exc):
+def set_pending(exc: BaseException) -> None:
+    """Keep an exception raised in a callback called from C; check() re-raises it."""
     _pending.append(exc)
 
 
-def check(rc):
+def check(rc: int) -> int:
     """Raise for a negative status (the pending Python exception of a callback first)."""
     if _pending:
         exc = _pending.pop()
@@ -58,7 +72,7 @@ def check(rc):
     return rc
 
 
-def c_error(status, text, in_ctx=None):
+def c_error(status: int, text: str, in_ctx: Any = None) -> int:
     """Record an error message in a context (default the package's; from a callback:
     the one the C caller reads) and return status."""
     loc = ffi.new("eo_errloc *", {"file": ffi.NULL, "line": -1, "column": -1,
@@ -67,7 +81,7 @@ def c_error(status, text, in_ctx=None):
                            ffi.new("char[]", text.encode()))
 
 
-def take_json(j):
+def take_json(j: Any) -> Any:
     """A new json_t reference to a Python object (the reference is released)."""
     if j == ffi.NULL:
         raise MemoryError("elastopt: JSON echo failed")
@@ -81,7 +95,7 @@ def take_json(j):
         lib.json_delete(j)
 
 
-def override_text(key, value):
+def override_text(key: str, value: Any) -> str:
     """`key=value` of an -o override: strings as they are (the CLI's rule: JSON if it
     parses as JSON, else a string), everything else as JSON."""
     if isinstance(value, str):
@@ -89,7 +103,7 @@ def override_text(key, value):
     return f"{key}={json.dumps(value)}"
 
 
-def overrides_list(overrides):
+def overrides_list(overrides: Overrides) -> List[str]:
     """A dict {key: value} or an iterable of "key=value" strings -> list of str."""
     if overrides is None:
         return []
@@ -100,20 +114,22 @@ def overrides_list(overrides):
     return list(overrides)
 
 
-def reason_name(r):
+def reason_name(r: int) -> str:
+    """The name of an eo_reason value ("converged_decrement", "diverged_max_iters", ...)."""
     return string(lib.eo_reason_name(r))
 
 
-def live_bytes():
+def live_bytes() -> int:
     """Bytes allocated through the package's context and not yet freed."""
     return lib.eo_ctx_live_bytes(ctx)
 
 
-def abi_version():
+def abi_version() -> int:
+    """The library's ABI version (plugin.h EO_ABI_VERSION)."""
     return lib.eo_abi_version()
 
 
-def methods(kind=None):
+def methods(kind: Optional[str] = None) -> Union[Dict[str, List[Tuple[str, str]]], List[Tuple[str, str]]]:
     """Registered methods: {kind: [(name, summary), ...]} or the list of one kind
     ("optimizer", "hessian_fix", "linesearch", "stop", "linear", "material",
     "integrator", "scene")."""
@@ -137,6 +153,7 @@ def methods(kind=None):
     return out
 
 
-def load_plugin(path):
-    """Load a plug-in shared object (plugin.h) into this process's registries."""
+def load_plugin(path: Union[str, "os.PathLike[str]"]) -> None:
+    """Load a plug-in shared object (plugin.h) into this process's registries;
+    ElastoptError with the library's message if it cannot."""
     check(lib.eo_plugin_load(ctx, str(path).encode()))

@@ -7,15 +7,24 @@ compares them with cffi's, so a header change that is not made here fails a test
 
 Library search (first hit wins):
   1. $ELASTOPT_LIB (a path to libelastopt.so[.0])
-  2. the build tree: $EO_BUILD_ROOT, then <source root>/build (meson puts the library at
-     the top of the build folder)
-  3. the installed library: ctypes.util.find_library("elastopt")
-The benchmark harness (not part of the installed library) is found as $ELASTOPT_BENCH_LIB
-or bench/harness/libelastopt_bench.so next to the build tree's libelastopt.
+  2. installed with the package (pip install, the wheel layout -Dpython_wheel=true):
+     libelastopt.so beside this file, or in meson-python's site-packages/.elastopt.mesonpy.libs
+  3. the build tree: $EO_BUILD_ROOT, then <source root>/build (meson puts the library at
+     the top of the build folder; only when the package is run from python/ of a source tree)
+  4. the system's library: ctypes.util.find_library("elastopt") (meson install)
+The benchmark harness (not part of the C library) is $ELASTOPT_BENCH_LIB, else
+libelastopt_bench.so beside the library found (installed package), else
+bench/harness/libelastopt_bench.so of the build tree. The CLI (cli_path()) likewise:
+$ELASTOPT_CLI, else the `elastopt` program beside the library, else cli/elastopt of the
+build tree.
 """
+from __future__ import annotations
+
 import ctypes.util
 import os
+import shutil
 from pathlib import Path
+from typing import Any, Iterator
 
 import cffi
 
@@ -270,18 +279,23 @@ REASONS = {  # name -> value (status.h EO_REASON_LIST)
     "diverged_not_contracting": -10,
 }
 
-_SOURCE_ROOT = Path(__file__).resolve().parents[2]
+PACKAGE_DIR = Path(__file__).resolve().parent
+_SOURCE_ROOT = PACKAGE_DIR.parents[1]
 
 
-def _candidates():
+def _candidates() -> Iterator[Path]:
     env = os.environ.get("ELASTOPT_LIB")
     if env:
         yield Path(env)
         return
+    yield PACKAGE_DIR / "libelastopt.so"
+    for name in ("libelastopt.so", "libelastopt.so.0"):
+        yield PACKAGE_DIR.parent / ".elastopt.mesonpy.libs" / name
     roots = []
     if os.environ.get("EO_BUILD_ROOT"):
         roots.append(Path(os.environ["EO_BUILD_ROOT"]))
-    roots.append(_SOURCE_ROOT / "build")
+    if (_SOURCE_ROOT / "python" / "elastopt").resolve() == PACKAGE_DIR:
+        roots.append(_SOURCE_ROOT / "build")
     for r in roots:
         for name in ("libelastopt.so.0", "libelastopt.so"):
             yield r / name
@@ -290,7 +304,7 @@ def _candidates():
         yield Path(found)
 
 
-def _load():
+def _load() -> tuple[Any, Path]:
     tried = []
     for c in _candidates():
         tried.append(str(c))
@@ -303,8 +317,10 @@ def _load():
             return ffi.dlopen(str(c), ffi.RTLD_NOW | ffi.RTLD_GLOBAL), Path(c)
         except OSError as e:
             tried[-1] += f" ({e})"
-    raise ImportError("elastopt: libelastopt.so not found; build it (meson setup build && "
-                      "ninja -C build) or set ELASTOPT_LIB. Tried: " + "; ".join(tried))
+    raise ImportError("elastopt: libelastopt.so not found; install the package (pip install "
+                      "--no-build-isolation <source root>, docs/python.md), build it (meson "
+                      "setup build && ninja -C build) or set ELASTOPT_LIB. Tried: "
+                      + "; ".join(tried))
 
 
 lib, lib_path = _load()
@@ -312,22 +328,47 @@ lib, lib_path = _load()
 _bench = None
 
 
-def bench_lib():
+def bench_lib() -> Any:
     """The harness library (loaded on first use)."""
     global _bench
     if _bench is not None:
         return _bench
     env = os.environ.get("ELASTOPT_BENCH_LIB")
-    cands = [Path(env)] if env else [lib_path.resolve().parent / "bench" / "harness" / "libelastopt_bench.so"]
+    here = lib_path.resolve().parent
+    cands = [Path(env)] if env else [here / "libelastopt_bench.so",
+                                     here / "bench" / "harness" / "libelastopt_bench.so"]
     for c in cands:
         if c.exists():
             _bench = ffi.dlopen(str(c), ffi.RTLD_NOW | ffi.RTLD_GLOBAL)
             return _bench
     raise ImportError("elastopt: the benchmark harness libelastopt_bench.so was not found "
-                      "(it is built in the build tree, not installed); set ELASTOPT_BENCH_LIB. "
-                      "Tried: " + ", ".join(map(str, cands)))
+                      "(pip installs it with the package; meson install does not); set "
+                      "ELASTOPT_BENCH_LIB. Tried: " + ", ".join(map(str, cands)))
 
 
-def string(p):
+def cli_path() -> Path:
+    """The `elastopt` command matching the loaded library: $ELASTOPT_CLI, else the program
+    installed beside the library (pip), else cli/elastopt of the build tree, else the
+    `elastopt` on PATH when the library is a system one (meson install).
+    FileNotFoundError if there is none."""
+    env = os.environ.get("ELASTOPT_CLI")
+    here = lib_path.resolve().parent
+    cands = [Path(env)] if env else [here / "elastopt", here / "cli" / "elastopt"]
+    if not env:
+        on_path = shutil.which("elastopt")
+        if on_path:   # a program, not the Python wrapper pip writes (which would loop)
+            cands.append(Path(on_path))
+    for c in cands:
+        if c.is_file() and os.access(c, os.X_OK):
+            if env:
+                return c
+            with open(c, "rb") as f:
+                if f.read(4) == b"\x7fELF":
+                    return c
+    raise FileNotFoundError("elastopt: the elastopt program was not found beside "
+                            f"{lib_path}; set ELASTOPT_CLI. Tried: " + ", ".join(map(str, cands)))
+
+
+def string(p: Any) -> str:
     """C string to str ('' for NULL)."""
     return ffi.string(p).decode("utf-8", "replace") if p != ffi.NULL else ""

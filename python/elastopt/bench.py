@@ -1,10 +1,13 @@
 """The speed-against-error benchmark (bench.h) run in this process, so that optimizers
 registered from Python are timed beside the built-in ones."""
+from __future__ import annotations
+
 import csv
 import json
 import os
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any, Callable, Dict, Optional, Union
 
 from ._core import check, ctx, set_pending
 from ._ffi import bench_lib, ffi, string
@@ -26,7 +29,7 @@ class BenchResult:
     rows: list = field(default_factory=list)   # summary.csv, one dict per scene x config
     files: dict = field(default_factory=dict)  # name -> path of every output file
 
-    def row(self, scene, config):
+    def row(self, scene: str, config: str) -> Dict[str, str]:
         """The summary.csv row of one scene and configuration."""
         for r in self.rows:
             if r["scene"] == scene and r["config"] == config:
@@ -34,7 +37,7 @@ class BenchResult:
         raise KeyError((scene, config))
 
 
-def _absolute_files(suite, base):
+def _absolute_files(suite: dict, base: Union[str, Path]) -> dict:
     """Copy of a suite dict whose relative scene `file` entries are made absolute
     (relative to `base`), since the suite is written elsewhere."""
     s = json.loads(json.dumps(suite))
@@ -44,14 +47,20 @@ def _absolute_files(suite, base):
     return s
 
 
-def run_bench(suite, out_dir, *, repeats=0, plots=False, progress=None, base_dir=None):
+def run_bench(suite: Union[str, "os.PathLike[str]", dict], out_dir: Union[str, "os.PathLike[str]"], *,
+              repeats: int = 0, plots: Optional[bool] = False,
+              progress: Optional[Callable[[dict], Any]] = None,
+              base_dir: Union[str, "os.PathLike[str]", None] = None) -> BenchResult:
     """Run a benchmark suite: a suite file (bench/*.json) or a dict with the same keys
     (written to OUT_DIR/suite.json; relative scene files resolved against base_dir,
     default the current folder). repeats > 0 overrides the suite's repeats; plots:
     False (no gnuplot), True, or None (the suite's choice). progress: fn(dict) with
     scene, config, phase, fraction, eta. Returns a BenchResult with the parsed
     summary.csv rows and the paths of curves.csv, summary.csv, trajectory.csv,
-    reference.csv, report.md, plots/."""
+    reference.csv, report.md, plots/. ElastoptError for a bad suite (the library's
+    message); an exception raised by progress or by a Python optimizer is re-raised.
+    Uses the benchmark harness library installed with the package (pip) or built in the
+    build tree."""
     b = bench_lib()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

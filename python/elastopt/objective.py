@@ -4,7 +4,15 @@ An Objective wraps a borrowed `eo_objective *`: the step problem of a Sim (Sim.p
 valid until the sim steps, trials, resets or changes state) or the problem handed to a
 Python optimizer (valid during its call). Every call counts in the objective's
 evaluation counters exactly like the C inline wrappers do.
+
+Arrays: a method's result (gradient(), hessian(), metric()) is a new array owned by the
+caller; arrays that describe the problem (StepProblem.guess, SolveProblem.grad0, the x and
+grad handed to a direction function) are read-only copies (writing raises ValueError).
 """
+from __future__ import annotations
+
+from typing import Any, Tuple, Union
+
 import numpy as np
 
 from ._core import check
@@ -16,7 +24,16 @@ except ImportError:  # pragma: no cover - exercised only without SciPy
     _sp = None
 
 
-def as_c(x, n, what="x"):
+ArrayLike = Any   # anything np.asarray takes: ndarray, list, ...
+
+
+def readonly(a: np.ndarray) -> np.ndarray:
+    """a, made read-only (a copy the library will not see: writing raises ValueError)."""
+    a.flags.writeable = False
+    return a
+
+
+def as_c(x: ArrayLike, n: int, what: str = "x") -> Tuple[np.ndarray, Any]:
     """A contiguous float64 copy-or-view of x with n entries and its C pointer."""
     a = np.ascontiguousarray(x, dtype=np.float64).reshape(-1)
     if a.size != n:
@@ -24,7 +41,7 @@ def as_c(x, n, what="x"):
     return a, ffi.from_buffer("double[]", a)
 
 
-def from_c(ptr, n, dtype=np.float64):
+def from_c(ptr: Any, n: int, dtype: Any = np.float64) -> np.ndarray:
     """A numpy copy of n values at a C pointer."""
     if n == 0:
         return np.zeros(0, dtype=dtype)
@@ -32,14 +49,15 @@ def from_c(ptr, n, dtype=np.float64):
     return np.frombuffer(ffi.buffer(ptr, n * size), dtype=dtype).copy()
 
 
-def csc_arrays(H):
+def csc_arrays(H: Any) -> Tuple[int, np.ndarray, np.ndarray, np.ndarray]:
     """(n, colptr, rowind, val) copies of an eo_csc (upper triangle)."""
     n, nnz = H.n, H.nnz
     return (n, from_c(H.colptr, n + 1, np.int32), from_c(H.rowind, nnz, np.int32),
             from_c(H.val, nnz))
 
 
-def symmetric_full(n, colptr, rowind, val):
+def symmetric_full(n: int, colptr: np.ndarray, rowind: np.ndarray,
+                   val: np.ndarray) -> Tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Both triangles of a symmetric matrix stored by its upper triangle (CSC):
     (indptr, indices, data) of the full matrix in CSC, rows sorted in each column."""
     cols = np.repeat(np.arange(n, dtype=np.int64), np.diff(colptr))
@@ -57,21 +75,21 @@ def symmetric_full(n, colptr, rowind, val):
 class Objective:
     """g(x) over `n` free coordinates (objective.h)."""
 
-    def __init__(self, obj, owner=None):
+    def __init__(self, obj: Any, owner: Any = None) -> None:
         self._obj = obj
         self._owner = owner   # object whose lifetime bounds the borrowed pointer
 
-    def _o(self):
+    def _o(self) -> Any:
         if self._owner is not None:
             self._owner._check_alive(self)
         return self._obj
 
     @property
-    def n(self):
+    def n(self) -> int:
         """Number of free coordinates."""
         return self._o().n
 
-    def value(self, x):
+    def value(self, x: ArrayLike) -> float:
         """g(x) (+inf where undefined, e.g. an inverted element of a barrier material)."""
         o = self._o()
         a, p = as_c(x, o.n)
@@ -80,8 +98,9 @@ class Objective:
         check(o.ops.value(o.data, p, g))
         return g[0]
 
-    def gradient(self, x):
-        """(g(x), ∇g(x)) as (float, ndarray of n)."""
+    def gradient(self, x: ArrayLike) -> Tuple[float, np.ndarray]:
+        """(g(x), ∇g(x)) as (float, ndarray of n); the gradient is a new array owned by
+        the caller (writable; the library keeps no reference to it)."""
         o = self._o()
         a, p = as_c(x, o.n)
         g = ffi.new("double *")
@@ -90,7 +109,8 @@ class Objective:
         check(o.ops.gradient(o.data, p, g, ffi.from_buffer("double[]", grad)))
         return g[0], grad
 
-    def hessian(self, x, proj="none", upper=False):
+    def hessian(self, x: ArrayLike, proj: str = "none",
+                upper: bool = False) -> Union[Any, Tuple[np.ndarray, np.ndarray, np.ndarray]]:
         """∇²g(x) assembled with the per-element projection `proj` ("none": the true
         Hessian, "clamp", "abs"). Returns a scipy.sparse.csc_matrix of the whole
         symmetric matrix (upper=True: its stored upper triangle only, diagonal included);
@@ -112,7 +132,7 @@ class Objective:
         indptr, indices, data = arrs
         return _sp.csc_matrix((data, indices, indptr), shape=(n, n))
 
-    def metric(self):
+    def metric(self) -> np.ndarray | None:
         """The objective's diagonal metric (lumped mass over the free coordinates for a
         step problem), or None if it has none."""
         o = self._o()
@@ -123,7 +143,7 @@ class Objective:
             return None
         return d
 
-    def inverted_count(self, x):
+    def inverted_count(self, x: ArrayLike) -> int:
         """Inverted elements at x (-1 if the objective does not count them)."""
         o = self._o()
         if o.ops.inverted_count == ffi.NULL:
@@ -132,7 +152,7 @@ class Objective:
         return o.ops.inverted_count(o.data, p)
 
     @property
-    def counts(self):
+    def counts(self) -> dict:
         """Evaluations so far: {"value", "gradient", "hessian"}."""
         o = self._o()
         return {"value": o.n_value, "gradient": o.n_gradient, "hessian": o.n_hessian}

@@ -20,14 +20,25 @@ bench suites (timed beside the built-in methods: the harness runs them in this p
 
 An exception raised by f stops the minimization with an error; the call that ran it
 (Sim.step, bench, ...) re-raises that exception.
+Arrays: the x and grad handed to a direction function and SolveProblem.grad0 are
+read-only copies (writing raises ValueError); the x0 handed to a minimize function is a
+writable copy owned by it.
 """
+from __future__ import annotations
+
 import math
+from typing import Any, Callable, List, Optional, Tuple, Union
 
 import numpy as np
 
 from ._core import c_error, check, ctx, reason_name, set_pending
 from ._ffi import EO_ERR_INVALID, REASONS, ffi, lib
-from .objective import Objective, as_c, from_c
+from .objective import ArrayLike, Objective, as_c, from_c, readonly
+
+#: minimize(problem, x0) -> (x, iterations, converged or reason name)
+MinimizeFn = Callable[["SolveProblem", np.ndarray], Tuple[ArrayLike, int, Union[bool, str, None]]]
+#: direction(problem, x, g, grad) -> p or (p, alpha0); None: no descent direction
+DirectionFn = Callable[["SolveProblem", np.ndarray, float, np.ndarray], Any]
 
 _registered = {}   # name -> _Registration (keeps the callbacks alive)
 
@@ -37,7 +48,10 @@ class SolveProblem(Objective):
     the objective (value, gradient, hessian, metric, inverted_count) plus the solver
     settings. Valid only during the call."""
 
-    def __init__(self, sc, name):
+    g0: float               #: g at the start point (minimize form)
+    grad0: np.ndarray       #: ∇g at the start point (minimize form; read-only)
+
+    def __init__(self, sc: Any, name: str) -> None:
         super().__init__(sc.obj, owner=self)
         self._sc = sc
         self._alive = True
@@ -59,12 +73,14 @@ class SolveProblem(Objective):
             raise ValueError("elastopt: a SolveProblem is valid only during its minimize call")
 
     @property
-    def elapsed(self):
+    def elapsed(self) -> float:
         """Seconds since the start of this minimization."""
         return lib.eo_wtime() - self._t0
 
-    def stop(self, g, grad_norm, decrement=math.nan, *, g_prev=math.nan, step_norm=math.nan,
-             x_norm=math.nan, iteration=None, x=None, grad=None):
+    def stop(self, g: float, grad_norm: float, decrement: float = math.nan, *,
+             g_prev: float = math.nan, step_norm: float = math.nan, x_norm: float = math.nan,
+             iteration: Optional[int] = None, x: Optional[ArrayLike] = None,
+             grad: Optional[ArrayLike] = None) -> Optional[str]:
         """The configured stopping rule (solver.stop with solver.tol) at an iterate:
         the reason name if converged ("converged_decrement", ...), else None. A rule that
         needs the decrement (newton_decrement) says None while decrement is NaN. With the
@@ -91,7 +107,9 @@ class SolveProblem(Objective):
         self._dec_prev = decrement
         return reason_name(r) if r > 0 else None
 
-    def line_search(self, x, p, g=None, grad=None, alpha0=1.0, c2=0.0):
+    def line_search(self, x: ArrayLike, p: ArrayLike, g: Optional[float] = None,
+                    grad: Optional[ArrayLike] = None, alpha0: float = 1.0, c2: float = 0.0
+                    ) -> Tuple[np.ndarray, float, float, int, Optional[np.ndarray], bool]:
         """The configured line search (solver.linesearch) from x along the descent
         direction p, first trial alpha0: (x_new, g_new, alpha, evaluations, grad_new or
         None, ok). ok is False when no acceptable step was found (x_new is then the best
@@ -131,10 +149,11 @@ class SolveProblem(Objective):
         gn = float(np.linalg.norm(grad)) if math.isfinite(g) else math.nan
         self._gn0 = gn
         self._dec0 = self._dec_prev = math.nan
-        self.g0, self.grad0 = g, grad
+        self.g0, self.grad0 = g, readonly(grad)
         self._pending = (np.array(x0, dtype=float), g, gn, math.nan, self.inverted_count(x0))
 
-    def report(self, x, g=None, grad=None, *, decrement=math.nan, alpha=math.nan, ls_evals=0):
+    def report(self, x: ArrayLike, g: Optional[float] = None, grad: Optional[ArrayLike] = None, *,
+               decrement: float = math.nan, alpha: float = math.nan, ls_evals: int = 0) -> bool:
         """Record the step just accepted: x = the new iterate x_{k+1} with g(x) and ∇g(x)
         (evaluated here if not given), `decrement`, `alpha` and `ls_evals` describing the
         step from x_k (the benchmark's time of x_{k+1} is now). Returns True if the run
@@ -160,12 +179,13 @@ class SolveProblem(Objective):
         return False
 
     @property
-    def iteration(self):
+    def iteration(self) -> int:
         """Index k of the last reported iterate (0 = the start point)."""
         return self._k
 
 
-def string_or(p):
+def string_or(p: Any) -> str:
+    """C string to str ('' for NULL)."""
     return ffi.string(p).decode() if p != ffi.NULL else ""
 
 
@@ -250,7 +270,7 @@ class _Registration:
         prob = SolveProblem(sc, self.name)
         n = sc.obj.n
         try:
-            out = self.direction(prob, from_c(x, n), g, from_c(grad, n))
+            out = self.direction(prob, readonly(from_c(x, n)), g, readonly(from_c(grad, n)))
             a0 = 1.0
             if isinstance(out, tuple):
                 out, a0 = out
@@ -273,8 +293,9 @@ class _Registration:
             lib.eo_callback_optimizer_destroy(self._p)
 
 
-def register_optimizer(name, minimize=None, direction=None, *, summary=None,
-                       needs_hessian=False, newton_decrement=False):
+def register_optimizer(name: str, minimize: Optional[MinimizeFn] = None,
+                       direction: Optional[DirectionFn] = None, *, summary: Optional[str] = None,
+                       needs_hessian: bool = False, newton_decrement: bool = False) -> str:
     """Register a Python optimizer under `name` (see the module text). Exactly one of
     `minimize` and `direction`. `needs_hessian`: it evaluates Hessians (a bench matrix
     then makes one configuration per Hessian fix). `newton_decrement`: its directions are
@@ -293,21 +314,27 @@ def register_optimizer(name, minimize=None, direction=None, *, summary=None,
     return name
 
 
-def optimizer(name, *, form="minimize", **kw):
-    """Decorator: @elastopt.optimizer("my_gd", form="direction")."""
-    def deco(fn):
+def optimizer(name: str, *, form: str = "minimize", **kw: Any) -> Callable[[Callable], Callable]:
+    """Decorator: @elastopt.optimizer("my_gd", form="direction") registers the function
+    (form "minimize" or "direction"; keywords as register_optimizer's)."""
+    if form not in ("minimize", "direction"):
+        raise ValueError(f"form {form!r}; valid: minimize, direction")
+
+    def deco(fn: Callable) -> Callable:
         register_optimizer(name, **{form: fn}, **kw)
         return fn
     return deco
 
 
-def unregister_optimizer(name):
-    """Remove a Python optimizer (no solver using it may be alive)."""
+def unregister_optimizer(name: str) -> None:
+    """Remove a Python optimizer (no solver using it may be alive); KeyError if there is
+    no Python optimizer of that name."""
     r = _registered.pop(name, None)
     if r is None:
         raise KeyError(f"no Python optimizer {name!r}")
     r.close()
 
 
-def registered_optimizers():
+def registered_optimizers() -> List[str]:
+    """Names of the optimizers registered from Python (sorted)."""
     return sorted(_registered)

@@ -1,13 +1,28 @@
-"""Sim: a scene, its step engine and a solver, stepped from Python (sim.h, eo_sim)."""
+"""Sim: a scene, its step engine and a solver, stepped from Python (sim.h, eo_sim).
+
+Arrays: every array a Sim hands out is a read-only copy (positions, velocities,
+rest_positions, initial_positions, tets, vertex_mass, StepProblem.guess, the x of an
+on_iteration callback): the library's own memory is never exposed, so an array stays
+valid (and unchanged) after the sim steps or is closed, and writing into one raises
+ValueError instead of silently changing nothing. To change the state assign
+(`sim.positions = x`, `sim.velocities = v`) or call set_state(); get_state() returns
+writable copies owned by the caller (a snapshot to edit and pass back).
+"""
+from __future__ import annotations
+
 import json
 import os
 from dataclasses import dataclass, field
+from typing import Any, Callable, List, Optional, Tuple, Union
 
 import numpy as np
 
-from ._core import check, ctx, overrides_list, reason_name, take_json, set_pending
+from ._core import Overrides, check, ctx, overrides_list, reason_name, take_json, set_pending
 from ._ffi import REASONS, ffi, lib
-from .objective import Objective, as_c, from_c
+from .objective import ArrayLike, Objective, as_c, from_c, readonly
+
+PathLike = Union[str, "os.PathLike[str]"]
+IterCallback = Callable[[dict, Optional[np.ndarray]], Any]
 
 
 @dataclass
@@ -41,7 +56,7 @@ class SolveResult:
     evaluations: dict = field(default_factory=dict)
 
 
-def _stats(s):
+def _stats(s: Any) -> dict:
     return {"com": [s.com[0], s.com[1], s.com[2]], "max_disp": s.max_disp, "min_J": s.min_J,
             "max_J": s.max_J, "inverted": s.inverted, "kinetic": s.kinetic,
             "elastic": s.elastic, "gravity": s.gravity, "contact": s.contact,
@@ -49,14 +64,14 @@ def _stats(s):
             "total_energy": s.total_energy}
 
 
-def _solve_result(r):
+def _solve_result(r: Any) -> SolveResult:
     return SolveResult(reason_name(r.reason), r.reason > 0, r.iterations, r.g, r.grad_norm,
                        r.decrement, r.time,
                        {"value": r.n_value, "gradient": r.n_gradient, "hessian": r.n_hessian,
                         "factor": r.n_factor})
 
 
-def iter_info_dict(info):
+def iter_info_dict(info: Any) -> dict:
     """An eo_iter_info as a dict (x copied only on request: see Sim.on_iteration)."""
     return {"iteration": info.iteration, "time": info.time, "g": info.g,
             "grad_norm": info.grad_norm, "decrement": info.decrement, "alpha": info.alpha,
@@ -64,7 +79,7 @@ def iter_info_dict(info):
             "inverted": info.inverted, "reason": reason_name(info.reason) if info.reason else None}
 
 
-def _solver_cfg(overrides):
+def _solver_cfg(overrides: Overrides) -> Tuple[Any, Any]:
     """(opts, cfg) from solver.* overrides; the cfg must be destroyed by the caller."""
     ov = overrides_list(overrides)
     for o in ov:
@@ -86,9 +101,10 @@ def _solver_cfg(overrides):
 
 class Solver:
     """A stand-alone solver configuration (for Sim.trial), from solver.* overrides:
-    Solver({"solver.optimizer": "lbfgs", "solver.linesearch": "wolfe"})."""
+    Solver({"solver.optimizer": "lbfgs", "solver.linesearch": "wolfe"}). ElastoptError
+    for an unknown key or method (the library's message)."""
 
-    def __init__(self, overrides=None):
+    def __init__(self, overrides: Overrides = None) -> None:
         opts, cfgp = _solver_cfg(overrides)
         try:
             sp = ffi.new("eo_solver **")
@@ -98,11 +114,12 @@ class Solver:
         self._p = sp
 
     @property
-    def config(self):
+    def config(self) -> dict:
         """The effective solver section (every default filled in)."""
         return take_json(lib.eo_solver_to_json(self._p[0]))
 
-    def close(self):
+    def close(self) -> None:
+        """Destroy the solver (also done when the object is collected)."""
         p = getattr(self, "_p", None)
         if p is not None and p[0] != ffi.NULL:
             lib.eo_solver_destroy(p)
@@ -118,16 +135,18 @@ class StepProblem(Objective):
     """The next step's objective of a Sim (Sim.problem()): g, ∇g, Hessian at any x of
     the free coordinates, the starting guess, the free -> full coordinate map."""
 
-    def __init__(self, sim, obj, guess):
+    def __init__(self, sim: Sim, obj: Any, guess: Any) -> None:
         super().__init__(obj, owner=sim)
         self._sim = sim
         self._gen = sim._gen
-        self.guess = from_c(guess, obj.n)   # the solver's starting point (a copy)
+        #: the solver's starting point (n free coordinates; a read-only copy)
+        self.guess: np.ndarray = readonly(from_c(guess, obj.n))
         st = lib.eo_sim_step_problem(sim._s)
-        self.free_index = np.array([lib.eo_step_free_to_full(st, i) for i in range(obj.n)],
-                                   dtype=np.int64)
+        #: index in the flattened positions (3 nv) of each free coordinate (read-only)
+        self.free_index: np.ndarray = readonly(np.array(
+            [lib.eo_step_free_to_full(st, i) for i in range(obj.n)], dtype=np.int64))
 
-    def to_free(self, positions):
+    def to_free(self, positions: ArrayLike) -> np.ndarray:
         """The free coordinates of full positions (nv x 3 or 3 nv)."""
         return np.asarray(positions, dtype=np.float64).reshape(-1)[self.free_index].copy()
 
@@ -138,7 +157,8 @@ class Sim:
     of "key=value" strings (the CLI's -o). Everything is validated on creation;
     errors raise ElastoptError with the library's message (file, line, key)."""
 
-    def __init__(self, file=None, *, scene=None, overrides=None):
+    def __init__(self, file: Union[PathLike, dict, None] = None, *, scene: Optional[str] = None,
+                 overrides: Overrides = None) -> None:
         ov = overrides_list(overrides)
         sp = ffi.new("eo_sim **")
         if isinstance(file, dict):
@@ -170,7 +190,7 @@ class Sim:
         self._mesh = mesh
 
     # ---- lifetime
-    def close(self):
+    def close(self) -> None:
         """Destroy the simulation (also done when the object is collected)."""
         if getattr(self, "_sp", None) is not None and self._sp[0] != ffi.NULL:
             lib.eo_sim_destroy(self._sp)
@@ -183,10 +203,10 @@ class Sim:
         except Exception:  # interpreter shutdown: the library may be gone already
             pass
 
-    def __enter__(self):
+    def __enter__(self) -> Sim:
         return self
 
-    def __exit__(self, *a):
+    def __exit__(self, *a: Any) -> None:
         self.close()
 
     def _live(self):
@@ -205,7 +225,7 @@ class Sim:
 
     # ---- description
     @property
-    def config(self):
+    def config(self) -> dict:
         """The resolved scene configuration (every default filled in) with the solver's
         effective section, as in summary.json."""
         s = self._live()
@@ -214,49 +234,54 @@ class Sim:
         return d
 
     @property
-    def steps(self):
+    def steps(self) -> int:
         """The scene's time.steps."""
         return self.config["time"]["steps"]
 
     @property
-    def explicit(self):
+    def explicit(self) -> bool:
+        """The time integrator is explicit (steps solve no optimization problem)."""
         return bool(lib.eo_sim_is_explicit(self._live()))
 
     @property
-    def t(self):
+    def t(self) -> float:
+        """Simulated time (s)."""
         return lib.eo_sim_time(self._live())
 
     @property
-    def index(self):
+    def index(self) -> int:
+        """Steps done."""
         return lib.eo_sim_index(self._live())
 
     @property
-    def rest_positions(self):
-        """Rest positions (nv x 3)."""
+    def rest_positions(self) -> np.ndarray:
+        """Rest positions (nv x 3, a read-only copy)."""
         self._live()
-        return from_c(self._mesh.X, 3 * self.nv).reshape(self.nv, 3)
+        return readonly(from_c(self._mesh.X, 3 * self.nv).reshape(self.nv, 3))
 
     @property
-    def initial_positions(self):
-        """Positions at t = 0 (nv x 3)."""
+    def initial_positions(self) -> np.ndarray:
+        """Positions at t = 0 (nv x 3, a read-only copy)."""
         st = lib.eo_sim_step_problem(self._live())
-        return from_c(lib.eo_step_x0(st), 3 * self.nv).reshape(self.nv, 3)
+        return readonly(from_c(lib.eo_step_x0(st), 3 * self.nv).reshape(self.nv, 3))
 
     @property
-    def tets(self):
-        """Tet vertex indices (nt x 4)."""
+    def tets(self) -> np.ndarray:
+        """Tet vertex indices (nt x 4, a read-only copy)."""
         self._live()
-        return from_c(self._mesh.tets, 4 * self.nt, np.int32).reshape(self.nt, 4)
+        return readonly(from_c(self._mesh.tets, 4 * self.nt, np.int32).reshape(self.nt, 4))
 
     @property
-    def vertex_mass(self):
-        """Lumped mass of each vertex (nv)."""
+    def vertex_mass(self) -> np.ndarray:
+        """Lumped mass of each vertex (nv, a read-only copy)."""
         st = lib.eo_sim_step_problem(self._live())
-        return from_c(lib.eo_step_vertex_mass(st), self.nv)
+        return readonly(from_c(lib.eo_step_vertex_mass(st), self.nv))
 
     # ---- state
-    def get_state(self):
-        """(positions, velocities, t, index): positions and velocities nv x 3 (copies)."""
+    def get_state(self) -> Tuple[np.ndarray, np.ndarray, float, int]:
+        """(positions, velocities, t, index): positions and velocities nv x 3, writable
+        copies owned by the caller (a snapshot: writing into them changes nothing in
+        the sim until they are passed to set_state)."""
         s = self._live()
         x = np.empty(3 * self.nv)
         v = np.empty(3 * self.nv)
@@ -265,8 +290,10 @@ class Sim:
         lib.eo_sim_get_state(s, ffi.from_buffer("double[]", x), ffi.from_buffer("double[]", v), t, k)
         return x.reshape(self.nv, 3), v.reshape(self.nv, 3), t[0], k[0]
 
-    def set_state(self, positions=None, velocities=None, t=None, index=None):
-        """Set any part of the state (the rest is kept); copied."""
+    def set_state(self, positions: Optional[ArrayLike] = None, velocities: Optional[ArrayLike] = None,
+                  t: Optional[float] = None, index: Optional[int] = None) -> None:
+        """Set any part of the state (the rest is kept); the arrays are copied.
+        ValueError for arrays of the wrong size, ElastoptError from the library."""
         x0, v0, t0, k0 = self.get_state()
         x, px = as_c(x0 if positions is None else positions, 3 * self.nv, "positions")
         v, pv = as_c(v0 if velocities is None else velocities, 3 * self.nv, "velocities")
@@ -275,30 +302,34 @@ class Sim:
                                    k0 if index is None else int(index)))
 
     @property
-    def positions(self):
-        """Current positions, nv x 3 (a copy; assign to set them)."""
-        return self.get_state()[0]
+    def positions(self) -> np.ndarray:
+        """Current positions, nv x 3: a read-only copy (writing into it raises
+        ValueError; it does not change when the sim steps). Assign to set them:
+        `sim.positions = x` (nv x 3 or 3 nv values)."""
+        return readonly(self.get_state()[0])
 
     @positions.setter
-    def positions(self, x):
+    def positions(self, x: ArrayLike) -> None:
         self.set_state(positions=x)
 
     @property
-    def velocities(self):
-        """Current velocities, nv x 3 (a copy; assign to set them)."""
-        return self.get_state()[1]
+    def velocities(self) -> np.ndarray:
+        """Current velocities, nv x 3: a read-only copy (writing into it raises
+        ValueError). Assign to set them: `sim.velocities = v`."""
+        return readonly(self.get_state()[1])
 
     @velocities.setter
-    def velocities(self, v):
+    def velocities(self, v: ArrayLike) -> None:
         self.set_state(velocities=v)
 
-    def reset(self):
+    def reset(self) -> None:
         """Back to the scene's initial state (t = 0)."""
         self._changed()
         check(lib.eo_sim_reset(self._live()))
 
-    def fields(self):
-        """Per-tet fields of the current state: {"psi", "J", "inverted"} (nt each)."""
+    def fields(self) -> dict:
+        """Per-tet fields of the current state: {"psi", "J", "inverted"} (nt each; new
+        arrays owned by the caller)."""
         st = lib.eo_sim_step_problem(self._live())
         psi, J = np.empty(self.nt), np.empty(self.nt)
         inv = np.empty(self.nt, dtype=np.uint8)
@@ -307,7 +338,7 @@ class Sim:
         return {"psi": psi, "J": J, "inverted": inv.astype(bool)}
 
     # ---- solver
-    def set_solver(self, overrides):
+    def set_solver(self, overrides: Overrides) -> None:
         """Replace the solver: solver.* overrides on top of the defaults, e.g.
         {"solver.optimizer": "lbfgs", "solver.linesearch": "wolfe"}."""
         opts, cfgp = _solver_cfg(overrides)
@@ -317,13 +348,15 @@ class Sim:
             lib.eo_cfg_destroy(cfgp)
 
     @property
-    def on_iteration(self):
+    def on_iteration(self) -> Optional[IterCallback]:
+        """fn(info: dict, x: ndarray) called after every solver iteration of step()
+        (x: the iterate, a read-only copy); return True to stop that minimization
+        (reason diverged_external). None: none. An exception raised by fn stops the
+        step and is re-raised by step()."""
         return self._iter_fn
 
     @on_iteration.setter
-    def on_iteration(self, fn):
-        """fn(info: dict, x: ndarray) called after every solver iteration of step();
-        return True to stop that minimization (reason diverged_external). None: none."""
+    def on_iteration(self, fn: Optional[IterCallback]) -> None:
         s = self._live()
         if fn is None:
             lib.eo_sim_set_iter_callback(s, ffi.NULL, ffi.NULL)
@@ -334,7 +367,7 @@ class Sim:
         @ffi.callback("int(const eo_iter_info *, void *)")
         def cb(info, user):
             try:
-                x = from_c(info.x, holder._cur_n) if info.x != ffi.NULL else None
+                x = readonly(from_c(info.x, holder._cur_n)) if info.x != ffi.NULL else None
                 return 1 if fn(iter_info_dict(info), x) else 0
             except BaseException as e:  # re-raised after the step returns
                 set_pending(e)
@@ -344,7 +377,7 @@ class Sim:
         self._iter_cb, self._iter_fn = cb, fn
 
     # ---- stepping
-    def problem(self):
+    def problem(self) -> StepProblem:
         """The next step's problem (StepProblem), valid until the sim steps, trials,
         resets or changes state."""
         o = ffi.new("eo_objective **")
@@ -352,8 +385,9 @@ class Sim:
         check(lib.eo_sim_prepare(self._live(), o, g))
         return StepProblem(self, o[0], g[0])
 
-    def step(self):
-        """One time step (StepResult). Not converging is a reason, not an exception."""
+    def step(self) -> StepResult:
+        """One time step (StepResult). Not converging is a reason, not an exception;
+        a library error raises ElastoptError with its message."""
         r = ffi.new("eo_sim_step_result *")
         if self._iter_cb is not None and not self.explicit:  # size of x in the callback
             o = ffi.new("eo_objective **")
@@ -367,7 +401,7 @@ class Sim:
                                         "hessian": r.n_hessian, "factor": r.n_factor},
                           _stats(r.stats), r.rejected, r.substeps, r.min_substep)
 
-    def run(self, steps=None):
+    def run(self, steps: Optional[int] = None) -> List[StepResult]:
         """`steps` steps (default: the scene's time.steps minus the steps done); stops
         after a step that became non-finite. Returns the list of StepResult."""
         if steps is None:
@@ -380,7 +414,8 @@ class Sim:
                 break
         return out
 
-    def trial(self, x0=None, solver=None):
+    def trial(self, x0: Optional[ArrayLike] = None,
+              solver: Optional[Solver] = None) -> Tuple[np.ndarray, SolveResult]:
         """Solve the next step's problem from x0 (free coordinates; None = the guess)
         with `solver` (a Solver; None = the sim's) without advancing. Returns
         (x, SolveResult)."""

@@ -1,7 +1,11 @@
 """Read the VTU frames `elastopt run` writes (VTK XML unstructured grid, appended raw
 data with UInt64 headers, lib/vtu.c), e.g. to compare a CLI run with a Python one."""
+from __future__ import annotations
+
+import os
 import re
 from pathlib import Path
+from typing import Any, Dict, Union
 
 import numpy as np
 
@@ -11,7 +15,7 @@ _ARRAY = re.compile(rb'<DataArray type="(\w+)" Name="(\w+)"(?: NumberOfComponent
                     rb' format="appended" offset="(\d+)"/>')
 
 
-def read_vtu(path):
+def read_vtu(path: Union[str, "os.PathLike[str]"]) -> Dict[str, Any]:
     """{"points": nv x 3, "point_data": {name: array}, "cell_data": {name: array},
     "cells": connectivity (nt x 4)} of one frame."""
     raw = Path(path).read_bytes()

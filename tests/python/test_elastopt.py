@@ -121,6 +121,108 @@ class Loading(unittest.TestCase):
         self.assertIn("ELASTOPT_LIB", r.stderr)
 
 
+class CommandLine(unittest.TestCase):
+    def test_python_m_elastopt_runs_the_build_trees_cli(self):
+        """`python -m elastopt` from another folder, without ELASTOPT_CLI: the CLI beside
+        the loaded library (build/cli/elastopt), its output and exit status."""
+        e = {k: v for k, v in os.environ.items() if k != "ELASTOPT_CLI"}
+        r = subprocess.run([sys.executable, "-c", "import elastopt; print(elastopt.cli_path())"],
+                           env=e, capture_output=True, text=True, cwd=TMP)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(Path(r.stdout.strip()), eo.lib_path.resolve().parent / "cli" / "elastopt")
+        r = subprocess.run([sys.executable, "-m", "elastopt", "list"], env=e, capture_output=True,
+                           text=True, cwd=TMP)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("newton", r.stdout)
+        r = subprocess.run([sys.executable, "-m", "elastopt", "run", "--scene", "nosuch"], env=e,
+                           capture_output=True, text=True, cwd=TMP)
+        self.assertEqual(r.returncode, 2, r.stderr)   # the CLI's usage status, passed through
+        self.assertIn("nosuch", r.stderr)
+
+
+class Arrays(unittest.TestCase):
+    """Every array the package hands out is a read-only copy (writing raises ValueError
+    and changes nothing) or a new array owned by the caller; none is a view."""
+
+    def test_sim_arrays_refuse_writes(self):
+        with eo.Sim(scene="cantilever", overrides=SMALL) as s:
+            s.step()
+            x_before, v_before = s.get_state()[:2]
+            for name in ("positions", "velocities", "rest_positions", "initial_positions",
+                         "tets", "vertex_mass"):
+                a = getattr(s, name)
+                self.assertFalse(a.flags.writeable, name)
+                with self.assertRaises(ValueError, msg=name):
+                    a[0] = 7
+                with self.assertRaises(ValueError, msg=name):
+                    a += 1
+            x, v = s.get_state()[:2]
+            self.assertTrue(np.array_equal(x, x_before) and np.array_equal(v, v_before))
+            # a copy: it keeps the values of the time it was taken
+            x1 = s.positions
+            s.step()
+            self.assertTrue(np.array_equal(x1, x_before))
+            self.assertGreater(np.abs(s.positions - x1).max(), 1e-6)
+            # get_state: writable copies owned by the caller, applied by set_state only
+            xs, vs, t, k = s.get_state()
+            self.assertTrue(xs.flags.writeable and vs.flags.writeable)
+            xs[:, 2] += 0.5
+            self.assertFalse(np.array_equal(s.positions, xs))
+            s.set_state(positions=xs)
+            self.assertTrue(np.array_equal(s.positions, xs))
+            s.velocities = np.ones((s.nv, 3))
+            self.assertTrue(np.array_equal(s.velocities, np.ones((s.nv, 3))))
+
+    def test_problem_arrays(self):
+        with eo.Sim(scene="cantilever", overrides=SMALL) as s:
+            P = s.problem()
+            with self.assertRaises(ValueError):
+                P.guess[0] = 1.0
+            with self.assertRaises(ValueError):
+                P.free_index[0] = 0
+            g, grad = P.gradient(P.guess)
+            ref = grad.copy()
+            grad[:] = 0.0              # the caller's own array: allowed, no effect elsewhere
+            self.assertTrue(np.array_equal(P.gradient(P.guess)[1], ref))
+            self.assertGreater(np.abs(ref).max(), 0)
+
+    def test_callback_arrays_refuse_writes(self):
+        seen = {}
+
+        def write_grad(prob, x, g, grad):
+            seen["direction"] = (x.flags.writeable, grad.flags.writeable)
+            grad[0] = 0.0
+            return -grad
+
+        def write_grad0(prob, x):
+            seen["minimize"] = (x.flags.writeable, prob.grad0.flags.writeable)
+            x[0] += 0.0                # the start copy is the optimizer's own
+            prob.grad0[0] = 0.0
+            return x, 0, None
+
+        for name, kw in (("py_write_grad", {"direction": write_grad}),
+                         ("py_write_grad0", {"minimize": write_grad0})):
+            eo.register_optimizer(name, **kw)
+            try:
+                with eo.Sim(scene="cantilever", overrides={**SMALL, "solver.optimizer": name}) as s:
+                    x0 = s.positions
+                    with self.assertRaises(ValueError) as e:
+                        s.step()
+                    self.assertIn("read-only", str(e.exception))
+                    self.assertTrue(np.array_equal(s.positions, x0))   # the step did not happen
+                    self.assertEqual(s.index, 0)
+            finally:
+                eo.unregister_optimizer(name)
+        self.assertEqual(seen, {"direction": (False, False), "minimize": (True, False)})
+        # the iterate of an on_iteration callback
+        with eo.Sim(scene="cantilever", overrides=SMALL) as s:
+            def cb(info, x):
+                x[0] = 0.0
+            s.on_iteration = cb
+            with self.assertRaises(ValueError):
+                s.step()
+
+
 class Stepping(unittest.TestCase):
     def test_python_steps_equal_the_cli(self):
         """5 steps from Python and from `elastopt run`: positions and velocities to 1e-12."""
