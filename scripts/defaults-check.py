@@ -56,6 +56,8 @@ def cases(hard_steps, quick):
     if os.path.isdir(os.path.join(SHARED, "meshes")):
         cs.append(("real bar two-turn twist E=1e8 nu=0.499", [bar],
                    {"material.E": 1e8, "material.nu": 0.499, "time.steps": 10}))
+        cs.append(("real bunny twist E=1e8 nu=0.49", [os.path.join(ROOT, "bench", "real", "bunny-twist.json")],
+                   {"material.E": 1e8, "material.nu": 0.49, "time.steps": 15}))
         swing = os.path.join(ROOT, "bench", "real", "bunny-swing.json")
         cs.append(("real bunny inverted start", [swing],
                    {"boundary": [], "gravity": [0, 0, 0], "initial.scale": [1, -1, 1], "time.dt": 0.05,
