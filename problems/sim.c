@@ -130,7 +130,7 @@ static void fallback_clear(eo_solver **fb, int *nfb)
 
 /* The default fallback chain of a scene's solver (EO_SIM_DEFAULT_FALLBACK, sim.h): used
  * when the scene names no `solver.fallback` (an explicit [] turns it off) and the solver
- * runs natively. Measured choice: README "Defaults that converge". */
+ * runs natively. Measured choice: docs/defaults.md, "Defaults that converge". */
 static const char default_fallback[] = EO_SIM_DEFAULT_FALLBACK;
 
 /* The solvers of cfg's `solver.fallback` (each entry merged over the `solver` section),

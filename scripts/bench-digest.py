@@ -11,7 +11,7 @@ scene, the fastest configuration at 1e-2 and at 1e-6 with its time, the next bes
 ratio between them (with "sep." when the min-max spreads of the two do not overlap), and
 the baseline's time. With --fixed, also the per-frame time and distance at each fixed
 iteration budget (fixed_<k>_* columns). Nothing here re-measures: it only reads the CSV
-the benchmark wrote, so the README and issue notes quote the committed numbers.
+the benchmark wrote, so that docs/benchmark.md quotes the committed numbers.
 """
 import csv
 import re

@@ -8,7 +8,8 @@ pkgs=(meson ninja-build pkg-config gcc liblapacke-dev libopenblas-dev libsuitesp
       g++ libtet1.5-dev   # g++ + libtet1.5-dev: TetGen for surface meshes (-Dtetgen)
       python3-numpy python3-cffi python3-scipy   # the Python package (python/elastopt)
       python3-mesonpy python3-venv               # pip install of it (pyproject.toml, docs/python.md)
-      petsc-dev openmpi-bin libopenmpi-dev)      # the PETSc / MPI backend (-Dpetsc) and its mpirun tests
+      petsc-dev openmpi-bin libopenmpi-dev       # the PETSc / MPI backend (-Dpetsc) and its mpirun tests
+      python3-sphinx python3-myst-parser doxygen python3-breathe)   # the documentation site (scripts/build-docs.sh)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -19,7 +20,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq "${missing[@]}" >/dev/null
 fi
-# The main build is a release build: the README's default run took 5-8% less CPU time
+# The main build is a release build: the default run took 5-8% less CPU time
 # than debugoptimized (bench/results/buildtype-amd-epyc-2cpu.txt) and the whole test
 # suite passes in it (no test relies on assert). A later --buildtype=... in the
 # arguments wins; a build dir for debugging: meson setup build-dbg --buildtype=debug.

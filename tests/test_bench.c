@@ -495,7 +495,7 @@ static void test_optional(const char *dir)
 }
 
 /* The shipped suites load (every scene config and configuration resolved at load) and
- * have the shape the README describes: `real` of their scenes read ../shared/meshes and
+ * have the shape docs/benchmark.md describes: `real` of their scenes read ../shared/meshes and
  * are optional (dropped with a note where the folder is absent; liu2017 has no other
  * scenes, so without the folder it is refused: every scene dropped). */
 static void test_shipped_suites(void)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The PETSc / MPI backend (petsc/, README "PETSc / MPI backend"), suite 'petsc':
+# The PETSc / MPI backend (petsc/, docs/petsc.md), suite 'petsc':
 #  1. parity: `mpirun -n 2` runs of the cantilever, twist and inverted scenes with
 #     solver.backend=petsc (Newton + clamp) match the serial engine to 1e-8 relative in
 #     positions after 10 steps, with MUMPS (direct) and with CG + GAMG; twist and inverted

@@ -48,7 +48,7 @@ typedef struct eo_sim eo_sim;
 /// (an explicit `[]` turns it off; a solver with backend other than native gets none):
 /// the same optimizer with the `abs` Hessian fix and 300 iterations, then trust-region
 /// Newton with 1000. Each entry is merged over the `solver` section and restarts the step
-/// from its starting guess. Chosen by measurement (README, "Defaults that converge"):
+/// from its starting guess. Chosen by measurement (docs/defaults.md, "Defaults that converge"):
 /// with it the built-in twist run 400 steps converges on every step.
 #define EO_SIM_DEFAULT_FALLBACK \
     "[{\"hessian_fix\": \"abs\", \"max_iters\": 300}, {\"optimizer\": \"newton_tr\", \"max_iters\": 1000}]"
