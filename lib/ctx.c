@@ -5,7 +5,7 @@
 #include "elastopt/ctx.h"
 
 #include "elastopt/mesh.h"
-#include "mesh_io.h"
+#include "mesh/mesh_io.h"
 
 #include <stdint.h>
 #include <stdio.h>

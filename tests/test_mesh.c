@@ -21,7 +21,7 @@
 #include "elastopt/io.h"
 #include "elastopt/mesh.h"
 #include "elastopt/scene.h"
-#include "lib/mesh_io.h"
+#include "lib/mesh/mesh_io.h"
 #include "testutil.h"
 
 static char tmp[4096];

@@ -43,7 +43,7 @@ EO_API int eo_trimesh_boundary(eo_ctx *ctx, const eo_trimesh *m, unsigned char *
 EO_API double eo_trimesh_max_edge(const eo_trimesh *m);
 /// VTK XML unstructured grid of triangles (cell type 5) with z = 0 and, if values is not
 /// NULL, one Float64 point field named `field` (nv values). Written atomically.
-/// (lib/vtu.c, next to the tet writer.)
+/// (lib/mesh/vtu.c, next to the tet writer.)
 EO_API int eo_vtu_write_tri(eo_ctx *ctx, const char *path, int nv, const double *xy, int nt, const int *tri,
                             const char *field, const double *values);
 

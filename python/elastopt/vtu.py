@@ -1,5 +1,5 @@
 """Read the VTU frames `elastopt run` writes (VTK XML unstructured grid, appended raw
-data with UInt64 headers, lib/vtu.c), e.g. to compare a CLI run with a Python one."""
+data with UInt64 headers, lib/mesh/vtu.c), e.g. to compare a CLI run with a Python one."""
 from __future__ import annotations
 
 import os

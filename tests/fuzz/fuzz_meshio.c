@@ -15,7 +15,7 @@
 #include <string.h>
 
 #include "elastopt/mesh.h"
-#include "lib/mesh_io.h"
+#include "lib/mesh/mesh_io.h"
 
 static void check(int ok, const char *what)
 {

@@ -14,7 +14,7 @@
 
 #include "elastopt/io.h"
 #include "elastopt/trimesh.h"
-#include "textscan.h"
+#include "../textscan.h"
 
 int eo_trimesh_create(eo_ctx *ctx, int nv, int nt, eo_trimesh **out)
 {

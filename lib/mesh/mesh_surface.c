@@ -34,7 +34,7 @@
 
 #include "eo_build_config.h"
 #include "mesh_io.h"
-#include "textscan.h"
+#include "../textscan.h"
 
 #if defined(EO_HAVE_TETGEN) && EO_HAVE_TETGEN && !defined(EO_NO_TETGEN)
 #define USE_TETGEN 1

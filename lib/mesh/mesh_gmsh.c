@@ -19,7 +19,7 @@
 
 #include "elastopt/io.h"
 #include "mesh_io.h"
-#include "textscan.h"
+#include "../textscan.h"
 
 typedef struct {
     eo_scan s;

@@ -24,7 +24,7 @@
 #include <string.h>
 
 #include "mesh_io.h"
-#include "textscan.h"
+#include "../textscan.h"
 
 /* "*VERTICES"/"*ELEMENTS" count line: count, per-item width `want`, then optional
  * integers (Vega writes zeros) up to the end of the line. */

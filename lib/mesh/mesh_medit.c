@@ -14,7 +14,7 @@
 
 #include "elastopt/io.h"
 #include "mesh_io.h"
-#include "textscan.h"
+#include "../textscan.h"
 
 static int read_medit(eo_ctx *ctx, const char *text, size_t len, const char *file, eo_mesh **out, eo_mesh_src *src)
 {

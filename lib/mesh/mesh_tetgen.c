@@ -24,7 +24,7 @@
 
 #include "elastopt/io.h"
 #include "mesh_io.h"
-#include "textscan.h"
+#include "../textscan.h"
 
 static int read_node(eo_scan *s, eo_mesh **out, eo_mesh_src *src, int *base)
 {
