@@ -39,6 +39,7 @@ struct eo_stop_state {
     int n, begun;
     double *dinv;              /* n: 1/Dᵢ of the objective's metric (1 where it has none) */
     double g0, gm0, floor_dec, floor_grad;
+    double grad_char;          /* the objective's characteristic gradient norm (0: none) */
     double gm_last;            /* ‖∇g‖_{D⁻¹} of the last call with a gradient (same iterate) */
 };
 
@@ -89,8 +90,9 @@ static double metric_norm(const struct eo_stop_state *st, const double *v)
     return sqrt(s);
 }
 
-/* The measure at x₀ (first call of a minimization): the metric, g₀, ‖∇g₀‖_{D⁻¹} and the
- * rounding floors EO_STOP_FLOOR·ε²·s of the objective's rounding scales s. */
+/* The measure at x₀ (first call of a minimization): the metric, g₀, ‖∇g₀‖_{D⁻¹}, the
+ * rounding floors EO_STOP_FLOOR·ε²·s of the objective's rounding scales s and its
+ * characteristic gradient norm (characteristic_gradient). */
 static void stop_begin(const eo_solver_ctx *sc, struct eo_stop_state *st, const eo_stop_info *si, const double *x,
                        const double *grad)
 {
@@ -108,6 +110,8 @@ static void stop_begin(const eo_solver_ctx *sc, struct eo_stop_state *st, const 
     } else {
         st->floor_dec = st->floor_grad = 0;
     }
+    eo_objective_characteristic ch;
+    st->grad_char = eo_objective_characteristic_get(obj, &ch) >= 0 && isfinite(ch.grad) && ch.grad > 0 ? ch.grad : 0;
     st->begun = 1;
 }
 
@@ -123,6 +127,7 @@ int eo_solver_stop_check(const eo_solver_ctx *sc, eo_stop_info *si, const double
     si->grad_metric0 = st->gm0;
     si->floor_dec = st->floor_dec;
     si->floor_grad = st->floor_grad;
+    si->grad_char = st->grad_char;
     return sc->stop->check(sc->stop_params, si);
 }
 
