@@ -3,6 +3,9 @@
 # twist (20 steps), inverted (10 steps), the IPC bunny twisted (2 steps, if
 # ../shared/meshes is present). Every configuration: solver.tol = 1e-6 (its own measure:
 # Newton's decrement ratio, the metric gradient ratio for the others), no fallback chain.
+# lbfgs-wolfe is this library's L-BFGS (H0 = the PD matrix L^-1: BCQN's beta = 0 end);
+# lbfgs-identity the paper's L-BFGS baseline (H0 = gamma I); sobolev the preconditioned
+# gradient -L^-1 grad g (BCQN's beta = 1 end, the proxy of AQP without its acceleration).
 # Usage: bash bench/results/bcqn/cpu.sh [build/cli/elastopt] > bench/results/bcqn/cpu.txt
 set -u
 cd "$(dirname "$0")/../../.."
@@ -10,6 +13,8 @@ exe=${1:-build/cli/elastopt}
 tmp=$(mktemp -d)
 configs=("newton:-o solver.optimizer=newton -o solver.hessian_fix=clamp -o solver.linesearch=backtracking"
          "lbfgs-wolfe:-o solver.optimizer=lbfgs -o solver.linesearch=wolfe"
+         "lbfgs-identity:-o solver.optimizer=lbfgs -o solver.linesearch=wolfe -o solver.lbfgs.h0=scaled_identity"
+         "sobolev:-o solver.optimizer=bcqn -o solver.bcqn.blend=sobolev"
          "bcqn:-o solver.optimizer=bcqn"
          "bcqn-backtracking:-o solver.optimizer=bcqn -o solver.linesearch=backtracking")
 scenes=("twist:--scene twist -o time.steps=20" "inverted:--scene inverted -o time.steps=10")
