@@ -57,8 +57,8 @@ const eo_param_desc eo_solver_opts_desc[] = {
      .help = "how Newton makes its Hessian positive definite"},
     {.key = "linesearch", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linesearch),
      OPTS_STR(linesearch), .def.s = "auto", .registry = &eo_reg_linesearch, .choices = linesearch_auto,
-     .help = "line search along each direction; auto = the optimizer's choice (wolfe for lbfgs and ncg, none for "
-             "newton_tr, else backtracking)"},
+     .help = "line search along each direction; auto = the optimizer's choice (wolfe for lbfgs and ncg, barrier_filter "
+             "for bcqn, none for newton_tr, else backtracking)"},
     {.key = "stop", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, stop),
      OPTS_STR(stop), .def.s = "relative_decrement", .registry = &eo_reg_stop,
      .help = "stopping rule (reads tol)"},

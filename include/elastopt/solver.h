@@ -645,7 +645,8 @@ typedef struct eo_optimizer_type {
     int needs_hessian;    ///< 1 if it calls objective hessian
     /// Line search used when solver.linesearch is "auto" (the default): a registered
     /// line-search name, NULL = "backtracking". lbfgs and ncg: "wolfe"; newton,
-    /// gradient_descent, projective_dynamics: backtracking; newton_tr uses none.
+    /// gradient_descent, projective_dynamics: backtracking; bcqn: barrier_filter;
+    /// newton_tr uses none.
     const char *linesearch;
     /// Size workspace for n variables, on a zeroed state. The solver calls it at the
     /// first minimize and, after destroy and zeroing, whenever obj->n changes.
