@@ -86,6 +86,10 @@ struct eo_step {
      * allocated at the first call) and Σₜ Vₜ (μₜ + λₜ)²/μₜ; both depend only on the
      * materials and the rest shape */
     double *rs_a, rs_el;
+    /* objective op characteristic (BCQN scales): ‖a‖₂ with a_v = Σ_{t ∋ v} A_{t,v} h_t,
+     * Σₜ Vₜ hₜ and Σₜ Vₜ (rest shape and materials only; computed at the first call) */
+    double ch_anorm, ch_vh, ch_vol;
+    int ch_done;
     int inv_count, inv_valid;
     /* objective ops constant_factor / constant_solve: the own factor of L (step_pd.c) */
     int pd_mode;                /* EO_PD_FACTOR_* */

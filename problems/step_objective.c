@@ -203,6 +203,195 @@ static int op_inverted_count(void *data, const double *x)
     return n;
 }
 
+/* ---------------------------------------------------------------- max_step */
+
+/* c0 + c1 t + c2 t² + c3 t³ */
+static double cubic(const double c[4], double t) { return ((c[3] * t + c[2]) * t + c[1]) * t + c[0]; }
+
+/* The smallest root in (lo, hi] of the cubic c (c[0] > 0), or +INFINITY if it has none
+ * there. Robust: the real critical points (roots of c1 + 2c2 t + 3c3 t²) cut (0, hi] into
+ * intervals on which the cubic is monotone; the first interval whose end value is ≤ 0
+ * holds the root, found by bisection to the last bit (no cancellation-prone closed form).
+ * hi may be +INFINITY: the last interval is then closed by doubling. */
+static double cubic_first_root(const double c[4], double hi)
+{
+    double cut[4];
+    int nc = 0;
+    const double a = 3 * c[3], b = 2 * c[2], d = c[1];
+    if (a != 0) {
+        const double disc = b * b - 4 * a * d;
+        if (disc >= 0) {
+            const double q = -0.5 * (b + copysign(sqrt(disc), b));
+            double r1 = q != 0 ? q / a : 0, r2 = q != 0 ? d / q : 0;
+            if (r1 > r2) { double t = r1; r1 = r2; r2 = t; }
+            if (r1 > 0 && r1 < hi) cut[nc++] = r1;
+            if (r2 > 0 && r2 < hi && r2 != r1) cut[nc++] = r2;
+        }
+    } else if (b != 0) {
+        const double r = -d / b;
+        if (r > 0 && r < hi) cut[nc++] = r;
+    }
+    double lo = 0;
+    for (int k = 0; k <= nc; k++) {
+        double end = k < nc ? cut[k] : hi;
+        if (isinf(end)) { /* last interval unbounded: monotone, so look for a sign change */
+            if (c[3] > 0 || (c[3] == 0 && (c[2] > 0 || (c[2] == 0 && c[1] >= 0)))) return INFINITY;
+            end = lo > 0 ? 2 * lo : 1;
+            for (int j = 0; j < 2100 && cubic(c, end) > 0; j++) end *= 2;
+            if (!(cubic(c, end) <= 0)) return INFINITY;
+        }
+        if (cubic(c, end) <= 0) { /* f(lo) > 0 ≥ f(end): bisection */
+            double l = lo, r = end;
+            for (int j = 0; j < 200; j++) {
+                const double m = 0.5 * (l + r);
+                if (!(m > l && m < r)) break;
+                if (cubic(c, m) > 0) l = m;
+                else r = m;
+            }
+            return r; /* J(r) ≤ 0 < J(l), r − l one ulp */
+        }
+        lo = end;
+    }
+    return INFINITY;
+}
+
+static void cross3(const double u[3], const double v[3], double w[3])
+{
+    w[0] = u[1] * v[2] - u[2] * v[1];
+    w[1] = u[2] * v[0] - u[0] * v[2];
+    w[2] = u[0] * v[1] - u[1] * v[0];
+}
+static double dot3(const double u[3], const double v[3]) { return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]; }
+
+/* det[a0 + t b0, a1 + t b1, a2 + t b2] = c0 + c1 t + c2 t² + c3 t³ (det is linear in each
+ * column): four cross products and eight dot products */
+static void det_cubic(const double a[3][3], const double b[3][3], double c[4])
+{
+    double aa[3], ba[3], ab[3], bb[3];
+    cross3(a[1], a[2], aa);
+    cross3(b[1], a[2], ba);
+    cross3(a[1], b[2], ab);
+    cross3(b[1], b[2], bb);
+    c[0] = dot3(a[0], aa);
+    c[1] = dot3(b[0], aa) + dot3(a[0], ba) + dot3(a[0], ab);
+    c[2] = dot3(a[0], bb) + dot3(b[0], ab) + dot3(b[0], ba);
+    c[3] = dot3(b[0], bb);
+}
+
+/* Objective op max_step (objective.h): the first α > 0 where a tet with J > 0 at x
+ * reaches J = 0 on x + αp, over the tets (of the part, when one is set). p is scattered
+ * into gfull (free coordinates; constrained ones 0: prescribed positions do not move).
+ * J(α) = det(Dm⁻¹)·det Ds(α) ∝ det[xᵢ − x₀ + α(pᵢ − p₀)], so the cubic is taken of those
+ * edge vectors (the signs of det Dm⁻¹ and of the column order folded in), ~70 flops a tet; a tet whose cubic cannot reach 0
+ * before the smallest root found so far (|c1|A + |c2|A² + |c3|A³ < c0) is skipped
+ * without root finding. */
+static int op_max_step(void *data, const double *x, const double *p, double *alpha_max)
+{
+    eo_step *st = data;
+    const eo_mesh *m = st->sys.mesh;
+    scatter(st, x);
+    memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
+    for (int i = 0; i < st->nfree; i++) st->gfull[st->free2full[i]] = p[i];
+    const int nt = st->part ? st->part->nt : st->nt;
+    double best = INFINITY;
+    for (int q = 0; q < nt; q++) {
+        const int k = st->part ? st->part->tets[q] : q;
+        const int *tet = m->tets + 4 * k;
+        const double *x0 = st->xw + 3 * tet[0], *p0 = st->gfull + 3 * tet[0];
+        double A[3][3], B[3][3], c[4];
+        for (int i = 0; i < 3; i++) {
+            const double *xi = st->xw + 3 * tet[i + 1], *pi = st->gfull + 3 * tet[i + 1];
+            for (int d = 0; d < 3; d++) {
+                A[i][d] = xi[d] - x0[d];
+                B[i][d] = pi[d] - p0[d];
+            }
+        }
+        det_cubic(A, B, c);
+        /* the kernel's Ds has columns xᵢ − x₃ (i = 0, 1, 2): det = −det[x₁ − x₀, x₂ − x₀, x₃ − x₀] */
+        if (eo_det3(st->Dminv + 9 * k) > 0)
+            for (int j = 0; j < 4; j++) c[j] = -c[j];
+        if (eo_tet_is_inverted(c[0])) continue; /* already inverted: not limited */
+        if (isfinite(best) && (fabs(c[1]) + (fabs(c[2]) + fabs(c[3]) * best) * best) * best < c[0]) continue;
+        const double r = cubic_first_root(c, best);
+        if (r < best) best = r;
+    }
+    *alpha_max = best;
+    return EO_OK;
+}
+
+/* ---------------------------------------------------------------- characteristic */
+
+/* ‖H‖₂ of a symmetric 3×3 H (power iteration on H², from (1, 1, 1) plus a tilt) */
+static double sym3_norm(const double H[9])
+{
+    double v[3] = {1, 0.7, 0.4}, n = 0;
+    for (int it = 0; it < 200; it++) {
+        double w[3], u[3];
+        for (int i = 0; i < 3; i++) w[i] = H[3 * i] * v[0] + H[3 * i + 1] * v[1] + H[3 * i + 2] * v[2];
+        for (int i = 0; i < 3; i++) u[i] = H[3 * i] * w[0] + H[3 * i + 1] * w[1] + H[3 * i + 2] * w[2];
+        const double un = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        if (!(un > 0)) return 0;
+        const double nn = sqrt(un);
+        for (int i = 0; i < 3; i++) v[i] = u[i] / un;
+        if (fabs(nn - n) <= 1e-15 * nn) return nn;
+        n = nn;
+    }
+    return n;
+}
+
+static double tri_area(const double *a, const double *b, const double *c)
+{
+    const double u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double n[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+    return 0.5 * sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+/* Objective op characteristic (objective.h): BCQN's characteristic gradient norm
+ * (Zhu, Bridson & Kaufman 2018 §7 and their code: the per-vertex "perimeter" — the sum of
+ * the rest areas of the faces opposite the vertex in its tets — times the norm of the
+ * energy's Hessian in the singular values at rest), with per-tet materials folded into
+ * a_v, the weight w of E, and the mean stiffness and volume used by bcqn's blend. */
+static int op_characteristic(void *data, eo_objective_characteristic *out)
+{
+    eo_step *st = data;
+    const eo_mesh *m = st->sys.mesh;
+    if (!st->ch_done) {
+        double *a = eo_calloc(st->ctx, (size_t)(m->nv > 0 ? m->nv : 1), sizeof(double));
+        if (!a) return eo_error(st->ctx, EO_ERR_NOMEM, "step: out of memory (characteristic scales)");
+        double vh = 0, vol = 0;
+        for (int t = 0; t < m->nt; t++) {
+            const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+            eo_material_eval ev;
+            if (eo_material_evaluate(st->tet_type[t], st->tet_coef[t], I, EO_EVAL_HESS, EO_PROJ_NONE, &ev) < 0)
+                continue; /* an edge (spring) model: no tet stiffness */
+            const double H[9] = {ev.dPdF[0], ev.dPdF[4], ev.dPdF[8], ev.dPdF[36], ev.dPdF[40],
+                                 ev.dPdF[44], ev.dPdF[72], ev.dPdF[76], ev.dPdF[80]};
+            const double h = sym3_norm(H);
+            if (!isfinite(h)) continue;
+            const int *tv = m->tets + 4 * t;
+            const double *X[4];
+            for (int q = 0; q < 4; q++) X[q] = m->X + 3 * tv[q];
+            a[tv[0]] += h * tri_area(X[1], X[2], X[3]);
+            a[tv[1]] += h * tri_area(X[0], X[2], X[3]);
+            a[tv[2]] += h * tri_area(X[0], X[1], X[3]);
+            a[tv[3]] += h * tri_area(X[0], X[1], X[2]);
+            vh += st->vol[t] * h;
+            vol += st->vol[t];
+        }
+        double a2 = 0;
+        for (int v = 0; v < m->nv; v++) a2 += a[v] * a[v];
+        eo_free(st->ctx, a);
+        st->ch_anorm = sqrt(a2);
+        st->ch_vh = vh;
+        st->ch_vol = vol;
+        st->ch_done = 1;
+    }
+    out->grad = st->w * st->ch_anorm;
+    out->stiffness = st->ch_vol > 0 ? st->w * st->ch_vh / st->ch_vol : 0;
+    out->volume = st->ch_vol;
+    return EO_OK;
+}
+
 static int op_constant_hessian(void *data, eo_csc **L, unsigned long *version)
 {
     eo_step *st = data;
@@ -253,6 +442,8 @@ const eo_objective_ops eo_stepi_ops = {
     .constant_factor = eo_stepi_pd_factor,
     .constant_solve = eo_stepi_pd_solve,
     .rounding_scale = op_rounding_scale,
+    .max_step = op_max_step,
+    .characteristic = op_characteristic,
 };
 
 

@@ -39,6 +39,7 @@ struct eo_stop_state {
     int n, begun;
     double *dinv;              /* n: 1/Dᵢ of the objective's metric (1 where it has none) */
     double g0, gm0, floor_dec, floor_grad, g_scale;
+    double grad_char;          /* the objective's characteristic gradient norm (0: none) */
     double gm_last;            /* ‖∇g‖_{D⁻¹} of the last call with a gradient (same iterate) */
 };
 
@@ -56,8 +57,8 @@ const eo_param_desc eo_solver_opts_desc[] = {
      .help = "how Newton makes its Hessian positive definite"},
     {.key = "linesearch", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linesearch),
      OPTS_STR(linesearch), .def.s = "auto", .registry = &eo_reg_linesearch, .choices = linesearch_auto,
-     .help = "line search along each direction; auto = the optimizer's choice (wolfe for lbfgs and ncg, none for "
-             "newton_tr, else backtracking)"},
+     .help = "line search along each direction; auto = the optimizer's choice (wolfe for lbfgs and ncg, barrier_filter "
+             "for bcqn, none for newton_tr, else backtracking)"},
     {.key = "stop", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, stop),
      OPTS_STR(stop), .def.s = "relative_decrement", .registry = &eo_reg_stop,
      .help = "stopping rule (reads tol)"},
@@ -89,8 +90,9 @@ static double metric_norm(const struct eo_stop_state *st, const double *v)
     return sqrt(s);
 }
 
-/* The measure at x₀ (first call of a minimization): the metric, g₀, ‖∇g₀‖_{D⁻¹} and the
- * rounding floors EO_STOP_FLOOR·ε²·s of the objective's rounding scales s. */
+/* The measure at x₀ (first call of a minimization): the metric, g₀, ‖∇g₀‖_{D⁻¹}, the
+ * rounding floors EO_STOP_FLOOR·ε²·s of the objective's rounding scales s and its
+ * characteristic gradient norm (characteristic_gradient). */
 static void stop_begin(const eo_solver_ctx *sc, struct eo_stop_state *st, const eo_stop_info *si, const double *x,
                        const double *grad)
 {
@@ -109,6 +111,8 @@ static void stop_begin(const eo_solver_ctx *sc, struct eo_stop_state *st, const 
     } else {
         st->floor_dec = st->floor_grad = st->g_scale = 0;
     }
+    eo_objective_characteristic ch;
+    st->grad_char = eo_objective_characteristic_get(obj, &ch) >= 0 && isfinite(ch.grad) && ch.grad > 0 ? ch.grad : 0;
     st->begun = 1;
 }
 
@@ -125,6 +129,7 @@ int eo_solver_stop_check(const eo_solver_ctx *sc, eo_stop_info *si, const double
     si->floor_dec = st->floor_dec;
     si->floor_grad = st->floor_grad;
     si->g_scale = st->g_scale;
+    si->grad_char = st->grad_char;
     return sc->stop->check(sc->stop_params, si);
 }
 

@@ -43,6 +43,8 @@ typedef struct eo_objective_inertia {
     double w;                 ///< weight of E (backward Euler h², Newmark h²/4)
 } eo_objective_inertia;
 
+struct eo_objective_characteristic;
+
 typedef struct eo_objective_ops {
     /// g(x). Return EO_OK; set *g = +INFINITY where undefined (never NaN).
     int (*value)(void *data, const double *x, double *g);
@@ -112,7 +114,31 @@ typedef struct eo_objective_ops {
     /// rounded at (μ + λ)ε per unit area, seen through the softest element mode μ).
     /// NULL: no floor (the rules then stop only on measured progress).
     int (*rounding_scale)(void *data, const double *x, double s[2]);
+    /// Optional: the largest step along p that inverts no element, for barrier-aware line
+    /// searches (solvers/linesearch/barrier_filter.c): *alpha_max = the smallest α > 0 at
+    /// which an element with J = det F > 0 at x reaches J = 0 on x + αp (+INFINITY if none
+    /// does). Elements already inverted at x (J ≤ 0) do not limit the step. Constrained
+    /// coordinates do not move. x, p: n values each (borrowed). The step objective
+    /// (problems/step_objective.c) solves J(α) = 0, a cubic in α, for each tet. NULL: the
+    /// objective knows no elements (barrier_filter is then plain backtracking).
+    int (*max_step)(void *data, const double *x, const double *p, double *alpha_max);
+    /// Optional: the characteristic scales of g (Zhu, Bridson & Kaufman 2018, BCQN §6–7),
+    /// for the characteristic_gradient stopping rule and the bcqn blend. NULL: none.
+    int (*characteristic)(void *data, struct eo_objective_characteristic *out);
 } eo_objective_ops;
+
+/// Characteristic scales of an objective (ops->characteristic), in the units of g.
+/// The step objective gives, with w the weight of E, a_v = Σ_{t ∋ v} A_{t,v} h_t
+/// (A_{t,v} the rest area of the face of tet t opposite vertex v, h_t = ‖∂²ψ/∂σ²(I)‖₂ of
+/// t's material, the norm of its Hessian in the singular values at rest: 2μ + 3λ for the
+/// classical isotropic models), over every vertex of the mesh:
+typedef struct eo_objective_characteristic {
+    double grad;          ///< characteristic gradient norm w·‖a‖₂ (BCQN's g_c: ‖∇g‖ of a
+                          ///< unit distortion; units of ∇g)
+    double stiffness;     ///< w·(volume-weighted mean h_t): the factor between g's elastic
+                          ///< part and a unit-modulus energy (units of g per m³)
+    double volume;        ///< total rest volume Σ V_t (m³)
+} eo_objective_characteristic;
 
 typedef struct eo_objective {
     int n;                          ///< number of free variables
@@ -149,6 +175,20 @@ static inline int eo_objective_rounding_scale(eo_objective *o, const double *x, 
 {
     if (!o->ops->rounding_scale) return EO_ERR_UNSUPPORTED;
     return o->ops->rounding_scale(o->data, x, s);
+}
+
+/// The largest step without inversion (ops->max_step); EO_ERR_UNSUPPORTED if none.
+static inline int eo_objective_max_step(eo_objective *o, const double *x, const double *p, double *alpha_max)
+{
+    if (!o->ops->max_step) return EO_ERR_UNSUPPORTED;
+    return o->ops->max_step(o->data, x, p, alpha_max);
+}
+
+/// The characteristic scales (ops->characteristic); EO_ERR_UNSUPPORTED if none.
+static inline int eo_objective_characteristic_get(eo_objective *o, eo_objective_characteristic *out)
+{
+    if (!o->ops->characteristic) return EO_ERR_UNSUPPORTED;
+    return o->ops->characteristic(o->data, out);
 }
 
 /// Number of elements of the per-element ops, or EO_ERR_UNSUPPORTED (< 0) if the

@@ -2,16 +2,19 @@
 /// Optimizers, Hessian fixes, line searches and stopping rules, each chosen by name.
 ///
 /// The solver of one step problem is assembled from four pluggable pieces:
-///   solver.optimizer   newton, newton_tr, gradient_descent, lbfgs, ncg,
+///   solver.optimizer   newton, newton_tr, gradient_descent, lbfgs, bcqn, ncg,
 ///                      projective_dynamics, pd_local_global, fixed_point
 ///                                                               (eo_optimizer_type)
 ///   solver.hessian_fix none, shift, clamp, abs, project_on_demand,
 ///                      progressive, trust_region_filter         (eo_hessfix_type)
-///   solver.linesearch  backtracking, nonmonotone, wolfe, exact, none (eo_linesearch_type)
-///   solver.stop        relative_decrement, newton_decrement, gradient (eo_stop_type)
+///   solver.linesearch  backtracking, nonmonotone, wolfe, exact, barrier_filter, none
+///                                                               (eo_linesearch_type)
+///   solver.stop        relative_decrement, newton_decrement, gradient,
+///                      characteristic_gradient                  (eo_stop_type)
 ///   solver.linear      cholmod, cholmod_ldlt, ...               (eo_linsolve_type)
 /// solver.linesearch defaults to `auto`: the optimizer's own choice
-/// (eo_optimizer_type.linesearch): `wolfe` for lbfgs and ncg, `backtracking` for newton,
+/// (eo_optimizer_type.linesearch): `wolfe` for lbfgs and ncg, `barrier_filter` for bcqn,
+/// `backtracking` for newton,
 /// gradient_descent and projective_dynamics (and for a plug-in that names none); the
 /// solver echoes the resolved name. wolfe's curvature constant c2 then defaults to the
 /// optimizer's preference (0.9 lbfgs, 0.1 ncg; eo_ls_extra.c2) and it hands back ∇g of
@@ -69,6 +72,10 @@
 ///    ‖x − x*‖_H ≲ √(2·tol) ≈ 1.4e-5 m·√kg.
 ///  - gradient: ‖∇g‖₂ ≤ tol·max(‖∇g(x₀)‖₂, floor) (relative to the start of this
 ///    minimization).
+///  - characteristic_gradient: ‖∇g‖₂ ≤ tol·g_c, g_c the objective's characteristic
+///    gradient norm (objective.h, characteristic; Zhu, Bridson & Kaufman 2018): an
+///    absolute test in the units of ∇g, independent of the start; the paper's tol is 1e-3.
+///    Objectives without g_c: relative to ‖∇g(x₀)‖₂ as `gradient`.
 #ifndef ELASTOPT_SOLVER_H
 #define ELASTOPT_SOLVER_H
 
@@ -141,6 +148,10 @@ typedef struct eo_stop_info {
     double floor_grad;    ///< rounding floor of ‖∇g‖²_{D⁻¹}/2 at x₀, units of g (0: none)
     double g_scale;       ///< the objective's rounding scale s[0] at x₀ (units of g; 0: none):
                           ///< ε·g_scale is the rounding level of g itself
+    /// The objective's characteristic gradient norm g_c (objective.h, characteristic),
+    /// read by eo_solver_stop_check at x₀; 0 if the objective has none (or the rule is
+    /// called directly). Appended last: earlier fields keep their offsets.
+    double grad_char;
 } eo_stop_info;
 
 /// Which measure of progress eo_stop_info carries (eo_stop_info.measure).
@@ -416,6 +427,18 @@ typedef struct eo_lbfgs_params {
                          ///< the objective has constant_hessian, else lumped_mass) (default auto)
 } eo_lbfgs_params;
 
+/// Blended cured quasi-Newton, BCQN (config `solver.bcqn.*`; Zhu, Bridson & Kaufman 2018;
+/// solvers/optim/bcqn.c has the algorithm): L-BFGS with H⁰ = L⁻¹ (the objective's
+/// constant matrix, the Sobolev proxy) and each stored y blended toward L s.
+typedef struct eo_bcqn_params {
+    int history;         ///< stored (s, y) pairs m (default 5, the paper's)
+    char blend[16];      ///< "adaptive" (the paper's β, eq. 13), "sobolev" (β = 1: the
+                         ///< preconditioned gradient p = −L⁻¹∇g), "lbfgs" (β = 0: L-BFGS with
+                         ///< H⁰ = L⁻¹) or "fixed" (β = beta) (default adaptive)
+    double beta;         ///< fixed: the blend weight β ∈ [0, 1] (default 0.5)
+    double blend_scale;  ///< adaptive: factor on the paper's β before the clamp (default 1)
+} eo_bcqn_params;
+
 /// Nonlinear conjugate gradients (config `solver.ncg.*`).
 typedef struct eo_ncg_params {
     char beta[16];       ///< "pr_plus" (Polak–Ribière+), "fr" (Fletcher–Reeves), "hz"
@@ -469,6 +492,17 @@ typedef struct eo_backtracking_params {
     int max_evals;       ///< trials before giving up (60)
 } eo_backtracking_params;
 
+/// Barrier-aware line-search filter (config `solver.barrier_filter.*`; BCQN §5): the first
+/// trial is min(α₀, safety·α_max), α_max the step at which the first un-inverted element
+/// inverts (objective op max_step), then Armijo backtracking. The first three fields are
+/// laid out as eo_backtracking_params.
+typedef struct eo_barrier_filter_params {
+    double c1;           ///< Armijo constant (0.2, the authors' code)
+    double shrink;       ///< α ← shrink·α after a rejected trial (0.5)
+    int max_evals;       ///< trials before giving up (60)
+    double safety;       ///< first trial at most safety·α_max, in (0, 1) (0.5, the authors' code)
+} eo_barrier_filter_params;
+
 /// Non-monotone backtracking (config `solver.nonmonotone.*`): Armijo against a reference
 /// R ≥ g(x_k) from the earlier iterates' values (eo_ls_extra.g_hist).
 typedef struct eo_nonmonotone_params {
@@ -495,6 +529,12 @@ typedef struct eo_stop_relative_decrement_params {
     double plateau;      ///< level of λ²/2, relative to |g|, below which a decrement that
                          ///< stopped falling counts as converged (1e-16)
 } eo_stop_relative_decrement_params;
+
+/// Characteristic gradient stopping rule (config `solver.characteristic_gradient.*`):
+/// ‖∇g‖₂ ≤ tol·g_c (BCQN §7).
+typedef struct eo_stop_characteristic_gradient_params {
+    double scale;        ///< factor on g_c (default 1)
+} eo_stop_characteristic_gradient_params;
 
 /// Gradient stopping rule (config `solver.gradient.*`).
 typedef struct eo_stop_gradient_params {
@@ -612,7 +652,8 @@ typedef struct eo_optimizer_type {
     int needs_hessian;    ///< 1 if it calls objective hessian
     /// Line search used when solver.linesearch is "auto" (the default): a registered
     /// line-search name, NULL = "backtracking". lbfgs and ncg: "wolfe"; newton,
-    /// gradient_descent, projective_dynamics: backtracking; newton_tr uses none.
+    /// gradient_descent, projective_dynamics: backtracking; bcqn: barrier_filter;
+    /// newton_tr uses none.
     const char *linesearch;
     /// Size workspace for n variables, on a zeroed state. The solver calls it at the
     /// first minimize and, after destroy and zeroing, whenever obj->n changes.
@@ -631,14 +672,14 @@ typedef struct eo_optimizer_type {
 
 EO_API extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_newton_tr,
     eo_optimizer_gradient_descent, eo_optimizer_lbfgs, eo_optimizer_ncg,
-    eo_optimizer_projective_dynamics, eo_optimizer_pd_local_global;
+    eo_optimizer_projective_dynamics, eo_optimizer_pd_local_global, eo_optimizer_bcqn;
 EO_API extern const eo_hessfix_type eo_hessfix_none, eo_hessfix_shift, eo_hessfix_clamp,
     eo_hessfix_abs, eo_hessfix_project_on_demand, eo_hessfix_progressive,
     eo_hessfix_trust_region_filter;
 EO_API extern const eo_linesearch_type eo_linesearch_backtracking, eo_linesearch_wolfe,
-    eo_linesearch_exact, eo_linesearch_none, eo_linesearch_nonmonotone;
+    eo_linesearch_exact, eo_linesearch_none, eo_linesearch_nonmonotone, eo_linesearch_barrier_filter;
 EO_API extern const eo_stop_type eo_stop_newton_decrement, eo_stop_gradient,
-    eo_stop_relative_decrement;
+    eo_stop_relative_decrement, eo_stop_characteristic_gradient;
 
 /// Shared helper for optimizers: report an iteration (fills time = now − t0, calls
 /// sc->on_iter); returns non-zero if the callback asked to stop.

@@ -84,6 +84,8 @@ typedef struct eo_objective_ops {
     int (*constant_factor)(void *data);
     int (*constant_solve)(void *data, const double *b, double *x);
     int (*rounding_scale)(void *data, const double *x, double *s);
+    int (*max_step)(void *data, const double *x, const double *p, double *alpha_max);
+    int (*characteristic)(void *data, void *out);
 } eo_objective_ops;
 typedef struct eo_objective {
     int n; const eo_objective_ops *ops; void *data; long n_value, n_gradient, n_hessian;
@@ -109,6 +111,7 @@ typedef struct eo_stop_info {
     double decrement0; double decrement_prev; double step_norm; double x_norm; double tol;
     int measure; double g0; double grad_metric; double grad_metric0; double floor_dec; double floor_grad;
     double g_scale;
+    double grad_char;
 } eo_stop_info;
 typedef struct eo_stop_type {
     eo_method_info info;

@@ -8,6 +8,7 @@ const void *const eo_registry_linesearch[] = {
     &eo_linesearch_wolfe,
     &eo_linesearch_exact,
     &eo_linesearch_none,
+    &eo_linesearch_barrier_filter,
     NULL,
 };
 

@@ -1,4 +1,4 @@
-/* The L-BFGS memory shared by lbfgs and projective_dynamics (internal header).
+/* The L-BFGS memory shared by lbfgs, bcqn and projective_dynamics (internal header).
  *
  * The last m pairs s_i = x_{i+1} − x_i, y_i = ∇g_{i+1} − ∇g_i with ρ_i = 1/y_iᵀs_i in
  * circular storage, and the two loops of the recursion that applies the inverse-Hessian
@@ -49,6 +49,30 @@ static inline int eo_lbfgs_memory_slot(const eo_lbfgs_memory *h, int j)
     return ((h->head - 1 - j) % h->m + h->m) % h->m;
 }
 
+/* 1 if a pair with these products keeps H_k positive definite (else it is skipped) */
+static inline int eo_lbfgs_pair_ok(double sy, double ss, double yy)
+{
+    return sy > 1e-10 * sqrt(ss) * sqrt(yy) && isfinite(sy);
+}
+
+/* store the pair (s, y) given as vectors (bcqn: y blended), unless it would break
+ * positive definiteness */
+static inline void eo_lbfgs_memory_push_pair(eo_lbfgs_memory *h, const double *s_in, const double *y_in)
+{
+    const int n = h->n;
+    if (h->m == 0) return;
+    const double sy = eo_dot(n, s_in, y_in), ss = eo_dot(n, s_in, s_in), yy = eo_dot(n, y_in, y_in);
+    if (!eo_lbfgs_pair_ok(sy, ss, yy)) return; /* skip the pair */
+    double *s = h->S + (size_t)h->head * n, *y = h->Y + (size_t)h->head * n;
+    for (int i = 0; i < n; i++) {
+        s[i] = s_in[i];
+        y[i] = y_in[i];
+    }
+    h->rho[h->head] = 1 / sy;
+    h->head = (h->head + 1) % h->m;
+    if (h->count < h->m) h->count++;
+}
+
 /* store the pair of an accepted step x → x_new, unless it would break positive definiteness */
 static inline void eo_lbfgs_memory_push(eo_lbfgs_memory *h, const double *x, const double *x_new,
                                         const double *grad, const double *grad_new)
@@ -62,7 +86,7 @@ static inline void eo_lbfgs_memory_push(eo_lbfgs_memory *h, const double *x, con
         ss += si * si;
         yy += yi * yi;
     }
-    if (!(sy > 1e-10 * sqrt(ss) * sqrt(yy)) || !isfinite(sy)) return; /* skip the pair */
+    if (!eo_lbfgs_pair_ok(sy, ss, yy)) return; /* skip the pair */
     double *s = h->S + (size_t)h->head * n, *y = h->Y + (size_t)h->head * n;
     for (int i = 0; i < n; i++) {
         s[i] = x_new[i] - x[i];

@@ -16,6 +16,7 @@ const void *const eo_registry_optimizer[] = {
     &eo_optimizer_newton_tr,
     &eo_optimizer_gradient_descent,
     &eo_optimizer_lbfgs,
+    &eo_optimizer_bcqn,
     &eo_optimizer_ncg,
     &eo_optimizer_projective_dynamics,
     &eo_optimizer_fixed_point,

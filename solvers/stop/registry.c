@@ -6,6 +6,7 @@ const void *const eo_registry_stop[] = {
     &eo_stop_relative_decrement,
     &eo_stop_newton_decrement,
     &eo_stop_gradient,
+    &eo_stop_characteristic_gradient,
     NULL,
 };
 
