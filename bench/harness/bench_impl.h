@@ -75,6 +75,7 @@ typedef struct bench_step_res {
 typedef struct bench_traj_res {
     int iters, reason;
     double time, g, dist;
+    double time2;         /* the other clock's solve time */
     int nonfinite, nan;
 } bench_traj_res;
 
@@ -145,7 +146,8 @@ typedef struct bench_out {
     int plots;
     bench_scene_res *res; /* nsc */
     double t_start, t_end;
-    double cpu_seconds;   /* processor time of the run (clock()): the wall time of an unloaded machine */
+    double cpu_seconds;   /* CPU time of the thread that ran the suite (eo_cputime) */
+    int wall;             /* times are wall seconds (clock "wall"), else thread CPU seconds */
     char load_start[64], load_end[64];
     eo_bench_summary *sum;
     int gnuplot;          /* 1 if gnuplot was found */

@@ -933,8 +933,13 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", gmtime(&now));
     fprintf(f, "# Optimizer benchmark: %s\n\n", s->path);
     if (s->o.description[0]) fprintf(f, "%s\n\n", s->o.description);
-    fprintf(f, "Run %s, %.1f s wall time (%.1f s processor time: on a loaded machine, an estimate of the wall time "
-               "unloaded), %d scene(s) × %d configuration(s), %d timed repeat(s) per run unless "
+    fprintf(f, "**Clock: %s.** Every time, ratio and time budget below is in %s (`clock`; curves.csv, "
+               "trajectory.csv and fixed.csv record wall and CPU seconds both).\n\n",
+            b->wall ? "wall" : "CPU", b->wall ? "elapsed (wall) seconds" :
+            "CPU seconds of the thread that solves (CLOCK_THREAD_CPUTIME_ID): they do not grow while the "
+            "thread waits for a core, so a shared machine moves them by a few percent where wall time moved 8-9×");
+    fprintf(f, "Run %s, %.1f s wall time (%.1f s CPU time of the solving thread), "
+               "%d scene(s) × %d configuration(s), %d timed repeat(s) per run unless "
                "a scene says otherwise (median, min–max spread; an untimed warm-up run of at most %d iteration(s) "
                "first). Outputs: `curves.csv`, `summary.csv`, "
                "`reference.csv`, `trajectory.csv`, `fixed.csv`, `plots/`.\n\n",
@@ -954,6 +959,13 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     char blas_line[640];
     eo_blas_describe(blas_line, sizeof blas_line);
     fprintf(f, "| BLAS | %s |\n", blas_line + (strncmp(blas_line, "BLAS ", 5) == 0 ? 5 : 0));
+    eo_blas_info binfo;
+    eo_blas_get(&binfo);
+    if (!b->wall && binfo.threads > 1)
+        fprintf(f, "| **warning** | the BLAS runs %d threads: thread CPU time misses the work of the others "
+                   "(factorizations look cheaper than they are); rerun with one BLAS thread (the CLI's default) "
+                   "or `--clock wall` |\n",
+                binfo.threads);
     fprintf(f, "| load average at start / end | %s / %s |\n", b->load_start, b->load_end);
     fprintf(f, "| elastopt | %s, build type %s, %s, git %s |\n\n", mach.version, mach.build_type, mach.compiler,
             mach.revision);

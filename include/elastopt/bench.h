@@ -52,8 +52,15 @@
 /// satisfied, but farther: another stationary point), stopped (with the first failing
 /// step's reason), non-finite (the solver met a non-finite g or ∇g; `nan` counts runs
 /// whose returned positions or recorded values were NaN).
-/// Times: median of the timed repeats with min–max spread; ratios against the suite's
-/// named baseline configuration, measured in the same run.
+/// Times: CPU seconds of the solving thread by default (`clock`: "cpu"; "wall" for
+/// elapsed time; both are recorded): thread CPU time does not grow while the thread
+/// waits for a core, so a shared machine changes it by a few percent where wall time
+/// moved 8-9x. The harness runs the element loops serially and the CLI gives the BLAS one
+/// thread, so the solving thread does all the work; with a multithreaded BLAS the report
+/// warns that thread CPU time misses the BLAS threads' work (use "wall", or one BLAS
+/// thread). Budgets (time_budget, `budgets`) count the same clock's seconds. Median of the
+/// timed repeats with min–max spread; ratios against the suite's named baseline
+/// configuration, measured in the same run.
 ///
 /// ```c
 /// eo_bench_suite *s;
@@ -69,7 +76,7 @@
 /// Suite keys (top level; `eo_bench_opts_desc`):
 ///   description, repeats, baseline, target, ref_tol, ref_max_iters, max_iters,
 ///   time_budget, steps, skip, select, horizon, trajectory, trajectory_start,
-///   warmup_iters, curve_rows, plots, ipopt_check
+///   warmup_iters, curve_rows, plots, ipopt_check, clock
 ///   thresholds  list of relative energy errors for the time table (default
 ///               [1e-2, 1e-3, 1e-4, 1e-6, 1e-8])
 ///   iter_budgets  list of iterations per frame for the fixed-budget runs (integers
@@ -140,6 +147,13 @@ typedef struct eo_bench_opts {
                             ///< reference: its relative energy and position differences to
                             ///< x* go to reference.csv and report.md. Default true (skipped
                             ///< when the build has no Ipopt).
+    char clock[8];          ///< what every time, ratio and budget measures: "cpu" = CPU
+                            ///< seconds of the thread that solves (eo_cputime,
+                            ///< CLOCK_THREAD_CPUTIME_ID), "wall" = elapsed seconds
+                            ///< (eo_wtime). Both are recorded (curves.csv, trajectory.csv,
+                            ///< fixed.csv); the time budgets (time_budget, a configuration's
+                            ///< solver.time_budget, `budgets`) are in this clock's seconds.
+                            ///< Default "cpu".
 } eo_bench_opts;
 EO_API extern const eo_param_desc eo_bench_opts_desc[];
 
@@ -199,6 +213,9 @@ typedef struct eo_bench_run_opts {
     /// repeats of every measured step); `elastopt bench --profile` prints it.
     void (*profile)(const char *scene, const char *config, const eo_profile *p, void *user);
     void *profile_user;
+    /// "cpu" or "wall": overrides the suite's `clock` (NULL: the suite's). The profile
+    /// callback receives the CPU view of the profile (eo_profile_cpu_view) under "cpu".
+    const char *clock;
 } eo_bench_run_opts;
 EO_API eo_bench_run_opts eo_bench_run_opts_default(void);
 

@@ -66,6 +66,7 @@ typedef struct eo_linsolve_stats {
     /// pcg with a reused factor (cholmod_reuse): numeric refactorizations done so far.
     long n_refactor;
     long n_analyze;      ///< analyze calls (symbolic factorizations) so far
+    double c_analyze, c_factor, c_solve;  ///< the t_* spans in CPU seconds (eo_cputime)
 } eo_linsolve_stats;
 
 typedef struct eo_linsolve_type {
