@@ -238,9 +238,10 @@ EO_API int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run
 
 /* ---- pieces, exposed for tests */
 
-/// Time at which a curve first reaches err <= thr: log-linear interpolation between
-/// the last iterate above thr and the first at or below it (time of the first iterate
-/// if it is already below; INFINITY if never). t[] nondecreasing, err[] may be <= 0.
+/// Time to accuracy: the time t[k] of the FIRST iterate k with err[k] <= thr (a step
+/// function: nothing is interpolated between iterates, so a threshold met by the first
+/// iterate costs the whole first iteration); INFINITY if never (NaN never meets it).
+/// t[] nondecreasing, err[] may be <= 0.
 EO_API double eo_bench_time_to(int n, const double *t, const double *err, double thr);
 /// Error of the last iterate whose time is <= budget (err[0] if none; NAN if n = 0).
 EO_API double eo_bench_error_at(int n, const double *t, const double *err, double budget);
