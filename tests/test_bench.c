@@ -351,6 +351,21 @@ static void test_first_iterate(const char *dir)
             }
         }
         CHECK(checked >= 4 && first_iter, "%d thresholds checked", checked);
+        /* one repeat: the report never calls two configurations separated, and says why;
+         * summary.csv names the repeats and the clock behind its times */
+        char p[4400], line[2048];
+        snprintf(p, sizeof p, "%s/report.md", out);
+        FILE *f = fopen(p, "r");
+        int na = 0, yes = 0;
+        while (f && fgets(line, sizeof line, f)) {
+            na += strstr(line, "| n/a (< 3 repeats) |") != NULL;
+            yes += strstr(line, "× | yes |") != NULL || strstr(line, "× | no |") != NULL;
+        }
+        if (f) fclose(f);
+        CHECK(na >= 1 && yes == 0, "separated with one repeat: %d n/a, %d yes/no", na, yes);
+        for (int r = 0; r < sm.nrow; r++)
+            CHECK(!strcmp(csv_get(&sm, r, "repeats"), "1") && !strcmp(csv_get(&sm, r, "clock"), "cpu"),
+                  "summary row %d: repeats '%s' clock '%s'", r, csv_get(&sm, r, "repeats"), csv_get(&sm, r, "clock"));
     }
     eo_bench_suite_destroy(&s);
     eo_test_ctx_done(&ctx);

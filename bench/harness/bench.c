@@ -664,6 +664,7 @@ static int check_config(eo_ctx *ctx, eo_bench_suite *s, bench_config *c)
     const eo_optimizer_type *ot = NULL;
     EO_TRY(rc = eo_registry_find(ctx, EO_KIND_OPTIMIZER, so.optimizer, (const void **)&ot));
     c->needs_hessian = ot->needs_hessian;
+    for (int i = 0; i < c->nset; i++) c->own_max_iters |= strncmp(c->set[i], "solver.max_iters=", 17) == 0;
     json_t *j = eo_solver_to_json(sv);
     char *text = j ? json_dumps(j, JSON_COMPACT | JSON_REAL_PRECISION(10)) : NULL;
     json_decref(j);
@@ -1521,12 +1522,18 @@ static int run_scene(run_ctx *r, int si)
         }
         eo_solver_opts so, cso;
         EO_TRY(rc = config_cfg(ctx, c, &ccfg, &so));
+        /* one iteration cap and one time budget for the speed (curve) and the status
+         * (trajectory) runs: the configuration's own solver.max_iters if it sets one (at most
+         * the scene's: the recording buffers hold that many), else the scene's; its own
+         * solver.time_budget if set, else the scene's, in the suite's clock */
+        const int cap_iters = c->own_max_iters && so.max_iters < b->max_iters ? so.max_iters : b->max_iters;
+        const double budget = so.time_budget > 0 ? so.time_budget : b->time_budget;
+        p->max_iters = cap_iters;
+        p->budget = budget;
         cso = so;
         cso.tol = 1e-300;
-        cso.max_iters = b->max_iters;
+        cso.max_iters = cap_iters;
         cso.time_budget = 0; /* the harness enforces the budget, excluding its own time */
-        /* a configuration's own solver.time_budget wins over the scene's */
-        const double budget = so.time_budget > 0 ? so.time_budget : b->time_budget;
         progress(r, si, ci, "curves");
         EO_TRY(rc = eo_solver_create(ctx, &cso, ccfg, &sv));
         for (int k = 0; k < S; k++) {
@@ -1555,6 +1562,7 @@ static int run_scene(run_ctx *r, int si)
         if (s->o.trajectory) {
             progress(r, si, ci, "trajectory");
             eo_solver_opts tso = so;
+            tso.max_iters = cap_iters; /* the curve runs' cap */
             tso.time_budget = 0; /* the budget in the suite's clock: budget_iter */
             EO_TRY(rc = eo_sim_set_solver(sim, &tso, ccfg));
             EO_TRY(rc = eo_sim_set_adaptive(sim, adaptive)); /* the scene's time.adaptive */

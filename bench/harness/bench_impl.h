@@ -33,6 +33,7 @@ typedef struct bench_config {
     char **set;
     int nset;
     int needs_hessian;
+    int own_max_iters;    /* the configuration sets solver.max_iters itself */
     char *resolved;       /* JSON text of eo_solver_to_json (eo_malloc'd) */
 } bench_config;
 
@@ -106,6 +107,8 @@ typedef struct bench_pair {
     int traj_converged;   /* steps converged in the trajectory run */
     int first_bad_step, first_bad_reason; /* trajectory index (scene step traj_first + it) or measured step */
     double traj_time, traj_max_dist, traj_final_dist;
+    int max_iters;        /* iteration cap of its curve and trajectory runs */
+    double budget;        /* time budget (s, the suite's clock) of its curve and trajectory runs */
     char status[16];      /* converged | stopped | non-finite */
     char reason[160];
 } bench_pair;

@@ -96,6 +96,16 @@ static void fmt_spread(const bench_pair *p, int j, int repeats, char *buf, size_
     snprintf(buf, n, "%s (%s–%s)", a, lo, hi);
 }
 
+/* Two medians are "separated" only when each has at least SEPARATE_MIN_REPEATS timed
+ * repeats and their [min, max] ranges do not overlap: with fewer repeats a range says
+ * nothing about the noise. */
+enum { SEPARATE_MIN_REPEATS = 3 };
+static const char *separated(const bench_pair *a, const bench_pair *b2, int j, int repeats)
+{
+    if (repeats < SEPARATE_MIN_REPEATS) return "n/a (< 3 repeats)";
+    return a->ttt_max[j] < b2->ttt_min[j] || b2->ttt_max[j] < a->ttt_min[j] ? "yes" : "no";
+}
+
 /* Fastest and second fastest configuration of a scene at threshold j (-1 if none). */
 static void fastest(const bench_out *b, int si, int j, int *first, int *second)
 {
@@ -133,7 +143,7 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
         fprintf(f, ",fixed_%d_time_per_frame,fixed_%d_time_min,fixed_%d_time_max,fixed_%d_iters_per_frame,"
                    "fixed_%d_max_dist,fixed_%d_rel_dist",
                 s->ibud[j], s->ibud[j], s->ibud[j], s->ibud[j], s->ibud[j], s->ibud[j]);
-    fprintf(f, "\n");
+    fprintf(f, ",repeats,clock,max_iters,time_budget\n");
     for (int si = 0; si < s->nsc; si++) {
         const bench_scene_res *sr = b->res + si;
         const bench_pair *base = sr->pair + s->baseline;
@@ -176,6 +186,10 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
                 eo_bench_csv_num(f, z->nan ? NAN : z->max_dist);
                 eo_bench_csv_num(f, z->nan ? NAN : z->max_dist / fmax(sr->win_disp, 1e-300));
             }
+            /* the repeats behind every time of the row, its clock, and the cap and budget
+             * that both the curve (speed) and the trajectory (status) runs had */
+            fprintf(f, ",%d,%s,%d", sr->repeats, b->wall ? "wall" : "cpu", p->max_iters);
+            eo_bench_csv_num(f, p->budget);
             fputc('\n', f);
         }
     }
@@ -1013,8 +1027,10 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
         if (j != h) fprintf(f, ", %s", l2);
     }
     fprintf(f, "\n\n");
-    fprintf(f, "Times are medians (min–max over the repeats). *Separated* says whether the two spreads do not "
-               "overlap; when they do, the order of the two is within the machine's noise. Iterations are those of "
+    fprintf(f, "Times are medians (min–max over the repeats; *rep.* = the timed repeats behind each figure). "
+               "*Separated* = yes only with at least 3 repeats and non-overlapping [min, max] ranges of the two; "
+               "`no` = the order of the two is within the machine's noise; `n/a` = fewer than 3 repeats, too few "
+               "to tell. Iterations are those of "
                "the median repeat, summed over the measured steps. *vs baseline* is the baseline's time over the "
                "fastest's (1.00× when the baseline is the fastest).\n\n");
     for (int jj = -1; jj < s->nthr; jj++) {
@@ -1023,15 +1039,16 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
         char l2[32];
         fmt_thr(s->thr[j], l2, sizeof l2);
         fprintf(f, "### to %s%s\n\n", l2, j == h ? " (headline)" : "");
-        fprintf(f, "| scene | fastest | time (ms) | it. | next best | its time (ms) | it. | ratio | separated | "
-                   "baseline time (ms) | vs baseline |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
+        fprintf(f, "| scene | rep. | fastest | time (ms) | it. | next best | its time (ms) | it. | ratio | separated | "
+                   "baseline time (ms) | vs baseline |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n");
         for (int si = 0; si < s->nsc; si++) {
             int first, second;
             fastest(b, si, j, &first, &second);
             const bench_pair *P = b->res[si].pair;
             fmt_ms(P[s->baseline].ttt_med[j], a, sizeof a);
             if (first < 0) {
-                fprintf(f, "| %s | none reached %s | — | — | — | — | — | — | — | %s | — |\n", s->sc[si].name, l2, a);
+                fprintf(f, "| %s | %d | none reached %s | — | — | — | — | — | — | — | %s | — |\n", s->sc[si].name,
+                        b->res[si].repeats, l2, a);
                 continue;
             }
             char s1[160], s2[160], vb[32] = "—";
@@ -1040,14 +1057,13 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             fmt_spread(&P[first], j, b->res[si].repeats, s1, sizeof s1);
             if (second >= 0) {
                 fmt_spread(&P[second], j, b->res[si].repeats, s2, sizeof s2);
-                int sep = P[first].ttt_max[j] < P[second].ttt_min[j];
-                fprintf(f, "| %s | **%s** | %s | %d | %s | %s | %d | %.2f× | %s | %s | %s |\n", s->sc[si].name,
-                        s->cf[first].name, s1, pair_iters(&P[first]), s->cf[second].name, s2,
-                        pair_iters(&P[second]), P[second].ttt_med[j] / P[first].ttt_med[j], sep ? "yes" : "no", a,
-                        vb);
+                fprintf(f, "| %s | %d | **%s** | %s | %d | %s | %s | %d | %.2f× | %s | %s | %s |\n", s->sc[si].name,
+                        b->res[si].repeats, s->cf[first].name, s1, pair_iters(&P[first]), s->cf[second].name, s2,
+                        pair_iters(&P[second]), P[second].ttt_med[j] / P[first].ttt_med[j],
+                        separated(&P[first], &P[second], j, b->res[si].repeats), a, vb);
             } else {
-                fprintf(f, "| %s | **%s** | %s | %d | — | — | — | only one | — | %s | %s |\n", s->sc[si].name,
-                        s->cf[first].name, s1, pair_iters(&P[first]), a, vb);
+                fprintf(f, "| %s | %d | **%s** | %s | %d | — | — | — | only one | — | %s | %s |\n", s->sc[si].name,
+                        b->res[si].repeats, s->cf[first].name, s1, pair_iters(&P[first]), a, vb);
             }
         }
         fprintf(f, "\n");
@@ -1100,9 +1116,10 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
         fprintf(f, "### %s\n\n", bs->name);
         fprintf(f, "%s `%s`", bs->file[0] ? "file" : "built-in scene", bs->file[0] ? bs->o.file : bs->o.scene);
         for (int k = 0; k < bs->nset; k++) fprintf(f, ", `%s`", bs->set[k]);
-        fprintf(f, ". %d tets, %d vertices; time budget %g s per solve (unless a configuration sets its own); %d "
-                   "timed repeat(s).\n\n",
-                bs->nt, bs->nv, bs->time_budget, sr->repeats);
+        fprintf(f, ". %d tets, %d vertices; time budget %g %s s per solve and iteration cap %d (unless a configuration "
+                   "sets its own: the same in the curve and the trajectory runs); every time below is the median of "
+                   "%d timed repeat(s) (min–max in parentheses when there are more than one).\n\n",
+                bs->nt, bs->nv, bs->time_budget, b->wall ? "wall" : "CPU", bs->max_iters, sr->repeats);
         describe_steps(f, bs, sr);
         if (sr->plotted) fprintf(f, "![%s](plots/%s.png)\n\n", bs->name, fname);
         fprintf(f, "Reference: ");
@@ -1230,9 +1247,12 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
 
     /* ---- resolved configurations */
     fprintf(f, "## Resolved configurations\n\n");
-    fprintf(f, "The curve runs replace `tol` by 1e-300 (the harness stops them), `max_iters` by the scene's cap and "
-               "`time_budget` by the scene's budget (unless the configuration sets its own `time_budget`, which "
-               "then applies); the trajectory runs use everything as shown, with the same time budget.\n\n");
+    fprintf(f, "Caps and budgets are the same in the speed (curve) and the status (trajectory) runs: the iteration "
+               "cap is the configuration's own `max_iters` if it sets one (at most the scene's), else the scene's "
+               "`max_iters`; the time budget is the configuration's own `time_budget` if it sets one, else the "
+               "scene's, in the suite's clock (the harness enforces it; the solver's own wall-clock budget is off). "
+               "The curve runs also replace `tol` by 1e-300 (the harness stops them at the target); the trajectory "
+               "runs keep every other key as shown.\n\n");
     for (int c = 0; c < s->ncf; c++) fprintf(f, "- `%s`: `%s`\n", s->cf[c].name, s->cf[c].resolved);
     fprintf(f, "\n");
     return eo_afile_commit(ctx, &af);
