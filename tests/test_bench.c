@@ -308,7 +308,7 @@ static void test_first_iterate(const char *dir)
     const char *text = "{\"repeats\": 1, \"steps\": 1, \"plots\": false, \"curve_rows\": 0, \"trajectory\": false,"
                        " \"thresholds\": [0.5, 1e-3, 1e-8], \"ipopt_check\": false,"
                        " \"scenes\": [{\"name\": \"c\", \"scene\": \"cantilever\", \"skip\": 1,"
-                       "   \"set\": {\"mesh.generate.cells\": [6, 2, 2]}}],"
+                       "   \"stratum\": \"bars\", \"set\": {\"mesh.generate.cells\": [6, 2, 2]}}],"
                        " \"configs\": [{\"name\": \"n\", \"set\": {\"solver.optimizer\": \"newton\"}},"
                        "   {\"name\": \"lbfgs\", \"set\": {\"solver.optimizer\": \"lbfgs\"}}]}";
     eo_ctx *ctx = eo_test_ctx();
@@ -356,16 +356,68 @@ static void test_first_iterate(const char *dir)
         char p[4400], line[2048];
         snprintf(p, sizeof p, "%s/report.md", out);
         FILE *f = fopen(p, "r");
-        int na = 0, yes = 0;
+        int na = 0, yes = 0, prof = 0;
         while (f && fgets(line, sizeof line, f)) {
+            prof += !strcmp(line, "## Performance profile\n") || !strncmp(line, "| bars | 5e-01 | 1 | ", 21);
             na += strstr(line, "| n/a (< 3 repeats) |") != NULL;
             yes += strstr(line, "× | yes |") != NULL || strstr(line, "× | no |") != NULL;
         }
         if (f) fclose(f);
         CHECK(na >= 1 && yes == 0, "separated with one repeat: %d n/a, %d yes/no", na, yes);
+        CHECK(prof == 2, "report: Performance profile heading and the stratum's row (%d)", prof);
         for (int r = 0; r < sm.nrow; r++)
             CHECK(!strcmp(csv_get(&sm, r, "repeats"), "1") && !strcmp(csv_get(&sm, r, "clock"), "cpu"),
                   "summary row %d: repeats '%s' clock '%s'", r, csv_get(&sm, r, "repeats"), csv_get(&sm, r, "clock"));
+        /* the profiles of the one instance at level 0.5: the faster configuration has
+         * rho(tau) = 1 for every tau, the slower 0 below tau = its time / the best and 1 from
+         * there on; the data profile counts an instance solved from kappa = time / one
+         * gradient's time (reference.csv grad_time); the stratum "bars" repeats "all" */
+        double tc[2];
+        const char *cn[2] = {"n", "lbfgs"};
+        for (int r = 0; r < sm.nrow; r++)
+            for (int c = 0; c < 2; c++)
+                if (!strcmp(csv_get(&sm, r, "config"), cn[c])) tc[c] = atof(csv_get(&sm, r, "t_5e-01_median"));
+        static csv_tab ref;
+        csv_read(out, "reference.csv", &ref);
+        double tgr = NAN;
+        for (int r = 0; r < ref.nrow; r++)
+            if (!strcmp(csv_get(&ref, r, "measured"), "1")) tgr = atof(csv_get(&ref, r, "grad_time"));
+        CHECK(tgr > 0 && tgr < tc[0], "gradient time %g (Newton's first iterate %g)", tgr, tc[0]);
+        const double best = fmin(tc[0], tc[1]);
+        snprintf(p, sizeof p, "%s/perf_profile.csv", out);
+        f = fopen(p, "r");
+        int rows = 0, bad = 0, bars = 0;
+        while (f && fgets(line, sizeof line, f)) {
+            char st[64], th[32], cf[64];
+            int np;
+            double tau, fr;
+            if (sscanf(line, "%63[^,],%31[^,],%63[^,],%d,%lf,%lf", st, th, cf, &np, &tau, &fr) != 6) continue;
+            bars += !strcmp(st, "bars");
+            if (strcmp(th, "5e-01") || np != 1) continue;
+            const double t = !strcmp(cf, "n") ? tc[0] : tc[1], ratio = t / best;
+            if (fabs(tau - ratio) < 1e-5 * ratio) continue; /* at the step: rounding of tau */
+            rows++;
+            if (fr != (tau >= ratio ? 1.0 : 0.0)) bad++;
+        }
+        if (f) fclose(f);
+        CHECK(rows >= 2 * 101 - 2 && bad == 0 && bars > 0, "perf profile: %d rows, %d wrong, %d of stratum bars", rows,
+              bad, bars);
+        snprintf(p, sizeof p, "%s/data_profile.csv", out);
+        f = fopen(p, "r");
+        rows = bad = 0;
+        while (f && fgets(line, sizeof line, f)) {
+            char st[64], th[32], cf[64];
+            int np;
+            double kap, fr;
+            if (sscanf(line, "%63[^,],%31[^,],%63[^,],%d,%lf,%lf", st, th, cf, &np, &kap, &fr) != 6) continue;
+            if (strcmp(st, "all") || strcmp(th, "5e-01")) continue;
+            const double need = (!strcmp(cf, "n") ? tc[0] : tc[1]) / tgr;
+            if (fabs(kap - need) < 1e-3 * need) continue; /* the CSVs keep 6-7 digits */
+            rows++;
+            if (fr != (kap >= need ? 1.0 : 0.0)) bad++;
+        }
+        if (f) fclose(f);
+        CHECK(rows >= 2 * 71 - 2 && bad == 0, "data profile: %d rows, %d wrong", rows, bad);
     }
     eo_bench_suite_destroy(&s);
     eo_test_ctx_done(&ctx);

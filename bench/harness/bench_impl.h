@@ -116,6 +116,7 @@ typedef struct bench_pair {
 /* Reference of one step. */
 typedef struct bench_ref {
     double t, g0, gstar, dec, time, floor;
+    double tgrad;         /* one gradient evaluation at x0 (s, the suite's clock): the data profiles' unit */
     int iters, reason, converged, n;
     int rounding;         /* converged at the rounding floor, not at ref_tol */
     /* the Ipopt check (ipopt_check): -1 not run; else Ipopt's reason and its differences
@@ -161,6 +162,9 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b);
 int eo_bench_write_report(eo_ctx *ctx, bench_out *b);
 int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si);
 int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b);
+/* perf_profile.csv, data_profile.csv and their plots; the report's section */
+int eo_bench_profiles(eo_ctx *ctx, bench_out *b);
+int eo_bench_write_profile_section(eo_ctx *ctx, FILE *f, const bench_out *b);
 /* Keep row k of a curve of n iterates in the CSV / plot data. */
 void eo_bench_csv_num(FILE *f, double v);
 int eo_bench_keep_row(int k, int n, int full_rows);

@@ -202,7 +202,7 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
     f = eo_afile_fp(af);
     fprintf(f, "scene,step,scene_step,measured,t,n,iterations,reason,converged,rounding_floor,solve_time,g0,gstar,"
                "decrement,rel_err_floor,motion,correction,"
-               "ipopt_reason,ipopt_iterations,ipopt_time,ipopt_rel_energy_diff,ipopt_rel_pos_diff\n");
+               "ipopt_reason,ipopt_iterations,ipopt_time,ipopt_rel_energy_diff,ipopt_rel_pos_diff,grad_time\n");
     for (int si = 0; si < s->nsc; si++)
         for (int k = 0, m = 0; k < b->res[si].nref; k++) {
             /* every reference step; `step` numbers the measured ones (1..steps) */
@@ -228,6 +228,7 @@ int eo_bench_write_summary(eo_ctx *ctx, bench_out *b)
                 eo_bench_csv_num(f, q->ip_de);
                 eo_bench_csv_num(f, q->ip_pe);
             }
+            eo_bench_csv_num(f, meas ? q->tgrad : NAN); /* the data profiles' gradient-equivalent */
             fputc('\n', f);
         }
     return eo_afile_commit(ctx, &af);
@@ -1077,6 +1078,11 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     }
     if (b->plots && b->gnuplot && s->o.trajectory)
         fprintf(f, "![speed/accuracy Pareto chart](plots/pareto.png)\n\n");
+    rc = eo_bench_write_profile_section(ctx, f, b);
+    if (rc < 0) {
+        eo_afile_abort(ctx, &af);
+        return rc;
+    }
 
     /* ---- stability matrix */
     fprintf(f, "## Status per scene and configuration\n\n"
@@ -1256,4 +1262,288 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
     for (int c = 0; c < s->ncf; c++) fprintf(f, "- `%s`: `%s`\n", s->cf[c].name, s->cf[c].resolved);
     fprintf(f, "\n");
     return eo_afile_commit(ctx, &af);
+}
+
+/* ---------------------------------------------------------------- performance and data profiles
+ *
+ * Instances: every measured step of every scene (in a stratum: of the scenes whose
+ * "stratum" is that name; "all" holds every scene). Cost of configuration c on instance p
+ * at accuracy level j: the median over the timed repeats of the time to the first iterate
+ * with relative energy error (g - g*)/|g0 - g*| <= thr[j] (the suite's one convergence
+ * criterion, the same for every method), INFINITY if no repeat reached it.
+ *   performance profile (Dolan & More 2002): rho_c(tau) = share of the instances with
+ *     t_pc <= tau * min_c' t_pc' (an instance nobody solved counts as unsolved by all);
+ *   data profile (More & Wild 2009): d_c(kappa) = share of the instances with
+ *     t_pc / t_grad(p) <= kappa, t_grad(p) = the time of one gradient evaluation of the
+ *     step's objective at its starting guess (median of 5, same clock): the cost in
+ *     gradient-equivalents, comparable across scenes of any size. */
+
+#define PROF_NTAU 101   /* tau = 2^(i/10), i = 0..100: 1 .. 1024 */
+#define PROF_NKAPPA 71  /* kappa = 10^(i/10), i = 0..70: 1 .. 1e7 gradient-equivalents */
+
+static double prof_tau(int i) { return pow(2.0, i / 10.0); }
+static double prof_kappa(int i) { return pow(10.0, i / 10.0); }
+
+/* Strata: 0 = every scene, then each distinct non-empty scene "stratum" in order. */
+static int prof_strata(const eo_bench_suite *s, const char **names, int cap)
+{
+    int n = 0;
+    names[n++] = "all";
+    for (int si = 0; si < s->nsc; si++) {
+        const char *st = s->sc[si].o.stratum;
+        if (!st[0]) continue;
+        int k = 1;
+        while (k < n && strcmp(names[k], st)) k++;
+        if (k == n && n < cap) names[n++] = st;
+    }
+    return n;
+}
+
+static int prof_in(const eo_bench_suite *s, int si, int stratum, const char *const *names)
+{
+    return stratum == 0 || !strcmp(s->sc[si].o.stratum, names[stratum]);
+}
+
+/* Cost of every configuration on every instance of a stratum at level j: t[p*ncf + c]
+ * (INFINITY unsolved) and the gradient time tg[p]; returns the instance count. */
+static int prof_costs(const bench_out *b, int stratum, const char *const *names, int j, double *t, double *tg)
+{
+    const eo_bench_suite *s = b->s;
+    int np = 0;
+    for (int si = 0; si < s->nsc; si++) {
+        if (!prof_in(s, si, stratum, names)) continue;
+        const bench_scene_res *sr = b->res + si;
+        for (int k = 0; k < s->sc[si].steps; k++, np++) {
+            tg[np] = sr->ref[k].tgrad;
+            for (int c = 0; c < s->ncf; c++) {
+                const bench_step_res *st = sr->pair[c].st + k;
+                double v = eo_bench_median(st->nrep, st->ttt[j], NULL, NULL);
+                t[(size_t)np * s->ncf + c] = isfinite(v) ? v : INFINITY;
+            }
+        }
+    }
+    return np;
+}
+
+/* rho_c(tau) of configuration c over np instances */
+static double prof_rho(const double *t, int np, int ncf, int c, double tau)
+{
+    if (!np) return NAN;
+    int k = 0;
+    for (int p = 0; p < np; p++) {
+        double best = INFINITY;
+        for (int d = 0; d < ncf; d++) best = fmin(best, t[(size_t)p * ncf + d]);
+        const double v = t[(size_t)p * ncf + c];
+        if (isfinite(v) && v <= tau * best * (1 + 1e-12)) k++;
+    }
+    return (double)k / np;
+}
+
+static double prof_data(const double *t, const double *tg, int np, int ncf, int c, double kappa)
+{
+    if (!np) return NAN;
+    int k = 0;
+    for (int p = 0; p < np; p++) {
+        const double v = t[(size_t)p * ncf + c];
+        if (isfinite(v) && tg[p] > 0 && v / tg[p] <= kappa) k++;
+    }
+    return (double)k / np;
+}
+
+static int prof_ninstances(const eo_bench_suite *s)
+{
+    int n = 0;
+    for (int si = 0; si < s->nsc; si++) n += s->sc[si].steps;
+    return n;
+}
+
+/* One gnuplot panel set (every level of the suite) into f for a stratum: perf = 1 the
+ * performance profile, else the data profile, from the data file `dat` (index
+ * j*ncf + c). */
+static void prof_plot_body(FILE *f, const bench_out *b, const cfg_style *sty, const char *dat, const char *stratum,
+                           int np, int perf)
+{
+    const eo_bench_suite *s = b->s;
+    const int cols = s->nthr < 3 ? s->nthr : 3, rows = (s->nthr + cols - 1) / cols;
+    fprintf(f, "set multiplot layout %d,%d title \"%s profile, %s (%d instances = measured steps; %s time)\"\n", rows,
+            cols, perf ? "Performance (Dolan-More)" : "Data (More-Wild)", stratum, np, b->wall ? "wall" : "CPU");
+    fprintf(f, "set logscale x 2\nset yrange [0:1.02]\nset grid lc rgb '#dddddd'\nset key bottom right font ',8'\n");
+    if (!perf) fprintf(f, "set logscale x 10\nset format x '1e%%L'\n");
+    for (int j = 0; j < s->nthr; j++) {
+        fprintf(f, "set title 'relative energy error <= %.0e'\n", s->thr[j]);
+        fprintf(f, "set xlabel '%s'\nset ylabel 'fraction of instances'\n",
+                perf ? "tau (time / best time on the instance)" : "budget (gradient-equivalents of time)");
+        fprintf(f, "plot ");
+        for (int c = 0; c < s->ncf; c++)
+            fprintf(f, "%s'%s' index %d using 1:2 with steps lw %s lc rgb '%s' dt %s title '%s'", c ? ", \\\n  " : "",
+                    dat, j * s->ncf + c, c == s->baseline ? "2.5" : "1.5", style_colour(s, sty, c),
+                    dashes[sty[c].ls % NDASH], s->cf[c].name);
+        fprintf(f, "\n");
+    }
+    fprintf(f, "unset multiplot\n");
+}
+
+int eo_bench_profiles(eo_ctx *ctx, bench_out *b)
+{
+    const eo_bench_suite *s = b->s;
+    const char *names[64];
+    const int nst = prof_strata(s, names, 64);
+    const int npmax = prof_ninstances(s);
+    double *t = eo_malloc(ctx, ((size_t)npmax * s->ncf + npmax + 1) * sizeof(double));
+    cfg_style *sty = eo_malloc(ctx, (size_t)s->ncf * sizeof *sty);
+    eo_afile *pf = NULL, *df = NULL, *dat = NULL, *gp = NULL;
+    int rc = EO_OK;
+    if (!t || !sty) {
+        rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+        goto done;
+    }
+    double *tg = t + (size_t)npmax * s->ncf;
+    cfg_styles(s, sty);
+    char path[1400];
+    snprintf(path, sizeof path, "%s/perf_profile.csv", b->dir);
+    EO_TRY(rc = eo_afile_open(ctx, path, &pf));
+    snprintf(path, sizeof path, "%s/data_profile.csv", b->dir);
+    EO_TRY(rc = eo_afile_open(ctx, path, &df));
+    FILE *P = eo_afile_fp(pf), *D = eo_afile_fp(df);
+    fprintf(P, "stratum,threshold,config,instances,tau,fraction\n");
+    fprintf(D, "stratum,threshold,config,instances,grad_equivalents,fraction\n");
+    const int plots = b->plots && b->gnuplot;
+    for (int q = 0; q < nst; q++) {
+        char base[200], fname[160];
+        eo_bench_file_name(names[q], fname, sizeof fname);
+        FILE *Pd = NULL, *Dd = NULL;
+        eo_afile *pdat = NULL, *ddat = NULL;
+        if (plots) {
+            snprintf(path, sizeof path, "%s/plots/perf_profile-%s.dat", b->dir, fname);
+            EO_TRY(rc = eo_afile_open(ctx, path, &pdat));
+            snprintf(path, sizeof path, "%s/plots/data_profile-%s.dat", b->dir, fname);
+            rc = eo_afile_open(ctx, path, &ddat);
+            if (rc < 0) {
+                eo_afile_abort(ctx, &pdat);
+                goto done;
+            }
+            Pd = eo_afile_fp(pdat);
+            Dd = eo_afile_fp(ddat);
+        }
+        int np = 0;
+        for (int j = 0; j < s->nthr; j++) {
+            np = prof_costs(b, q, names, j, t, tg);
+            for (int c = 0; c < s->ncf; c++) {
+                if (Pd) fprintf(Pd, "# %s, %.0e, %s\n", names[q], s->thr[j], s->cf[c].name);
+                if (Dd) fprintf(Dd, "# %s, %.0e, %s\n", names[q], s->thr[j], s->cf[c].name);
+                for (int i = 0; i < PROF_NTAU; i++) {
+                    const double rho = prof_rho(t, np, s->ncf, c, prof_tau(i));
+                    fprintf(P, "%s,%.0e,%s,%d,%.6g,%.6g\n", names[q], s->thr[j], s->cf[c].name, np, prof_tau(i), rho);
+                    if (Pd) fprintf(Pd, "%.6g %.6g\n", prof_tau(i), rho);
+                }
+                for (int i = 0; i < PROF_NKAPPA; i++) {
+                    const double d = prof_data(t, tg, np, s->ncf, c, prof_kappa(i));
+                    fprintf(D, "%s,%.0e,%s,%d,%.6g,%.6g\n", names[q], s->thr[j], s->cf[c].name, np, prof_kappa(i), d);
+                    if (Dd) fprintf(Dd, "%.6g %.6g\n", prof_kappa(i), d);
+                }
+                if (Pd) fprintf(Pd, "\n\n");
+                if (Dd) fprintf(Dd, "\n\n");
+            }
+        }
+        if (!plots) continue;
+        rc = eo_afile_commit(ctx, &pdat);
+        if (rc >= 0) rc = eo_afile_commit(ctx, &ddat);
+        eo_afile_abort(ctx, &pdat);
+        eo_afile_abort(ctx, &ddat);
+        EO_TRY(rc);
+        for (int perf = 1; perf >= 0; perf--) {
+            snprintf(base, sizeof base, "%s_profile-%s", perf ? "perf" : "data", fname);
+            snprintf(path, sizeof path, "%s/plots/%s.gp", b->dir, base);
+            EO_TRY(rc = eo_afile_open(ctx, path, &gp));
+            FILE *f = eo_afile_fp(gp);
+            const int cols = s->nthr < 3 ? s->nthr : 3, rows = (s->nthr + cols - 1) / cols;
+            char out[240], dname[240];
+            snprintf(out, sizeof out, "%s.png", base);
+            snprintf(dname, sizeof dname, "%s.dat", base);
+            png_terminal(f, 520 * cols, 420 * rows + 40, out);
+            prof_plot_body(f, b, sty, dname, names[q], np, perf);
+            fprintf(f, "set terminal svg size %d,%d font 'DejaVu Sans,10' noenhanced\nset output '%s.svg'\n", 520 * cols,
+                    420 * rows + 40, base);
+            prof_plot_body(f, b, sty, dname, names[q], np, perf);
+            EO_TRY(rc = eo_afile_commit(ctx, &gp));
+            if (run_gnuplot(ctx, b->dir, base) >= 0) b->sum->plots_made++;
+        }
+    }
+    EO_TRY(rc = eo_afile_commit(ctx, &pf));
+    EO_TRY(rc = eo_afile_commit(ctx, &df));
+    rc = EO_OK;
+done:
+fail:
+    eo_afile_abort(ctx, &pf);
+    eo_afile_abort(ctx, &df);
+    eo_afile_abort(ctx, &dat);
+    eo_afile_abort(ctx, &gp);
+    eo_free(ctx, t);
+    eo_free(ctx, sty);
+    return rc;
+}
+
+/* The report's "Performance profile" section: per stratum and level, the configuration
+ * within 2x of the best time on the most instances (rho(2)), the one fastest on the most
+ * (rho(1)), and the share solved at all. */
+int eo_bench_write_profile_section(eo_ctx *ctx, FILE *f, const bench_out *b)
+{
+    const eo_bench_suite *s = b->s;
+    const char *names[64];
+    const int nst = prof_strata(s, names, 64);
+    const int npmax = prof_ninstances(s);
+    double *t = eo_malloc(ctx, ((size_t)npmax * s->ncf + npmax + 1) * sizeof(double));
+    if (!t) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    double *tg = t + (size_t)npmax * s->ncf;
+    fprintf(f, "## Performance profile\n\n"
+               "Convergence criterion, the same for every method: relative energy error (g − g*)/|g₀ − g*| ≤ level, "
+               "g* the reference minimizer's energy (above), at the first iterate that meets it. Instances: the "
+               "measured steps (%d in all). Cost: the median over the timed repeats of the time (%s) to that "
+               "iterate. **Performance profile** (Dolan–Moré): ρ(τ) = share of the instances a configuration solves "
+               "within τ × the best configuration's time on that instance; **data profile** (Moré–Wild): share "
+               "solved within κ gradient-equivalents, one gradient-equivalent being the time of one gradient "
+               "evaluation of that step's objective at its starting guess (median of 5, same clock). Every curve: "
+               "`perf_profile.csv`, `data_profile.csv`%s. *Within 2×* = the configuration with the largest ρ(2); "
+               "*fastest* = the largest ρ(1) (the share of instances where it was the fastest); ties list every "
+               "configuration.\n\n",
+            npmax, b->wall ? "wall seconds" : "CPU seconds of the solving thread",
+            b->plots && b->gnuplot ? ", plots `plots/perf_profile-<stratum>.png`/`.svg` and "
+                                     "`plots/data_profile-<stratum>.png`/`.svg`"
+                                   : "");
+    fprintf(f, "| stratum | level | instances | within 2× of the best on the most | ρ(2) | fastest on the most | ρ(1) | "
+               "solved by any |\n|---|---|---|---|---|---|---|---|\n");
+    for (int q = 0; q < nst; q++)
+        for (int j = 0; j < s->nthr; j++) {
+            const int np = prof_costs(b, q, names, j, t, tg);
+            double best2 = -1, best1 = -1;
+            for (int c = 0; c < s->ncf; c++) {
+                best2 = fmax(best2, prof_rho(t, np, s->ncf, c, 2));
+                best1 = fmax(best1, prof_rho(t, np, s->ncf, c, 1));
+            }
+            int any = 0;
+            for (int p = 0; p < np; p++) {
+                int solved = 0;
+                for (int c = 0; c < s->ncf; c++) solved |= isfinite(t[(size_t)p * s->ncf + c]);
+                any += solved;
+            }
+            fprintf(f, "| %s | %.0e | %d | ", names[q], s->thr[j], np);
+            int k = 0;
+            for (int c = 0; c < s->ncf; c++)
+                if (best2 > 0 && prof_rho(t, np, s->ncf, c, 2) == best2) fprintf(f, "%s%s", k++ ? ", " : "", s->cf[c].name);
+            fprintf(f, "%s | %.2f | ", k ? "" : "none", best2 > 0 ? best2 : 0.0);
+            k = 0;
+            for (int c = 0; c < s->ncf; c++)
+                if (best1 > 0 && prof_rho(t, np, s->ncf, c, 1) == best1) fprintf(f, "%s%s", k++ ? ", " : "", s->cf[c].name);
+            fprintf(f, "%s | %.2f | %d/%d |\n", k ? "" : "none", best1 > 0 ? best1 : 0.0, any, np);
+        }
+    fprintf(f, "\n");
+    if (b->plots && b->gnuplot)
+        for (int q = 0; q < nst; q++) {
+            char fname[160];
+            eo_bench_file_name(names[q], fname, sizeof fname);
+            fprintf(f, "![performance profile, %s](plots/perf_profile-%s.png)\n\n", names[q], fname);
+            fprintf(f, "![data profile, %s](plots/data_profile-%s.png)\n\n", names[q], fname);
+        }
+    eo_free(ctx, t);
+    return EO_OK;
 }

@@ -87,7 +87,7 @@
 ///               of every scene (exit status 1 otherwise)
 ///   scenes      list; each entry `eo_bench_scene_desc` (name, scene | file, steps, skip,
 ///               select, horizon, trajectory_start, time_budget, max_iters, repeats,
-///               optional) + "iter_budgets": a subset of the suite's list run on this
+///               optional, stratum) + "iter_budgets": a subset of the suite's list run on this
 ///               scene (default all) + "set": {"key": value, ...} overrides of the
 ///               scene config + optional "vary": [{"label": {set}, ...}, ...] whose
 ///               product expands the entry into scenes named name-label-label...
@@ -170,6 +170,9 @@ typedef struct eo_bench_scene_opts {
     int horizon;            ///< Default -1.
     char trajectory_start[16]; ///< as the suite's; "suite" = the suite's. Default "suite".
     int optional;           ///< drop the scene at load if its files cannot be read. Default false.
+    char stratum[48];       ///< group of the scene in the performance and data profiles (one
+                            ///< profile per stratum besides the one over every scene).
+                            ///< Default "" (none).
 } eo_bench_scene_opts;
 EO_API extern const eo_param_desc eo_bench_scene_desc[];
 
@@ -231,7 +234,13 @@ typedef struct eo_bench_summary {
 } eo_bench_summary;
 
 /// Run the suite and write into opts->out_dir: curves.csv, summary.csv, trajectory.csv,
-/// report.md and plots/ (PNG + gnuplot scripts and data). Returns EO_OK (the summary
+/// perf_profile.csv, data_profile.csv, report.md and plots/ (PNG + SVG + gnuplot scripts
+/// and data). Profiles: per suite (and per scene `stratum`), every instance being a
+/// measured step, cost = time to the first iterate with relative energy error <= each
+/// `thresholds` level: Dolan–Moré performance profiles (share of instances solved within
+/// tau x the best time) and Moré–Wild data profiles (share solved within kappa
+/// gradient-equivalents: kappa x the time of one gradient evaluation of the step's
+/// objective at its starting guess). Returns EO_OK (the summary
 /// says what failed), or a negative status (I/O, out of memory, an objective error).
 EO_API int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *opts,
                  eo_bench_summary *sum);
