@@ -14,7 +14,7 @@
 
 #include "cli.h"
 #include "petsc_load.h"
-#include "elastopt/bench.h"
+#include "bench.h"
 #include "profile.h"
 
 extern const eo_cli_command eo_cmd_bench;
@@ -157,7 +157,7 @@ const eo_cli_command eo_cmd_bench = {
     .usage = "elastopt bench SUITE.json [--out DIR] [--repeats N] [--clock cpu|wall] [--no-plots] [--quiet]\n"
              "                [--profile]\n\n"
              "Runs a benchmark suite (bench/standard.json, bench/hard.json, bench/smoke.json; keys in\n"
-             "include/elastopt/bench.h): a tight Newton reference per step, then every configuration\n"
+             "bench/harness/bench.h): a tight Newton reference per step, then every configuration\n"
              "from the same state, timed (median of N repeats after a warm-up) in CPU seconds of\n"
              "the solving thread (--clock wall, or the suite key \"clock\": elapsed time; both are\n"
              "recorded; time budgets count the same clock). Writes into DIR\n"

@@ -5,7 +5,7 @@
 #include <stddef.h>
 #include <stdio.h>
 
-#include "elastopt/bench.h"
+#include "bench.h"
 #include "elastopt/callback.h"
 #include "elastopt/ctx.h"
 #include "elastopt/mesh.h"

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "elastopt/bench.h"
+#include "bench.h"
 #include "testutil.h"
 
 static void test_time_to(void)

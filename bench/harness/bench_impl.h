@@ -5,7 +5,7 @@
 
 #include <stdio.h>
 
-#include "elastopt/bench.h"
+#include "bench.h"
 
 enum { BENCH_MAX_LIST = 16, BENCH_MAX_REPEATS = 16 };
 enum { BENCH_SELECT_FIRST, BENCH_SELECT_MOTION, BENCH_SELECT_CORRECTION };
@@ -157,13 +157,62 @@ typedef struct bench_out {
     int gnuplot;          /* 1 if gnuplot was found */
 } bench_out;
 
-/* bench_report.c */
+/* The own-stopping-rule summary over every scene (the Pareto chart and its headline
+ * table): x[c] = geometric mean over the scenes of the trajectory solve time per step
+ * over the baseline's (a trajectory stops at its first failing step, so the time per
+ * step compares runs of different lengths), y[c] = geometric mean of the largest
+ * trajectory distance over the reference motion, n[c] scenes counted, conv[c] = 1 if c
+ * converged on every scene, front[c] = 1 if c converged everywhere and no other such
+ * configuration is both faster and closer (pareto_tie). */
+typedef struct pareto_pts {
+    double *x, *y;
+    int *n, *conv, *front;
+} pareto_pts;
+
+#define PROF_NTAU 101   /* tau = 2^(i/10), i = 0..100: 1 .. 1024 */
+#define PROF_NKAPPA 71  /* kappa = 10^(i/10), i = 0..70: 1 .. 1e7 gradient-equivalents */
+
+/* output.c: number formats shared by the report and the plots */
+int bench_headline_thr(const eo_bench_suite *s);
+void bench_fmt_thr(double t, char *buf, size_t n);
+void bench_fmt_ms(double t, char *buf, size_t n);
+void bench_fmt_sci(double v, char *buf, size_t n);
+int bench_pair_iters(const bench_pair *p);
+
+/* stats.c: fastest and second fastest configuration of a scene at threshold j (-1 if none) */
+void bench_fastest(const bench_out *b, int si, int j, int *first, int *second);
+/* the own-stopping-rule summary (pareto_pts above): computed, freed, its winners */
+int bench_pareto_compute(eo_ctx *ctx, const bench_out *b, pareto_pts *pp);
+void bench_pareto_free(eo_ctx *ctx, pareto_pts *pp);
+void bench_pareto_winners(const eo_bench_suite *s, const pareto_pts *pp, int *fast, int *close);
+/* the profiles: tau and kappa grids, strata (0 = "all"), instances, costs of every
+ * configuration on every instance of a stratum at level j, rho_c(tau), d_c(kappa) */
+double bench_prof_tau(int i);
+double bench_prof_kappa(int i);
+int bench_prof_strata(const eo_bench_suite *s, const char **names, int cap);
+int bench_prof_ninstances(const eo_bench_suite *s);
+int bench_prof_costs(const bench_out *b, int stratum, const char *const *names, int j, double *t, double *tg);
+double bench_prof_rho(const double *t, int np, int ncf, int c, double tau);
+double bench_prof_data(const double *t, const double *tg, int np, int ncf, int c, double kappa);
+
+/* suite.c: the pieces run.c uses */
+int bench_wrap_err(eo_ctx *ctx, int rc, const char *file, const char *what, const char *name);
+int bench_scene_cfg(eo_ctx *ctx, const bench_scene *b, eo_cfg **cfg);
+int bench_config_cfg(eo_ctx *ctx, const bench_config *c, eo_cfg **cfg, eo_solver_opts *so);
+
+/* stats.c: a configuration's status and aggregates on a scene */
+void bench_aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int is_traj, double ref_disp,
+                     const int *meas);
+
+/* output.c, plots.c, report.c */
 int eo_bench_write_summary(eo_ctx *ctx, bench_out *b);
 int eo_bench_write_report(eo_ctx *ctx, bench_out *b);
 int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si);
 int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b);
-/* perf_profile.csv, data_profile.csv and their plots; the report's section */
-int eo_bench_profiles(eo_ctx *ctx, bench_out *b);
+/* perf_profile.csv and data_profile.csv (output.c), their plots (plots.c), the report's
+ * section (report.c) */
+int eo_bench_write_profiles(eo_ctx *ctx, bench_out *b);
+int eo_bench_plot_profiles(eo_ctx *ctx, bench_out *b);
 int eo_bench_write_profile_section(eo_ctx *ctx, FILE *f, const bench_out *b);
 /* Keep row k of a curve of n iterates in the CSV / plot data. */
 void eo_bench_csv_num(FILE *f, double v);

@@ -108,9 +108,9 @@
 #ifndef ELASTOPT_BENCH_H
 #define ELASTOPT_BENCH_H
 
-#include "export.h"
-#include "config.h"
-#include "solver.h"
+#include "elastopt/export.h"
+#include "elastopt/config.h"
+#include "elastopt/solver.h"
 
 #ifdef __cplusplus
 extern "C" {
