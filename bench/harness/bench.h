@@ -24,9 +24,13 @@
 ///     runs the configuration's stopping rule is disabled (tol = 1e-300) and the harness
 ///     stops the run when e ≤ `target`; the time budget and iteration cap still apply.
 ///     The time of iterate k is when g(xₖ) is known: 0 for k = 0, else the time of
-///     record k−1 (after the line search that produced xₖ);
+///     record k−1 (after the line search that produced xₖ). Time to an accuracy is the
+///     time of the first iterate that meets it (never interpolated between iterates);
 ///  3. runs each configuration over the whole benchmark scene (its skip + steps steps,
-///     from the scene's initial state) with its OWN stopping rule (trajectory run), up
+///     from the scene's initial state) with its OWN stopping rule and the curve runs'
+///     iteration cap and time budget (trajectory run: the configuration's own
+///     solver.max_iters if it sets one, at most the scene's max_iters, else the scene's;
+///     its own solver.time_budget if set, else the scene's), up
 ///     to the first step that rule does not meet, and measures the mass-weighted RMS
 ///     distance of its positions to the reference trajectory per frame,
 ///     √(Σᵥ mᵥ‖xᵥ − x*ᵥ‖² / Σᵥ mᵥ) (m). With `trajectory_start` = "window" the run
