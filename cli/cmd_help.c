@@ -13,7 +13,7 @@
 
 #include "elastopt/suggest.h"
 #include "cli.h"
-#include "elastopt/bench.h"
+#include "bench.h"
 #include "elastopt/registry.h"
 #include "elastopt/scene.h"
 

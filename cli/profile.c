@@ -4,8 +4,10 @@
  * evaluations included), gradients outside the line search, other (the rest of the
  * minimization: stopping tests, Hessian-fix bookkeeping, vector updates, logging
  * callbacks), and the ratio of one Newton iteration to one numeric factorization,
- * (total / iterations) / (numeric / factorizations). Wall seconds, measured in the
- * library (eo_solver_get_profile); this file only prints. First line: the BLAS that
+ * (total / iterations) / (numeric / factorizations). CPU seconds of the solving thread
+ * (eo_cputime, the c_* fields of eo_solver_get_profile, shown through eo_profile_cpu_view):
+ * they do not grow while the thread waits for a core on a shared machine; this file only
+ * prints. First line: the BLAS that
  * factorized (eo_blas_describe: name, version, core, threads, "(fixed from Prescott)"). */
 #include "profile.h"
 
@@ -37,6 +39,7 @@ void eo_cli_profile_blas(FILE *out)
     eo_blas_describe(line, sizeof line);
     const char *why = eo_cli_blas_threads_note();
     fprintf(out, "profile: %s%s%s\n", line, *why ? "; threads: " : "", why);
+    fprintf(out, "profile: seconds are CPU seconds of the solving thread (CLOCK_THREAD_CPUTIME_ID)\n");
 }
 
 void eo_cli_profile_step(eo_cli_profile *p, const eo_sim *sim, int step)
@@ -44,8 +47,9 @@ void eo_cli_profile_step(eo_cli_profile *p, const eo_sim *sim, int step)
     if (!p->on) return;
     const eo_profile *now = solver_profile(sim);
     if (!now) return;
-    eo_profile d;
-    eo_profile_diff(now, &p->last, &d);
+    eo_profile dw, d;
+    eo_profile_diff(now, &p->last, &dw);
+    eo_profile_cpu_view(&dw, &d);
     p->last = *now;
     if (!d.minimizations) return; /* explicit step: no solver */
     double ratio = eo_profile_iteration_ratio(&d);
@@ -69,7 +73,7 @@ static void row(FILE *out, const char *name, double t, long n, double total)
 void eo_cli_profile_print(FILE *out, const char *title, const eo_profile *pr)
 {
     const double T = pr->t_total;
-    fprintf(out, "profile %s: %ld minimizations, %ld iterations, %.4f s in the solver\n", title, pr->minimizations,
+    fprintf(out, "profile %s: %ld minimizations, %ld iterations, %.4f CPU s in the solver\n", title, pr->minimizations,
             pr->iterations, T);
     fprintf(out, "  %-22s %10s %7s %8s %12s\n", "phase", "seconds", "share", "calls", "s/call");
     row(out, "assembly (Hessian)", pr->t_assembly, pr->n_assembly, T);
@@ -93,5 +97,7 @@ void eo_cli_profile_total(eo_cli_profile *p, const eo_sim *sim, const char *titl
     if (!p->on) return;
     eo_solver *s = eo_sim_solver(sim);
     if (!s) return;
-    eo_cli_profile_print(p->out, title, eo_solver_get_profile(s));
+    eo_profile c;
+    eo_profile_cpu_view(eo_solver_get_profile(s), &c);
+    eo_cli_profile_print(p->out, title, &c);
 }

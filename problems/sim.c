@@ -398,6 +398,7 @@ static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
         r->iterations = sr.iterations;
         r->reason = sr.reason;
         r->time += sr.time;
+        r->cpu_time += sr.cpu_time;
         r->g = sr.g;
         r->grad_norm = sr.grad_norm;
         r->n_value += sr.n_value;
@@ -442,6 +443,7 @@ static int accept(eo_sim *s, const double *x, int whole, int *finite)
 static void add_cost(eo_sim_step_result *r, const eo_sim_step_result *a)
 {
     r->time += a->time;
+    r->cpu_time += a->cpu_time;
     r->n_value += a->n_value;
     r->n_gradient += a->n_gradient;
     r->n_hessian += a->n_hessian;
@@ -551,9 +553,10 @@ int eo_sim_step(eo_sim *s, eo_sim_step_result *r)
     int rc;
     if (eo_step_is_explicit(s->st)) {
         s->prepared = 0;
-        double t0 = eo_wtime();
+        double t0 = eo_wtime(), c0 = eo_cputime();
         if ((rc = eo_step_advance(s->st, &r->reason)) < 0) return rc;
         r->time = eo_wtime() - t0;
+        r->cpu_time = eo_cputime() - c0;
         s->entry = 0;
         r->n_entries = 1;
         r->entry_reason[0] = r->reason;

@@ -133,9 +133,15 @@ int eo_solver_stop_check(const eo_solver_ctx *sc, eo_stop_info *si, const double
     return sc->stop->check(sc->stop_params, si);
 }
 
+/* CPU time at the start of the minimization running on this thread (eo_solver_minimize
+ * sets it, saving and restoring an enclosing one): eo_iter_info.cpu_time is measured
+ * from it. */
+static _Thread_local double minimize_cpu0;
+
 int eo_solver_report(const eo_solver_ctx *sc, double t0, eo_iter_info *info)
 {
     info->time = eo_wtime() - t0;
+    info->cpu_time = eo_cputime() - minimize_cpu0;
     return sc->on_iter ? sc->on_iter(info, sc->user) : 0;
 }
 
@@ -366,10 +372,19 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
     };
     eo_linsolve_stats l0 = {0};
     if (s->linear) l0 = *eo_linsolve_get_stats(s->linear);
-    const double t0 = eo_wtime();
+    const double outer_cpu0 = minimize_cpu0;
+    const double t0 = eo_wtime(), c0 = eo_cputime();
+    minimize_cpu0 = c0;
     int rc = opt->minimize(s->opt_state, s->params[SLOT_OPT], &sc, x, res);
+    const double c1 = eo_cputime();
+    minimize_cpu0 = outer_cpu0;
+    res->cpu_time = c1 - c0;
     eo_profile *p = &s->prof;
     p->t_total += eo_wtime() - t0;
+    p->c_total += c1 - c0;
+    p->c_assembly += res->c_assembly;
+    p->c_linesearch += res->c_linesearch;
+    p->c_gradient += res->c_gradient;
     p->minimizations++;
     p->iterations += res->iterations;
     p->t_assembly += res->t_assembly;
@@ -385,6 +400,9 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         p->t_factor += l->t_factor - l0.t_factor;
         p->n_factor += l->n_factor - l0.n_factor;
         p->t_solve += l->t_solve - l0.t_solve;
+        p->c_analyze += l->c_analyze - l0.c_analyze;
+        p->c_factor += l->c_factor - l0.c_factor;
+        p->c_solve += l->c_solve - l0.c_solve;
         p->n_solve += l->n_solve - l0.n_solve;
         res->n_not_pd = l->n_not_pd - l0.n_not_pd;
         p->n_not_pd += res->n_not_pd;
@@ -413,6 +431,25 @@ void eo_profile_diff(const eo_profile *a, const eo_profile *b, eo_profile *o)
     o->n_ls_evals = a->n_ls_evals - b->n_ls_evals;
     o->n_gradient = a->n_gradient - b->n_gradient;
     o->n_not_pd = a->n_not_pd - b->n_not_pd;
+    o->c_total = a->c_total - b->c_total;
+    o->c_assembly = a->c_assembly - b->c_assembly;
+    o->c_analyze = a->c_analyze - b->c_analyze;
+    o->c_factor = a->c_factor - b->c_factor;
+    o->c_solve = a->c_solve - b->c_solve;
+    o->c_linesearch = a->c_linesearch - b->c_linesearch;
+    o->c_gradient = a->c_gradient - b->c_gradient;
+}
+
+void eo_profile_cpu_view(const eo_profile *p, eo_profile *o)
+{
+    *o = *p;
+    o->t_total = p->c_total;
+    o->t_assembly = p->c_assembly;
+    o->t_analyze = p->c_analyze;
+    o->t_factor = p->c_factor;
+    o->t_solve = p->c_solve;
+    o->t_linesearch = p->c_linesearch;
+    o->t_gradient = p->c_gradient;
 }
 
 double eo_profile_other(const eo_profile *p)

@@ -5,7 +5,7 @@
 #include <stddef.h>
 #include <stdio.h>
 
-#include "elastopt/bench.h"
+#include "bench.h"
 #include "elastopt/callback.h"
 #include "elastopt/ctx.h"
 #include "elastopt/mesh.h"
@@ -26,7 +26,7 @@ int main(void)
     S(eo_method_info) F(eo_method_info, summary) F(eo_method_info, params_size)
     S(eo_iter_info) F(eo_iter_info, time) F(eo_iter_info, decrement) F(eo_iter_info, alpha)
     F(eo_iter_info, ls_evals) F(eo_iter_info, shift) F(eo_iter_info, projected)
-    F(eo_iter_info, inverted) F(eo_iter_info, reason) F(eo_iter_info, x)
+    F(eo_iter_info, inverted) F(eo_iter_info, reason) F(eo_iter_info, x) F(eo_iter_info, cpu_time)
     S(eo_stop_info) F(eo_stop_info, g) F(eo_stop_info, grad_norm0) F(eo_stop_info, decrement)
     F(eo_stop_info, tol) F(eo_stop_info, measure) F(eo_stop_info, g0) F(eo_stop_info, floor_grad) F(eo_stop_info, g_scale)
     F(eo_stop_info, grad_char)
@@ -40,6 +40,7 @@ int main(void)
     S(eo_solve_result) F(eo_solve_result, g) F(eo_solve_result, decrement) F(eo_solve_result, time)
     F(eo_solve_result, n_factor) F(eo_solve_result, status) F(eo_solve_result, n_fallback)
     F(eo_solve_result, projected) F(eo_solve_result, n_not_pd)
+    F(eo_solve_result, projected) F(eo_solve_result, cpu_time) F(eo_solve_result, c_gradient)
     S(eo_solver_opts) F(eo_solver_opts, linear) F(eo_solver_opts, tol) F(eo_solver_opts, max_iters)
     F(eo_solver_opts, time_budget) F(eo_solver_opts, backend)
     S(eo_callback_optimizer_def) F(eo_callback_optimizer_def, needs_hessian)
@@ -52,12 +53,13 @@ int main(void)
     F(eo_sim_step_result, n_value) F(eo_sim_step_result, n_factor) F(eo_sim_step_result, stats)
     F(eo_sim_step_result, rejected) F(eo_sim_step_result, min_substep)
     F(eo_sim_step_result, n_not_pd)
+    F(eo_sim_step_result, rejected) F(eo_sim_step_result, min_substep) F(eo_sim_step_result, cpu_time)
     printf("eo_mesh_head nv %zu\neo_mesh_head nt %zu\neo_mesh_head X %zu\neo_mesh_head tets %zu\n",
            offsetof(eo_mesh, nv), offsetof(eo_mesh, nt), offsetof(eo_mesh, X), offsetof(eo_mesh, tets));
     S(eo_bench_progress) F(eo_bench_progress, scene_name) F(eo_bench_progress, phase)
     F(eo_bench_progress, elapsed) F(eo_bench_progress, eta)
     S(eo_bench_run_opts) F(eo_bench_run_opts, repeats) F(eo_bench_run_opts, plots)
-    F(eo_bench_run_opts, progress) F(eo_bench_run_opts, user)
+    F(eo_bench_run_opts, progress) F(eo_bench_run_opts, user) F(eo_bench_run_opts, clock)
     S(eo_bench_summary) F(eo_bench_summary, plots_made) F(eo_bench_summary, seconds)
     return 0;
 }

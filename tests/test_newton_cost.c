@@ -80,6 +80,11 @@ static void run_scene(const char *name, int steps, int *n_est, int *n_steps)
               "%s step %d: %ld Hessians, %ld factorizations for %d iterations (%s)", name, k, r.n_hessian,
               r.n_factor, r.iterations, r.decrement_estimated ? "estimated" : "exact");
         CHECK(exact <= tol, "%s step %d: decrement at the returned x %.3e > tol %.3e", name, k, exact, tol);
+        /* CPU time of the solving thread: positive, and (one thread, serial element loops)
+         * never more than the elapsed time of the same span (clock granularity allowed) */
+        CHECK(r.cpu_time > 0 && r.cpu_time <= 1.05 * r.time + 2e-3 && r.c_assembly > 0 &&
+                  r.c_assembly <= r.cpu_time,
+              "%s step %d: cpu %.6f s, wall %.6f s, assembly cpu %.6f s", name, k, r.cpu_time, r.time, r.c_assembly);
         if (r.decrement_estimated)
             CHECK((r.decrement <= 2 * exact && exact <= 2 * r.decrement) ||
                       (r.decrement < 1e-3 * tol && exact < 1e-3 * tol),
@@ -111,6 +116,17 @@ static void run_scene(const char *name, int steps, int *n_est, int *n_steps)
     CHECK(p->t_assembly >= 0 && p->t_analyze >= 0 && p->t_factor > 0 && p->t_solve >= 0 && p->t_linesearch >= 0 &&
               p->t_gradient >= 0 && parts <= p->t_total * (1 + 1e-9),
           "%s: profile parts %.6f vs total %.6f", name, parts, p->t_total);
+    /* the same spans in CPU seconds: parts within the total, the total within the wall
+     * total; the CPU view swaps them in */
+    double cparts = p->c_assembly + p->c_analyze + p->c_factor + p->c_solve + p->c_linesearch + p->c_gradient;
+    CHECK(p->c_total > 0 && p->c_factor > 0 && p->c_assembly > 0 && cparts <= p->c_total * (1 + 1e-9) &&
+              p->c_total <= 1.05 * p->t_total + 0.01,
+          "%s: CPU profile parts %.6f, total %.6f, wall total %.6f", name, cparts, p->c_total, p->t_total);
+    eo_profile cv;
+    eo_profile_cpu_view(p, &cv);
+    CHECK(cv.t_total == p->c_total && cv.t_factor == p->c_factor && cv.n_factor == p->n_factor &&
+              fabs(eo_profile_other(&cv) - (p->c_total - cparts)) <= 1e-12,
+          "%s: CPU view", name);
     double ratio = eo_profile_iteration_ratio(p);
     CHECK(isfinite(ratio) && ratio >= 1, "%s: iteration / factorization ratio %g", name, ratio);
     eo_profile z;

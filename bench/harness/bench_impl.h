@@ -5,7 +5,7 @@
 
 #include <stdio.h>
 
-#include "elastopt/bench.h"
+#include "bench.h"
 
 enum { BENCH_MAX_LIST = 16, BENCH_MAX_REPEATS = 16 };
 enum { BENCH_SELECT_FIRST, BENCH_SELECT_MOTION, BENCH_SELECT_CORRECTION };
@@ -33,6 +33,7 @@ typedef struct bench_config {
     char **set;
     int nset;
     int needs_hessian;
+    int own_max_iters;    /* the configuration sets solver.max_iters itself */
     char *resolved;       /* JSON text of eo_solver_to_json (eo_malloc'd) */
 } bench_config;
 
@@ -75,6 +76,7 @@ typedef struct bench_step_res {
 typedef struct bench_traj_res {
     int iters, reason;
     double time, g, dist;
+    double time2;         /* the other clock's solve time */
     int nonfinite, nan;
 } bench_traj_res;
 
@@ -105,6 +107,8 @@ typedef struct bench_pair {
     int traj_converged;   /* steps converged in the trajectory run */
     int first_bad_step, first_bad_reason; /* trajectory index (scene step traj_first + it) or measured step */
     double traj_time, traj_max_dist, traj_final_dist;
+    int max_iters;        /* iteration cap of its curve and trajectory runs */
+    double budget;        /* time budget (s, the suite's clock) of its curve and trajectory runs */
     char status[16];      /* converged | stopped | non-finite */
     char reason[160];
 } bench_pair;
@@ -112,6 +116,7 @@ typedef struct bench_pair {
 /* Reference of one step. */
 typedef struct bench_ref {
     double t, g0, gstar, dec, time, floor;
+    double tgrad;         /* one gradient evaluation at x0 (s, the suite's clock): the data profiles' unit */
     int iters, reason, converged, n;
     int rounding;         /* converged at the rounding floor, not at ref_tol */
     /* the Ipopt check (ipopt_check): -1 not run; else Ipopt's reason and its differences
@@ -145,17 +150,70 @@ typedef struct bench_out {
     int plots;
     bench_scene_res *res; /* nsc */
     double t_start, t_end;
-    double cpu_seconds;   /* processor time of the run (clock()): the wall time of an unloaded machine */
+    double cpu_seconds;   /* CPU time of the thread that ran the suite (eo_cputime) */
+    int wall;             /* times are wall seconds (clock "wall"), else thread CPU seconds */
     char load_start[64], load_end[64];
     eo_bench_summary *sum;
     int gnuplot;          /* 1 if gnuplot was found */
 } bench_out;
 
-/* bench_report.c */
+/* The own-stopping-rule summary over every scene (the Pareto chart and its headline
+ * table): x[c] = geometric mean over the scenes of the trajectory solve time per step
+ * over the baseline's (a trajectory stops at its first failing step, so the time per
+ * step compares runs of different lengths), y[c] = geometric mean of the largest
+ * trajectory distance over the reference motion, n[c] scenes counted, conv[c] = 1 if c
+ * converged on every scene, front[c] = 1 if c converged everywhere and no other such
+ * configuration is both faster and closer (pareto_tie). */
+typedef struct pareto_pts {
+    double *x, *y;
+    int *n, *conv, *front;
+} pareto_pts;
+
+#define PROF_NTAU 101   /* tau = 2^(i/10), i = 0..100: 1 .. 1024 */
+#define PROF_NKAPPA 71  /* kappa = 10^(i/10), i = 0..70: 1 .. 1e7 gradient-equivalents */
+
+/* output.c: number formats shared by the report and the plots */
+int bench_headline_thr(const eo_bench_suite *s);
+void bench_fmt_thr(double t, char *buf, size_t n);
+void bench_fmt_ms(double t, char *buf, size_t n);
+void bench_fmt_sci(double v, char *buf, size_t n);
+int bench_pair_iters(const bench_pair *p);
+
+/* stats.c: fastest and second fastest configuration of a scene at threshold j (-1 if none) */
+void bench_fastest(const bench_out *b, int si, int j, int *first, int *second);
+/* the own-stopping-rule summary (pareto_pts above): computed, freed, its winners */
+int bench_pareto_compute(eo_ctx *ctx, const bench_out *b, pareto_pts *pp);
+void bench_pareto_free(eo_ctx *ctx, pareto_pts *pp);
+void bench_pareto_winners(const eo_bench_suite *s, const pareto_pts *pp, int *fast, int *close);
+/* the profiles: tau and kappa grids, strata (0 = "all"), instances, costs of every
+ * configuration on every instance of a stratum at level j, rho_c(tau), d_c(kappa) */
+double bench_prof_tau(int i);
+double bench_prof_kappa(int i);
+int bench_prof_strata(const eo_bench_suite *s, const char **names, int cap);
+int bench_prof_ninstances(const eo_bench_suite *s);
+int bench_prof_costs(const bench_out *b, int stratum, const char *const *names, int j, double *t, double *tg);
+double bench_prof_rho(const double *t, int np, int ncf, int c, double tau);
+double bench_prof_data(const double *t, const double *tg, int np, int ncf, int c, double kappa);
+
+/* suite.c: the pieces run.c uses */
+int bench_wrap_err(eo_ctx *ctx, int rc, const char *file, const char *what, const char *name);
+int bench_scene_cfg(eo_ctx *ctx, const bench_scene *b, eo_cfg **cfg);
+int bench_config_cfg(eo_ctx *ctx, const bench_config *c, eo_cfg **cfg, eo_solver_opts *so);
+
+/* stats.c: a configuration's status and aggregates on a scene */
+void bench_aggregate(const eo_bench_suite *s, int repeats, bench_pair *p, int is_traj, double ref_disp,
+                     const int *meas);
+
+/* output.c, plots.c, report.c */
 int eo_bench_write_summary(eo_ctx *ctx, bench_out *b);
 int eo_bench_write_report(eo_ctx *ctx, bench_out *b);
 int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si);
 int eo_bench_plot_pareto(eo_ctx *ctx, bench_out *b);
+/* perf_profile.csv and data_profile.csv (output.c), their plots (plots.c), the report's
+ * section (report.c) */
+int eo_bench_write_profiles(eo_ctx *ctx, bench_out *b);
+int eo_bench_plot_profiles(eo_ctx *ctx, bench_out *b);
+int eo_bench_write_profile_section(eo_ctx *ctx, FILE *f, const bench_out *b);
 /* Keep row k of a curve of n iterates in the CSV / plot data. */
 void eo_bench_csv_num(FILE *f, double v);
 int eo_bench_keep_row(int k, int n, int full_rows);

@@ -131,6 +131,15 @@ EO_API void eo_assert_fail(const char *expr, const char *file, int line);
 
 /// Monotonic wall clock in seconds.
 EO_API double eo_wtime(void);
+/// CPU time of the calling thread in seconds (CLOCK_THREAD_CPUTIME_ID): what the
+/// library's cpu timers (eo_solve_result.cpu_time, eo_profile c_*) measure. It does not
+/// move while the thread waits for the processor, so it stays put on a loaded machine
+/// where wall time does not; it misses work done by other threads (OpenMP element loops,
+/// a multithreaded BLAS): use eo_cputime_process then.
+EO_API double eo_cputime(void);
+/// CPU time of the whole process in seconds, every thread added up
+/// (CLOCK_PROCESS_CPUTIME_ID): the work measure when OpenMP or BLAS threads compute.
+EO_API double eo_cputime_process(void);
 
 #ifdef __cplusplus
 }

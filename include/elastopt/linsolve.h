@@ -69,6 +69,7 @@ typedef struct eo_linsolve_stats {
     /// factorizations that reported EO_WARN_NOT_PD so far (expected or not, see
     /// eo_linsolve_set_expect_not_pd)
     long n_not_pd;
+    double c_analyze, c_factor, c_solve;  ///< the t_* spans in CPU seconds (eo_cputime)
 } eo_linsolve_stats;
 
 typedef struct eo_linsolve_type {

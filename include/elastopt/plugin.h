@@ -40,7 +40,10 @@ extern "C" {
 /// (g_hist, n_hist), eo_hessfix_out (neg_curvature), eo_solve_result and
 /// eo_newton_params grew. 4: eo_solver_opts grew (backend), eo_objective_ops grew
 /// (constant_factor, constant_solve). 5: eo_newton_params grew (estimate_gate).
-/// 8: eo_objective_ops grew (max_step, characteristic), eo_stop_info grew (grad_char).
+/// 7: eo_stop_info (the convergence measure), eo_solver_ctx (stop_state), eo_optimizer_type
+/// (newton_decrement), eo_objective_ops (rounding_scale). 8: eo_objective_ops grew (max_step,
+/// characteristic), eo_stop_info grew (grad_char); CPU-time fields appended to the solve,
+/// profile, linear-solver and step results.
 #define EO_ABI_VERSION 8
 
 /// The library's EO_ABI_VERSION.

@@ -89,6 +89,8 @@ typedef struct eo_sim_step_result {
     /// every substep attempt): the default project_on_demand's fallbacks to the projected
     /// Hessian are counted here, not printed.
     long n_not_pd;
+    double cpu_time;      ///< CPU seconds of the calling thread for the same span as
+                          ///< `time` (eo_solve_result.cpu_time added up; eo_cputime)
 } eo_sim_step_result;
 
 /// Create a simulation from a scene config document (eo_scene_cfg_load + the caller's

@@ -118,6 +118,9 @@ typedef struct eo_iter_info {
     /// Hessian fix then used another system: `none` the clamp-projected one, `shift` a
     /// larger shift, ...); the offending CG direction is never used.
     int neg_curvature;
+    /// CPU seconds of the calling thread since the start of this minimization
+    /// (eo_cputime; filled by eo_solver_report like `time`).
+    double cpu_time;
 } eo_iter_info;
 
 /// Callback after every iteration; return non-zero to stop (reason EO_DIVERGED_EXTERNAL).
@@ -613,9 +616,14 @@ typedef struct eo_solve_result {
                           ///< not positive definite (EO_WARN_NOT_PD; for project_on_demand the
                           ///< directions that fell back to the projected Hessian), counted
                           ///< by eo_solver_minimize from eo_linsolve_stats.n_not_pd
+    /// CPU seconds of the calling thread (eo_cputime) for the same spans: the whole
+    /// minimization (set by eo_solver_minimize) and the timed phases above.
+    double cpu_time;
+    double c_assembly, c_linesearch, c_gradient;
 } eo_solve_result;
 
-/// Where a solver's time went: wall seconds and counts accumulated over every
+/// Where a solver's time went: wall seconds (t_*), CPU seconds of the calling thread
+/// (c_*, eo_cputime: the same spans) and counts accumulated over every
 /// eo_solver_minimize since eo_solver_create or eo_solver_reset_profile (read with
 /// eo_solver_get_profile). The parts do not overlap; eo_profile_other is the rest
 /// (stopping tests, Hessian-fix bookkeeping, vector updates, callbacks).
@@ -631,6 +639,8 @@ typedef struct eo_profile {
     double t_gradient;    ///< gradients outside the line search (start point, accepted point)
     long n_assembly, n_analyze, n_factor, n_solve, n_ls_evals, n_gradient;
     long n_not_pd;        ///< numeric factorizations that found the matrix not positive definite
+    /// the t_* spans in CPU seconds of the calling thread (eo_cputime)
+    double c_total, c_assembly, c_analyze, c_factor, c_solve, c_linesearch, c_gradient;
 } eo_profile;
 
 /// The solver's accumulated profile (borrowed, updated by every minimize).
@@ -641,6 +651,9 @@ EO_API void eo_solver_reset_profile(eo_solver *s);
 EO_API void eo_profile_diff(const eo_profile *a, const eo_profile *b, eo_profile *out);
 /// t_total minus the timed parts.
 EO_API double eo_profile_other(const eo_profile *p);
+/// The CPU view of a profile: *out = *p with every t_* replaced by its c_* (so that
+/// eo_profile_other and eo_profile_iteration_ratio give CPU figures).
+EO_API void eo_profile_cpu_view(const eo_profile *p, eo_profile *out);
 /// Seconds per iteration over seconds per numeric factorization:
 /// (t_total / iterations) / (t_factor / n_factor); NAN without iterations or factors.
 EO_API double eo_profile_iteration_ratio(const eo_profile *p);

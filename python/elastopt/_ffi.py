@@ -103,7 +103,7 @@ int eo_registry_find(eo_ctx *ctx, int kind, const char *name, const void **out);
 typedef struct eo_iter_info {
     int iteration; double time; double g; double grad_norm; double decrement; double alpha;
     int ls_evals; double shift; double projected; int inverted; int reason; const double *x;
-    double eta; int lin_iters; int neg_curvature;
+    double eta; int lin_iters; int neg_curvature; double cpu_time;
 } eo_iter_info;
 typedef int (*eo_iter_fn)(const eo_iter_info *info, void *user);
 typedef struct eo_stop_info {
@@ -147,6 +147,7 @@ typedef struct eo_solve_result {
     long n_neg_curvature; double t_assembly; double t_linesearch; double t_gradient;
     long n_assembly, n_ls_evals, n_gradient_outside; int decrement_estimated;
     long n_not_pd;
+    double cpu_time; double c_assembly, c_linesearch, c_gradient;
 } eo_solve_result;
 typedef struct eo_solver_opts {
     char optimizer[32]; char hessian_fix[32]; char linesearch[32]; char stop[32];
@@ -205,6 +206,7 @@ typedef struct eo_sim_step_result {
     int entry; int n_entries; int entry_reason[8]; int entry_iterations[8];
     int rejected; int substeps; double min_substep;
     long n_not_pd;
+    int rejected; int substeps; double min_substep; double cpu_time;
 } eo_sim_step_result;
 int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out);
 int eo_sim_create_from(eo_ctx *ctx, const char *path, const char *builtin,
@@ -247,7 +249,7 @@ typedef void (*eo_bench_progress_fn)(const eo_bench_progress *p, void *user);
 typedef struct eo_bench_run_opts {
     const char *out_dir; int repeats; int plots; eo_bench_progress_fn progress; void *user;
     void (*profile)(const char *scene, const char *config, const void *p, void *user);
-    void *profile_user;
+    void *profile_user; const char *clock;
 } eo_bench_run_opts;
 typedef struct eo_bench_summary {
     int runs; int ref_failures; int nonfinite; int nan; int required_failures;

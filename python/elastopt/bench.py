@@ -50,11 +50,14 @@ def _absolute_files(suite: dict, base: Union[str, Path]) -> dict:
 def run_bench(suite: Union[str, "os.PathLike[str]", dict], out_dir: Union[str, "os.PathLike[str]"], *,
               repeats: int = 0, plots: Optional[bool] = False,
               progress: Optional[Callable[[dict], Any]] = None,
-              base_dir: Union[str, "os.PathLike[str]", None] = None) -> BenchResult:
+              base_dir: Union[str, "os.PathLike[str]", None] = None,
+              clock: Optional[str] = None) -> BenchResult:
     """Run a benchmark suite: a suite file (bench/*.json) or a dict with the same keys
     (written to OUT_DIR/suite.json; relative scene files resolved against base_dir,
     default the current folder). repeats > 0 overrides the suite's repeats; plots:
-    False (no gnuplot), True, or None (the suite's choice). progress: fn(dict) with
+    False (no gnuplot), True, or None (the suite's choice). clock: "cpu" (CPU seconds of
+    the solving thread) or "wall" overrides the suite's clock (None: the suite's, default
+    cpu). progress: fn(dict) with
     scene, config, phase, fraction, eta. Returns a BenchResult with the parsed
     summary.csv rows and the paths of curves.csv, summary.csv, trajectory.csv,
     reference.csv, report.md, plots/. ElastoptError for a bad suite (the library's
@@ -80,6 +83,10 @@ def run_bench(suite: Union[str, "os.PathLike[str]", dict], out_dir: Union[str, "
         o.out_dir = out_c
         o.repeats = int(repeats)
         o.plots = -1 if plots is None else int(bool(plots))
+        if clock is not None and clock not in ("cpu", "wall"):
+            raise ValueError(f"clock {clock!r}: expected 'cpu' or 'wall'")
+        clock_c = ffi.new("char[]", clock.encode()) if clock else ffi.NULL
+        o.clock = clock_c
         cb = ffi.NULL
         if progress is not None:
             @ffi.callback("void(const eo_bench_progress *, void *)")

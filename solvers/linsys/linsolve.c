@@ -90,9 +90,10 @@ int eo_linsolve_analyze(eo_linsolve *ls, const eo_csc *A)
     if (!A || A->n < 0)
         return eo_error(ls->ctx, EO_ERR_INVALID, "linear solver %s: no matrix", ls->type->info.name);
     ls->analyzed = ls->factored = 0;
-    double t = eo_wtime();
+    double t = eo_wtime(), c = eo_cputime();
     int rc = ls->type->analyze(ls->state, A, ls->ctx);
     ls->stats.t_analyze += eo_wtime() - t;
+    ls->stats.c_analyze += eo_cputime() - c;
     ls->stats.n_analyze++;
     if (rc < 0) return rc;
     ls->analyzed = 1;
@@ -114,11 +115,12 @@ int eo_linsolve_factor(eo_linsolve *ls, const eo_csc *A)
     ls->factored = 0;
     ls->stats.not_pd_column = -1;
     ls->stats.n_negative = ls->stats.n_zero = -1;
-    double t = eo_wtime();
+    double t = eo_wtime(), c = eo_cputime();
     int quiet = eo_ctx_set_quiet_warnings(ls->ctx, 1); /* a not-PD message is reported below */
     int rc = ls->type->factor(ls->state, A, &ls->stats, ls->ctx);
     eo_ctx_set_quiet_warnings(ls->ctx, quiet);
     ls->stats.t_factor += eo_wtime() - t;
+    ls->stats.c_factor += eo_cputime() - c;
     ls->stats.n_factor++;
     if (rc == EO_OK) ls->factored = 1;
     if (rc == EO_WARN_NOT_PD) {
@@ -153,11 +155,12 @@ int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x)
     ls->stats.iterations = 0;
     ls->stats.residual = -1;
     ls->stats.curvature = 0;
-    double t = eo_wtime();
+    double t = eo_wtime(), c = eo_cputime();
     int quiet = eo_ctx_set_quiet_warnings(ls->ctx, 1);
     int rc = ls->type->solve(ls->state, b, x, &ls->stats, ls->ctx);
     eo_ctx_set_quiet_warnings(ls->ctx, quiet);
     ls->stats.t_solve += eo_wtime() - t;
+    ls->stats.c_solve += eo_cputime() - c;
     ls->stats.n_solve++;
     /* cg/pcg/gmres meeting pᵀAp <= 0: expected on an unprojected Hessian like a failed
      * factorization (the caller counts it, eo_solve_result.n_neg_curvature) */

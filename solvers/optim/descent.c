@@ -120,9 +120,10 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                       w->n, n);
         goto done;
     }
-    double tg = eo_wtime();
+    double tg = eo_wtime(), cg = eo_cputime();
     rc = eo_objective_gradient(obj, x, &g, grad);
     res->t_gradient += eo_wtime() - tg;
+    res->c_gradient += eo_cputime() - cg;
     res->n_gradient_outside++;
     if (rc < 0) goto done;
     gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
@@ -199,10 +200,11 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         int nev = 0;
         eo_ls_extra ex = {.grad_new = grad_new, .have_grad = 0, .c2 = ops->ls_c2, .g_hist = ghist,
                           .n_hist = nhist, .grad_first = first_ok};
-        const double tls = eo_wtime();
+        const double tls = eo_wtime(), cls = eo_cputime();
         rc = sc->linesearch->search(sc->linesearch_params, obj, x, p, g, dg, alpha0, w->x_new,
                                     &gnew, &alpha, &nev, w->work, sc->ctx, &ex);
         res->t_linesearch += eo_wtime() - tls;
+        res->c_linesearch += eo_cputime() - cls;
         res->n_ls_evals += nev;
         info.ls_evals = nev;
         if (rc < 0) goto done;
@@ -225,8 +227,10 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         double gchk = gnew;
         if (!ex.have_grad) {
             tg = eo_wtime();
+            cg = eo_cputime();
             rc = eo_objective_gradient(obj, w->x_new, &gchk, grad_new);
             res->t_gradient += eo_wtime() - tg;
+            res->c_gradient += eo_cputime() - cg;
             res->n_gradient_outside++;
             if (rc < 0) goto done;
         }

@@ -158,10 +158,11 @@ static int newton_assemble(void *user, eo_proj proj, const unsigned char *proj_o
     const eo_solver_ctx *sc = st->sc;
     const int n = sc->obj->n;
     eo_csc *H = NULL;
-    const double t0 = eo_wtime();
+    const double t0 = eo_wtime(), c0 = eo_cputime();
     int rc = proj_of ? eo_objective_hessian_masked(sc->obj, st->x, proj_of, &H)
                      : eo_objective_hessian(sc->obj, st->x, proj, &H);
     st->res->t_assembly += eo_wtime() - t0;
+    st->res->c_assembly += eo_cputime() - c0;
     st->res->n_assembly++;
     if (rc < 0) return rc;
     if (!H || H->n != n)

@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "elastopt/bench.h"
+#include "bench.h"
 #include "elastopt/ctx.h"
 #include "elastopt/status.h"
 

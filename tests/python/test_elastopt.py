@@ -493,7 +493,10 @@ class PythonOptimizers(unittest.TestCase):
             t = float(row["t_1e-06_median"])
             self.assertTrue(math.isfinite(t) and t > 0, row)
             self.assertLessEqual(float(row["final_rel_err"]), 1e-6)
+            self.assertEqual(row["clock"], "cpu", row)   # CPU seconds of the solving thread
         self.assertEqual(float(res.row("cantilever", "newton")["ratio_1e-06"]), 1.0)
+        with self.assertRaises(ValueError):
+            eo.run_bench(suite, TMP / "bench-bad", clock="sundial")
         self.assertTrue((res.out_dir / "report.md").exists())
         self.assertIn("py_newton_min", (res.out_dir / "report.md").read_text())
         curves = (res.out_dir / "curves.csv").read_text()

@@ -27,7 +27,7 @@ set label 16 "16  ncg-wolfe" at screen 0.72, screen 0.3200 left font ',10' tc rg
 set label 17 "17  pd_local_global-anderson" at screen 0.72, screen 0.2800 left font ',10' tc rgb '#8c564b'
 set label 18 "18  pd-lbfgs5-backtracking" at screen 0.72, screen 0.2400 left font ',10' tc rgb '#e377c2'
 set label 19 "19  nlopt-lbfgs" at screen 0.72, screen 0.2000 left font ',10' tc rgb '#17becf'
-set title "Own stopping rule over 11 scene(s) (the report's 'Own stopping rule' table): lower left is better\nfastest converged everywhere: newton-project_on_demand-backtracking (0.50x the baseline's time); closest: ipopt-clamp (4.6e-08)"
+set title "Own stopping rule over 11 scene(s) (the report's 'Own stopping rule' table): lower left is better\nfastest converged everywhere: newton-project_on_demand-backtracking (0.48x the baseline's time); closest: newton-abs-backtracking (8.8e-08)"
 set logscale xy
 set grid lc rgb '#dddddd'
 set format y '1e%L'

@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.27x faster than the next, newton_tr; 13.11x faster than the baseline" font ',12'
+set multiplot title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.10x faster than the next, pd-lbfgs5-backtracking; 6.50x faster than the baseline" font ',12'
 
 # panel 1: measured step 9
 set lmargin at screen 0.0516
@@ -46,19 +46,19 @@ plot \
   'twist-2-turns.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'twist-2-turns.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
-  'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton_tr', \
+  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'twist-2-turns.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
   'twist-2-turns.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 2 title 'ncg-wolfe', \
   'twist-2-turns.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 4 ps 0.8 pi 4 title 'pd_local_global-anderson', \
-  'twist-2-turns.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 7 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
+  'twist-2-turns.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 13 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
   'twist-2-turns.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'nlopt-lbfgs', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
@@ -67,7 +67,8 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 15 ps 1.0 title '  progressive', \
+  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  none', \
+  keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
 
 # panel 2: measured step 10
@@ -86,19 +87,19 @@ plot \
   'twist-2-turns.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 27 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
-  'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton_tr', \
+  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'twist-2-turns.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
   'twist-2-turns.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 2 title 'ncg-wolfe', \
   'twist-2-turns.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 4 ps 0.8 pi 4 title 'pd_local_global-anderson', \
-  'twist-2-turns.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 7 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
+  'twist-2-turns.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 13 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
   'twist-2-turns.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'nlopt-lbfgs'
 unset multiplot
 
@@ -128,7 +129,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.27x faster than the next, newton_tr; 13.11x faster than the baseline" font ',12'
+set multiplot title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.10x faster than the next, pd-lbfgs5-backtracking; 6.50x faster than the baseline" font ',12'
 
 # panel 1: measured step 9
 set lmargin at screen 0.0516
@@ -145,19 +146,19 @@ plot \
   'twist-2-turns.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'twist-2-turns.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
-  'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton_tr', \
+  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'twist-2-turns.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
   'twist-2-turns.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 2 title 'ncg-wolfe', \
   'twist-2-turns.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 4 ps 0.8 pi 4 title 'pd_local_global-anderson', \
-  'twist-2-turns.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 7 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
+  'twist-2-turns.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 13 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
   'twist-2-turns.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'nlopt-lbfgs', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
@@ -166,7 +167,8 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 15 ps 1.0 title '  progressive', \
+  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  none', \
+  keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
 
 # panel 2: measured step 10
@@ -185,18 +187,18 @@ plot \
   'twist-2-turns.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 27 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
-  'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton_tr', \
+  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'twist-2-turns.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
   'twist-2-turns.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 2 title 'ncg-wolfe', \
   'twist-2-turns.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 4 ps 0.8 pi 4 title 'pd_local_global-anderson', \
-  'twist-2-turns.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 7 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
+  'twist-2-turns.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 13 ps 0.8 pi 4 title 'pd-lbfgs5-backtracking', \
   'twist-2-turns.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#17becf' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'nlopt-lbfgs'
 unset multiplot

@@ -24,9 +24,13 @@
 ///     runs the configuration's stopping rule is disabled (tol = 1e-300) and the harness
 ///     stops the run when e ≤ `target`; the time budget and iteration cap still apply.
 ///     The time of iterate k is when g(xₖ) is known: 0 for k = 0, else the time of
-///     record k−1 (after the line search that produced xₖ);
+///     record k−1 (after the line search that produced xₖ). Time to an accuracy is the
+///     time of the first iterate that meets it (never interpolated between iterates);
 ///  3. runs each configuration over the whole benchmark scene (its skip + steps steps,
-///     from the scene's initial state) with its OWN stopping rule (trajectory run), up
+///     from the scene's initial state) with its OWN stopping rule and the curve runs'
+///     iteration cap and time budget (trajectory run: the configuration's own
+///     solver.max_iters if it sets one, at most the scene's max_iters, else the scene's;
+///     its own solver.time_budget if set, else the scene's), up
 ///     to the first step that rule does not meet, and measures the mass-weighted RMS
 ///     distance of its positions to the reference trajectory per frame,
 ///     √(Σᵥ mᵥ‖xᵥ − x*ᵥ‖² / Σᵥ mᵥ) (m). With `trajectory_start` = "window" the run
@@ -52,8 +56,15 @@
 /// satisfied, but farther: another stationary point), stopped (with the first failing
 /// step's reason), non-finite (the solver met a non-finite g or ∇g; `nan` counts runs
 /// whose returned positions or recorded values were NaN).
-/// Times: median of the timed repeats with min–max spread; ratios against the suite's
-/// named baseline configuration, measured in the same run.
+/// Times: CPU seconds of the solving thread by default (`clock`: "cpu"; "wall" for
+/// elapsed time; both are recorded): thread CPU time does not grow while the thread
+/// waits for a core, so a shared machine changes it by a few percent where wall time
+/// moved 8-9x. The harness runs the element loops serially and the CLI gives the BLAS one
+/// thread, so the solving thread does all the work; with a multithreaded BLAS the report
+/// warns that thread CPU time misses the BLAS threads' work (use "wall", or one BLAS
+/// thread). Budgets (time_budget, `budgets`) count the same clock's seconds. Median of the
+/// timed repeats with min–max spread; ratios against the suite's named baseline
+/// configuration, measured in the same run.
 ///
 /// ```c
 /// eo_bench_suite *s;
@@ -69,7 +80,7 @@
 /// Suite keys (top level; `eo_bench_opts_desc`):
 ///   description, repeats, baseline, target, ref_tol, ref_max_iters, max_iters,
 ///   time_budget, steps, skip, select, horizon, trajectory, trajectory_start,
-///   warmup_iters, curve_rows, plots, ipopt_check
+///   warmup_iters, curve_rows, plots, ipopt_check, clock
 ///   thresholds  list of relative energy errors for the time table (default
 ///               [1e-2, 1e-3, 1e-4, 1e-6, 1e-8])
 ///   iter_budgets  list of iterations per frame for the fixed-budget runs (integers
@@ -80,7 +91,7 @@
 ///               of every scene (exit status 1 otherwise)
 ///   scenes      list; each entry `eo_bench_scene_desc` (name, scene | file, steps, skip,
 ///               select, horizon, trajectory_start, time_budget, max_iters, repeats,
-///               optional) + "iter_budgets": a subset of the suite's list run on this
+///               optional, stratum) + "iter_budgets": a subset of the suite's list run on this
 ///               scene (default all) + "set": {"key": value, ...} overrides of the
 ///               scene config + optional "vary": [{"label": {set}, ...}, ...] whose
 ///               product expands the entry into scenes named name-label-label...
@@ -101,9 +112,9 @@
 #ifndef ELASTOPT_BENCH_H
 #define ELASTOPT_BENCH_H
 
-#include "export.h"
-#include "config.h"
-#include "solver.h"
+#include "elastopt/export.h"
+#include "elastopt/config.h"
+#include "elastopt/solver.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -140,6 +151,13 @@ typedef struct eo_bench_opts {
                             ///< reference: its relative energy and position differences to
                             ///< x* go to reference.csv and report.md. Default true (skipped
                             ///< when the build has no Ipopt).
+    char clock[8];          ///< what every time, ratio and budget measures: "cpu" = CPU
+                            ///< seconds of the thread that solves (eo_cputime,
+                            ///< CLOCK_THREAD_CPUTIME_ID), "wall" = elapsed seconds
+                            ///< (eo_wtime). Both are recorded (curves.csv, trajectory.csv,
+                            ///< fixed.csv); the time budgets (time_budget, a configuration's
+                            ///< solver.time_budget, `budgets`) are in this clock's seconds.
+                            ///< Default "cpu".
 } eo_bench_opts;
 EO_API extern const eo_param_desc eo_bench_opts_desc[];
 
@@ -156,6 +174,9 @@ typedef struct eo_bench_scene_opts {
     int horizon;            ///< Default -1.
     char trajectory_start[16]; ///< as the suite's; "suite" = the suite's. Default "suite".
     int optional;           ///< drop the scene at load if its files cannot be read. Default false.
+    char stratum[48];       ///< group of the scene in the performance and data profiles (one
+                            ///< profile per stratum besides the one over every scene).
+                            ///< Default "" (none).
 } eo_bench_scene_opts;
 EO_API extern const eo_param_desc eo_bench_scene_desc[];
 
@@ -199,6 +220,9 @@ typedef struct eo_bench_run_opts {
     /// repeats of every measured step); `elastopt bench --profile` prints it.
     void (*profile)(const char *scene, const char *config, const eo_profile *p, void *user);
     void *profile_user;
+    /// "cpu" or "wall": overrides the suite's `clock` (NULL: the suite's). The profile
+    /// callback receives the CPU view of the profile (eo_profile_cpu_view) under "cpu".
+    const char *clock;
 } eo_bench_run_opts;
 EO_API eo_bench_run_opts eo_bench_run_opts_default(void);
 
@@ -214,16 +238,23 @@ typedef struct eo_bench_summary {
 } eo_bench_summary;
 
 /// Run the suite and write into opts->out_dir: curves.csv, summary.csv, trajectory.csv,
-/// report.md and plots/ (PNG + gnuplot scripts and data). Returns EO_OK (the summary
+/// perf_profile.csv, data_profile.csv, report.md and plots/ (PNG + SVG + gnuplot scripts
+/// and data). Profiles: per suite (and per scene `stratum`), every instance being a
+/// measured step, cost = time to the first iterate with relative energy error <= each
+/// `thresholds` level: Dolan–Moré performance profiles (share of instances solved within
+/// tau x the best time) and Moré–Wild data profiles (share solved within kappa
+/// gradient-equivalents: kappa x the time of one gradient evaluation of the step's
+/// objective at its starting guess). Returns EO_OK (the summary
 /// says what failed), or a negative status (I/O, out of memory, an objective error).
 EO_API int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *opts,
                  eo_bench_summary *sum);
 
 /* ---- pieces, exposed for tests */
 
-/// Time at which a curve first reaches err <= thr: log-linear interpolation between
-/// the last iterate above thr and the first at or below it (time of the first iterate
-/// if it is already below; INFINITY if never). t[] nondecreasing, err[] may be <= 0.
+/// Time to accuracy: the time t[k] of the FIRST iterate k with err[k] <= thr (a step
+/// function: nothing is interpolated between iterates, so a threshold met by the first
+/// iterate costs the whole first iteration); INFINITY if never (NaN never meets it).
+/// t[] nondecreasing, err[] may be <= 0.
 EO_API double eo_bench_time_to(int n, const double *t, const double *err, double thr);
 /// Error of the last iterate whose time is <= budget (err[0] if none; NAN if n = 0).
 EO_API double eo_bench_error_at(int n, const double *t, const double *err, double budget);

@@ -1,0 +1,92 @@
+if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {
+    set terminal pngcairo size 1040,460 font 'DejaVu Sans,10' noenhanced
+} else {
+    set terminal png size 1040,460 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
+}
+set output 'perf_profile-all.png'
+set multiplot layout 1,2 title "Performance (Dolan-More) profile, all (10 instances = measured steps; CPU time)"
+set logscale x 2
+set yrange [0:1.02]
+set grid lc rgb '#dddddd'
+set key bottom right font ',8'
+set title 'relative energy error <= 1e-02'
+set xlabel 'tau (time / best time on the instance)'
+set ylabel 'fraction of instances'
+plot 'perf_profile-all.dat' index 0 using 1:2 with steps lw 2.5 lc rgb '#000000' dt 1 title 'newton-clamp-backtracking', \
+  'perf_profile-all.dat' index 1 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-abs-backtracking', \
+  'perf_profile-all.dat' index 2 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-shift-backtracking', \
+  'perf_profile-all.dat' index 3 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-none-backtracking', \
+  'perf_profile-all.dat' index 4 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-project_on_demand-backtracking', \
+  'perf_profile-all.dat' index 5 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-progressive-backtracking', \
+  'perf_profile-all.dat' index 6 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-trust_region_filter-backtracking', \
+  'perf_profile-all.dat' index 7 using 1:2 with steps lw 1.5 lc rgb '#d62728' dt (16,8) title 'lbfgs-wolfe', \
+  'perf_profile-all.dat' index 8 using 1:2 with steps lw 1.5 lc rgb '#2ca02c' dt (16,8) title 'ncg-wolfe', \
+  'perf_profile-all.dat' index 9 using 1:2 with steps lw 1.5 lc rgb '#ff7f0e' dt 1 title 'gradient_descent-backtracking', \
+  'perf_profile-all.dat' index 10 using 1:2 with steps lw 1.5 lc rgb '#9467bd' dt (3,6) title 'newton_tr', \
+  'perf_profile-all.dat' index 11 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt (16,6,3,6) title 'newton-clamp-nonmonotone', \
+  'perf_profile-all.dat' index 12 using 1:2 with steps lw 1.5 lc rgb '#8c564b' dt 1 title 'pd_local_global-anderson', \
+  'perf_profile-all.dat' index 13 using 1:2 with steps lw 1.5 lc rgb '#e377c2' dt (3,6) title 'fixed_point', \
+  'perf_profile-all.dat' index 14 using 1:2 with steps lw 1.5 lc rgb '#17becf' dt 1 title 'pd-lbfgs5-backtracking'
+set title 'relative energy error <= 1e-06'
+set xlabel 'tau (time / best time on the instance)'
+set ylabel 'fraction of instances'
+plot 'perf_profile-all.dat' index 15 using 1:2 with steps lw 2.5 lc rgb '#000000' dt 1 title 'newton-clamp-backtracking', \
+  'perf_profile-all.dat' index 16 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-abs-backtracking', \
+  'perf_profile-all.dat' index 17 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-shift-backtracking', \
+  'perf_profile-all.dat' index 18 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-none-backtracking', \
+  'perf_profile-all.dat' index 19 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-project_on_demand-backtracking', \
+  'perf_profile-all.dat' index 20 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-progressive-backtracking', \
+  'perf_profile-all.dat' index 21 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-trust_region_filter-backtracking', \
+  'perf_profile-all.dat' index 22 using 1:2 with steps lw 1.5 lc rgb '#d62728' dt (16,8) title 'lbfgs-wolfe', \
+  'perf_profile-all.dat' index 23 using 1:2 with steps lw 1.5 lc rgb '#2ca02c' dt (16,8) title 'ncg-wolfe', \
+  'perf_profile-all.dat' index 24 using 1:2 with steps lw 1.5 lc rgb '#ff7f0e' dt 1 title 'gradient_descent-backtracking', \
+  'perf_profile-all.dat' index 25 using 1:2 with steps lw 1.5 lc rgb '#9467bd' dt (3,6) title 'newton_tr', \
+  'perf_profile-all.dat' index 26 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt (16,6,3,6) title 'newton-clamp-nonmonotone', \
+  'perf_profile-all.dat' index 27 using 1:2 with steps lw 1.5 lc rgb '#8c564b' dt 1 title 'pd_local_global-anderson', \
+  'perf_profile-all.dat' index 28 using 1:2 with steps lw 1.5 lc rgb '#e377c2' dt (3,6) title 'fixed_point', \
+  'perf_profile-all.dat' index 29 using 1:2 with steps lw 1.5 lc rgb '#17becf' dt 1 title 'pd-lbfgs5-backtracking'
+unset multiplot
+set terminal svg size 1040,460 font 'DejaVu Sans,10' noenhanced
+set output 'perf_profile-all.svg'
+set multiplot layout 1,2 title "Performance (Dolan-More) profile, all (10 instances = measured steps; CPU time)"
+set logscale x 2
+set yrange [0:1.02]
+set grid lc rgb '#dddddd'
+set key bottom right font ',8'
+set title 'relative energy error <= 1e-02'
+set xlabel 'tau (time / best time on the instance)'
+set ylabel 'fraction of instances'
+plot 'perf_profile-all.dat' index 0 using 1:2 with steps lw 2.5 lc rgb '#000000' dt 1 title 'newton-clamp-backtracking', \
+  'perf_profile-all.dat' index 1 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-abs-backtracking', \
+  'perf_profile-all.dat' index 2 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-shift-backtracking', \
+  'perf_profile-all.dat' index 3 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-none-backtracking', \
+  'perf_profile-all.dat' index 4 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-project_on_demand-backtracking', \
+  'perf_profile-all.dat' index 5 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-progressive-backtracking', \
+  'perf_profile-all.dat' index 6 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-trust_region_filter-backtracking', \
+  'perf_profile-all.dat' index 7 using 1:2 with steps lw 1.5 lc rgb '#d62728' dt (16,8) title 'lbfgs-wolfe', \
+  'perf_profile-all.dat' index 8 using 1:2 with steps lw 1.5 lc rgb '#2ca02c' dt (16,8) title 'ncg-wolfe', \
+  'perf_profile-all.dat' index 9 using 1:2 with steps lw 1.5 lc rgb '#ff7f0e' dt 1 title 'gradient_descent-backtracking', \
+  'perf_profile-all.dat' index 10 using 1:2 with steps lw 1.5 lc rgb '#9467bd' dt (3,6) title 'newton_tr', \
+  'perf_profile-all.dat' index 11 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt (16,6,3,6) title 'newton-clamp-nonmonotone', \
+  'perf_profile-all.dat' index 12 using 1:2 with steps lw 1.5 lc rgb '#8c564b' dt 1 title 'pd_local_global-anderson', \
+  'perf_profile-all.dat' index 13 using 1:2 with steps lw 1.5 lc rgb '#e377c2' dt (3,6) title 'fixed_point', \
+  'perf_profile-all.dat' index 14 using 1:2 with steps lw 1.5 lc rgb '#17becf' dt 1 title 'pd-lbfgs5-backtracking'
+set title 'relative energy error <= 1e-06'
+set xlabel 'tau (time / best time on the instance)'
+set ylabel 'fraction of instances'
+plot 'perf_profile-all.dat' index 15 using 1:2 with steps lw 2.5 lc rgb '#000000' dt 1 title 'newton-clamp-backtracking', \
+  'perf_profile-all.dat' index 16 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-abs-backtracking', \
+  'perf_profile-all.dat' index 17 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-shift-backtracking', \
+  'perf_profile-all.dat' index 18 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-none-backtracking', \
+  'perf_profile-all.dat' index 19 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-project_on_demand-backtracking', \
+  'perf_profile-all.dat' index 20 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-progressive-backtracking', \
+  'perf_profile-all.dat' index 21 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt 1 title 'newton-trust_region_filter-backtracking', \
+  'perf_profile-all.dat' index 22 using 1:2 with steps lw 1.5 lc rgb '#d62728' dt (16,8) title 'lbfgs-wolfe', \
+  'perf_profile-all.dat' index 23 using 1:2 with steps lw 1.5 lc rgb '#2ca02c' dt (16,8) title 'ncg-wolfe', \
+  'perf_profile-all.dat' index 24 using 1:2 with steps lw 1.5 lc rgb '#ff7f0e' dt 1 title 'gradient_descent-backtracking', \
+  'perf_profile-all.dat' index 25 using 1:2 with steps lw 1.5 lc rgb '#9467bd' dt (3,6) title 'newton_tr', \
+  'perf_profile-all.dat' index 26 using 1:2 with steps lw 1.5 lc rgb '#1f77b4' dt (16,6,3,6) title 'newton-clamp-nonmonotone', \
+  'perf_profile-all.dat' index 27 using 1:2 with steps lw 1.5 lc rgb '#8c564b' dt 1 title 'pd_local_global-anderson', \
+  'perf_profile-all.dat' index 28 using 1:2 with steps lw 1.5 lc rgb '#e377c2' dt (3,6) title 'fixed_point', \
+  'perf_profile-all.dat' index 29 using 1:2 with steps lw 1.5 lc rgb '#17becf' dt 1 title 'pd-lbfgs5-backtracking'
+unset multiplot
