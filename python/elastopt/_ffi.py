@@ -205,8 +205,7 @@ typedef struct eo_sim_step_result {
     long n_value, n_gradient, n_hessian, n_factor; eo_step_stats stats;
     int entry; int n_entries; int entry_reason[8]; int entry_iterations[8];
     int rejected; int substeps; double min_substep;
-    long n_not_pd;
-    int rejected; int substeps; double min_substep; double cpu_time;
+    long n_not_pd; double cpu_time;
 } eo_sim_step_result;
 int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out);
 int eo_sim_create_from(eo_ctx *ctx, const char *path, const char *builtin,
