@@ -19,9 +19,11 @@
  *             and CHOLMOD's own choice (auto): flops (common->fl), nnz(L) (common->lnz),
  *             analyze time, numeric factorization time (median and min–max over the
  *             repeats; orderings interleaved inside each repeat);
- *   newton    PCG+AMG, PCG+IC(0), PCG+cholmod_reuse and CHOLMOD (default ordering) on
- *             the nsys systems, rtol 1e-8: setup (analyze + factor: AMG hierarchy, IC(0),
- *             CHOLMOD numeric factor) and solve time per system, PCG iterations;
+ *   newton    PCG+AMG, PCG+IC(0), PCG+cholmod_reuse, PCG+gmg and CHOLMOD (default
+ *             ordering) on the nsys systems, rtol 1e-8: setup (analyze + factor: AMG
+ *             hierarchy, IC(0), Galerkin products, CHOLMOD numeric factor) and solve time
+ *             per system in PROCESS CPU seconds (wall time before the gmg runs; the
+ *             results committed before them are wall), PCG iterations;
  *             pcg+amg-r0 is AMG without the rigid-body modes; methods interleaved inside each repeat; median and spread of the
  *             per-repeat totals. cholmod_reuse factors H_0 and reuses it for H_1, ...
  *
