@@ -5,6 +5,7 @@
  *     coarse matrix equals Pᵀ A P formed densely from the previous level (both coarse
  *     spaces), to 1e-12 of max|A|; translations are reproduced by every prolongation
  *     (P·1 = 1 componentwise).
+ *     Failure injection over the multilevel create: EO_ERR_NOMEM and no leak.
  *  2. Mesh independence: the V-cycle's residual reduction per cycle (geometric mean of
  *     cycles 6..15 of x += V(b − Ax) from 0) on the clamp-projected Hessian of the first
  *     cantilever step at 3 refinements (cells 20·r × 2·r × 2·r, r = 1, 2, 4; coarse_size
@@ -37,7 +38,7 @@ typedef struct hsys {
     int n, nv;
 } hsys;
 
-static int system_build(eo_ctx *ctx, const char *scene, int r, hsys *S)
+static int hsys_build(eo_ctx *ctx, const char *scene, int r, hsys *S)
 {
     memset(S, 0, sizeof *S);
     char ov[96];
@@ -62,7 +63,7 @@ static int system_build(eo_ctx *ctx, const char *scene, int r, hsys *S)
     return rc;
 }
 
-static void system_free(hsys *S)
+static void hsys_free(hsys *S)
 {
     free(S->b);
     free(S->xyz);
@@ -93,7 +94,7 @@ static double rel_res(const eo_csc *A, const double *b, const double *x)
 static void galerkin_dense(eo_ctx *ctx, int prolongation)
 {
     hsys S;
-    CHECK(system_build(ctx, "cantilever", 1, &S) >= 0, "cantilever: %s", eo_ctx_message(ctx));
+    CHECK(hsys_build(ctx, "cantilever", 1, &S) >= 0, "cantilever: %s", eo_ctx_message(ctx));
     if (!S.H) return;
     eo_gmg_opts o = {.prolongation = prolongation, .cell = 2, .coarse_size = 30, .max_levels = 6, .smooth_steps = 2,
                      .name = "gmg"};
@@ -169,7 +170,36 @@ static void galerkin_dense(eo_ctx *ctx, int prolongation)
         free(P);
     }
     eo_gmg_destroy(ctx, &g);
-    system_free(&S);
+    hsys_free(&S);
+}
+
+/* failure injection over the multilevel create (both coarse spaces): every failing
+ * allocation gives EO_ERR_NOMEM and leaks nothing; eventually it succeeds */
+static void create_failures(eo_ctx *ctx)
+{
+    hsys S;
+    CHECK(hsys_build(ctx, "cantilever", 1, &S) >= 0, "cantilever: %s", eo_ctx_message(ctx));
+    for (int p = 0; p < 2 && S.H; p++) {
+        eo_gmg_opts o = {.prolongation = p, .cell = 2, .coarse_size = 30, .max_levels = 6, .smooth_steps = 2,
+                         .name = "gmg"};
+        const size_t base = eo_ctx_live_bytes(ctx);
+        int ok = 0, bad = 0;
+        long f;
+        for (f = 1; f < 400 && !ok; f++) {
+            eo_gmg *g = NULL;
+            eo_ctx_fail_after(ctx, f);
+            int rc = eo_gmg_create(ctx, S.H, &o, S.nv, S.xyz, &g);
+            eo_ctx_fail_after(ctx, 0);
+            if (rc == EO_OK) ok = 1;
+            else bad += rc != EO_ERR_NOMEM;
+            eo_gmg_destroy(ctx, &g);
+            if (eo_ctx_live_bytes(ctx) != base) bad++;
+        }
+        printf("%s: create makes %ld context allocations; a failure at each one is clean\n", p ? "affine" : "linear",
+               f - 2);
+        CHECK(ok && bad == 0, "%s: injected failures: ok %d, bad %d", p ? "affine" : "linear", ok, bad);
+    }
+    hsys_free(&S);
 }
 
 /* ---------------------------------------------------------------- 2. V-cycle factor ---- */
@@ -213,14 +243,14 @@ static void mesh_independence(eo_ctx *ctx)
     double f[2][3];
     for (int r = 0; r < 3; r++) {
         hsys S;
-        CHECK(system_build(ctx, "cantilever", 1 << r, &S) >= 0, "cantilever x%d: %s", 1 << r, eo_ctx_message(ctx));
+        CHECK(hsys_build(ctx, "cantilever", 1 << r, &S) >= 0, "cantilever x%d: %s", 1 << r, eo_ctx_message(ctx));
         for (int p = 0; p < 2; p++) {
             int lev = 0;
             f[p][r] = vcycle_factor(ctx, &S, p, &lev);
             printf("cantilever cells x%d (%d unknowns): %s coarse spaces, %d levels, V-cycle residual factor %.3f\n",
                    1 << r, S.n, p ? "affine" : "linear", lev, f[p][r]);
         }
-        system_free(&S);
+        hsys_free(&S);
     }
     for (int r = 0; r < 3; r++) {
         CHECK(f[0][r] < 0.5, "linear: V-cycle factor %.3f < 0.5 at refinement %d", f[0][r], r);
@@ -234,7 +264,7 @@ static void mesh_independence(eo_ctx *ctx)
 static void solve_newton_system(eo_ctx *ctx)
 {
     hsys S;
-    CHECK(system_build(ctx, "cantilever", 2, &S) >= 0, "cantilever x2: %s", eo_ctx_message(ctx));
+    CHECK(hsys_build(ctx, "cantilever", 2, &S) >= 0, "cantilever x2: %s", eo_ctx_message(ctx));
     const char *cases[][3] = {{"pcg", "preconditioner", "gmg"}, {"gmg", NULL, NULL}, {"pcg", "preconditioner", "jacobi"}};
     int its[3] = {0, 0, 0};
     for (int c = 0; c < 3; c++) {
@@ -264,14 +294,14 @@ static void solve_newton_system(eo_ctx *ctx)
         CHECK(eo_ctx_live_bytes(ctx) == live, "%s: no context allocation in factor/solve", cases[c][0]);
         double res = rel_res(S.H, S.b, x);
         its[c] = eo_linsolve_get_stats(ls)->iterations;
-        printf("cantilever x2 Newton hsys (%d unknowns): %s %s: %d iterations, true relative residual %.3g\n", S.n,
+        printf("cantilever x2 Newton system (%d unknowns): %s %s: %d iterations, true relative residual %.3g\n", S.n,
                cases[c][0], cases[c][2] ? cases[c][2] : "", its[c], res);
         CHECK(res <= 1e-10 * 1.0001, "%s: residual %g <= 1e-10", cases[c][0], res);
         free(x);
         eo_linsolve_destroy(&ls);
     }
     CHECK(its[0] * 10 < its[2], "pcg+gmg needs far fewer iterations than pcg+jacobi: %d vs %d", its[0], its[2]);
-    system_free(&S);
+    hsys_free(&S);
 }
 
 /* ---------------------------------------------------------------- 4. Newton ----------- */
@@ -347,6 +377,7 @@ int main(void)
     eo_ctx *ctx = eo_test_ctx();
     galerkin_dense(ctx, EO_GMG_LINEAR);
     galerkin_dense(ctx, EO_GMG_AFFINE);
+    create_failures(ctx);
     mesh_independence(ctx);
     solve_newton_system(ctx);
     same_minimizer(ctx, "cantilever", "mesh.generate.cells=[40,4,4]", 3);
