@@ -19,15 +19,26 @@
  *             and CHOLMOD's own choice (auto): flops (common->fl), nnz(L) (common->lnz),
  *             analyze time, numeric factorization time (median and min–max over the
  *             repeats; orderings interleaved inside each repeat);
- *   newton    PCG+AMG, PCG+IC(0), PCG+cholmod_reuse and CHOLMOD (default ordering) on
- *             the nsys systems, rtol 1e-8: setup (analyze + factor: AMG hierarchy, IC(0),
- *             CHOLMOD numeric factor) and solve time per system, PCG iterations;
+ *   newton    PCG+AMG, PCG+IC(0), PCG+cholmod_reuse, PCG+gmg and CHOLMOD (default
+ *             ordering) on the nsys systems, rtol 1e-8: setup (analyze + factor: AMG
+ *             hierarchy, IC(0), Galerkin products, CHOLMOD numeric factor) and solve time
+ *             per system in PROCESS CPU seconds (wall time before the gmg runs; the
+ *             results committed before them are wall), PCG iterations;
  *             pcg+amg-r0 is AMG without the rigid-body modes; methods interleaved inside each repeat; median and spread of the
  *             per-repeat totals. cholmod_reuse factors H_0 and reuses it for H_1, ...
  *
  *   bench_linsolve [case ...]     cases: grid10 (3 000 dofs), grid20 (24 000 dofs),
- *                                 bar5k, bar50k, bar100k; default: grid10 grid20 bar5k
- *                                 bar50k (bar100k on request: minutes)
+ *                                 bar5k, bar50k, bar100k, bar300k (180×18×18 → 291 600
+ *                                 tets); default: grid10 grid20 bar5k bar50k (bar100k,
+ *                                 bar300k on request: minutes)
+ *   bench_linsolve --gmg [--reps R] bar100k bar300k
+ *                                 only the newton table, for the Galerkin multigrid
+ *                                 (solvers/linsys/gmg.c) against BoomerAMG and CHOLMOD:
+ *                                 pcg+gmg (linear coarse spaces), pcg+gmg-aff (affine
+ *                                 skinning spaces), gmg (standalone V-cycles), pcg+amg
+ *                                 (BoomerAMG with its defaults: no rigid-body modes),
+ *                                 cholmod; times are PROCESS CPU seconds (the machine is
+ *                                 shared), R interleaved repeats (default: the case's)
  *   bench_linsolve --blas-threads [--reps R] bar50k
  *                                 instead of the two tables: the BLAS's threads, 1 vs 2
  *                                 (eo_blas_set_threads), for the CHOLMOD numeric
@@ -245,6 +256,7 @@ static const bar_case bars[] = {
     {"bar5k", 40, 5, 5, 5, 3},
     {"bar50k", 100, 10, 10, 3, 3},
     {"bar100k", 128, 13, 13, 3, 2},
+    {"bar300k", 180, 18, 18, 3, 2},
 };
 
 typedef struct bar_systems {
@@ -409,32 +421,58 @@ typedef struct nt_method {
     const char *label, *solver, *precond;
 } nt_method;
 
+static double cpu_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int g_blas_threads_only, g_reps_override, g_gmg_only;
+
 static void bench_newton(const bar_case *bc, const bar_systems *S)
 {
-    const nt_method ms[] = {
+    static const nt_method all[] = {
 #if EO_HAVE_HYPRE
         {"pcg+amg", "pcg", "amg"},
         {"pcg+amg-r0", "pcg", "amg"}, /* without the rigid-body modes */
 #endif
         {"pcg+ic0", "pcg", "ic0"},
         {"pcg+reuse", "pcg", "cholmod_reuse"},
+        {"pcg+gmg", "pcg", "gmg"},
         {"cholmod", "cholmod", NULL},
     };
-    enum { NM = sizeof ms / sizeof ms[0], MAXR = 16 };
-    double tset[NM][MAXR], tsol[NM][MAXR];
-    int its[NM][8], rcs[NM];
-    double res[NM];
+    static const nt_method gmg[] = { /* --gmg */
+        {"pcg+gmg", "pcg", "gmg"},
+        {"pcg+gmg-aff", "pcg", "gmg"}, /* affine (skinning) coarse spaces */
+        {"gmg", "gmg", NULL},
+#if EO_HAVE_HYPRE
+        {"pcg+amg-r0", "pcg", "amg"},
+#endif
+        {"cholmod", "cholmod", NULL},
+    };
+    const nt_method *ms = g_gmg_only ? gmg : all;
+    const int NM = g_gmg_only ? (int)(sizeof gmg / sizeof gmg[0]) : (int)(sizeof all / sizeof all[0]);
+    enum { MAXM = 8, MAXR = 16 };
+    const int reps = g_reps_override > 0 && g_reps_override <= MAXR ? g_reps_override : bc->reps;
+    double tset[MAXM][MAXR], tsol[MAXM][MAXR];
+    int its[MAXM][8], rcs[MAXM];
+    double res[MAXM];
     eo_ctx *ctx = NULL;
     eo_ctx_create(NULL, &ctx);
     const int n = S->n;
     double *x = malloc((size_t)n * sizeof(double));
     memset(rcs, 0, sizeof rcs);
-    for (int r = 0; r < bc->reps; r++)
+    for (int r = 0; r < reps; r++)
         for (int m = 0; m < NM; m++) {
             const eo_linsolve_type *t = NULL;
             eo_linsolve_find(ctx, ms[m].solver, &t);
             double params[64];
             eo_params_default(t->info.params, params);
+            if (!strcmp(ms[m].solver, "gmg"))
+                *(double *)((char *)params + eo_params_find(t->info.params, "tol")->offset) = 1e-8;
+            if (ms[m].precond && !strcmp(ms[m].precond, "gmg") && strstr(ms[m].label, "-aff"))
+                snprintf((char *)params + eo_params_find(t->info.params, "gmg_prolongation")->offset, 16, "affine");
             if (ms[m].precond) {
                 const eo_param_desc *d = eo_params_find(t->info.params, "preconditioner");
                 snprintf((char *)params + d->offset, d->size, "%s", ms[m].precond);
@@ -448,13 +486,13 @@ static void bench_newton(const bar_case *bc, const bar_systems *S)
             if (rc >= 0) rc = eo_linsolve_set_coordinates(ls, S->nv, S->xyz);
             double ts = 0, tv = 0, rmax = 0;
             for (int k = 0; rc >= 0 && k < S->nsys; k++) {
-                double t0 = eo_wtime();
+                double t0 = cpu_seconds();
                 if (k == 0) rc = eo_linsolve_analyze(ls, S->H[0]);
                 if (rc >= 0) rc = eo_linsolve_factor(ls, S->H[k]);
-                ts += eo_wtime() - t0;
-                t0 = eo_wtime();
+                ts += cpu_seconds() - t0;
+                t0 = cpu_seconds();
                 if (rc == EO_OK) rc = eo_linsolve_solve(ls, S->b[k], x);
-                tv += eo_wtime() - t0;
+                tv += cpu_seconds() - t0;
                 its[m][k] = eo_linsolve_get_stats(ls)->iterations;
                 double *y = malloc((size_t)n * sizeof(double)), rr = 0;
                 eo_csc_symv(S->H[k], x, y);
@@ -471,39 +509,33 @@ static void bench_newton(const bar_case *bc, const bar_systems *S)
             res[m] = rmax;
             eo_linsolve_destroy(&ls);
         }
-    printf("newton systems (%d tets, n = %d, %d systems H_0..H_%d, rtol 1e-8 for PCG, %d interleaved repeats)\n",
-           S->ntets, n, S->nsys, S->nsys - 1, bc->reps);
-    printf("  %-10s %14s %19s %14s %19s %12s %10s  %s\n", "method", "setup s/sys", "min-max", "solve s/sys",
-           "min-max", "total/chol", "max res", "PCG iterations per system");
+    printf("newton systems (%d tets, n = %d, %d systems H_0..H_%d, rtol 1e-8 for PCG and gmg, %d interleaved "
+           "repeats, process CPU seconds)\n",
+           S->ntets, n, S->nsys, S->nsys - 1, reps);
+    printf("  %-11s %14s %19s %14s %19s %14s %19s %12s %10s  %s\n", "method", "setup s/sys", "min-max", "solve s/sys",
+           "min-max", "total s/sys", "min-max", "total/chol", "max res", "iterations per system");
     double ref = 0;
     for (int m = 0; m < NM; m++) {
         double tot[MAXR];
-        for (int r = 0; r < bc->reps; r++) tot[r] = tset[m][r] + tsol[m][r];
-        qsort(tot, (size_t)bc->reps, sizeof(double), cmp_d);
-        if (!strcmp(ms[m].label, "cholmod")) ref = tot[bc->reps / 2];
+        for (int r = 0; r < reps; r++) tot[r] = tset[m][r] + tsol[m][r];
+        qsort(tot, (size_t)reps, sizeof(double), cmp_d);
+        if (!strcmp(ms[m].label, "cholmod")) ref = tot[reps / 2];
     }
     for (int m = 0; m < NM; m++) {
-        double sm, sl, sh, vm, vl, vh, tot[MAXR];
-        for (int r = 0; r < bc->reps; r++) tot[r] = tset[m][r] + tsol[m][r];
-        qsort(tot, (size_t)bc->reps, sizeof(double), cmp_d);
-        med_spread(tset[m], bc->reps, &sm, &sl, &sh);
-        med_spread(tsol[m], bc->reps, &vm, &vl, &vh);
+        double sm, sl, sh, vm, vl, vh, tm, tl, th, tot[MAXR];
+        for (int r = 0; r < reps; r++) tot[r] = tset[m][r] + tsol[m][r];
+        med_spread(tot, reps, &tm, &tl, &th);
+        med_spread(tset[m], reps, &sm, &sl, &sh);
+        med_spread(tsol[m], reps, &vm, &vl, &vh);
         const double q = 1.0 / S->nsys;
         char itb[64] = "", *w = itb;
         for (int k = 0; k < S->nsys; k++) w += snprintf(w, sizeof itb - (size_t)(w - itb), "%d ", its[m][k]);
-        printf("  %-10s %14.4f   [%.4f, %.4f] %14.4f   [%.4f, %.4f] %12.2f %10.2e  %s%s\n", ms[m].label, sm * q,
-               sl * q, sh * q, vm * q, vl * q, vh * q, ref > 0 ? tot[bc->reps / 2] / ref : 0, res[m], itb,
-               rcs[m] ? eo_status_name(rcs[m]) : "");
+        printf("  %-11s %14.4f   [%.4f, %.4f] %14.4f   [%.4f, %.4f] %14.4f   [%.4f, %.4f] %12.2f %10.2e  %s%s\n",
+               ms[m].label, sm * q, sl * q, sh * q, vm * q, vl * q, vh * q, tm * q, tl * q, th * q,
+               ref > 0 ? tm / ref : 0, res[m], itb, rcs[m] ? eo_status_name(rcs[m]) : "");
     }
     free(x);
     eo_ctx_destroy(&ctx);
-}
-
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 static void loadavg(char *buf, size_t n)
@@ -515,8 +547,6 @@ static void loadavg(char *buf, size_t n)
     if (fscanf(f, "%lf %lf %lf", &a, &b, &c) == 3) snprintf(buf, n, "%.2f %.2f %.2f", a, b, c);
     fclose(f);
 }
-
-static int g_blas_threads_only, g_reps_override;
 
 /* 1 vs 2 BLAS threads on the numeric factorization of H_0 (the header's --blas-threads). */
 static void bench_blas_threads(const bar_case *bc, const bar_systems *S)
@@ -586,7 +616,7 @@ static void run_bar(const bar_case *bc)
         if (g_blas_threads_only) {
             bench_blas_threads(bc, &S);
         } else {
-            bench_orderings(bc, &S);
+            if (!g_gmg_only) bench_orderings(bc, &S);
             bench_newton(bc, &S);
         }
     }
@@ -609,13 +639,14 @@ int main(int argc, char **argv)
     int out = 1;
     for (int a = 1; a < argc; a++) { /* options out of argv: what remains are case names */
         if (strcmp(argv[a], "--blas-threads") == 0) g_blas_threads_only = 1;
+        else if (strcmp(argv[a], "--gmg") == 0) g_gmg_only = 1;
         else if (strcmp(argv[a], "--reps") == 0 && a + 1 < argc) g_reps_override = atoi(argv[++a]);
         else argv[out++] = argv[a];
     }
     argc = out;
     int ran = 0;
     for (size_t c = 0; c < sizeof bars / sizeof bars[0]; c++) {
-        int pick = argc <= 1 && strcmp(bars[c].name, "bar100k");
+        int pick = argc <= 1 && strcmp(bars[c].name, "bar100k") && strcmp(bars[c].name, "bar300k");
         for (int a = 1; a < argc; a++) pick |= strcmp(argv[a], bars[c].name) == 0;
         if (pick) {
             run_bar(&bars[c]);
@@ -623,7 +654,7 @@ int main(int argc, char **argv)
         }
     }
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
-        int pick = argc <= 1;
+        int pick = argc <= 1 && !g_gmg_only;
         for (int a = 1; a < argc; a++) pick |= strcmp(argv[a], cases[c].name) == 0;
         if (pick) {
             run_case(&cases[c]);

@@ -507,6 +507,7 @@ static const variant variants[] = {
     {"cholmod", "ordering", "\"metis\""},  {"cholmod", "ordering", "\"nesdis\""},
     {"cholmod", "ordering", "\"amd\""},    {"cholmod_ldlt", "ordering", "\"metis\""},
     {"pcg", "preconditioner", "\"ic0\""},  {"pcg", "preconditioner", "\"cholmod_reuse\""},
+    {"pcg", "preconditioner", "\"gmg\""}, /* no coordinates here: one level (CHOLMOD); test_gmg has the rest */
 #if EO_HAVE_HYPRE
     {"pcg", "preconditioner", "\"amg\""},
 #endif
@@ -646,7 +647,8 @@ static void contract_one(solver_cfg *c)
     CHECK(info == 0, "dgesv reference");
     rc = run(ctx, ls, A, b, x, 0, &frc);
     const int ldlt_indef = !strcmp(name, "lapack_ldlt") && strstr(L, "allow_indefinite");
-    const int reuse = strstr(L, "cholmod_reuse") != NULL, amg = strstr(L, "amg") != NULL;
+    /* amg, gmg: preconditioners that factor (gmg here: CHOLMOD), so not-PD may come from factor */
+    const int reuse = strstr(L, "cholmod_reuse") != NULL, amg = strstr(L, "amg") != NULL || strstr(L, "gmg") != NULL;
     const int want_col = !strcmp(name, "cholmod") || !strcmp(name, "lapack") || !strcmp(name, "cholmod_ldlt") ||
                          (!strcmp(name, "lapack_ldlt") && !ldlt_indef) || (reuse && frc == EO_WARN_NOT_PD);
     if (!strcmp(name, "lapack_ldlt")) { /* inertia vs the dense eigenvalues (dsyev) */
@@ -763,7 +765,7 @@ static void test_contract(void)
             printf("contract %-28s %.3f s\n", c.label, eo_wtime() - t0);
         }
     }
-    CHECK(count == 13, "registered linear solvers: %d", count);
+    CHECK(count == 14, "registered linear solvers: %d", count);
     eo_test_ctx_done(&ctx);
 }
 

@@ -20,14 +20,17 @@
 ///   cholmod (supernodal LLᵀ), cholmod_ldlt (simplicial LDLᵀ), spqr (sparse QR of the
 ///   full matrix), umfpack (sparse LU of the full matrix), lapack (dense Cholesky, small
 ///   n), lapack_lu (dense LU), lapack_ldlt (dense Bunch–Kaufman LDLᵀ with inertia), cg,
-///   pcg (Jacobi, IC(0), reused CHOLMOD factor, BoomerAMG when built with hypre),
-///   gmres (restarted GMRES(m) for indefinite systems), jacobi, gauss_seidel, sor.
+///   pcg (Jacobi, IC(0), reused CHOLMOD factor, BoomerAMG when built with hypre, Galerkin
+///   multigrid), gmres (restarted GMRES(m) for indefinite systems), jacobi, gauss_seidel,
+///   sor, gmg (Galerkin geometric multigrid V-cycles, Xian et al. 2019, from the node
+///   coordinates).
 ///
 /// Optional ops (a method that lacks one accepts the call and ignores it):
 ///   eo_linsolve_set_rtol        inner tolerance of an inexact Newton (Eisenstat–Walker
 ///                               forcing term η_k); iterative methods only
 ///   eo_linsolve_set_coordinates node coordinates, for the rigid-body near-null space of
-///                               algebraic multigrid (pcg with preconditioner amg)
+///                               algebraic multigrid (pcg with preconditioner amg) and the
+///                               coarse grids of gmg (solver and pcg preconditioner)
 ///
 /// ```c
 /// eo_linsolve *ls; eo_linsolve_create(ctx, type, params, &ls);
@@ -125,7 +128,8 @@ EO_API int eo_linsolve_solve(eo_linsolve *ls, const double *b, double *x);
 /// rtol <= 0 restores the method's own `tol`). Direct solvers ignore it (EO_OK).
 /// Returns EO_OK or EO_ERR_RANGE (rtol >= 1 or not finite).
 EO_API int eo_linsolve_set_rtol(eo_linsolve *ls, double rtol);
-/// Node coordinates for methods that use the geometry (BoomerAMG's rigid-body modes):
+/// Node coordinates for methods that use the geometry (BoomerAMG's rigid-body modes, the
+/// Galerkin multigrid's coarse grids; gmg without them is one level, CHOLMOD):
 /// `xyz` (3 nv doubles, copied) are the positions of the nv nodes whose unknowns are
 /// rows 3i, 3i+1, 3i+2 of the matrix (the step engine: its free vertices, in free
 /// order, at rest or at the current iterate). Call before analyze, and again whenever

@@ -32,6 +32,12 @@
  *                  eo_linsolve_set_coordinates gave the node positions. Set up at every
  *                  factor. Only when built with hypre (-Dhypre); otherwise creating a
  *                  pcg with it fails with EO_ERR_UNSUPPORTED and a message saying so.
+ *   gmg            one symmetric V-cycle of the Galerkin multigrid of gmg.c (Xian, Tong &
+ *                  Liu 2019; its hierarchy from the node coordinates of
+ *                  eo_linsolve_set_coordinates, built at analyze; Galerkin products,
+ *                  block Gauss–Seidel set-up and coarsest CHOLMOD factor at every
+ *                  factor). Hierarchy options gmg_prolongation and gmg_coarse_size; the
+ *                  others are solver.gmg's defaults. Without coordinates: CHOLMOD on A.
  * The iteration, stopping, curvature check and warm start are cg_iter.h's (shared
  * with cg.c): non-positive curvature pᵀAp <= 0 is reported (EO_WARN_NOT_PD, value in
  * stats.curvature) and the direction is never used. eo_linsolve_set_rtol overrides
@@ -41,7 +47,7 @@
  * Parameters (solver.pcg.<key>):
  *   tol                   relative residual ‖b − Ax‖/‖b‖ to reach      default 1e-10
  *   max_iters             iteration cap                                default 10000
- *   preconditioner        jacobi | ic0 | ichol0 | cholmod_reuse | amg  default "jacobi"
+ *   preconditioner        jacobi | ic0 | ichol0 | cholmod_reuse | amg | gmg   default "jacobi"
  *   warm_start            start from the x passed to solve             default false
  *   refactor_iters        cholmod_reuse: refactor after a solve needing more
  *                         iterations than this                         default 20
@@ -49,6 +55,8 @@
  *   amg_rbm               amg: rigid-body modes from the coordinates   default false
  *                         (measured: 10 instead of 20 iterations, but 3.7x the setup time
  *                         on the 108k-tet bar; off is 2.4x faster per Newton system)
+ *   gmg_prolongation      gmg: linear | affine                         default "linear"
+ *   gmg_coarse_size       gmg: unknowns of the coarsest level at most  default 1500
  */
 #include <math.h>
 #include <stddef.h>
@@ -60,6 +68,7 @@
 #if EO_HAVE_HYPRE
 #include "amg.h"
 #endif
+#include "gmg.h"
 
 typedef struct pcg_params {
     double tol;              /* relative residual; default 1e-10 */
@@ -69,11 +78,14 @@ typedef struct pcg_params {
     int refactor_iters;      /* cholmod_reuse; default 20 */
     double amg_strong_threshold; /* default 0.5 */
     int amg_rbm;             /* default false (measured) */
+    char gmg_prolongation[16]; /* default "linear" */
+    int gmg_coarse_size;     /* default 1500 */
 } pcg_params;
 
 /* "amg" is always a valid name (so configs and docs do not depend on the build); a build
  * without hypre refuses it at create with EO_ERR_UNSUPPORTED and says how to get it. */
-static const char *const preconds[] = {"jacobi", "ic0", "ichol0", "cholmod_reuse", "amg", NULL};
+static const char *const preconds[] = {"jacobi", "ic0", "ichol0", "cholmod_reuse", "amg", "gmg", NULL};
+static const char *const gmg_prolongations[] = {"linear", "affine", NULL};
 
 static const eo_param_desc pcg_desc[] = {
     {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(pcg_params, tol), .def.d = 1e-10,
@@ -84,7 +96,7 @@ static const eo_param_desc pcg_desc[] = {
      .size = sizeof(((pcg_params *)0)->preconditioner), .def.s = "jacobi", .choices = preconds,
      .help = "jacobi (diagonal), ic0 = ichol0 (zero-fill incomplete Cholesky), cholmod_reuse (an "
              "earlier CHOLMOD factor, refactored per refactor_iters), amg (hypre BoomerAMG; builds "
-             "without hypre refuse it at create)"},
+             "without hypre refuse it at create), gmg (one V-cycle of the Galerkin multigrid, see solver.gmg)"},
     {.key = "warm_start", .kind = EO_PARAM_BOOL, .offset = offsetof(pcg_params, warm_start),
      .def.i = 0, .help = "start from the x passed in (else from 0)"},
     {.key = "refactor_iters", .kind = EO_PARAM_INT, .offset = offsetof(pcg_params, refactor_iters), .def.i = 20,
@@ -98,10 +110,17 @@ static const eo_param_desc pcg_desc[] = {
      .help = "amg: add the rigid-body rotations to the interpolation when node coordinates are set "
              "(halves the PCG iterations on the twist bars but triples the setup: 2.4x slower in total "
              "at 108k tets, bench_linsolve; default off)"},
+    {.key = "gmg_prolongation", .kind = EO_PARAM_CHOICE, .offset = offsetof(pcg_params, gmg_prolongation),
+     .size = sizeof(((pcg_params *)0)->gmg_prolongation), .def.s = "linear", .choices = gmg_prolongations,
+     .help = "gmg: coarse spaces, linear (trilinear on nested grids) or affine (Xian et al.'s skinning space); "
+             "see solver.gmg.prolongation"},
+    {.key = "gmg_coarse_size", .kind = EO_PARAM_INT, .offset = offsetof(pcg_params, gmg_coarse_size),
+     .def.i = 1500, .min = 3, .range = EO_RANGE_MIN,
+     .help = "gmg: coarsening stops at a level with at most this many unknowns (CHOLMOD there)"},
     {0},
 };
 
-enum { PC_JACOBI, PC_IC0, PC_REUSE, PC_AMG };
+enum { PC_JACOBI, PC_IC0, PC_REUSE, PC_AMG, PC_GMG };
 
 typedef struct pcg_state {
     eo_cg cg;        /* iteration workspace and borrowed A (cg_iter.h) */
@@ -119,7 +138,8 @@ typedef struct pcg_state {
 #if EO_HAVE_HYPRE
     eo_amg *amg;
 #endif
-    double *xyz;     /* set_coordinates copy (3 nv), for amg */
+    eo_gmg *gmg;
+    double *xyz;     /* set_coordinates copy (3 nv), for amg and gmg */
     int nv;
 } pcg_state;
 
@@ -134,6 +154,7 @@ static int pcg_setup(void *st, const void *params, eo_ctx *ctx)
     s->pc = !strcmp(pc, "ic0") || !strcmp(pc, "ichol0") ? PC_IC0
             : !strcmp(pc, "cholmod_reuse")              ? PC_REUSE
             : !strcmp(pc, "amg")                        ? PC_AMG
+            : !strcmp(pc, "gmg")                        ? PC_GMG
                                                         : PC_JACOBI;
 #if !EO_HAVE_HYPRE
     if (s->pc == PC_AMG)
@@ -162,6 +183,7 @@ static void free_pattern_data(pcg_state *s, eo_ctx *ctx, int all)
 #if EO_HAVE_HYPRE
     eo_amg_destroy(ctx, &s->amg);
 #endif
+    eo_gmg_destroy(ctx, &s->gmg);
     if (all) {
         eo_chm_free_factor(&s->chm);
         s->have_factor = s->fresh = 0;
@@ -232,6 +254,16 @@ static int pcg_analyze(void *st, const eo_csc *A, eo_ctx *ctx)
         if (s->nv > 0) eo_amg_set_coordinates(s->amg, s->nv, s->xyz);
     }
 #endif
+    if (s->pc == PC_GMG) {
+        eo_gmg_opts o = {.prolongation = strcmp(s->p.gmg_prolongation, "affine") ? EO_GMG_LINEAR : EO_GMG_AFFINE,
+                         .cell = 2, .coarse_size = s->p.gmg_coarse_size, .max_levels = 10, .smooth_steps = 2,
+                         .name = "pcg gmg"};
+        rc = eo_gmg_create(ctx, A, &o, s->nv, s->xyz, &s->gmg);
+        if (rc < 0) {
+            free_pattern_data(s, ctx, 1);
+            return rc;
+        }
+    }
     return EO_OK;
 }
 
@@ -281,6 +313,7 @@ static int pcg_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ct
         return eo_amg_setup(s->amg, A, ctx);
 #endif
         break;
+    case PC_GMG: return eo_gmg_setup(s->gmg, A, stats, ctx);
     default: break;
     }
     return EO_OK;
@@ -331,6 +364,7 @@ static int pcg_solve(void *st, const double *b, double *x, eo_linsolve_stats *st
 #if EO_HAVE_HYPRE
     case PC_AMG: return eo_cg_solve(&s->cg, eo_amg_apply, s->amg, b, x, stats, ctx);
 #endif
+    case PC_GMG: return eo_cg_solve(&s->cg, eo_gmg_apply, s->gmg, b, x, stats, ctx);
     default: return eo_cg_solve(&s->cg, precond, s, b, x, stats, ctx);
     }
 }
@@ -340,7 +374,7 @@ static void pcg_set_rtol(void *st, double rtol) { eo_cg_set_rtol(&((pcg_state *)
 static int pcg_set_coordinates(void *st, int nv, const double *xyz, eo_ctx *ctx)
 {
     pcg_state *s = st;
-    if (s->pc != PC_AMG) return EO_OK;
+    if (s->pc != PC_AMG && s->pc != PC_GMG) return EO_OK;
     eo_free(ctx, s->xyz);
     s->xyz = NULL;
     s->nv = 0;
@@ -358,7 +392,7 @@ static int pcg_set_coordinates(void *st, int nv, const double *xyz, eo_ctx *ctx)
 const eo_linsolve_type eo_linsolve_pcg = {
     .info = {.name = "pcg",
              .summary = "preconditioned conjugate gradients (Jacobi, IC(0), reused CHOLMOD factor, "
-                        "BoomerAMG)",
+                        "BoomerAMG, Galerkin multigrid)",
              .params = pcg_desc,
              .params_size = sizeof(pcg_params)},
     .state_size = sizeof(pcg_state),

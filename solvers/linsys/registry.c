@@ -15,6 +15,7 @@ extern const eo_linsolve_type eo_linsolve_pcg;
 extern const eo_linsolve_type eo_linsolve_jacobi;
 extern const eo_linsolve_type eo_linsolve_gauss_seidel;
 extern const eo_linsolve_type eo_linsolve_sor;
+extern const eo_linsolve_type eo_linsolve_gmg;
 
 const void *const eo_registry_linsolve[] = {
     &eo_linsolve_cholmod,
@@ -30,6 +31,7 @@ const void *const eo_registry_linsolve[] = {
     &eo_linsolve_jacobi,
     &eo_linsolve_gauss_seidel,
     &eo_linsolve_sor,
+    &eo_linsolve_gmg,
     NULL,
 };
 
