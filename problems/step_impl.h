@@ -86,6 +86,9 @@ struct eo_step {
      * allocated at the first call) and Σₜ Vₜ (μₜ + λₜ)²/μₜ; both depend only on the
      * materials and the rest shape */
     double *rs_a, rs_el;
+    /* objective ops split_*: the weight k of every tet in L (nt, allocated at the first
+     * split_info call; depends only on the materials) */
+    double *split_k;
     int inv_count, inv_valid;
     /* objective ops constant_factor / constant_solve: the own factor of L (step_pd.c) */
     int pd_mode;                /* EO_PD_FACTOR_* */
