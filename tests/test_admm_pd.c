@@ -2,7 +2,8 @@
  * admm_pd.c), its local step eo_material_prox (materials/prox.c) and the step
  * objective's split ops (problems/step_objective.c).
  *
- *  - the proximal problem z = argmin ψ(z) + (k/2)‖z − v‖² of six tet models at random
+ *  - the proximal problem z = argmin ψ(z) + (k/2)‖z − v‖² of six tet models (five in the
+ *    reduced singular-value form, `linear` in the 9-entry form) at random
  *    v (small and large strain, one inverted): the returned z satisfies the optimality
  *    condition measured with central differences of ψ alone (‖∇φ‖ ≤ 1e-7·k·max(1,‖v‖),
  *    the difference error), and matches an independent direct minimization (Newton on

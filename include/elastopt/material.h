@@ -174,9 +174,10 @@ EO_API int eo_material_evaluate_svd(const eo_material_type *mt, const eo_materia
 EO_API int eo_polar3(const double F[9], double R[9]);
 
 /// Proximal operator of a tet model: z = argmin_z ψ(z) + (k/2)‖z − v‖²_F (k > 0, Pa),
-/// the local step of ADMM splittings (solvers/optim/admm_pd.c). Newton's method on the 9
-/// entries of z with the clamped ∂P/∂F + kI and an Armijo backtracking (materials/prox.c);
-/// z in: a start (the better of it and v is used), out: the minimizer. Converged when
+/// the local step of ADMM splittings (solvers/optim/admm_pd.c). Isotropic models: Newton
+/// on the three signed singular values (z shares v's singular vectors); F-space models:
+/// Newton on the 9 entries of z with the clamped ∂P/∂F + kI, from the better of the given
+/// z and v; Armijo backtracking (materials/prox.c). z out: the minimizer. Converged when
 /// ‖P(z) + k(z − v)‖ ≤ tol·k·max(1, ‖v‖) within max_iters Newton iterations (*iters, may
 /// be NULL). Returns EO_OK, EO_WARN_NOT_CONVERGED (z is the best iterate),
 /// EO_ERR_UNSUPPORTED for an edge model, EO_ERR_INVALID for k ≤ 0, EO_ERR_NONFINITE
