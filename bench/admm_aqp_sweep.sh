@@ -4,7 +4,7 @@
 # (E = 1e7) and the twisting bar (stable_neo_hookean) to solver.tol = 1e-6 under the
 # default convergence measure (relative_decrement: metric gradient ratio for first-order
 # methods, Newton-decrement ratio for newton) on mesh.generate.cells [10,1,1], [20,2,2],
-# [40,4,4], for aqp, aqp without momentum, lbfgs (Wolfe), L-BFGS-PD and newton; plus
+# [40,4,4] (and the static cantilever, no inertia: the regime of the paper), for aqp, aqp without momentum, lbfgs (Wolfe), L-BFGS-PD and newton; plus
 # admm_pd. CPU time of each run (user + sys of the process, GNU time) over 3 repeats:
 # median [min, max]. Usage: bash bench/admm_aqp_sweep.sh [elastopt] > results.csv
 set -euo pipefail
@@ -12,7 +12,7 @@ exe=${1:-build/cli/elastopt}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 echo "scene,cells,config,iterations,reason,cpu_median_s,cpu_min_s,cpu_max_s"
-for scene in cantilever twist; do
+for scene in cantilever twist cantilever_static; do
   for cells in 10,1,1 20,2,2 40,4,4; do
     for cfg in aqp aqp-plain lbfgs pd-lbfgs5 newton admm_pd; do
       case $cfg in

@@ -41,6 +41,7 @@
  *             rule); on convergence x = y_k is returned. A decrement rule gets
  *             λ²/2 = ∇gᵀL⁻¹∇g/2 of the proxy direction.
  * Memory      7 vectors of n in setup; nothing inside the iterations. */
+#include <float.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -111,8 +112,10 @@ static void aqp_destroy(void *vst, eo_ctx *ctx) { aqp_free(vst, ctx); }
  * authors' lineSearchStepSizeMemoryFactor), and its trial limit */
 #define AQP_STEP_MEMORY 45.254833995939045 /* 2^5.5 */
 #define AQP_LS_TRIALS 60
-/* iterations without a new smallest ‖∇g(y)‖ before EO_DIVERGED_STAGNATED (the tolerance
- * is below what g's rounding lets the line search resolve) */
+/* iterations in which neither g(x) fell by more than its rounding (8ε|g|) nor ‖∇g(y)‖
+ * reached a new low before
+ * EO_DIVERGED_STAGNATED (the tolerance is below what g's rounding lets the line search
+ * resolve) */
 #define AQP_STALL_LIMIT 200
 
 static int aqp_minimize(void *vst, const void *params, const eo_solver_ctx *sc, double *x, eo_solve_result *res)
@@ -239,7 +242,7 @@ static int aqp_minimize(void *vst, const void *params, const eo_solver_ctx *sc, 
             x[i] = st->xt[i];
         }
         step_norm = sqrt(s2);
-        stalled = gn < gn_best ? 0 : stalled + 1;
+        stalled = (gt < gx - 8 * DBL_EPSILON * fabs(gx) || gn < gn_best) ? 0 : stalled + 1;
         if (gn < gn_best) gn_best = gn;
         g_prev = gy;
         gx = gt;
