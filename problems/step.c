@@ -66,7 +66,7 @@ void eo_step_destroy(eo_step **pst)
     eo_free(ctx, st->an);
     eo_free(ctx, st->anew);
     void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
-                      st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->inv_x, st->rs_a, st->vbc,
+                      st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->inv_x, st->rs_a, st->split_k, st->vbc,
                       st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->tet_order, st->ord_tets, st->ord_dofs,
                       st->ord_Dminv, st->ord_vol, st->ord_psi, st->ord_rho, (void *)st->ord_type, (void *)st->ord_coef, st->sys.elem_g,
                       st->sys.elem_H};

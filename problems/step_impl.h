@@ -90,6 +90,9 @@ struct eo_step {
      * Σₜ Vₜ hₜ and Σₜ Vₜ (rest shape and materials only; computed at the first call) */
     double ch_anorm, ch_vh, ch_vol;
     int ch_done;
+    /* objective ops split_*: the weight k of every tet in L (nt, allocated at the first
+     * split_info call; depends only on the materials) */
+    double *split_k;
     int inv_count, inv_valid;
     /* objective ops constant_factor / constant_solve: the own factor of L (step_pd.c) */
     int pd_mode;                /* EO_PD_FACTOR_* */

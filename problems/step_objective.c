@@ -428,7 +428,70 @@ static int op_inertia(void *data, eo_objective_inertia *out)
     return EO_OK;
 }
 
+/* Split ops (objective.h): F_e(x) = Ds(x) Dm⁻¹ of every tet, with the constrained
+ * coordinates at their prescribed positions, and its adjoint. */
+static int op_split_info(void *data, eo_objective_split *out)
+{
+    eo_step *st = data;
+    if (st->part) return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "split ops: not with a partitioned evaluation");
+    if (!st->split_k) {
+        st->split_k = eo_calloc(st->ctx, (size_t)(st->nt > 0 ? st->nt : 1), sizeof(double));
+        if (!st->split_k) return eo_error(st->ctx, EO_ERR_NOMEM, "step: out of memory (split weights)");
+        for (int k = 0; k < st->nt; k++)
+            st->split_k[k] = (st->tet_type[k]->flags & EO_MATERIAL_EDGE)
+                                 ? 0
+                                 : (k > 0 && st->tet_type[k] == st->tet_type[k - 1] && st->tet_coef[k] == st->tet_coef[k - 1])
+                                       ? st->split_k[k - 1]
+                                       : eo_pd_tet_weight(st->tet_type[k], st->tet_coef[k]);
+    }
+    out->ne = st->nt;
+    out->w = st->w;
+    out->type = (const struct eo_material_type *const *)st->tet_type;
+    out->coef = (const struct eo_material_coef *const *)st->tet_coef;
+    out->vol = st->vol;
+    out->k = st->split_k;
+    return EO_OK;
+}
+
+static int op_split_apply(void *data, const double *x, double *F)
+{
+    eo_step *st = data;
+    eo_stepi_scatter_free(st, x);
+    const int *tets = st->sys.mesh->tets;
+    for (int k = 0; k < st->nt; k++) {
+        double x12[12];
+        eo_gather12(st->xw, tets + 4 * k, x12);
+        eo_tet_F(st->Dminv + 9 * k, x12, F + 9 * (size_t)k);
+    }
+    return EO_OK;
+}
+
+static int op_split_adjoint(void *data, const double *S, double *out)
+{
+    eo_step *st = data;
+    memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
+    const int *tets = st->sys.mesh->tets;
+    for (int k = 0; k < st->nt; k++) {
+        const double *Sk = S + 9 * (size_t)k, *Dm = st->Dminv + 9 * k;
+        const int *t = tets + 4 * k;
+        for (int a = 0; a < 3; a++) { /* row a of F: coordinate a */
+            double last = 0;
+            for (int c = 0; c < 3; c++) { /* ∂F_ab/∂x_{c,a} = Dm⁻¹_cb; vertex 3 gets minus their sum */
+                const double v = Sk[3 * a] * Dm[3 * c] + Sk[3 * a + 1] * Dm[3 * c + 1] + Sk[3 * a + 2] * Dm[3 * c + 2];
+                st->gfull[3 * t[c] + a] += v;
+                last += v;
+            }
+            st->gfull[3 * t[3] + a] -= last;
+        }
+    }
+    for (int i = 0; i < st->nfree; i++) out[i] = st->gfull[st->free2full[i]];
+    return EO_OK;
+}
+
 const eo_objective_ops eo_stepi_ops = {
+    .split_info = op_split_info,
+    .split_apply = op_split_apply,
+    .split_adjoint = op_split_adjoint,
     .inertia = op_inertia,
     .value = op_value,
     .gradient = op_gradient,

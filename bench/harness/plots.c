@@ -63,9 +63,11 @@ static void cfg_styles(const eo_bench_suite *s, cfg_style *st)
         char v[3][64];
         for (int k = 0; k < 3; k++) resolved_name(s->cf[c].resolved, keys[k], v[k], sizeof v[k]);
         /* NLopt and Ipopt search along their own directions with their own line searches;
-         * fixed_point takes the full update; solver.linesearch is not used by them */
-        if (!strcmp(v[0], "nlopt") || !strcmp(v[0], "ipopt")) snprintf(v[1], sizeof v[1], "own");
-        if (!strcmp(v[0], "fixed_point")) snprintf(v[1], sizeof v[1], "none");
+         * fixed_point and admm_pd take the full update, aqp has its own backtracking;
+         * solver.linesearch is not used by them */
+        if (!strcmp(v[0], "nlopt") || !strcmp(v[0], "ipopt") || !strcmp(v[0], "aqp"))
+            snprintf(v[1], sizeof v[1], "own");
+        if (!strcmp(v[0], "fixed_point") || !strcmp(v[0], "admm_pd")) snprintf(v[1], sizeof v[1], "none");
         if (!s->cf[c].needs_hessian) snprintf(v[2], sizeof v[2], "-");
         for (int k = 0; k < 3; k++) {
             int i = 0;

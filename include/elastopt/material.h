@@ -173,6 +173,18 @@ EO_API int eo_material_evaluate_svd(const eo_material_type *mt, const eo_materia
 /// Returns the number of iterations (for benchmarks); never allocates.
 EO_API int eo_polar3(const double F[9], double R[9]);
 
+/// Proximal operator of a tet model: z = argmin_z ψ(z) + (k/2)‖z − v‖²_F (k > 0, Pa),
+/// the local step of ADMM splittings (solvers/optim/admm_pd.c). Isotropic models: Newton
+/// on the three signed singular values (z shares v's singular vectors); F-space models:
+/// Newton on the 9 entries of z with the clamped ∂P/∂F + kI, from the better of the given
+/// z and v; Armijo backtracking (materials/prox.c). z out: the minimizer. Converged when
+/// ‖P(z) + k(z − v)‖ ≤ tol·k·max(1, ‖v‖) within max_iters Newton iterations (*iters, may
+/// be NULL). Returns EO_OK, EO_WARN_NOT_CONVERGED (z is the best iterate),
+/// EO_ERR_UNSUPPORTED for an edge model, EO_ERR_INVALID for k ≤ 0, EO_ERR_NONFINITE
+/// when ψ is +∞ at both z and v. Never allocates.
+EO_API int eo_material_prox(const eo_material_type *mt, const eo_material_coef *c, const double v[9],
+                            double k, int max_iters, double tol, double z[9], int *iters);
+
 /// SVD of a 3×3 F (row-major): the hot-path version (one-sided Jacobi on the columns
 /// of F, relative accuracy for small σ; U completed by cross products when F is rank
 /// deficient) and the LAPACKE dgesvd reference. Both return U, V ∈ SO(3) (row-major)

@@ -44,6 +44,19 @@ typedef struct eo_objective_inertia {
 } eo_objective_inertia;
 
 struct eo_objective_characteristic;
+struct eo_material_type;
+struct eo_material_coef;
+
+/// The elastic elements of an objective (ops->split_info), borrowed.
+typedef struct eo_objective_split {
+    int ne;                                         ///< elements E (= n_elements)
+    double w;                                       ///< weight of E in g (h², h²/4, 1)
+    const struct eo_material_type *const *type;     ///< E materials
+    const struct eo_material_coef *const *coef;     ///< E coefficient sets
+    const double *vol;                              ///< E rest volumes V_e
+    const double *k;                                ///< E weights k_e of L (Pa; λ + 2μ for the
+                                                    ///< classical models, 0 for edge tets)
+} eo_objective_split;
 
 typedef struct eo_objective_ops {
     /// g(x). Return EO_OK; set *g = +INFINITY where undefined (never NaN).
@@ -125,6 +138,20 @@ typedef struct eo_objective_ops {
     /// Optional: the characteristic scales of g (Zhu, Bridson & Kaufman 2018, BCQN §6–7),
     /// for the characteristic_gradient stopping rule and the bcqn blend. NULL: none.
     int (*characteristic)(void *data, struct eo_objective_characteristic *out);
+    /// Optional (step objectives; for splitting methods such as admm_pd): the elastic
+    /// elements as linear maps of x. Element e (E = n_elements, the tets) has the
+    /// deformation gradient F_e(x) = G_e x + c_e (9 values, row-major as material.h;
+    /// c_e from the prescribed coordinates), energy w·V_e·ψ_e(F_e) in g, and weight k_e
+    /// of the constant matrix: L = M + w·Σ_e V_e k_e G_eᵀG_e + (springs) (constant_hessian,
+    /// problems/pd_matrix.c). Everything in *out is borrowed from the objective and valid
+    /// until its pattern changes. Tets of an edge (spring) material have
+    /// type->flags & EO_MATERIAL_EDGE and k_e = 0: they are not elastic elements here.
+    int (*split_info)(void *data, eo_objective_split *out);
+    /// F[9e..9e+8] = F_e(x) for every element e (9E values).
+    int (*split_apply)(void *data, const double *x, double *F);
+    /// out = Σ_e G_eᵀ S_e over the free variables (n values; S: 9E values, the element
+    /// "stresses"; constrained coordinates dropped): the gradient of Σ_e S_e : F_e(x).
+    int (*split_adjoint)(void *data, const double *S, double *out);
 } eo_objective_ops;
 
 /// Characteristic scales of an objective (ops->characteristic), in the units of g.
@@ -189,6 +216,14 @@ static inline int eo_objective_characteristic_get(eo_objective *o, eo_objective_
 {
     if (!o->ops->characteristic) return EO_ERR_UNSUPPORTED;
     return o->ops->characteristic(o->data, out);
+}
+
+/// The elastic elements of ops->split_info; EO_ERR_UNSUPPORTED if the objective has no
+/// split ops (then split_apply / split_adjoint are unavailable too).
+static inline int eo_objective_split_get(eo_objective *o, eo_objective_split *out)
+{
+    if (!o->ops->split_info || !o->ops->split_apply || !o->ops->split_adjoint) return EO_ERR_UNSUPPORTED;
+    return o->ops->split_info(o->data, out);
 }
 
 /// Number of elements of the per-element ops, or EO_ERR_UNSUPPORTED (< 0) if the

@@ -86,6 +86,9 @@ typedef struct eo_objective_ops {
     int (*rounding_scale)(void *data, const double *x, double *s);
     int (*max_step)(void *data, const double *x, const double *p, double *alpha_max);
     int (*characteristic)(void *data, void *out);
+    int (*split_info)(void *data, void *out);
+    int (*split_apply)(void *data, const double *x, double *F);
+    int (*split_adjoint)(void *data, const double *S, double *out);
 } eo_objective_ops;
 typedef struct eo_objective {
     int n; const eo_objective_ops *ops; void *data; long n_value, n_gradient, n_hessian;

@@ -4,6 +4,8 @@
 #include "../solver_registry.h"
 
 extern const eo_optimizer_type eo_optimizer_fixed_point;   /* fixed_point.c */
+extern const eo_optimizer_type eo_optimizer_admm_pd;       /* admm_pd.c */
+extern const eo_optimizer_type eo_optimizer_aqp;           /* aqp.c */
 #if EO_HAVE_NLOPT
 extern const eo_optimizer_type eo_optimizer_nlopt;   /* nlopt.c, optional backend */
 #endif
@@ -21,6 +23,8 @@ const void *const eo_registry_optimizer[] = {
     &eo_optimizer_projective_dynamics,
     &eo_optimizer_fixed_point,
     &eo_optimizer_pd_local_global,
+    &eo_optimizer_admm_pd,
+    &eo_optimizer_aqp,
 #if EO_HAVE_NLOPT
     &eo_optimizer_nlopt,
 #endif
