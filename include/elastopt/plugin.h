@@ -40,7 +40,9 @@ extern "C" {
 /// (g_hist, n_hist), eo_hessfix_out (neg_curvature), eo_solve_result and
 /// eo_newton_params grew. 4: eo_solver_opts grew (backend), eo_objective_ops grew
 /// (constant_factor, constant_solve). 5: eo_newton_params grew (estimate_gate).
-#define EO_ABI_VERSION 7
+/// 8: eo_objective_ops grew (vertex_blocks, vertex_block), eo_pd_local_global_params grew
+/// (chebyshev, rho, delay, gamma).
+#define EO_ABI_VERSION 8
 
 /// The library's EO_ABI_VERSION.
 EO_API int eo_abi_version(void);

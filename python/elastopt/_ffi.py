@@ -75,6 +75,8 @@ typedef struct eo_objective_ops {
     int (*constant_factor)(void *data);
     int (*constant_solve)(void *data, const double *b, double *x);
     int (*rounding_scale)(void *data, const double *x, double *s);
+    int (*vertex_blocks)(void *data, void *out);
+    int (*vertex_block)(void *data, const double *x, int b, int proj, double *e, double *g3, double *H3);
 } eo_objective_ops;
 typedef struct eo_objective {
     int n; const eo_objective_ops *ops; void *data; long n_value, n_gradient, n_hessian;

@@ -4,6 +4,7 @@
 #include "../solver_registry.h"
 
 extern const eo_optimizer_type eo_optimizer_fixed_point;   /* fixed_point.c */
+extern const eo_optimizer_type eo_optimizer_vbd;   /* vbd.c */
 #if EO_HAVE_NLOPT
 extern const eo_optimizer_type eo_optimizer_nlopt;   /* nlopt.c, optional backend */
 #endif
@@ -20,6 +21,7 @@ const void *const eo_registry_optimizer[] = {
     &eo_optimizer_projective_dynamics,
     &eo_optimizer_fixed_point,
     &eo_optimizer_pd_local_global,
+    &eo_optimizer_vbd,
 #if EO_HAVE_NLOPT
     &eo_optimizer_nlopt,
 #endif
