@@ -18,7 +18,10 @@
  * side. ρ̂ ≥ 1 (or not finite): no acceleration; the next plain corrections are
  * measured again. At most EO_CHEB_RHO_MAX.
  * Restart: the callers restart (eo_cheb_restart: plain iterate, S plain iterations
- * again, ρ re-estimated when automatic) when an accelerated iterate raises g. */
+ * again, ρ re-estimated when automatic) when an accelerated iterate raises g
+ * (eo_cheb_accept). Added here: where g no longer resolves the change (|Δg| ≤ 1e-12|g|,
+ * near the minimizer) a rise of ‖∇g‖ counts as a rise, else an over-relaxed iteration
+ * whose error grows again could run on unseen at the rounding level of g. */
 #ifndef EO_OPTIM_CHEBYSHEV_H
 #define EO_OPTIM_CHEBYSHEV_H
 
@@ -26,7 +29,7 @@
 
 #include "elastopt/objective.h"
 
-#define EO_CHEB_HIST 5
+#define EO_CHEB_HIST 2
 #define EO_CHEB_RHO_MAX 0.9999
 
 typedef struct eo_cheb {
@@ -87,6 +90,16 @@ static inline double eo_cheb_next(eo_cheb *c, double sn)
     c->rho = rho;
     c->on = 1;
     return c->omega = 2 / (2 - rho * rho);
+}
+
+/* 1 if an accelerated candidate with g = gt, ‖∇g‖ = gnt may replace the iterate
+ * (g, gn): g not raised beyond rounding, and ‖∇g‖ not raised where g cannot tell. */
+static inline int eo_cheb_accept(double g, double gn, double gt, double gnt)
+{
+    if (!isfinite(gt) || !isfinite(gnt)) return 0;
+    const double tol = 1e-12 * fabs(g);
+    if (gt > g + tol) return 0;
+    return !(gt >= g - tol && gnt > gn);
 }
 
 /* One block Newton step d = −H⁻¹g over the block's free coordinates (dofs[c] ≥ 0), by
