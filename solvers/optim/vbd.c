@@ -23,8 +23,9 @@
  *             the order (a Gauss–Seidel order with the paper's structure).
  * Line search none (the default, the paper's plain block Newton step) or backtracking:
  *             per vertex, the step is halved (at most 30 times, else the vertex stays)
- *             until Gᵢ is finite and satisfies Armijo (c1 = 1e-4) — for barrier materials,
- *             whose Gᵢ is +∞ past inversion, and a monotone decrease of g at every block.
+ *             until Gᵢ is finite and satisfies Armijo (c1 = 1e-4; where the predicted
+ *             decrease is below 1e-10|Gᵢ|, Gᵢ not raised beyond that) — for barrier
+ *             materials, whose Gᵢ is +∞ past inversion, and a decrease of g at every block.
  * Accelerated accelerated = true: the paper's Chebyshev-type over-relaxation on whole
  *             sweeps, x⁽ⁿ⁾ = ωₙ(x̄⁽ⁿ⁾ − x⁽ⁿ⁻²⁾) + x⁽ⁿ⁻²⁾, x̄⁽ⁿ⁾ the sweep from x⁽ⁿ⁻¹⁾,
  *             ω₁ = 1, ω₂ = 2/(2 − ρ²), ωₙ = 4/(4 − ρ²ωₙ₋₁) (chebyshev.h, γ = 1). The
@@ -201,7 +202,10 @@ static int vbd_sweep(const vbd_state *st, eo_objective *obj, const eo_vertex_blo
                 if (dof[c] >= 0) x[dof[c]] = x0[c] + a * d[c];
             double e1;
             if ((rc = eo_objective_vertex_block(obj, x, b, proj, &e1, NULL, NULL)) < 0) return rc;
-            ok = isfinite(e1) && e1 <= e + 1e-4 * a * slope;
+            /* Armijo, or where G cannot resolve the predicted decrease (it carries the
+             * energies of the vertex's whole tets): not raised beyond that resolution */
+            const double res = 1e-10 * fabs(e);
+            ok = isfinite(e1) && (e1 <= e + 1e-4 * a * slope || (-a * slope <= res && e1 <= e + res));
         }
         if (!ok) {
             (*rejected)++;
