@@ -152,6 +152,7 @@ static void run_case(const char *scene, const char *model, int reps)
           "{\"optimizer\": \"newton\", \"hessian_fix\": \"project_on_demand\", \"stop\": \"gradient\", "
           "\"tol\": 1e-11, \"max_iters\": 200}",
           NULL, &r);
+    const double gref = r.g;
     double m2 = 0;
     for (int i = 0; i < n; i++) m2 += (xs[i] - x0[i]) * (xs[i] - x0[i]);
     probe p = {.xs = xs, .x0 = x0, .n = n, .motion = sqrt(m2)};
@@ -171,7 +172,7 @@ static void run_case(const char *scene, const char *model, int reps)
             total[c] = r.iterations;
             reason[c] = eo_reason_name(r.reason);
         }
-    printf("\n%s, %s: n = %d, step motion %.3e m, reference g* = %.10g\n", scene, model, n, p.motion, r.g);
+    printf("\n%s, %s: n = %d, step motion %.3e m, reference g* = %.10g\n", scene, model, n, p.motion, gref);
     printf("%-18s %-30s %-30s %7s %s\n", "config", "CPU ms to 1e-2 [min, max] (it)", "CPU ms to 1e-6 [min, max] (it)",
            "its", "reason");
     for (int c = 0; c < NCONF; c++) {
