@@ -3,7 +3,8 @@
 ///
 /// The solver of one step problem is assembled from four pluggable pieces:
 ///   solver.optimizer   newton, newton_tr, gradient_descent, lbfgs, ncg,
-///                      projective_dynamics, pd_local_global, fixed_point
+///                      projective_dynamics, pd_local_global, fixed_point, vbd,
+///                      jacobi_chebyshev
 ///                                                               (eo_optimizer_type)
 ///   solver.hessian_fix none, shift, clamp, abs, project_on_demand,
 ///                      progressive, trust_region_filter         (eo_hessfix_type)

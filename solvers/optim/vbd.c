@@ -1,9 +1,8 @@
 /* Vertex block descent (registry key "vbd").
  *
- * Paper       Chen, Liu, Yang & Yuksel, "Vertex Block Descent", ACM TOG 43(4), 2024 (the
- *             brief credits Macklin among the authors as well): block coordinate descent on
- *             the variational implicit step, one block per vertex, Gauss–Seidel over a
- *             vertex colouring.
+ * Paper       Chen, Liu, Yang & Yuksel, "Vertex Block Descent", ACM TOG 43(4), 2024: block
+ *             coordinate descent on the variational implicit step, one block per vertex,
+ *             Gauss–Seidel over a vertex colouring.
  * Iteration   one iteration = one sweep over all colours (serially, colour after colour,
  *             blocks in increasing id inside a colour). For block b (a free vertex) with
  *             every other vertex held at its current position, the objective's op
