@@ -8,10 +8,9 @@
  *             every other vertex held at its current position, the objective's op
  *             vertex_block gives Gᵢ (the vertex's inertia, potentials and the energies of
  *             its tets), fᵢ = ∂g/∂xᵢ and the 3×3 block Hᵢ = ∂²g/∂xᵢ² of the Hessian whose
- *             element Hessians are projected (`projection`: clamp by default, i.e. the
- *             PSD-projected element Hessians of the paper's neo-Hookean implementation;
- *             a diagonal block of a PSD matrix plus the mass block is positive
- *             definite). The update is one Newton step of the block, xᵢ ← xᵢ − Hᵢ⁻¹fᵢ
+ *             element Hessians are projected (`projection`: clamp by default, PSD-projected
+ *             element Hessians; a diagonal block of a PSD matrix plus the mass block is
+ *             positive definite, so every Hᵢ is). The update is one Newton step of the block, xᵢ ← xᵢ − Hᵢ⁻¹fᵢ
  *             (a partly constrained vertex: over its free coordinates); a block whose Hᵢ
  *             is not numerically positive definite is skipped (the paper skips
  *             near-singular Hᵢ).
