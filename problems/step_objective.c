@@ -314,6 +314,14 @@ static int op_vertex_blocks(void *data, eo_vertex_blocks *out)
                         if (pass) st->vb_adj[st->vb_ptr[b] + cnt] = u;
                         cnt++;
                     }
+                const int ns = st->spring ? eo_term_spring_degree(st->spring, v) : 0;
+                for (int q = 0; q < ns; q++) {
+                    const int u = st->vb_mark[eo_term_spring_other(st->spring, v, q)];
+                    if (u < 0 || u == b || last[u] == b) continue;
+                    last[u] = b;
+                    if (pass) st->vb_adj[st->vb_ptr[b] + cnt] = u;
+                    cnt++;
+                }
                 if (!pass) st->vb_ptr[b + 1] = cnt;
             }
             if (!pass) {
@@ -337,8 +345,8 @@ static int op_vertex_blocks(void *data, eo_vertex_blocks *out)
     return EO_OK;
 }
 
-/* G_b: the free values of the vertices of the block's tets into the work vector (the
- * others are not read), then every term's vertex op */
+/* G_b: the free values of the vertices of the block's tets and springs into the work
+ * vector (the others are not read), then every term's vertex op */
 static int op_vertex_block(void *data, const double *x, int b, eo_proj proj, double *e, double g3[3], double H3[9])
 {
     eo_step *st = data;
@@ -358,6 +366,14 @@ static int op_vertex_block(void *data, const double *x, int b, eo_proj proj, dou
                 if (i >= 0) st->xw[3 * u + c] = x[i];
             }
         }
+    const int ns = st->spring ? eo_term_spring_degree(st->spring, v) : 0;
+    for (int q = 0; q < ns; q++) {
+        const int u = eo_term_spring_other(st->spring, v, q);
+        for (int c = 0; c < 3; c++) {
+            const int i = st->full2free[3 * u + c];
+            if (i >= 0) st->xw[3 * u + c] = x[i];
+        }
+    }
     if (g3) g3[0] = g3[1] = g3[2] = 0;
     if (H3) memset(H3, 0, 9 * sizeof(double));
     double s = 0;

@@ -139,6 +139,10 @@ int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, const d
  * spring direction at x; SUBTRACTED from g (g holds ∇E, the force is −g). Scene
  * springs only; used by the explicit integrators. */
 void eo_term_spring_damping(eo_term *t, const eo_sys *s, const double *x, const double *v, double *g);
+/* The springs at vertex v (for the step objective's vertex blocks): their number, and the
+ * other end of the q-th one. */
+int eo_term_spring_degree(const eo_term *t, int v);
+int eo_term_spring_other(const eo_term *t, int v, int q);
 /* Viscous + Rayleigh damping C = γI + αM + βK₀ (term_damping.c); EO_OK with *out NULL
  * when all three are 0. Per step: set_step (xₙ, κ, b of the stage velocity
  * v_s = κ(x − xₙ) + b; b NULL = 0) and, when needs_stiffness, set_stiffness (K₀ in the

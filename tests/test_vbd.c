@@ -2,7 +2,8 @@
  * the step objective's vertex-block ops (problems/step_objective.c).
  *
  *  - the ops: at a perturbed iterate of the cantilever (consistent mass, gravity,
- *    Newmark's linear term) and of the twist (prescribed rotations), the vertex block's
+ *    Newmark's linear term), of the twist (prescribed rotations) and of the cloth lattice
+ *    (springs, point masses, a penalty plane through the sheet), the vertex block's
  *    g3 equals the full gradient's entries and H3 the diagonal 3×3 block of the
  *    objective's Hessian with the same projection (1e-10 relative), and the vertex energy
  *    changes like g when the vertex moves (difference quotient against g3);
@@ -21,9 +22,10 @@
 #include "elastopt/solver.h"
 #include "engine_util.h"
 
-static int perturbed(eo_ctx *ctx, const char *scene, eo_sim **s, double **x, int *n)
+static int perturbed(eo_ctx *ctx, const char *scene, const char *const *extra, eo_sim **s, double **x, int *n)
 {
-    const char *ov[] = {"solver.fallback=[]", NULL};
+    const char *ov[8] = {"solver.fallback=[]", NULL};
+    for (int i = 0; extra && extra[i] && i < 6; i++) ov[i + 1] = extra[i], ov[i + 2] = NULL;
     if (eo_test_sim_open(s, ctx, scene, NULL, ov) < 0) return -1;
     eo_objective *obj = eo_test_sim_obj(*s);
     *n = obj->n;
@@ -34,13 +36,13 @@ static int perturbed(eo_ctx *ctx, const char *scene, eo_sim **s, double **x, int
     return 0;
 }
 
-static void check_ops(const char *scene)
+static void check_ops(const char *scene, const char *const *extra)
 {
     eo_ctx *ctx = eo_test_ctx();
     eo_sim *s = NULL;
     double *x = NULL;
     int n = 0;
-    if (perturbed(ctx, scene, &s, &x, &n) < 0) {
+    if (perturbed(ctx, scene, extra, &s, &x, &n) < 0) {
         CHECK(0, "open %s", scene);
         eo_test_ctx_done(&ctx);
         return;
@@ -239,8 +241,12 @@ static void check_unsupported(void)
 
 int main(void)
 {
-    check_ops("cantilever");
-    check_ops("twist");
+    check_ops("cantilever", NULL);
+    check_ops("twist", NULL);
+    /* springs (a lattice of point masses) and a penalty plane through the sheet, so that
+     * about half the perturbed vertices are in contact */
+    const char *cloth[] = {"collisions.0.friction=0", "collisions.0.plane.point=[0,0,1]", NULL};
+    check_ops("cloth", cloth);
     check_converge("cantilever", 0);
     check_converge("twist", 1);
     check_unsupported();

@@ -135,7 +135,8 @@ typedef struct eo_objective_ops {
     /// coupling (eo_vertex_blocks). May allocate once per pattern (the step objective
     /// builds its vertex-to-tet map at the first call). EO_ERR_UNSUPPORTED, with a
     /// message naming the reason, if a term of g has no per-vertex form (the step
-    /// objective: damping, friction).
+    /// objective: damping, friction; inertia, elasticity, springs, gravity, the linear
+    /// term and penalty obstacles have one).
     int (*vertex_blocks)(void *data, eo_vertex_blocks *out);
     /// Optional: the part G_b of g(x) that depends on block b with every other block held
     /// fixed (Chen et al. 2024, "Vertex Block Descent": the vertex's inertia, potentials and

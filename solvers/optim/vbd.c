@@ -39,9 +39,10 @@
  *             measure (no Newton decrement). The paper runs a fixed iteration count.
  * Differs     the step objective's own initial guess replaces the paper's adaptive
  *             initialization; the consistent mass and Newmark's linear term are handled
- *             exactly (their vertex parts); no collision detection (the penalty
- *             obstacles' vertex parts are included); springs, damping and friction have
- *             no vertex form yet (EO_ERR_UNSUPPORTED naming the term).
+ *             exactly (their vertex parts); springs couple vertices like tets (in the
+ *             colouring too); no collision detection (the penalty obstacles' vertex parts
+ *             are included); damping and friction have no vertex form yet
+ *             (EO_ERR_UNSUPPORTED naming the term).
  * Cost        per sweep every tet is evaluated (12×12 Hessian) once for each of its 4
  *             vertices, plus one gradient; no linear solver, no global matrix.
  * Memory      5 vectors of n in setup; the colouring (per pattern, at the first minimize
