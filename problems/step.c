@@ -69,7 +69,8 @@ void eo_step_destroy(eo_step **pst)
                       st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->inv_x, st->rs_a, st->split_k, st->vbc,
                       st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->tet_order, st->ord_tets, st->ord_dofs,
                       st->ord_Dminv, st->ord_vol, st->ord_psi, st->ord_rho, (void *)st->ord_type, (void *)st->ord_coef, st->sys.elem_g,
-                      st->sys.elem_H};
+                      st->sys.elem_H, st->vt_ptr, st->vt_tet, st->vb_vert, st->vb_dofs, st->vb_ptr, st->vb_adj,
+                      st->vb_mark};
     for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++) eo_free(ctx, arrays[i]);
     eo_free(ctx, st);
     *pst = NULL;

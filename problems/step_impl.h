@@ -111,6 +111,13 @@ struct eo_step {
     /* acceleration state (integ->accel, generalized_alpha): aₙ, valid while hist_valid;
      * anew scratch for aₙ₊₁ */
     double *an, *anew;
+    /* objective ops vertex_blocks / vertex_block (step_objective.c): vertex -> tets (CSR,
+     * built at the first call; the mesh's), and per pattern the blocks (free vertices
+     * vb_vert, their free ids vb_dofs), their coupling (CSR vb_ptr / vb_adj) and a
+     * scratch mark per vertex */
+    int *vt_ptr, *vt_tet;
+    int vb_nb, *vb_vert, *vb_dofs, *vb_ptr, *vb_adj, *vb_mark;
+    unsigned long vb_pattern;
 };
 
 /* step_bc.c */

@@ -488,6 +488,154 @@ static int op_split_adjoint(void *data, const double *S, double *out)
     return EO_OK;
 }
 
+/* ---------------------------------------------------------------- vertex blocks */
+
+/* The terms without a vertex form, or NULL if every term has one. */
+static const char *vertex_unsupported(const eo_step *st)
+{
+    if (st->part) return "a partitioned evaluation";
+    for (int i = 0; i < st->nterms; i++)
+        if (!st->terms[i]->ops->vertex) return st->terms[i]->ops->name;
+    return NULL;
+}
+
+/* vertex -> tets once (the mesh's), then per pattern the free vertices and their
+ * coupling through the tets (allocations here only: once for the mesh, once per pattern) */
+static int op_vertex_blocks(void *data, eo_vertex_blocks *out)
+{
+    eo_step *st = data;
+    const char *why = vertex_unsupported(st);
+    if (why)
+        return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "vertex blocks: the step objective's %s has no per-vertex form",
+                        why);
+    const eo_mesh *m = st->sys.mesh;
+    const int nv = m->nv, nt = m->nt;
+    if (!st->vt_ptr) {
+        st->vt_ptr = eo_calloc(st->ctx, (size_t)nv + 1, sizeof(int));
+        st->vt_tet = eo_malloc(st->ctx, (size_t)(4 * nt > 0 ? 4 * nt : 1) * sizeof(int));
+        st->vb_mark = eo_malloc(st->ctx, (size_t)(nv > 0 ? nv : 1) * sizeof(int));
+        if (!st->vt_ptr || !st->vt_tet || !st->vb_mark) return eo_error(st->ctx, EO_ERR_NOMEM, "out of memory (vertex blocks)");
+        for (int k = 0; k < 4 * nt; k++) st->vt_ptr[m->tets[k] + 1]++;
+        for (int v = 0; v < nv; v++) st->vt_ptr[v + 1] += st->vt_ptr[v];
+        for (int v = 0; v < nv; v++) st->vb_mark[v] = st->vt_ptr[v];
+        for (int k = 0; k < nt; k++) /* increasing tet ids per vertex */
+            for (int a = 0; a < 4; a++) st->vt_tet[st->vb_mark[m->tets[4 * k + a]]++] = k;
+        st->sys.vt_ptr = st->vt_ptr;
+        st->sys.vt_tet = st->vt_tet;
+    }
+    if (!st->vb_vert || st->vb_pattern != st->pattern_id) {
+        int nb = 0;
+        for (int v = 0; v < nv; v++) nb += st->full2free[3 * v] >= 0 || st->full2free[3 * v + 1] >= 0 ||
+                                            st->full2free[3 * v + 2] >= 0;
+        eo_free(st->ctx, st->vb_vert);
+        eo_free(st->ctx, st->vb_dofs);
+        eo_free(st->ctx, st->vb_ptr);
+        eo_free(st->ctx, st->vb_adj);
+        st->vb_adj = NULL;
+        st->vb_vert = eo_malloc(st->ctx, (size_t)(nb > 0 ? nb : 1) * sizeof(int));
+        st->vb_dofs = eo_malloc(st->ctx, (size_t)(3 * nb > 0 ? 3 * nb : 1) * sizeof(int));
+        st->vb_ptr = eo_calloc(st->ctx, (size_t)nb + 1, sizeof(int));
+        if (!st->vb_vert || !st->vb_dofs || !st->vb_ptr) return eo_error(st->ctx, EO_ERR_NOMEM, "out of memory (vertex blocks)");
+        nb = 0;
+        for (int v = 0; v < nv; v++) { /* vb_mark: block of v, -1 if none */
+            const int *f = st->full2free + 3 * v;
+            st->vb_mark[v] = -1;
+            if (f[0] < 0 && f[1] < 0 && f[2] < 0) continue;
+            st->vb_mark[v] = nb;
+            st->vb_vert[nb] = v;
+            for (int c = 0; c < 3; c++) st->vb_dofs[3 * nb + c] = f[c];
+            nb++;
+        }
+        /* coupling: two passes (count, fill) over the tets of each block's vertex, a
+         * neighbour counted once (last[u] = the block that saw it last) */
+        int *last = eo_malloc(st->ctx, (size_t)(nb > 0 ? nb : 1) * sizeof(int));
+        if (!last) return eo_error(st->ctx, EO_ERR_NOMEM, "out of memory (vertex blocks)");
+        for (int pass = 0; pass < 2; pass++) {
+            for (int b = 0; b < nb; b++) last[b] = -1;
+            for (int b = 0; b < nb; b++) {
+                const int v = st->vb_vert[b];
+                int cnt = 0;
+                for (int q = st->vt_ptr[v]; q < st->vt_ptr[v + 1]; q++)
+                    for (int a = 0; a < 4; a++) {
+                        const int u = st->vb_mark[m->tets[4 * st->vt_tet[q] + a]];
+                        if (u < 0 || u == b || last[u] == b) continue;
+                        last[u] = b;
+                        if (pass) st->vb_adj[st->vb_ptr[b] + cnt] = u;
+                        cnt++;
+                    }
+                const int ns = st->spring ? eo_term_spring_degree(st->spring, v) : 0;
+                for (int q = 0; q < ns; q++) {
+                    const int u = st->vb_mark[eo_term_spring_other(st->spring, v, q)];
+                    if (u < 0 || u == b || last[u] == b) continue;
+                    last[u] = b;
+                    if (pass) st->vb_adj[st->vb_ptr[b] + cnt] = u;
+                    cnt++;
+                }
+                if (!pass) st->vb_ptr[b + 1] = cnt;
+            }
+            if (!pass) {
+                for (int b = 0; b < nb; b++) st->vb_ptr[b + 1] += st->vb_ptr[b];
+                st->vb_adj = eo_malloc(st->ctx, (size_t)(st->vb_ptr[nb] > 0 ? st->vb_ptr[nb] : 1) * sizeof(int));
+                if (!st->vb_adj) {
+                    eo_free(st->ctx, last);
+                    return eo_error(st->ctx, EO_ERR_NOMEM, "out of memory (vertex blocks)");
+                }
+            }
+        }
+        eo_free(st->ctx, last);
+        st->vb_nb = nb;
+        st->vb_pattern = st->pattern_id;
+    }
+    out->nb = st->vb_nb;
+    out->dofs = st->vb_dofs;
+    out->adj_ptr = st->vb_ptr;
+    out->adj = st->vb_adj;
+    out->version = st->pattern_id;
+    return EO_OK;
+}
+
+/* G_b: the free values of the vertices of the block's tets and springs into the work
+ * vector (the others are not read), then every term's vertex op */
+static int op_vertex_block(void *data, const double *x, int b, eo_proj proj, double *e, double g3[3], double H3[9])
+{
+    eo_step *st = data;
+    if (!st->vb_vert || st->vb_pattern != st->pattern_id || b < 0 || b >= st->vb_nb || vertex_unsupported(st))
+        return eo_error(st->ctx, EO_ERR_INVALID, "vertex block %d: no current blocks (call vertex_blocks first)", b);
+    const int v = st->vb_vert[b];
+    const int *tets = st->sys.mesh->tets;
+    for (int c = 0; c < 3; c++) {
+        const int i = st->full2free[3 * v + c];
+        if (i >= 0) st->xw[3 * v + c] = x[i];
+    }
+    for (int q = st->vt_ptr[v]; q < st->vt_ptr[v + 1]; q++)
+        for (int a = 0; a < 4; a++) {
+            const int u = tets[4 * st->vt_tet[q] + a];
+            for (int c = 0; c < 3; c++) {
+                const int i = st->full2free[3 * u + c];
+                if (i >= 0) st->xw[3 * u + c] = x[i];
+            }
+        }
+    const int ns = st->spring ? eo_term_spring_degree(st->spring, v) : 0;
+    for (int q = 0; q < ns; q++) {
+        const int u = eo_term_spring_other(st->spring, v, q);
+        for (int c = 0; c < 3; c++) {
+            const int i = st->full2free[3 * u + c];
+            if (i >= 0) st->xw[3 * u + c] = x[i];
+        }
+    }
+    if (g3) g3[0] = g3[1] = g3[2] = 0;
+    if (H3) memset(H3, 0, 9 * sizeof(double));
+    double s = 0;
+    for (int i = 0; i < st->nterms; i++) s += st->terms[i]->ops->vertex(st->terms[i], &st->sys, st->xw, v, proj, g3, H3);
+    *e = isnan(s) ? INFINITY : s;
+    for (int c = 0; c < 3; c++) /* constrained coordinates of a partly free vertex: 0 */
+        if (st->full2free[3 * v + c] < 0) {
+            if (g3) g3[c] = 0;
+            for (int d = 0; d < 3 && H3; d++) H3[3 * c + d] = H3[3 * d + c] = 0;
+        }
+    return EO_OK;
+}
+
 const eo_objective_ops eo_stepi_ops = {
     .split_info = op_split_info,
     .split_apply = op_split_apply,
@@ -507,6 +655,8 @@ const eo_objective_ops eo_stepi_ops = {
     .rounding_scale = op_rounding_scale,
     .max_step = op_max_step,
     .characteristic = op_characteristic,
+    .vertex_blocks = op_vertex_blocks,
+    .vertex_block = op_vertex_block,
 };
 
 

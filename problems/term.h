@@ -68,6 +68,10 @@ typedef struct eo_sys {
     const eo_material_type *const *ord_type;
     const eo_material_coef *const *ord_coef;
     int ord_group;
+    /* vertex -> incident tets (CSR: the tets of vertex v are vt_tet[vt_ptr[v] .. vt_ptr[v+1]),
+     * increasing), for the terms' `vertex` op; NULL until the step objective's op
+     * vertex_blocks first builds them (they depend on the mesh only) */
+    const int *vt_ptr, *vt_tet;
 } eo_sys;
 
 /* Tets of the current part (all tets without one): i-th tet and their count. */
@@ -98,6 +102,14 @@ typedef struct eo_term_ops {
      * into s->as. NULL: its Hessian at the rest positions, clamped, is used instead
      * (see pd_matrix.c). */
     int (*pd_hessian)(eo_term *t, const eo_sys *s);
+    /* Optional: the part of this term that involves vertex v, every other vertex held
+     * fixed (vertex block descent, solvers/optim/vbd.c): its energy is returned (+INFINITY
+     * where undefined; constants of the other vertices may be included), its gradient
+     * with respect to x_v is ADDED into g3 (3) unless g3 is NULL, and the 3×3 block
+     * ∂²/∂x_v² of its Hessian, each element's Hessian projected with proj first, is
+     * ADDED into H3 (row-major) unless H3 is NULL. Weight included. Full x, like the
+     * other ops; reads s->vt_ptr/vt_tet. NULL: the term has no vertex form. */
+    double (*vertex)(eo_term *t, const eo_sys *s, const double *x, int v, eo_proj proj, double *g3, double *H3);
 } eo_term_ops;
 
 struct eo_term {
@@ -127,6 +139,10 @@ int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, const d
  * spring direction at x; SUBTRACTED from g (g holds ∇E, the force is −g). Scene
  * springs only; used by the explicit integrators. */
 void eo_term_spring_damping(eo_term *t, const eo_sys *s, const double *x, const double *v, double *g);
+/* The springs at vertex v (for the step objective's vertex blocks): their number, and the
+ * other end of the q-th one. */
+int eo_term_spring_degree(const eo_term *t, int v);
+int eo_term_spring_other(const eo_term *t, int v, int q);
 /* Viscous + Rayleigh damping C = γI + αM + βK₀ (term_damping.c); EO_OK with *out NULL
  * when all three are 0. Per step: set_step (xₙ, κ, b of the stage velocity
  * v_s = κ(x − xₙ) + b; b NULL = 0) and, when needs_stiffness, set_stiffness (K₀ in the

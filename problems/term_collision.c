@@ -83,6 +83,30 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
     return EO_OK;
 }
 
+static double vertex(eo_term *t, const eo_sys *s, const double *x, int v, eo_proj proj, double *g3, double *H3)
+{
+    (void)s;
+    const collision_data *d = t->data;
+    double e = 0, n[3], kap;
+    for (int o = 0; o < d->nob; o++) {
+        const eo_scene_obstacle *ob = d->ob + o;
+        const double k = t->weight * ob->opts.stiffness;
+        double dd = ob->type->depth(ob->shape, x + 3 * v, n, &kap);
+        if (!(dd > 0)) continue;
+        e += 0.5 * k * dd * dd;
+        if (g3)
+            for (int c = 0; c < 3; c++) g3[c] -= k * dd * n[c];
+        if (H3) {
+            double lt = -k * dd * kap;
+            if (proj == EO_PROJ_CLAMP && lt < 0) lt = 0;
+            if (proj == EO_PROJ_ABS) lt = fabs(lt);
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) H3[3 * i + j] += (k - lt) * n[i] * n[j] + (i == j ? lt : 0);
+        }
+    }
+    return e;
+}
+
 static int attach(eo_term *t, eo_sys *s)
 {
     collision_data *d = t->data;
@@ -104,6 +128,7 @@ static const eo_term_ops collision_ops = {
     .hessian = hessian,
     .attach = attach,
     .destroy = destroy,
+    .vertex = vertex,
 };
 
 int eo_term_collision_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_term **out)

@@ -201,6 +201,34 @@ static int pd_hessian(eo_term *t, const eo_sys *s)
     return EO_OK;
 }
 
+/* Vertex op (term.h): the tets around v, each evaluated whole (the 12×12 projected as
+ * asked), of which the rows of v are kept. */
+static double vertex(eo_term *t, const eo_sys *s, const double *x, int v, eo_proj proj, double *g3, double *H3)
+{
+    const double w = t->weight;
+    const eo_eval_what what = H3 ? EO_EVAL_HESS : g3 ? EO_EVAL_GRAD : EO_EVAL_ENERGY;
+    double e = 0;
+    for (int q = s->vt_ptr[v]; q < s->vt_ptr[v + 1]; q++) {
+        const int k = s->vt_tet[q];
+        const tref r = {k, k, s->tet_group, s->mesh->tets + 4 * k, s->Dminv + 9 * k, s->vol[k], s->psi_rest[k],
+                        s->tet_type[k], s->tet_coef[k]};
+        if (skip(&r)) continue;
+        int a = 0;
+        while (a < 3 && r.tet[a] != v) a++;
+        eo_tet_out out;
+        double x12[12];
+        eo_gather12(x, r.tet, x12);
+        eo_tet_evaluate(r.type, r.coef, r.Dminv, r.vol, x12, what, proj, &out);
+        e += out.energy - r.vol * r.psi;
+        if (g3)
+            for (int c = 0; c < 3; c++) g3[c] += w * out.grad[3 * a + c];
+        if (H3)
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) H3[3 * i + j] += w * out.hess[(3 * a + i) * 12 + 3 * a + j];
+    }
+    return isfinite(e) ? w * e : INFINITY;
+}
+
 static void destroy(eo_term *t, eo_ctx *ctx)
 {
     eo_free(ctx, t->data);
@@ -214,6 +242,7 @@ static const eo_term_ops elastic_ops = {
     .hessian = hessian,
     .destroy = destroy,
     .pd_hessian = pd_hessian,
+    .vertex = vertex,
 };
 
 int eo_term_elastic_create(eo_sys *s, eo_term **out)

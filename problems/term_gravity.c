@@ -32,6 +32,18 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
     return EO_OK;
 }
 
+static double vertex(eo_term *t, const eo_sys *s, const double *x, int v, eo_proj proj, double *g3, double *H3)
+{
+    (void)proj, (void)H3;
+    const gravity_data *d = t->data;
+    double e = 0;
+    for (int c = 0; c < 3; c++) {
+        e -= t->weight * s->vmass[v] * d->g[c] * x[3 * v + c];
+        if (g3) g3[c] -= t->weight * s->vmass[v] * d->g[c];
+    }
+    return e;
+}
+
 static void destroy(eo_term *t, eo_ctx *ctx) { eo_free(ctx, t->data); }
 
 static const eo_term_ops gravity_ops = {
@@ -40,6 +52,7 @@ static const eo_term_ops gravity_ops = {
     .gradient = gradient,
     .hessian = hessian,
     .destroy = destroy,
+    .vertex = vertex,
 };
 
 int eo_term_gravity_create(eo_sys *s, const double g[3], eo_term **out)

@@ -159,6 +159,42 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
     return EO_OK;
 }
 
+/* Vertex op (term.h): lumped ½m_v‖d_v‖²; consistent: the energy of each tet around v
+ * (gradient ρV/20 (d_v + Σⱼ dⱼ), block ρV/10 I) and the point mass. */
+static double vertex(eo_term *t, const eo_sys *s, const double *x, int v, eo_proj proj, double *g3, double *H3)
+{
+    (void)proj;
+    const inertia_data *d = t->data;
+    const double *xt = t->vec;
+    double e = 0;
+    const double mp = d->lumped ? s->vmass[v] : s->pmass ? s->pmass[v] : 0;
+    for (int c = 0; c < 3; c++) {
+        double dd = x[3 * v + c] - xt[3 * v + c];
+        e += 0.5 * mp * dd * dd;
+        if (g3) g3[c] += mp * dd;
+        if (H3) H3[4 * c] += mp;
+    }
+    if (d->lumped) return e;
+    for (int q = s->vt_ptr[v]; q < s->vt_ptr[v + 1]; q++) {
+        const int k = s->vt_tet[q];
+        const int *tet = s->mesh->tets + 4 * k;
+        const double m = s->rho[k] * s->vol[k] / 20.0;
+        double sum[3] = {0, 0, 0}, qq = 0;
+        for (int a = 0; a < 4; a++)
+            for (int c = 0; c < 3; c++) {
+                double dd = x[3 * tet[a] + c] - xt[3 * tet[a] + c];
+                qq += dd * dd;
+                sum[c] += dd;
+            }
+        e += 0.5 * m * (qq + sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+        for (int c = 0; c < 3; c++) {
+            if (g3) g3[c] += m * (x[3 * v + c] - xt[3 * v + c] + sum[c]);
+            if (H3) H3[4 * c] += 2 * m;
+        }
+    }
+    return e;
+}
+
 static void destroy(eo_term *t, eo_ctx *ctx)
 {
     inertia_data *d = t->data;
@@ -173,6 +209,7 @@ static const eo_term_ops inertia_ops = {
     .hessian = hessian,
     .prepare = prepare,
     .destroy = destroy,
+    .vertex = vertex,
 };
 
 int eo_term_inertia_create(eo_sys *s, int lumped, eo_term **out)

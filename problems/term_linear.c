@@ -27,11 +27,23 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
     return EO_OK;
 }
 
+static double vertex(eo_term *t, const eo_sys *s, const double *x, int v, eo_proj proj, double *g3, double *H3)
+{
+    (void)s, (void)proj, (void)H3;
+    double e = 0;
+    for (int c = 0; c < 3; c++) {
+        e -= t->weight * t->vec[3 * v + c] * x[3 * v + c];
+        if (g3) g3[c] -= t->weight * t->vec[3 * v + c];
+    }
+    return e;
+}
+
 static const eo_term_ops linear_ops = {
     .name = "linear",
     .energy = energy,
     .gradient = gradient,
     .hessian = hessian,
+    .vertex = vertex,
 };
 
 int eo_term_linear_create(eo_sys *s, eo_term **out) { return eo_term_alloc(s, &linear_ops, 1, out); }

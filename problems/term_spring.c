@@ -28,6 +28,7 @@ typedef struct spring_data {
     double damping;                       /* c of the scene springs, N·s/m */
     eo_material_coef scene_coef;          /* k of the scene springs */
     eo_material_coef *list_coef;          /* per scene spring (a lattice's kinds), or NULL */
+    int *ve_ptr, *ve_edge;                /* vertex -> springs (CSR, nv + 1 and 2·ne) */
 } spring_data;
 
 extern const eo_material_type eo_material_spring;
@@ -104,6 +105,38 @@ static int pd_hessian(eo_term *t, const eo_sys *s)
     return EO_OK;
 }
 
+/* Vertex op (term.h): the springs at v, the rows of v kept. */
+static double vertex(eo_term *t, const eo_sys *s, const double *x, int v, eo_proj proj, double *g3, double *H3)
+{
+    (void)s;
+    const spring_data *d = t->data;
+    const eo_eval_what what = H3 ? EO_EVAL_HESS : g3 ? EO_EVAL_GRAD : EO_EVAL_ENERGY;
+    double e = 0, ge[6], He[36];
+    for (int q = d->ve_ptr[v]; q < d->ve_ptr[v + 1]; q++) {
+        const int k = d->ve_edge[q], side = d->ab[2 * k] == v ? 0 : 1;
+        e += edge(d, k, x, what, proj, ge, He);
+        if (g3)
+            for (int c = 0; c < 3; c++) g3[c] += t->weight * ge[3 * side + c];
+        if (H3)
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) H3[3 * i + j] += t->weight * He[(3 * side + i) * 6 + 3 * side + j];
+    }
+    return isnan(e) ? INFINITY : t->weight * e;
+}
+
+int eo_term_spring_degree(const eo_term *t, int v)
+{
+    const spring_data *d = t->data;
+    return d->ve_ptr[v + 1] - d->ve_ptr[v];
+}
+
+int eo_term_spring_other(const eo_term *t, int v, int q)
+{
+    const spring_data *d = t->data;
+    const int k = d->ve_edge[d->ve_ptr[v] + q];
+    return d->ab[2 * k] == v ? d->ab[2 * k + 1] : d->ab[2 * k];
+}
+
 static int attach(eo_term *t, eo_sys *s)
 {
     spring_data *d = t->data;
@@ -126,6 +159,8 @@ static void destroy(eo_term *t, eo_ctx *ctx)
     eo_free(ctx, d->coef);
     eo_free(ctx, d->dofs);
     eo_free(ctx, d->list_coef);
+    eo_free(ctx, d->ve_ptr);
+    eo_free(ctx, d->ve_edge);
     eo_free(ctx, d);
 }
 
@@ -137,6 +172,7 @@ static const eo_term_ops spring_ops = {
     .pd_hessian = pd_hessian,
     .attach = attach,
     .destroy = destroy,
+    .vertex = vertex,
 };
 
 void eo_term_spring_damping(eo_term *t, const eo_sys *s, const double *x, const double *v, double *g)
@@ -243,5 +279,18 @@ int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, const d
         }
         d->L[e] = sqrt(L2);
     }
+    /* vertex -> springs, for the vertex op */
+    d->ve_ptr = eo_calloc(s->ctx, (size_t)s->nv + 1, sizeof(int));
+    d->ve_edge = eo_malloc(s->ctx, (size_t)(2 * d->ne > 0 ? 2 * d->ne : 1) * sizeof(int));
+    if (!d->ve_ptr || !d->ve_edge) {
+        eo_term_destroy(s->ctx, out);
+        return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (springs)");
+    }
+    for (int q = 0; q < 2 * d->ne; q++) d->ve_ptr[d->ab[q] + 1]++;
+    for (int v = 0; v < s->nv; v++) d->ve_ptr[v + 1] += d->ve_ptr[v];
+    for (int e = 0; e < d->ne; e++) /* ve_ptr[v] as the cursor of v, shifted back after */
+        for (int i = 0; i < 2; i++) d->ve_edge[d->ve_ptr[d->ab[2 * e + i]]++] = e;
+    for (int v = s->nv; v > 0; v--) d->ve_ptr[v] = d->ve_ptr[v - 1];
+    d->ve_ptr[0] = 0;
     return EO_OK;
 }

@@ -12,6 +12,11 @@
 /// eo_csc *L; unsigned long ver;                         // optional constant SPD matrix
 /// if (eo_objective_constant_hessian(obj, &L, &ver) == EO_OK) { /* factor once per ver */ }
 /// ```
+/// Optional per-vertex ops (vertex block descent, solvers/optim/vbd.c):
+/// ```c
+/// eo_vertex_blocks vb; eo_objective_vertex_blocks(obj, &vb);   // blocks, coupling graph
+/// eo_objective_vertex_block(obj, x, b, EO_PROJ_CLAMP, &e, g3, H3); // G_b, ∂g/∂x_b, 3×3 block
+/// ```
 /// Optional per-element ops (the Hessian fixes `progressive` and friends use them):
 /// ```c
 /// int ne = eo_objective_n_elements(obj);              // E elements, < 0: unsupported
@@ -57,6 +62,19 @@ typedef struct eo_objective_split {
     const double *k;                                ///< E weights k_e of L (Pa; λ + 2μ for the
                                                     ///< classical models, 0 for edge tets)
 } eo_objective_split;
+/// The vertex blocks of an objective's free variables (ops->vertex_blocks), for per-vertex
+/// block coordinate methods (vbd, jacobi_chebyshev). Everything borrowed from the
+/// objective, valid while `version` is unchanged.
+typedef struct eo_vertex_blocks {
+    int nb;                   ///< number of blocks (the step objective: its free vertices)
+    const int *dofs;          ///< 3·nb: free index of coordinate c of block b at dofs[3b + c]
+                              ///< (-1: that coordinate is not free); every free variable
+                              ///< lies in exactly one block
+    const int *adj_ptr;       ///< nb + 1: the blocks coupled to block b (sharing an element
+                              ///< or a spring) are adj[adj_ptr[b] .. adj_ptr[b + 1]), b itself
+    const int *adj;           ///< excluded
+    unsigned long version;    ///< changes when the blocks do (a release rebuilt the pattern)
+} eo_vertex_blocks;
 
 typedef struct eo_objective_ops {
     /// g(x). Return EO_OK; set *g = +INFINITY where undefined (never NaN).
@@ -152,6 +170,22 @@ typedef struct eo_objective_ops {
     /// out = Σ_e G_eᵀ S_e over the free variables (n values; S: 9E values, the element
     /// "stresses"; constrained coordinates dropped): the gradient of Σ_e S_e : F_e(x).
     int (*split_adjoint)(void *data, const double *S, double *out);
+    /// Optional (with vertex_block): the vertex blocks of the free variables and their
+    /// coupling (eo_vertex_blocks). May allocate once per pattern (the step objective
+    /// builds its vertex-to-tet map at the first call). EO_ERR_UNSUPPORTED, with a
+    /// message naming the reason, if a term of g has no per-vertex form (the step
+    /// objective: damping, friction; inertia, elasticity, springs, gravity, the linear
+    /// term and penalty obstacles have one).
+    int (*vertex_blocks)(void *data, eo_vertex_blocks *out);
+    /// Optional: the part G_b of g(x) that depends on block b with every other block held
+    /// fixed (Chen et al. 2024, "Vertex Block Descent": the vertex's inertia, potentials and
+    /// the energies of its elements): *e = G_b(x) (+INFINITY where undefined; G_b may
+    /// carry constants of the other blocks, so only differences of *e at the same other
+    /// blocks mean something); unless g3 is NULL, g3 = ∂g/∂x_b (the 3 coordinates of the
+    /// block, also the full gradient's entries there; 0 where not free); unless H3 is
+    /// NULL, H3 = the 3×3 block ∂²g/∂x_b² (row-major) of the Hessian whose elements are
+    /// projected with proj (rows and columns of non-free coordinates: 0). No allocation.
+    int (*vertex_block)(void *data, const double *x, int b, eo_proj proj, double *e, double g3[3], double H3[9]);
 } eo_objective_ops;
 
 /// Characteristic scales of an objective (ops->characteristic), in the units of g.
@@ -255,6 +289,18 @@ static inline int eo_objective_inertia_get(eo_objective *o, eo_objective_inertia
 {
     if (!o->ops->inertia) return EO_ERR_UNSUPPORTED;
     return o->ops->inertia(o->data, out);
+}
+/// The vertex blocks (ops->vertex_blocks); EO_ERR_UNSUPPORTED if the objective has none.
+static inline int eo_objective_vertex_blocks(eo_objective *o, eo_vertex_blocks *out)
+{
+    if (!o->ops->vertex_blocks || !o->ops->vertex_block) return EO_ERR_UNSUPPORTED;
+    return o->ops->vertex_blocks(o->data, out);
+}
+/// Block b's part of g (ops->vertex_block; not counted as an evaluation of g).
+static inline int eo_objective_vertex_block(eo_objective *o, const double *x, int b, eo_proj proj, double *e,
+                                            double g3[3], double H3[9])
+{
+    return o->ops->vertex_block(o->data, x, b, proj, e, g3, H3);
 }
 /// Per-element residual r (see ops->element_residual); EO_ERR_UNSUPPORTED if none.
 static inline int eo_objective_element_residual(eo_objective *o, const double *v, double *r)

@@ -42,7 +42,8 @@ extern "C" {
 /// (constant_factor, constant_solve). 5: eo_newton_params grew (estimate_gate).
 /// 7: eo_stop_info (the convergence measure), eo_solver_ctx (stop_state), eo_optimizer_type
 /// (newton_decrement), eo_objective_ops (rounding_scale). 8: eo_objective_ops grew (max_step,
-/// characteristic, split_info, split_apply, split_adjoint), eo_stop_info grew (grad_char); CPU-time fields appended to the solve,
+/// characteristic, split_info, split_apply, split_adjoint), eo_stop_info grew (grad_char); vertex_blocks, vertex_block; eo_pd_local_global_params grew (chebyshev, rho,
+/// delay, gamma); CPU-time fields appended to the solve,
 /// profile, linear-solver and step results.
 #define EO_ABI_VERSION 8
 

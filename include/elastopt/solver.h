@@ -3,7 +3,8 @@
 ///
 /// The solver of one step problem is assembled from four pluggable pieces:
 ///   solver.optimizer   newton, newton_tr, gradient_descent, lbfgs, bcqn, ncg,
-///                      projective_dynamics, pd_local_global, fixed_point
+///                      projective_dynamics, pd_local_global, fixed_point, vbd,
+///                      jacobi_chebyshev, admm_pd, aqp
 ///                                                               (eo_optimizer_type)
 ///   solver.hessian_fix none, shift, clamp, abs, project_on_demand,
 ///                      progressive, trust_region_filter         (eo_hessfix_type)
@@ -486,6 +487,14 @@ typedef struct eo_pd_local_global_params {
     int anderson;        ///< Anderson acceleration of the local/global map, with the energy
                          ///< safeguard of Peng et al. 2018 (default false)
     int window;          ///< Anderson window m, differences kept (default 5, range [1, 100])
+    /// Chebyshev semi-iterative acceleration of the local/global map (Wang 2015; not with
+    /// anderson): x⁺ = ω(γ(G(x) − x) + x − x₋₁) + x₋₁ after `delay` plain iterations,
+    /// restarted when g rises (default false)
+    int chebyshev;
+    double rho;          ///< its spectral radius estimate, [0, 1); 0 = measured from the
+                         ///< plain iterations of the delay (default 0)
+    int delay;           ///< S, plain iterations before the acceleration (default 10)
+    double gamma;        ///< under-relaxation γ, (0, 1] (default 1)
 } eo_pd_local_global_params;
 
 /// Backtracking (config `solver.backtracking.*`).

@@ -89,6 +89,8 @@ typedef struct eo_objective_ops {
     int (*split_info)(void *data, void *out);
     int (*split_apply)(void *data, const double *x, double *F);
     int (*split_adjoint)(void *data, const double *S, double *out);
+    int (*vertex_blocks)(void *data, void *out);
+    int (*vertex_block)(void *data, const double *x, int b, int proj, double *e, double *g3, double *H3);
 } eo_objective_ops;
 typedef struct eo_objective {
     int n; const eo_objective_ops *ops; void *data; long n_value, n_gradient, n_hessian;

@@ -43,6 +43,19 @@
  *             Safeguard: x_AA is accepted only if g(x_AA) < g(x_k); otherwise the
  *             plain iterate G(x_k) is taken (one more evaluation) and the history is
  *             cleared, which keeps g monotone and the method globally convergent.
+ * Chebyshev   chebyshev = true (Wang, "A Chebyshev Semi-Iterative Approach for
+ *             Accelerating Projective and Position-based Dynamics", ACM TOG 34(6), 2015,
+ *             with the direct solver for the global step): after S = delay plain
+ *             iterations, x⁺ = ω(γ(G(x) − x) + x − x₋₁) + x₋₁ with ω_{S+1} = 2/(2 − ρ²),
+ *             ω_{k+1} = 4/(4 − ρ²ω_k) (chebyshev.h); γ = gamma (1: none). ρ = rho, Wang's
+ *             offline estimate, or rho = 0: measured online from the shrinking of the
+ *             last plain corrections of the delay (chebyshev.h; Wang measures it offline
+ *             from the plain iteration's error). Restart: an accelerated iterate that
+ *             raises g (beyond 1e-12|g|; below that, raises ‖∇g‖: eo_cheb_accept) is
+ *             replaced by the plain one, x + γ(G(x) − x),
+ *             and the acceleration starts again after S plain iterations (ρ measured
+ *             again when automatic); counted in n_fallback. The iteration record's α is ω
+ *             for an accelerated iterate. Not combined with anderson (EO_ERR_INVALID).
  * Stopping    the configured rule at every iterate: gradient (‖∇g‖ relative),
  *             newton_decrement with λ²/2 = ∇gᵀL⁻¹∇g/2 (an estimate of g − g* only as
  *             good as L is of ∇²g), or relative_decrement (the default: λ_k ≤ tol·λ₀,
@@ -53,6 +66,7 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "chebyshev.h"
 #include "descent.h"
 #include "pd_factor.h"
 #include "external.h" /* eo_external_inverted */
@@ -73,6 +87,16 @@ static const eo_param_desc pdlg_desc[] = {
      .def.i = 0, .help = "Anderson acceleration of the local/global map with the energy safeguard (Peng 2018)"},
     {.key = "window", .kind = EO_PARAM_INT, .offset = offsetof(eo_pd_local_global_params, window), .def.i = 5,
      .min = 1, .max = 100, .range = EO_RANGE_CLOSED, .help = "Anderson window m (differences kept)"},
+    {.key = "chebyshev", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_pd_local_global_params, chebyshev),
+     .def.i = 0, .help = "Chebyshev semi-iterative acceleration (Wang 2015), restarted when g rises; not with anderson"},
+    {.key = "rho", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_pd_local_global_params, rho), .def.d = 0, .min = 0,
+     .max = 1, .range = EO_RANGE_MIN | EO_RANGE_MAX_OPEN,
+     .help = "Chebyshev spectral radius estimate, [0, 1); 0 = measured from the plain iterations of the delay"},
+    {.key = "delay", .kind = EO_PARAM_INT, .offset = offsetof(eo_pd_local_global_params, delay), .def.i = 10,
+     .min = 1, .max = 1000, .range = EO_RANGE_CLOSED, .help = "Chebyshev delay S: plain iterations before it starts"},
+    {.key = "gamma", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_pd_local_global_params, gamma), .def.d = 1,
+     .min = 0, .max = 1, .range = EO_RANGE_MIN_OPEN | EO_RANGE_MAX,
+     .help = "Chebyshev under-relaxation gamma, (0, 1]"},
     {0},
 };
 
@@ -96,6 +120,8 @@ static int pdlg_setup(void *vst, const void *params, int n, eo_ctx *ctx)
     memset(st, 0, sizeof *st);
     st->ctx = ctx;
     if (n < 0) return eo_error(ctx, EO_ERR_INVALID, "pd_local_global: n = %d < 0", n);
+    if (pp->anderson && pp->chebyshev)
+        return eo_error(ctx, EO_ERR_INVALID, "pd_local_global: anderson and chebyshev cannot both be on");
     int rc = eo_pd_factor_init(ctx, n, "pd_local_global", &st->pf);
     if (rc < 0) return rc;
     const size_t nn = (size_t)(n > 0 ? n : 1), m = (size_t)pp->window;
@@ -213,8 +239,15 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
     double g = NAN, gn = NAN, gn0 = NAN, g_prev = NAN, step_norm = NAN, last_dec = NAN, gn_best = INFINITY;
     double dec0 = NAN, dec_prev = NAN; /* λ₀²/2 and the previous iteration's, for relative_decrement */
     int rc = EO_OK, reason = 0, k = 0, stalled = 0;
+    eo_cheb cheb;
+    eo_cheb_start(&cheb, pp->rho, pp->delay);
+    double *xm1 = st->fprev; /* Chebyshev's x₋₁ (fprev is Anderson's, never both) */
     memset(res, 0, sizeof *res);
     res->decrement = NAN;
+    if (pp->anderson && pp->chebyshev) {
+        rc = eo_error(sc->ctx, EO_ERR_INVALID, "pd_local_global: anderson and chebyshev cannot both be on");
+        goto done;
+    }
     if (n != st->n || pp->window != st->m) {
         rc = eo_error(sc->ctx, EO_ERR_INVALID, "pd_local_global set up for n = %d, window %d; called with %d, %d",
                       st->n, st->m, n, pp->window);
@@ -231,6 +264,7 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
     if (rc < 0) goto done;
     if (!st->pf.factored) reason = st->pf.fail_reason ? st->pf.fail_reason : EO_DIVERGED_LINSOLVE;
     anderson_clear(st);
+    memcpy(xm1, x, (size_t)n * sizeof(double));
     for (k = 0;; k++) {
         eo_iter_info info = {.iteration = k, .g = g, .grad_norm = gn, .decrement = NAN, .alpha = NAN,
                              .ls_evals = 0, .shift = 0, .inverted = eo_external_inverted(sc, x), .reason = 0,
@@ -268,12 +302,31 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
             eo_solver_report(sc, t0, &info);
             break;
         }
-        /* the plain local/global iterate G(x) = x + d, and Anderson's candidate */
-        for (int i = 0; i < n; i++) st->xg[i] = x[i] + st->d[i];
+        /* the plain local/global iterate G(x) = x + d (x + γd with Chebyshev), and
+         * Anderson's or Chebyshev's candidate */
+        const double gam = pp->chebyshev ? pp->gamma : 1;
+        for (int i = 0; i < n; i++) st->xg[i] = x[i] + gam * st->d[i];
         int accel = pp->anderson && anderson(st, st->d, st->xg, st->xt);
-        double gt = NAN, alpha = 1;
+        double gt = NAN, alpha = 1, omega = 1;
         int nev = 0;
-        if (accel) {
+        if (pp->chebyshev) {
+            omega = eo_cheb_next(&cheb, gam * eo_norm2(n, st->d));
+            if (omega != 1) {
+                for (int i = 0; i < n; i++) st->xt[i] = omega * (st->xg[i] - xm1[i]) + xm1[i];
+                nev++;
+                rc = eo_objective_gradient(obj, st->xt, &gt, st->gt);
+                if (rc < 0) goto done;
+                accel = eo_cheb_accept(g, gn, gt, eo_norm2(n, st->gt));
+                if (!accel) { /* restart: the plain iterate, S plain iterations again */
+                    eo_cheb_restart(&cheb);
+                    res->n_fallback++;
+                    omega = 1;
+                } else {
+                    alpha = omega;
+                }
+            }
+        }
+        if (accel && !pp->chebyshev) {
             nev++;
             rc = eo_objective_gradient(obj, st->xt, &gt, st->gt);
             if (rc < 0) goto done;
@@ -310,6 +363,7 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
                     if (rc < 0) goto done;
                 }
                 anderson_clear(st);
+                eo_cheb_restart(&cheb);
             }
         }
         info.alpha = alpha;
@@ -320,6 +374,7 @@ static int pdlg_minimize(void *vst, const void *params, const eo_solver_ctx *sc,
             break;
         }
         double s2 = 0;
+        if (pp->chebyshev) memcpy(xm1, x, (size_t)n * sizeof(double));
         for (int i = 0; i < n; i++) {
             double s = st->xt[i] - x[i];
             s2 += s * s;

@@ -6,6 +6,8 @@
 extern const eo_optimizer_type eo_optimizer_fixed_point;   /* fixed_point.c */
 extern const eo_optimizer_type eo_optimizer_admm_pd;       /* admm_pd.c */
 extern const eo_optimizer_type eo_optimizer_aqp;           /* aqp.c */
+extern const eo_optimizer_type eo_optimizer_vbd;   /* vbd.c */
+extern const eo_optimizer_type eo_optimizer_jacobi_chebyshev;   /* jacobi_chebyshev.c */
 #if EO_HAVE_NLOPT
 extern const eo_optimizer_type eo_optimizer_nlopt;   /* nlopt.c, optional backend */
 #endif
@@ -25,6 +27,8 @@ const void *const eo_registry_optimizer[] = {
     &eo_optimizer_pd_local_global,
     &eo_optimizer_admm_pd,
     &eo_optimizer_aqp,
+    &eo_optimizer_vbd,
+    &eo_optimizer_jacobi_chebyshev,
 #if EO_HAVE_NLOPT
     &eo_optimizer_nlopt,
 #endif
