@@ -4,6 +4,7 @@
 #ifndef EO_TESTS_ENGINE_UTIL_H
 #define EO_TESTS_ENGINE_UTIL_H
 
+#include <stdlib.h>
 #include <string.h>
 
 #include "elastopt/sim.h"
@@ -69,5 +70,40 @@ static inline double eo_test_tip_dz(const eo_sim *s, double xmin)
         }
     return n ? sum / n : 0;
 }
+
+/* Solve the first step of `scene` (overrides ov, then extra) with the sim's solver from
+ * the step's guess x0: x and x0 out (malloc'd, n values), the result in *res and its
+ * factorizations in *n_factor (may be NULL). Returns the status of eo_sim_trial. */
+static inline int eo_test_solve_first(eo_ctx *ctx, const char *scene, const char *const *ov,
+                                      const char *const *extra, double **x_out, double **x0_out, int *n_out,
+                                      eo_solve_result *res, long *n_factor)
+{
+    const char *all[32];
+    int j = 0;
+    for (const char *const *o = ov; o && *o && j < 31; o++) all[j++] = *o;
+    for (const char *const *o = extra; o && *o && j < 31; o++) all[j++] = *o;
+    all[j] = NULL;
+    eo_sim *s = NULL;
+    *x_out = *x0_out = NULL;
+    if (eo_test_sim_open(&s, ctx, scene, NULL, all) < 0) return -1;
+    eo_objective *obj = NULL;
+    eo_sim_prepare(s, &obj, NULL);
+    const int n = obj->n;
+    double *x = (double *)malloc((size_t)n * sizeof(double)), *x0 = (double *)malloc((size_t)n * sizeof(double));
+    memcpy(x0, eo_test_sim_guess(s), (size_t)n * sizeof(double));
+    int rc = eo_sim_trial(s, NULL, x0, x, NULL, NULL, &obj, res);
+    if (n_factor) *n_factor = res->n_factor;
+    eo_sim_destroy(&s);
+    *x_out = x;
+    *x0_out = x0;
+    *n_out = n;
+    return rc;
+}
+
+/* The overrides of a tightly converged Newton reference (no line search, to the rounding
+ * floor, fallback chain off). */
+static const char *const eo_test_newton_ref[] = {"solver.optimizer=newton", "solver.linesearch=none",
+                                                 "solver.tol=1e-15", "solver.relative_decrement.plateau=1e-30",
+                                                 "solver.max_iters=60", "solver.fallback=[]", NULL};
 
 #endif

@@ -15,36 +15,6 @@
 
 #include "engine_util.h"
 
-/* Solve the first step of `scene` (overrides ov, then extra) from the step's guess x0;
- * x out (malloc'd), x0 too. */
-static int solve_first(eo_ctx *ctx, const char *scene, const char *const *ov, const char *const *extra,
-                       double **x_out, double **x0_out, int *n_out, eo_solve_result *res, long *n_factor)
-{
-    const char *all[32];
-    int j = 0;
-    for (const char *const *o = ov; o && *o; o++) all[j++] = *o;
-    for (const char *const *o = extra; o && *o; o++) all[j++] = *o;
-    all[j] = NULL;
-    eo_sim *s = NULL;
-    *x_out = *x0_out = NULL;
-    if (eo_test_sim_open(&s, ctx, scene, NULL, all) < 0) return -1;
-    eo_objective *obj = NULL;
-    eo_sim_prepare(s, &obj, NULL);
-    const int n = obj->n;
-    double *x = malloc((size_t)n * sizeof(double)), *x0 = malloc((size_t)n * sizeof(double));
-    memcpy(x0, eo_test_sim_guess(s), (size_t)n * sizeof(double));
-    int rc = eo_sim_trial(s, NULL, x0, x, NULL, NULL, &obj, res);
-    if (n_factor) *n_factor = res->n_factor;
-    eo_sim_destroy(&s);
-    *x_out = x;
-    *x0_out = x0;
-    *n_out = n;
-    return rc;
-}
-
-static const char *const newton_ref[] = {"solver.optimizer=newton", "solver.linesearch=none", "solver.tol=1e-15",
-                                         "solver.relative_decrement.plateau=1e-30", "solver.max_iters=60",
-                                         "solver.fallback=[]", NULL};
 
 /* ‖x − x*‖/‖x* − x₀‖ of aqp against Newton on the first step */
 static double check_converges(eo_ctx *ctx, const char *scene, const char *material, const char *const *extra,
@@ -62,11 +32,11 @@ static double check_converges(eo_ctx *ctx, const char *scene, const char *materi
     eo_solve_result rr, ra;
     long nf = 0;
     *iters = -1;
-    if (solve_first(ctx, scene, ov, newton_ref, &xr, &x0, &n, &rr, NULL) < 0 || rr.reason <= 0) {
+    if (eo_test_solve_first(ctx, scene, ov, eo_test_newton_ref, &xr, &x0, &n, &rr, NULL) < 0 || rr.reason <= 0) {
         CHECK(0, "%s %s: Newton reference (%s)", scene, material, eo_reason_string(rr.reason));
         goto out;
     }
-    if (solve_first(ctx, scene, ov, aqp, &x, &x0b, &nb, &ra, &nf) < 0 || nb != n) {
+    if (eo_test_solve_first(ctx, scene, ov, aqp, &x, &x0b, &nb, &ra, &nf) < 0 || nb != n) {
         CHECK(0, "%s %s: aqp ran", scene, material);
         goto out;
     }

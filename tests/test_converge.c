@@ -81,29 +81,6 @@ typedef struct acc {
     int reason, iters;
 } acc;
 
-static int solve_first(eo_ctx *ctx, const char *scene, const char *const *scene_ov, const char *const *solver_ov,
-                       double **x_out, double **x0_out, int *n_out, eo_solve_result *res)
-{
-    const char *ov[24];
-    int j = 0;
-    for (const char *const *o = scene_ov; o && *o; o++) ov[j++] = *o;
-    for (const char *const *o = solver_ov; o && *o; o++) ov[j++] = *o;
-    ov[j] = NULL;
-    eo_sim *s = NULL;
-    if (eo_test_sim_open(&s, ctx, scene, NULL, ov) < 0) return -1;
-    eo_objective *obj = NULL;
-    eo_sim_prepare(s, &obj, NULL);
-    const int n = obj->n;
-    double *x = malloc((size_t)n * sizeof(double)), *x0 = malloc((size_t)n * sizeof(double));
-    memcpy(x0, eo_test_sim_guess(s), (size_t)n * sizeof(double));
-    int rc = eo_sim_trial(s, NULL, x0, x, NULL, NULL, &obj, res);
-    eo_sim_destroy(&s);
-    *x_out = x;
-    *x0_out = x0;
-    *n_out = n;
-    return rc;
-}
-
 static acc accuracy(eo_ctx *ctx, const char *scene, const char *const *scene_ov, const char *const *solver_ov,
                     const double *xref, const double *x0ref, int nref)
 {
@@ -111,7 +88,7 @@ static acc accuracy(eo_ctx *ctx, const char *scene, const char *const *scene_ov,
     double *x = NULL, *x0 = NULL;
     int n = 0;
     eo_solve_result res;
-    if (solve_first(ctx, scene, scene_ov, solver_ov, &x, &x0, &n, &res) < 0 || n != nref) {
+    if (eo_test_solve_first(ctx, scene, scene_ov, solver_ov, &x, &x0, &n, &res, NULL) < 0 || n != nref) {
         free(x), free(x0);
         return a;
     }
@@ -127,8 +104,6 @@ static acc accuracy(eo_ctx *ctx, const char *scene, const char *const *scene_ov,
     return a;
 }
 
-static const char *const reference_solver[] = {"solver.optimizer=newton", "solver.linesearch=none", "solver.tol=1e-15",
-                                               "solver.relative_decrement.plateau=1e-30", "solver.max_iters=60", NULL};
 
 static void same_accuracy(eo_ctx *ctx, const char *label, const char *scene, const char *const *scene_ov, double tol,
                           const char *const solvers[][5], int nsolvers, double bound)
@@ -136,7 +111,7 @@ static void same_accuracy(eo_ctx *ctx, const char *label, const char *scene, con
     double *xref = NULL, *x0 = NULL;
     int n = 0;
     eo_solve_result rr;
-    if (solve_first(ctx, scene, scene_ov, reference_solver, &xref, &x0, &n, &rr) < 0) {
+    if (eo_test_solve_first(ctx, scene, scene_ov, eo_test_newton_ref, &xref, &x0, &n, &rr, NULL) < 0) {
         CHECK(0, "%s: reference solve", label);
         return;
     }
