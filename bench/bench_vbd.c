@@ -24,7 +24,7 @@
 
 #include "cli/blas_fix.h"
 #include "elastopt/sim.h"
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 
 static double cpu_now(void)
 {

@@ -19,7 +19,7 @@
 
 #include "elastopt/params.h"
 #include "elastopt/poisson.h"
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "scene_args.h"
 
 extern const eo_cli_command eo_cmd_poisson;

@@ -6,7 +6,7 @@
 #include <stdio.h>
 
 #include "elastopt/sim.h"
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 
 typedef struct eo_cli_profile {
     int on;           /* 0: every call is a no-op */

@@ -19,6 +19,7 @@
  *  - stopping rule (solver.stop): the registered rule, called with the same eo_stop_info.
  * Every decision is taken on values reduced over the ranks, so all ranks take the same
  * path. The callback sees the iterate gathered on every rank (only when one is set). */
+#include "elastopt/impl/params.h"
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

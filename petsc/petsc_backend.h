@@ -25,7 +25,7 @@
 
 #include <petscksp.h>
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "elastopt/step.h"
 
 /* Parameters shared by every PETSc optimizer (config section solver.<name>). */

@@ -10,7 +10,7 @@
 #include "elastopt/config.h"
 #include "elastopt/material.h"
 #include "elastopt/scene.h"
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "obstacle.h"
 
 #define EO_MAX_DOCS 96

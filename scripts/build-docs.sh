@@ -40,7 +40,7 @@ fi
 mkdir -p "$out/doxygen"
 cat > "$out/Doxyfile" <<EOF
 PROJECT_NAME           = elastopt
-INPUT                  = $src/include/elastopt
+INPUT                  = $src/include/elastopt $src/include/elastopt/impl
 FILE_PATTERNS          = *.h
 OUTPUT_DIRECTORY       = $out/doxygen
 GENERATE_XML           = YES

@@ -2,7 +2,7 @@
  * registries, loads each method's params from config section `solver.<name>`, owns the
  * optimizer state and the linear solver, and runs minimize. Also eo_solver_report, the
  * per-iteration reporting helper shared by the optimizers. */
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "solver_registry.h"
 
 #include <float.h>

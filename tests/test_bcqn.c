@@ -21,6 +21,7 @@
  *     face of the corner tet, √3/2; 4 others: √3/2 in the middle tet + 3·½ in the corner
  *     tets); the rule's threshold; and a solve
  *     stopping at ‖∇g‖ ≤ tol·g_c, not before. */
+#include "elastopt/impl/method.h"
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "engine_util.h"
 
 typedef struct trace {

@@ -12,7 +12,7 @@
 
 #include "elastopt/config.h"
 #include "elastopt/registry.h"
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "testutil.h"
 
 #include "solver_problems.h"

@@ -25,6 +25,7 @@
  *  6. a fix registered at run time (eo_register), written only against solver.h
  *     (clamp without safeguard), works in newton and projective_dynamics on the twist:
  *     same iterations and |x − x_clamp| ≤ 1e-12; a fix without `factor` is refused. */
+#include "elastopt/impl/method.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

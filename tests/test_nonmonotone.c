@@ -11,6 +11,8 @@
  *   - Newton + nonmonotone on the static StVK cantilever reaches the same minimizer as
  *     backtracking (1e-9 of the tip).
  * Values of C checked against the recursion by hand. */
+#include "elastopt/impl/method.h"
+#include "elastopt/impl/params.h"
 #include <math.h>
 #include <string.h>
 

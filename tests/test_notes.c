@@ -29,7 +29,7 @@
 #include "elastopt/linsolve.h"
 #include "elastopt/material.h"
 #include "elastopt/registry.h"
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "testutil.h"
 #if EO_HAVE_IPOPT
 #include "elastopt/ipopt.h"

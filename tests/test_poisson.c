@@ -34,7 +34,7 @@
 
 #include "elastopt/io.h"
 #include "elastopt/poisson.h"
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "testutil.h"
 
 /* Solve with overrides; u (n) out. Returns the reason (0 on setup error). */

@@ -15,7 +15,7 @@
 #include "elastopt/material.h"
 #include "elastopt/registry.h"
 #include "elastopt/scene.h"
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "elastopt/step.h"
 #include "testutil.h"
 

@@ -9,7 +9,8 @@
 #include <string.h>
 
 #include "elastopt/config.h"
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
+#include "elastopt/impl/params.h"
 #include "testutil.h"
 
 #include "solver_problems.h"

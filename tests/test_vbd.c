@@ -19,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "engine_util.h"
 
 static int perturbed(eo_ctx *ctx, const char *scene, const char *const *extra, eo_sim **s, double **x, int *n)

@@ -114,7 +114,7 @@
 
 #include "elastopt/export.h"
 #include "elastopt/config.h"
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -25,7 +25,7 @@
 #include <string.h>
 
 #include <elastopt/plugin.h>
-#include <elastopt/solver.h>
+#include <elastopt/impl/method.h> /* the method-author interface */
 
 typedef struct hb_params {
     double beta; /* momentum factor in [0, 1) */

@@ -40,7 +40,7 @@
 #define ELASTOPT_CALLBACK_H
 
 #include "export.h"
-#include "solver.h"
+#include "impl/method.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -27,9 +27,10 @@
 ///    internally (config `threads`); the BLAS thread count is the process's
 ///    (machine.h).
 ///  - **Audiences.** sim.h, scene.h, solver.h (creating and running solvers), mesh.h,
-///    io.h, material.h are the user API; objective.h, the method-author parts of solver.h
-///    (`eo_*_type` ops tables, `eo_solver_ctx`, `eo_stop_info`), linsolve.h, callback.h,
-///    registry.h, plugin.h and params.h are for writing methods and plug-ins.
+///    io.h, material.h are the user API; objective.h, impl/method.h (the `eo_*_type` ops
+///    tables, `eo_solver_ctx`, `eo_stop_info`, eo_solver_stop_check), impl/params.h (the
+///    built-in methods' parameter structs), linsolve.h, callback.h, registry.h, plugin.h
+///    and params.h are for writing methods and plug-ins.
 #ifndef ELASTOPT_ELASTOPT_H
 #define ELASTOPT_ELASTOPT_H
 
@@ -48,6 +49,8 @@
 #include "linsolve.h"
 #include "objective.h"
 #include "solver.h"
+#include "impl/method.h"
+#include "impl/params.h"
 #include "callback.h"
 #include "scene.h"
 #include "step.h"

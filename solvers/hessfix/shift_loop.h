@@ -4,7 +4,8 @@
 #ifndef EO_HESSFIX_SHIFT_LOOP_H
 #define EO_HESSFIX_SHIFT_LOOP_H
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
+#include "elastopt/impl/params.h"
 
 /* Workspace: the saved diagonal (n) and the shift carried to the next direction. */
 typedef struct eo_shift_ws {

@@ -29,6 +29,7 @@
  * energy pass was 1.4% of a factorization per Newton iteration). After
  * max_evals rejected trials the search returns x itself (α = 0) and
  * EO_WARN_NOT_CONVERGED (Nocedal & Wright, Numerical Optimization, Alg. 3.1). */
+#include "elastopt/impl/params.h"
 #include <float.h>
 #include <math.h>
 #include <stddef.h>

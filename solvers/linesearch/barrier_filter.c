@@ -31,7 +31,8 @@
 #include <math.h>
 #include <stddef.h>
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
+#include "elastopt/impl/params.h"
 
 /* The first three fields have the layout of eo_backtracking_params (the search hands
  * them to backtracking). */

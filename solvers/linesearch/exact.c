@@ -25,6 +25,7 @@
  * itself, α = 0, if nothing was better). A non-finite φ is never accepted.
  * ∇g at the returned point is handed back through eo_ls_extra (copied when lo moves), so
  * the caller needs no further gradient call. */
+#include "elastopt/impl/params.h"
 #include <float.h>
 #include <math.h>
 #include <stddef.h>

@@ -24,6 +24,7 @@
  * max_evals rejected trials the search returns x itself (α = 0, EO_WARN_NOT_CONVERGED).
  * Values only, except the first trial when the caller asks for its gradient
  * (extra->grad_first, as backtracking). */
+#include "elastopt/impl/params.h"
 #include <float.h>
 #include <math.h>
 #include <stddef.h>

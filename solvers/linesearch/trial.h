@@ -6,7 +6,7 @@
 
 #include <math.h>
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 
 /* α₀ as given when it is a positive finite number, else 1. */
 static inline double eo_ls_first_step(double alpha0) { return alpha0 > 0 && isfinite(alpha0) ? alpha0 : 1; }

@@ -39,6 +39,7 @@
  * c2: 0.9 for quasi-Newton (L-BFGS: the unit step is usually accepted at once), 0.1 for
  * nonlinear CG (needs a near-exact line search for conjugacy, N&W §5.2). The parameter
  * c2 = 0 (default) means "the optimizer's preference" (eo_ls_extra.c2; 0.9 if none). */
+#include "elastopt/impl/params.h"
 #include <float.h>
 #include <math.h>
 #include <stddef.h>

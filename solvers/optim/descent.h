@@ -8,7 +8,7 @@
 
 #include <math.h>
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 
 /* Workspace of the loop, sized once in setup. */
 typedef struct eo_descent_ws {

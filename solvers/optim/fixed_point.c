@@ -28,6 +28,7 @@
  * ½‖Δₖ‖²_M = ½∇gᵀM⁻¹∇g (the decrease the quadratic model with Hessian M predicts; it
  * estimates g − g* only when w M⁻¹K is small: the error after the step is at most
  * ρ/(1 − ρ)·‖Δₖ‖). g need not decrease monotonically; no line search is used. */
+#include "elastopt/impl/params.h"
 #include <stddef.h>
 #include <string.h>
 

@@ -17,6 +17,7 @@
  *               estimate of g − g* (exact only when ∇²g = D/α₀).
  * With the exact line search on ½(x₁² + γx₂²) from (γ, 1), D = I, this reproduces the
  * notes' iterates x₁ᵏ = γ((γ−1)/(γ+1))ᵏ, x₂ᵏ = (−(γ−1)/(γ+1))ᵏ (002 Example 2). */
+#include "elastopt/impl/params.h"
 #include <stddef.h>
 #include <string.h>
 

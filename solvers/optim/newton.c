@@ -63,6 +63,7 @@
  * the inner CG is counted (res.n_neg_curvature, iteration record neg_curvature) and left
  * to the Hessian fix, which never uses that direction (`none` takes the clamp-projected
  * system for that iteration, `shift` a larger shift). */
+#include "elastopt/impl/params.h"
 #include <stddef.h>
 #include <string.h>
 

@@ -55,6 +55,7 @@
  * 1e-15|g| or a new ‖∇g‖ below 0.9 of its best), EO_DIVERGED_EXTERNAL.
  * Counters: res.n_inner (CG iterations), res.n_negcurv (inner solves that met
  * negative curvature), res.n_hessian. Everything is allocated in setup. */
+#include "elastopt/impl/params.h"
 #include <float.h>
 #include <stddef.h>
 #include <string.h>

@@ -27,7 +27,7 @@
 #ifndef EO_OPTIM_PD_FACTOR_H
 #define EO_OPTIM_PD_FACTOR_H
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "../hessfix/shift_loop.h"
 
 typedef struct eo_pd_factor {

@@ -1,6 +1,6 @@
 /* Registry of the optim folder: one line per method. */
 #include "eo_build_config.h"
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "../solver_registry.h"
 
 extern const eo_optimizer_type eo_optimizer_fixed_point;   /* fixed_point.c */

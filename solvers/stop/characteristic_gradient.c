@@ -24,7 +24,8 @@
 #include <math.h>
 #include <stddef.h>
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
+#include "elastopt/impl/params.h"
 
 static const eo_param_desc cg_desc[] = {
     {.key = "scale", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_stop_characteristic_gradient_params, scale),

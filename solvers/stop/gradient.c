@@ -10,7 +10,8 @@
 #include <math.h>
 #include <stddef.h>
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
+#include "elastopt/impl/params.h"
 
 static const eo_param_desc grad_desc[] = {
     {.key = "floor", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_stop_gradient_params, floor),

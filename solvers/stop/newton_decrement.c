@@ -14,7 +14,7 @@
  * (descent.c); so the last iterate of a converged Newton run costs no factorization. */
 #include <math.h>
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 
 static int dec_check(const void *params, const eo_stop_info *si)
 {

@@ -1,5 +1,5 @@
 /* Registry of the stop folder: one line per method. */
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
 #include "../solver_registry.h"
 
 const void *const eo_registry_stop[] = {

@@ -45,7 +45,8 @@
 #include <math.h>
 #include <stddef.h>
 
-#include "elastopt/solver.h"
+#include "elastopt/impl/method.h"
+#include "elastopt/impl/params.h"
 
 static const eo_param_desc reldec_desc[] = {
     {.key = "plateau", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_stop_relative_decrement_params, plateau),
