@@ -38,6 +38,16 @@
 
 #include "shift_loop.h"
 
+/// project_on_demand (config `solver.project_on_demand.*`): the shift safeguard of the
+/// projected retry (same keys as solver.shift.*).
+/// progressive (config `solver.progressive.*`).
+typedef struct eo_hessfix_progressive_params {
+    eo_hessfix_shift_params shift; ///< safeguard once every element is projected
+    double delta_init;   ///< first residual threshold, relative to max_e r_e (default 0.5)
+    double delta_shrink; ///< threshold factor on each detected indefiniteness (0.5)
+    int max_rounds;      ///< growth rounds per direction before projecting all (20)
+} eo_hessfix_progressive_params;
+
 typedef struct prog_state {
     eo_shift_ws w;          /* first: the generic setup/destroy of the shift loop */
     unsigned char *mask;    /* E: EO_PROJ_CLAMP for elements in P, else EO_PROJ_NONE */

@@ -28,6 +28,14 @@
 
 #include "shift_loop.h"
 
+/// trust_region_filter (config `solver.trust_region_filter.*`).
+typedef struct eo_hessfix_trust_region_filter_params {
+    eo_hessfix_shift_params shift; ///< safeguard (as clamp/abs)
+    double threshold;    ///< clamp when |ρ − 1| < threshold, else abs (default 0.01)
+    int exact_model;     ///< ρ with the true Hessian (the paper; one extra assembly per
+                         ///< iteration) or with the factored one (default true)
+} eo_hessfix_trust_region_filter_params;
+
 typedef struct trf_state {
     eo_shift_ws w;      /* first: the generic setup/destroy ops use it */
     double rho;         /* ratio of the last accepted step (0 before any) */

@@ -34,6 +34,17 @@
 #include "elastopt/impl/method.h"
 #include "elastopt/impl/params.h"
 
+/// Barrier-aware line-search filter (config `solver.barrier_filter.*`; BCQN §5): the first
+/// trial is min(α₀, safety·α_max), α_max the step at which the first un-inverted element
+/// inverts (objective op max_step), then Armijo backtracking. The first three fields are
+/// laid out as eo_backtracking_params.
+typedef struct eo_barrier_filter_params {
+    double c1;           ///< Armijo constant (0.2, the authors' code)
+    double shrink;       ///< α ← shrink·α after a rejected trial (0.5)
+    int max_evals;       ///< trials before giving up (60)
+    double safety;       ///< first trial at most safety·α_max, in (0, 1) (0.5, the authors' code)
+} eo_barrier_filter_params;
+
 /* The first three fields have the layout of eo_backtracking_params (the search hands
  * them to backtracking). */
 static const eo_param_desc bf_desc[] = {

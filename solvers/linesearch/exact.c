@@ -25,13 +25,19 @@
  * itself, α = 0, if nothing was better). A non-finite φ is never accepted.
  * ∇g at the returned point is handed back through eo_ls_extra (copied when lo moves), so
  * the caller needs no further gradient call. */
-#include "elastopt/impl/params.h"
 #include <float.h>
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
 
 #include "trial.h"
+
+/// Exact line search (config `solver.exact.*`).
+typedef struct eo_exact_params {
+    double tol;          ///< stop when |φ'(α)| ≤ tol·|φ'(0)| or the bracket is narrower
+                         ///< than tol·α (1e-8)
+    int max_evals;       ///< evaluations before giving up (100)
+} eo_exact_params;
 
 static const eo_param_desc exact_desc[] = {
     {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_exact_params, tol), .def.d = 1e-8,

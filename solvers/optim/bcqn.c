@@ -47,6 +47,18 @@
 #include "lbfgs_memory.h"
 #include "pd_factor.h"
 
+/// Blended cured quasi-Newton, BCQN (config `solver.bcqn.*`; Zhu, Bridson & Kaufman 2018;
+/// solvers/optim/bcqn.c has the algorithm): L-BFGS with H⁰ = L⁻¹ (the objective's
+/// constant matrix, the Sobolev proxy) and each stored y blended toward L s.
+typedef struct eo_bcqn_params {
+    int history;         ///< stored (s, y) pairs m (default 5, the paper's)
+    char blend[16];      ///< "adaptive" (the paper's β, eq. 13), "sobolev" (β = 1: the
+                         ///< preconditioned gradient p = −L⁻¹∇g), "lbfgs" (β = 0: L-BFGS with
+                         ///< H⁰ = L⁻¹) or "fixed" (β = beta) (default adaptive)
+    double beta;         ///< fixed: the blend weight β ∈ [0, 1] (default 0.5)
+    double blend_scale;  ///< adaptive: factor on the paper's β before the clamp (default 1)
+} eo_bcqn_params;
+
 typedef struct bcqn_state {
     eo_descent_ws w;
     int m, n;

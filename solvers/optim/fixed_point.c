@@ -28,12 +28,19 @@
  * ½‖Δₖ‖²_M = ½∇gᵀM⁻¹∇g (the decrease the quadratic model with Hessian M predicts; it
  * estimates g − g* only when w M⁻¹K is small: the error after the step is at most
  * ρ/(1 − ρ)·‖Δₖ‖). g need not decrease monotonically; no line search is used. */
-#include "elastopt/impl/params.h"
 #include <stddef.h>
 #include <string.h>
 
 #include "descent.h"
 #include "external.h" /* eo_external_inverted */
+
+/// Fixed-point iteration of the implicit step (config `solver.fixed_point.*`).
+typedef struct eo_fixed_point_params {
+    char init[16];       ///< first iterate: "previous" (xₙ), "predictor" (x̃ = xₙ + h vₙ, the
+                         ///< explicit Euler position) or "guess" (the x passed in) (previous)
+    int window;          ///< contraction ratio ρ = (‖Δₖ‖/‖Δₖ₋ₘ‖)^(1/m) over m = window
+                         ///< updates; ρ ≥ 1 → EO_DIVERGED_NOT_CONTRACTING (default 3)
+} eo_fixed_point_params;
 
 /* One update larger than this many times the previous one ends the iteration at once
  * as not contracting (before the iterates overflow), without waiting for the window. */

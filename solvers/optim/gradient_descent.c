@@ -17,11 +17,17 @@
  *               estimate of g − g* (exact only when ∇²g = D/α₀).
  * With the exact line search on ½(x₁² + γx₂²) from (γ, 1), D = I, this reproduces the
  * notes' iterates x₁ᵏ = γ((γ−1)/(γ+1))ᵏ, x₂ᵏ = (−(γ−1)/(γ+1))ᵏ (002 Example 2). */
-#include "elastopt/impl/params.h"
 #include <stddef.h>
 #include <string.h>
 
 #include "descent.h"
+
+/// Gradient descent (config `solver.gradient_descent.*`).
+typedef struct eo_gradient_descent_params {
+    int scaled;          ///< p = −D⁻¹∇g with D = objective metric (lumped mass) (true)
+    char alpha0[16];     ///< first trial step after the first iteration: "bb" (Barzilai–
+                         ///< Borwein, α₀ = sᵀDs/sᵀy) or "double" (2·α_prev) (default "bb")
+} eo_gradient_descent_params;
 
 typedef struct gd_state {
     eo_descent_ws w;

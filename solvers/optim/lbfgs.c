@@ -40,6 +40,15 @@
 #include "lbfgs_memory.h"
 #include "pd_factor.h"
 
+/// L-BFGS (config `solver.lbfgs.*`).
+typedef struct eo_lbfgs_params {
+    int history;         ///< stored pairs m (default 8)
+    char h0[16];         ///< initial inverse Hessian: "scaled_identity" (γI), "lumped_mass"
+                         ///< (γD⁻¹, D = objective metric), "pd" (L⁻¹, L the objective's
+                         ///< constant_hessian factored once, pd_factor.h) or "auto" (pd where
+                         ///< the objective has constant_hessian, else lumped_mass) (default auto)
+} eo_lbfgs_params;
+
 typedef struct lbfgs_state {
     eo_descent_ws w;
     int m, n;

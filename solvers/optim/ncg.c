@@ -38,6 +38,17 @@
 #include "lbfgs_memory.h" /* eo_is_descent */
 #include "pd_factor.h"
 
+/// Nonlinear conjugate gradients (config `solver.ncg.*`).
+typedef struct eo_ncg_params {
+    char beta[16];       ///< "pr_plus" (Polak–Ribière+), "fr" (Fletcher–Reeves), "hz"
+                         ///< (Hager–Zhang) (default pr_plus)
+    char precond[16];    ///< "none", "lumped_mass" (D⁻¹), "pd" (L⁻¹) or "auto" (pd where the
+                         ///< objective has constant_hessian, else lumped_mass) (default auto)
+    int restart;         ///< restart with p = −P⁻¹∇g every `restart` iterations, 0 = every
+                         ///< n (number of variables) (default 0)
+    double powell;       ///< restart when |∇gₖᵀP⁻¹∇gₖ₋₁| ≥ powell·∇gₖᵀP⁻¹∇gₖ, 0 = never (0.2)
+} eo_ncg_params;
+
 enum { BETA_PR_PLUS, BETA_FR, BETA_HZ };
 enum { PRE_AUTO, PRE_NONE, PRE_MASS, PRE_PD };
 

@@ -63,12 +63,39 @@
  * the inner CG is counted (res.n_neg_curvature, iteration record neg_curvature) and left
  * to the Hessian fix, which never uses that direction (`none` takes the clamp-projected
  * system for that iteration, `shift` a larger shift). */
-#include "elastopt/impl/params.h"
 #include <stddef.h>
 #include <string.h>
 
 #include "descent.h"
 #include "forcing.h"
+
+/// Newton (config `solver.newton.*`).
+///
+/// Inexact Newton: with an iterative solver.linear (cg, pcg, gmres) the direction solve
+/// H̃p = −∇g stops at ‖H̃p + ∇g‖ ≤ η_k‖∇g‖, η_k set by `forcing` through
+/// eo_linsolve_set_rtol before each direction (direct solvers ignore it):
+///   none      the linear solver's own `tol` (default)
+///   constant  η_k = eta
+///   ew1       Eisenstat–Walker choice 1: η_k = |‖∇g_k‖ − ‖∇g_{k−1} + αH̃_{k−1}p_{k−1}‖| / ‖∇g_{k−1}‖,
+///             safeguard η_k ≥ η_{k−1}^φ (φ = (1+√5)/2) when that is > 0.1
+///   ew2       Eisenstat–Walker choice 2: η_k = ew_gamma (‖∇g_k‖/‖∇g_{k−1}‖)^ew_alpha,
+///             safeguard η_k ≥ ew_gamma η_{k−1}^ew_alpha when that is > 0.1
+/// η_0 = eta, then η_k ∈ [eta_min, eta_max] (Eisenstat & Walker 1996; solvers/optim/forcing.c).
+typedef struct eo_newton_params {
+    double descent_eps;  ///< p is a descent direction iff ∇gᵀp < −eps‖∇g‖‖p‖ (1e-12)
+    char forcing[16];    ///< "none", "constant", "ew1", "ew2" (default "none")
+    double eta;          ///< constant: η_k; ew1/ew2: η_0 (default 0.5)
+    double ew_gamma;     ///< ew2: γ ∈ (0, 1] (default 0.9)
+    double ew_alpha;     ///< ew2: α ∈ (1, 2] (default 2)
+    double eta_max;      ///< upper bound of η_k (default 0.9)
+    double eta_min;      ///< lower bound of η_k (default 1e-12)
+    double estimate_gate; ///< decrement-estimate gate (solvers/optim/newton.c): at x_k (k ≥ 2)
+                          ///< the estimate solve is skipped unless the stopping rule passes
+                          ///< with a decrement between d_{k−1}³/d_{k−2}² / estimate_gate
+                          ///< (quadratic progress, with this safety factor) and d_{k−1} (no
+                          ///< progress: a plateau rule); d = exact λ²/2 of the last
+                          ///< directions. 0 = always try (default 10)
+} eo_newton_params;
 
 static const char *const forcing_names[] = {"none", "constant", "ew1", "ew2", NULL};
 

@@ -55,13 +55,36 @@
  * 1e-15|g| or a new ‖∇g‖ below 0.9 of its best), EO_DIVERGED_EXTERNAL.
  * Counters: res.n_inner (CG iterations), res.n_negcurv (inner solves that met
  * negative curvature), res.n_hessian. Everything is allocated in setup. */
-#include "elastopt/impl/params.h"
 #include <float.h>
 #include <stddef.h>
 #include <string.h>
 
 #include "descent.h"  /* eo_dot, eo_norm2, eo_solve_result_finish */
 #include "external.h" /* eo_external_inverted */
+
+/// Trust-region Newton with Steihaug–Toint CG (config `solver.newton_tr.*`;
+/// solvers/optim/newton_tr.c has the algorithm).
+typedef struct eo_newton_tr_params {
+    char hessian[16];    ///< model Hessian: "true" (unprojected) or "fix" (per-element
+                         ///< projection of solver.hessian_fix) (default "true")
+    char precond[16];    ///< "none" (M = I) or "jacobi" (M = diag|H_ii|): CG preconditioner
+                         ///< and trust-region norm √(pᵀMp) (default "none")
+    double delta0;       ///< first radius in that norm (m for none); 0 = the first inner
+                         ///< solve is unconstrained (default 0)
+    double delta_max;    ///< largest radius, 0 = none (0)
+    double eta;          ///< accept when ρ = actual/predicted reduction > eta (1e-4)
+    double rho_low;      ///< Δ ← shrink·‖p‖ when ρ < rho_low (0.25)
+    double rho_high;     ///< Δ ← grow·Δ when ρ > rho_high on the boundary (0.75)
+    double shrink;       ///< (0.25)
+    double grow;         ///< (2)
+    char forcing[16];    ///< CG tolerance η_k = min(cg_rtol_max, ‖∇g‖/‖∇g₀‖) "quadratic"
+                         ///< or its square root "superlinear" (default "quadratic")
+    double cg_rtol_max;  ///< largest η_k (0.5)
+    int cg_max_iters;    ///< CG iterations per inner solve, 0 = n (0)
+    int max_rejects;     ///< rejected trial steps in a row before diverged_linesearch (50)
+    double noise;        ///< where |g(x+p) − g(x)| ≤ noise·|g(x)| the actual reduction is
+                         ///< −½(∇g(x) + ∇g(x+p))ᵀp (1e-10)
+} eo_newton_tr_params;
 
 enum { HESS_TRUE, HESS_FIX };
 enum { PRE_NONE, PRE_JACOBI };

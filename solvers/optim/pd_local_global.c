@@ -71,6 +71,23 @@
 #include "pd_factor.h"
 #include "external.h" /* eo_external_inverted */
 
+/// Projective dynamics, local/global solver (config `solver.pd_local_global.*`; Bouaziz
+/// et al. 2014). Minimizes the step objective of PD constraint energies (materials
+/// pd_arap, pd_strain_limit, pd_volume; springs) with the objective's constant matrix.
+typedef struct eo_pd_local_global_params {
+    int anderson;        ///< Anderson acceleration of the local/global map, with the energy
+                         ///< safeguard of Peng et al. 2018 (default false)
+    int window;          ///< Anderson window m, differences kept (default 5, range [1, 100])
+    /// Chebyshev semi-iterative acceleration of the local/global map (Wang 2015; not with
+    /// anderson): x⁺ = ω(γ(G(x) − x) + x − x₋₁) + x₋₁ after `delay` plain iterations,
+    /// restarted when g rises (default false)
+    int chebyshev;
+    double rho;          ///< its spectral radius estimate, [0, 1); 0 = measured from the
+                         ///< plain iterations of the delay (default 0)
+    int delay;           ///< S, plain iterations before the acceleration (default 10)
+    double gamma;        ///< under-relaxation γ, (0, 1] (default 1)
+} eo_pd_local_global_params;
+
 typedef struct pdlg_state {
     int n, m;
     double *buf;

@@ -46,6 +46,13 @@
 #include "lbfgs_memory.h"
 #include "pd_factor.h"
 
+/// Projective dynamics / its quasi-Newton form (config `solver.projective_dynamics.*`).
+typedef struct eo_projective_dynamics_params {
+    int lbfgs_history;   ///< 0: p = −L⁻¹∇g (PD local/global iteration as a descent method);
+                         ///< m > 0: L-BFGS with m pairs and L as initial Hessian (Liu et al.
+                         ///< 2017) (default 0)
+} eo_projective_dynamics_params;
+
 typedef struct pd_state {
     eo_descent_ws w;
     int n, m;

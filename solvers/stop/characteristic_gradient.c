@@ -25,7 +25,12 @@
 #include <stddef.h>
 
 #include "elastopt/impl/method.h"
-#include "elastopt/impl/params.h"
+
+/// Characteristic gradient stopping rule (config `solver.characteristic_gradient.*`):
+/// ‖∇g‖₂ ≤ tol·g_c (BCQN §7).
+typedef struct eo_stop_characteristic_gradient_params {
+    double scale;        ///< factor on g_c (default 1)
+} eo_stop_characteristic_gradient_params;
 
 static const eo_param_desc cg_desc[] = {
     {.key = "scale", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_stop_characteristic_gradient_params, scale),

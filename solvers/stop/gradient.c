@@ -11,7 +11,11 @@
 #include <stddef.h>
 
 #include "elastopt/impl/method.h"
-#include "elastopt/impl/params.h"
+
+/// Gradient stopping rule (config `solver.gradient.*`).
+typedef struct eo_stop_gradient_params {
+    double floor;        ///< lower bound of the scale ‖∇g(x₀)‖, units of ∇g (1e-300)
+} eo_stop_gradient_params;
 
 static const eo_param_desc grad_desc[] = {
     {.key = "floor", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_stop_gradient_params, floor),

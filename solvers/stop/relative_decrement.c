@@ -46,7 +46,14 @@
 #include <stddef.h>
 
 #include "elastopt/impl/method.h"
-#include "elastopt/impl/params.h"
+
+/// Relative decrement stopping rule, the default (config `solver.relative_decrement.*`):
+/// converged when λ_k ≤ tol·λ_0 (λ² = −∇gᵀp, λ_0 of the first direction), or at the
+/// rounding floor: λ_k²/2 ≤ plateau·|g| and λ_k² > λ_{k−1}²/4.
+typedef struct eo_stop_relative_decrement_params {
+    double plateau;      ///< level of λ²/2, relative to |g|, below which a decrement that
+                         ///< stopped falling counts as converged (1e-16)
+} eo_stop_relative_decrement_params;
 
 static const eo_param_desc reldec_desc[] = {
     {.key = "plateau", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_stop_relative_decrement_params, plateau),
