@@ -124,8 +124,8 @@ static int write_grid(eo_ctx *ctx, const char *path, size_t nv, const double *pt
         return eo_error(ctx, EO_ERR_NOMEM, "vtu %s: flags", path);
     }
     varray pdx[8], cdx[8];
-    memcpy(pdx, pd, (size_t)npd * sizeof *pd);
-    memcpy(cdx, cd, (size_t)ncd * sizeof *cd);
+    if (npd) memcpy(pdx, pd, (size_t)npd * sizeof *pd);
+    if (ncd) memcpy(cdx, cd, (size_t)ncd * sizeof *cd);
     if (any_p) {
         for (int i = 0; i < npd; i++) mark_nonfinite(&pd[i], flag_p);
         pdx[npd++] = (varray){"nonfinite", A_U8, 1, nv, flag_p};
