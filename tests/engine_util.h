@@ -4,6 +4,7 @@
 #ifndef EO_TESTS_ENGINE_UTIL_H
 #define EO_TESTS_ENGINE_UTIL_H
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -105,5 +106,39 @@ static inline int eo_test_solve_first(eo_ctx *ctx, const char *scene, const char
 static const char *const eo_test_newton_ref[] = {"solver.optimizer=newton", "solver.linesearch=none",
                                                  "solver.tol=1e-15", "solver.relative_decrement.plateau=1e-30",
                                                  "solver.max_iters=60", "solver.fallback=[]", NULL};
+
+/* Minimize obj from x0 with the solver section `solver_json` (a JSON object, e.g.
+ * {"optimizer": "newton"}); x out (obj->n values), callback fn/user (may be NULL). */
+static inline int eo_test_solve_json(eo_ctx *ctx, eo_objective *obj, const double *x0, double *x,
+                                     const char *solver_json, eo_iter_fn fn, void *user, eo_solve_result *r)
+{
+    char json[1024];
+    snprintf(json, sizeof json, "{\"solver\": %s}", solver_json);
+    eo_cfg *cfg = NULL;
+    eo_solver *sv = NULL;
+    eo_solver_opts o;
+    eo_solver_opts_default(&o);
+    int rc = eo_cfg_load(ctx, NULL, json, &cfg);
+    if (rc >= 0) rc = eo_solver_opts_load(ctx, cfg, &o);
+    if (rc >= 0) rc = eo_solver_create(ctx, &o, cfg, &sv);
+    if (rc >= 0) {
+        memcpy(x, x0, (size_t)obj->n * sizeof(double));
+        rc = eo_solver_minimize(sv, obj, x, fn, user, r);
+    }
+    eo_solver_destroy(&sv);
+    eo_cfg_destroy(&cfg);
+    return rc;
+}
+
+/* ‖x − x*‖₂ / ‖x* − x₀‖₂: the error of x as a fraction of the step's motion. */
+static inline double eo_test_motion_error(int n, const double *x, const double *xs, const double *x0)
+{
+    double e = 0, m = 0;
+    for (int i = 0; i < n; i++) {
+        e += (x[i] - xs[i]) * (x[i] - xs[i]);
+        m += (xs[i] - x0[i]) * (xs[i] - x0[i]);
+    }
+    return sqrt(e / m);
+}
 
 #endif

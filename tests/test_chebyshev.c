@@ -32,36 +32,12 @@ static int on_iter(const eo_iter_info *info, void *user)
     return 0;
 }
 
+/* minimize obj from x0 with the solver section `solver_json`; x out */
 static int solve_with(eo_ctx *ctx, eo_objective *obj, const double *x0, double *x, const char *solver_json,
                       eo_solve_result *r, trace *tr)
 {
-    char json[1024];
-    snprintf(json, sizeof json, "{\"solver\": %s}", solver_json);
-    eo_cfg *cfg = NULL;
-    eo_solver *sv = NULL;
-    eo_solver_opts o;
-    eo_solver_opts_default(&o);
-    int rc = eo_cfg_load(ctx, NULL, json, &cfg);
-    if (rc >= 0) rc = eo_solver_opts_load(ctx, cfg, &o);
-    if (rc >= 0) rc = eo_solver_create(ctx, &o, cfg, &sv);
-    if (rc >= 0) {
-        memcpy(x, x0, (size_t)obj->n * sizeof(double));
-        if (tr) tr->n = 0;
-        rc = eo_solver_minimize(sv, obj, x, tr ? on_iter : NULL, tr, r);
-    }
-    eo_solver_destroy(&sv);
-    eo_cfg_destroy(&cfg);
-    return rc;
-}
-
-static double rel_motion_err(int n, const double *x, const double *xs, const double *x0)
-{
-    double e = 0, m = 0;
-    for (int i = 0; i < n; i++) {
-        e += (x[i] - xs[i]) * (x[i] - xs[i]);
-        m += (xs[i] - x0[i]) * (xs[i] - x0[i]);
-    }
-    return sqrt(e / m);
+    if (tr) tr->n = 0;
+    return eo_test_solve_json(ctx, obj, x0, x, solver_json, tr ? on_iter : NULL, tr, r);
 }
 
 static const char *newton_json =
@@ -107,7 +83,7 @@ static void check_case(const char *scene, const char *model, const char *plain_j
           "%s newton reference: %s", scene, eo_reason_name(rn.reason));
     CHECK(solve_with(ctx, obj, x0, x, plain_json, &rp, tr) == 0 && eo_reason_is_converged(rp.reason),
           "%s %s plain: %s", scene, model, eo_reason_name(rp.reason));
-    const double ep = rel_motion_err(n, x, xs, x0), rho = offline_rho(tr, 10);
+    const double ep = eo_test_motion_error(n, x, xs, x0), rho = offline_rho(tr, 10);
     printf("  %-10s %-18s plain: %5d it, err %.2e; offline rho %.5f\n", scene, model, rp.iterations, ep, rho);
     CHECK(ep <= 1e-8, "%s plain vs newton %g of the motion", scene, ep);
     for (int i = 0; i < nruns; i++) {
@@ -115,7 +91,7 @@ static void check_case(const char *scene, const char *model, const char *plain_j
         if (runs[i].json) snprintf(json, sizeof json, "%s", runs[i].json);
         else snprintf(json, sizeof json, rho_json_fmt, rho);
         int rc = solve_with(ctx, obj, x0, x, json, &r, NULL);
-        const double e = rel_motion_err(n, x, xs, x0);
+        const double e = eo_test_motion_error(n, x, xs, x0);
         printf("  %-10s %-18s %-22s %5d it (%ld restarts), err %.2e\n", scene, model, runs[i].label, r.iterations,
                r.n_fallback, e);
         CHECK(rc == 0 && eo_reason_is_converged(r.reason), "%s %s: %s", scene, runs[i].label,

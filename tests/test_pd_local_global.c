@@ -45,27 +45,11 @@ static int on_iter(const eo_iter_info *info, void *user)
     return 0;
 }
 
-/* Minimize obj from x0 with the solver section `solver_json` (a JSON object); x out. */
+/* minimize obj from x0 with the solver section `solver_json`; x out */
 static int solve_with(eo_ctx *ctx, eo_objective *obj, const double *x0, double *x, const char *solver_json,
                       eo_solve_result *r, trace *tr)
 {
-    char json[1024];
-    snprintf(json, sizeof json, "{\"solver\": %s}", solver_json);
-    eo_cfg *cfg = NULL;
-    eo_solver *sv = NULL;
-    eo_solver_opts o;
-    eo_solver_opts_default(&o);
-    int rc = eo_cfg_load(ctx, NULL, json, &cfg);
-    if (rc >= 0) rc = eo_solver_opts_load(ctx, cfg, &o);
-    if (rc >= 0) rc = eo_solver_create(ctx, &o, cfg, &sv);
-    if (rc >= 0) {
-        memcpy(x, x0, (size_t)obj->n * sizeof(double));
-        rc = eo_solver_minimize(sv, obj, x, tr ? on_iter : NULL, tr, r);
-    }
-    if (rc < 0) fprintf(stderr, "solve_with %s: %s\n", solver_json, eo_ctx_message(ctx));
-    eo_solver_destroy(&sv);
-    eo_cfg_destroy(&cfg);
-    return rc;
+    return eo_test_solve_json(ctx, obj, x0, x, solver_json, tr ? on_iter : NULL, tr, r);
 }
 
 static double rel_err(int n, const double *x, const double *ref)

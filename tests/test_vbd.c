@@ -124,36 +124,11 @@ static int on_iter(const eo_iter_info *info, void *user)
     return 0;
 }
 
-/* minimize obj from x0 with the solver section `solver_json`; x out; rc */
+/* minimize obj from x0 with the solver section `solver_json`; x out */
 static int solve_with(eo_ctx *ctx, eo_objective *obj, const double *x0, double *x, const char *solver_json,
                       eo_solve_result *r, trace *tr)
 {
-    char json[1024];
-    snprintf(json, sizeof json, "{\"solver\": %s}", solver_json);
-    eo_cfg *cfg = NULL;
-    eo_solver *sv = NULL;
-    eo_solver_opts o;
-    eo_solver_opts_default(&o);
-    int rc = eo_cfg_load(ctx, NULL, json, &cfg);
-    if (rc >= 0) rc = eo_solver_opts_load(ctx, cfg, &o);
-    if (rc >= 0) rc = eo_solver_create(ctx, &o, cfg, &sv);
-    if (rc >= 0) {
-        memcpy(x, x0, (size_t)obj->n * sizeof(double));
-        rc = eo_solver_minimize(sv, obj, x, tr ? on_iter : NULL, tr, r);
-    }
-    eo_solver_destroy(&sv);
-    eo_cfg_destroy(&cfg);
-    return rc;
-}
-
-static double rel_motion_err(int n, const double *x, const double *xs, const double *x0)
-{
-    double e = 0, m = 0;
-    for (int i = 0; i < n; i++) {
-        e += (x[i] - xs[i]) * (x[i] - xs[i]);
-        m += (xs[i] - x0[i]) * (xs[i] - x0[i]);
-    }
-    return sqrt(e / m);
+    return eo_test_solve_json(ctx, obj, x0, x, solver_json, tr ? on_iter : NULL, tr, r);
 }
 
 static const char *newton_json =
@@ -198,8 +173,8 @@ static void check_converge(const char *scene, int with_backtracking)
         memcpy(xb, xs, (size_t)n * sizeof(double));
         memset(&rb, 0, sizeof rb);
     }
-    const double ep = rel_motion_err(n, xp, xs, x0), ea = rel_motion_err(n, xa, xs, x0),
-                 eb = rel_motion_err(n, xb, xs, x0);
+    const double ep = eo_test_motion_error(n, xp, xs, x0), ea = eo_test_motion_error(n, xa, xs, x0),
+                 eb = eo_test_motion_error(n, xb, xs, x0);
     printf("  %-10s n = %d: newton %d it; vbd %d sweeps, err %.2e; accelerated %d sweeps (%ld restarts), err %.2e; "
            "backtracking %d sweeps, err %.2e, %d rises of g\n",
            scene, n, rn.iterations, rp.iterations, ep, ra.iterations, ra.n_fallback, ea, rb.iterations, eb, tb.rises);
