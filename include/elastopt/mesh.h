@@ -60,6 +60,14 @@ typedef struct eo_mesh {
     int dropped_tets;      ///< zero-volume or duplicate tets dropped (when allowed)
     int dropped_vertices;  ///< unreferenced vertices dropped (when allowed)
     eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
+    /* quadratic meshes (eo_mesh_to_quadratic, or a reader given 10-node tets) */
+    int order;       ///< 1: linear tets (tet10 NULL); 2: 10-node tets in tet10
+    int *tet10;      ///< order 2: 10·nt node ids: the 4 corners (equal to tets[4k..4k+3]),
+                     ///< then the nodes of edges 01, 12, 20, 03, 13, 23 (the VTK quadratic
+                     ///< tetra order, cell type 24); NULL for order 1. Nodes are vertices
+                     ///< of the mesh like the corners (X, vmarker cover them)
+    int *tri_mid;    ///< order 2 with ntri > 0: 3·ntri nodes of the tagged triangles' edges
+                     ///< 01, 12, 20 (so that tag selectors reach them); NULL otherwise
 } eo_mesh;
 
 typedef enum eo_mesh_format {
@@ -167,6 +175,13 @@ typedef struct eo_mesh_stats {
     double worst_quality;    ///< min over tets of the normalized radius ratio (1 = regular)
 } eo_mesh_stats;
 EO_API void eo_mesh_stats_compute(const eo_mesh *m, eo_mesh_stats *s);
+
+/// The quadratic (10-node) version of a linear mesh, new in *out: the vertices of m
+/// (same ids, X, vmarker), then one midside node per edge (at the edge's midpoint, straight
+/// edges; vmarker 0), numbered in the order the tets first meet the edges; tets, tet_attr,
+/// tris, tri_tag copied; tet10 and tri_mid filled (a tagged triangle's edge that no tet
+/// has gets its own node). m must be order 1. EO_ERR_INVALID, EO_ERR_NOMEM.
+EO_API int eo_mesh_to_quadratic(eo_ctx *ctx, const eo_mesh *m, eo_mesh **out);
 
 /// Vertices of the boundary surface (faces used by one tet): flag[v] = 1 for each, 0
 /// otherwise (flag has nv entries, caller storage); *count = how many. EO_ERR_NOMEM.

@@ -41,7 +41,7 @@ int eo_mesh_create(eo_ctx *ctx, int nv, int nt, eo_mesh **out)
     *out = NULL;
     if (nv < 0 || nt < 0) return eo_error(ctx, EO_ERR_INVALID, "negative mesh size %d, %d", nv, nt);
     eo_mesh *m = eo_calloc(ctx, 1, sizeof *m);
-    if (m) m->ctx = ctx;
+    if (m) m->ctx = ctx, m->order = 1;
     if (!m) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (mesh)");
     m->nv = nv;
     m->nt = nt;
@@ -66,6 +66,8 @@ void eo_mesh_destroy(eo_mesh **pm)
     eo_free(ctx, m->vmarker);
     eo_free(ctx, m->tris);
     eo_free(ctx, m->tri_tag);
+    eo_free(ctx, m->tet10);
+    eo_free(ctx, m->tri_mid);
     eo_free(ctx, m);
     *pm = NULL;
 }
