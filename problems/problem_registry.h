@@ -5,6 +5,6 @@
 
 #include "elastopt/registry.h"
 
-extern eo_registry eo_reg_integrator, eo_reg_scene;
+extern eo_registry eo_reg_integrator, eo_reg_scene, eo_reg_element;
 
 #endif

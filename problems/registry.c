@@ -96,6 +96,7 @@ static eo_registry *const kind_registry[EO_KIND_COUNT] = {
     [EO_KIND_LINSOLVE] = &eo_reg_linsolve,
     [EO_KIND_INTEGRATOR] = &eo_reg_integrator,
     [EO_KIND_SCENE] = &eo_reg_scene,
+    [EO_KIND_ELEMENT] = &eo_reg_element,
 };
 
 eo_registry *eo_registry_of(eo_kind kind)

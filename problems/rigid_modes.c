@@ -204,7 +204,8 @@ int eo_scene_rigid_modes(eo_ctx *ctx, const eo_scene *sc, const unsigned char *c
     int *comp = parent + nv;
     for (int v = 0; v < nv; v++) parent[v] = v;
     for (int t = 0; t < m->nt; t++)
-        for (int a = 1; a < 4; a++) uf_join(parent, m->tets[4 * t], m->tets[4 * t + a]);
+        for (int a = 1; a < (m->tet10 ? 10 : 4); a++) /* every node of the tet (tet10: midside too) */
+            uf_join(parent, m->tets[4 * t], m->tet10 ? m->tet10[10 * t + a] : m->tets[4 * t + a]);
     for (int s = 0; s < sc->nspring; s++) uf_join(parent, sc->spring_ab[2 * s], sc->spring_ab[2 * s + 1]);
     int nc = 0;
     for (int v = 0; v < nv; v++) {

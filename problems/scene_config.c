@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "elastopt/element.h"
 #include "elastopt/machine.h"
 #include "elastopt/scene.h"
 #include "problem_registry.h"
@@ -40,6 +41,10 @@ const eo_param_desc eo_scene_opts_desc[] = {
     {.key = "point_mass", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_opts, point_mass), .def.d = 0,
      .min = 0, .range = EO_RANGE_MIN,
      .help = "point mass added to every vertex (kg); point_masses [[vertex, kg], ...] adds to single vertices"},
+    {.key = "element", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_scene_opts, element),
+     .size = SZ(eo_scene_opts, element), .def.s = "p1", .registry = &eo_reg_element,
+     .help = "finite element (registered name): p1 = linear tet, p2 = 10-node quadratic tet (a linear mesh gets one "
+             "midside node per edge at load; boundary selectors, tags and obstacles then apply to every node)"},
     {0},
 };
 
@@ -561,13 +566,16 @@ static int select_special(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc, eo_bc *bc, con
         const int K = bc->opts.tag;
         for (int f = 0; f < m->ntri; f++)
             if (m->tri_tag[f] == K)
-                for (int a = 0; a < 3; a++) flag[m->tris[3 * f + a]] = 1;
+                for (int a = 0; a < 3; a++) {
+                    flag[m->tris[3 * f + a]] = 1;
+                    if (m->tri_mid) flag[m->tri_mid[3 * f + a]] = 1;
+                }
         bc->tag_source = EO_TAG_TRIANGLES;
         for (int v = 0; v < m->nv; v++) count += flag[v];
         if (!count && m->tet_attr) {
             for (int t = 0; t < m->nt; t++)
                 if (m->tet_attr[t] == K)
-                    for (int a = 0; a < 4; a++) flag[m->tets[4 * t + a]] = 1;
+                    for (int a = 0; a < (m->tet10 ? 10 : 4); a++) flag[m->tet10 ? m->tet10[10 * t + a] : m->tets[4 * t + a]] = 1;
             bc->tag_source = EO_TAG_TETS;
             for (int v = 0; v < m->nv; v++) count += flag[v];
         }
@@ -959,6 +967,31 @@ void eo_scene_destroy(eo_scene **psc)
     *psc = NULL;
 }
 
+/* The element of opts.element and the mesh in its node layout: a linear mesh is made
+ * quadratic (eo_mesh_to_quadratic) for a 10-node element; a quadratic mesh needs one. */
+static int load_element(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    int rc = eo_registry_find(ctx, EO_KIND_ELEMENT, sc->opts.element, (const void **)&sc->element);
+    if (rc < 0) return cfg_err(ctx, cfg, "element", rc, "%s", eo_ctx_message(ctx));
+    eo_mesh *m = sc->mesh;
+    if (sc->element->nodes == 4) {
+        if (m->order == 2)
+            return cfg_err(ctx, cfg, "element", EO_ERR_INVALID,
+                           "the mesh has 10-node (quadratic) tets; element %s has 4 nodes: use element p2",
+                           sc->element->info.name);
+        return EO_OK;
+    }
+    if (sc->points)
+        return cfg_err(ctx, cfg, "element", EO_ERR_INVALID, "element %s needs tets; the mesh (%s) has none",
+                       sc->element->info.name, sc->lattice ? "mesh.lattice" : "mesh.points");
+    if (m->order == 2) return EO_OK;
+    eo_mesh *q = NULL;
+    if ((rc = eo_mesh_to_quadratic(ctx, m, &q)) < 0) return rc;
+    eo_mesh_destroy(&sc->mesh);
+    sc->mesh = q;
+    return EO_OK;
+}
+
 int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
 {
     static const char *const top[] = {"mesh", "material", "materials", "boundary", "initial",
@@ -1006,7 +1039,16 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
         rc = cfg_err(ctx, cfg, "mesh", EO_ERR_MESH, "the mesh has no tet");
         goto fail;
     }
+    EO_TRY(rc = load_element(ctx, cfg, sc));
     EO_TRY(rc = load_materials(ctx, cfg, sc));
+    for (int r = 0; r < sc->nmat && !(sc->element->flags & EO_ELEMENT_LINEAR); r++)
+        if (sc->mat[r].type->flags & EO_MATERIAL_EDGE) {
+            rc = cfg_err(ctx, cfg, "element", EO_ERR_INVALID,
+                         "material %s (region %d) is an edge (spring) model, defined on the linear tet's edges only; "
+                         "element %s needs a tet material",
+                         sc->mat[r].type->info.name, r, sc->element->info.name);
+            goto fail;
+        }
     EO_TRY(rc = load_boundary(ctx, cfg, sc));
     EO_TRY(rc = load_initial(ctx, cfg, sc));
     EO_TRY(rc = load_point_masses(ctx, cfg, sc));

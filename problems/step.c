@@ -65,7 +65,7 @@ void eo_step_destroy(eo_step **pst)
     eo_free(ctx, st->rpot1);
     eo_free(ctx, st->an);
     eo_free(ctx, st->anew);
-    void *arrays[] = {st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
+    void *arrays[] = {st->vload, st->Dminv, st->psi_rest, st->vol, st->rho, st->vmass, (void *)st->tet_type, (void *)st->tet_coef,
                       st->x, st->v, st->x0, st->xw, st->gfull, st->vnew, st->guess, st->inv_x, st->rs_a, st->split_k, st->vbc,
                       st->vbc_new, st->full2free, st->free2full, st->tet_dofs, st->tet_order, st->ord_tets, st->ord_dofs,
                       st->ord_Dminv, st->ord_vol, st->ord_psi, st->ord_rho, (void *)st->ord_type, (void *)st->ord_coef, st->sys.elem_g,
@@ -165,7 +165,9 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->vbc_new = eo_malloc(ctx, nv * sizeof(int));
     st->full2free = eo_malloc(ctx, nf * sizeof(int));
     st->free2full = eo_malloc(ctx, nf * sizeof(int));
-    st->tet_dofs = eo_malloc(ctx, 12 * nt * sizeof(int));
+    const eo_element_type *el = sc->element ? sc->element : &eo_element_p1;
+    const int npe = el->nodes, linear = (el->flags & EO_ELEMENT_LINEAR) != 0;
+    st->tet_dofs = eo_malloc(ctx, 3 * (size_t)npe * nt * sizeof(int));
     st->tet_order = eo_malloc(ctx, nt * sizeof(int));
     st->ord_tets = eo_malloc(ctx, 4 * nt * sizeof(int));
     st->ord_dofs = eo_malloc(ctx, 12 * nt * sizeof(int));
@@ -177,13 +179,14 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     st->ord_coef = eo_malloc(ctx, nt * sizeof *st->ord_coef);
     st->sys.block = BLOCK;
     st->pd_mode = EO_PD_FACTOR_AUTO;
-    st->sys.elem_g = eo_malloc(ctx, 12 * (size_t)BLOCK * sizeof(double));
-    st->sys.elem_H = eo_malloc(ctx, 144 * (size_t)BLOCK * sizeof(double));
+    st->sys.elem_g = eo_malloc(ctx, 3 * (size_t)npe * BLOCK * sizeof(double));
+    st->sys.elem_H = eo_malloc(ctx, 9 * (size_t)npe * npe * BLOCK * sizeof(double));
+    if (!linear) st->vload = eo_calloc(ctx, nv, sizeof(double));
     if (!st->Dminv || !st->psi_rest || !st->vol || !st->rho || !st->vmass || !st->tet_type || !st->tet_coef || !st->x ||
         !st->v || !st->x0 || !st->xw || !st->gfull || !st->vnew || !st->guess || !st->inv_x || !st->vbc ||
         !st->vbc_new || !st->full2free || !st->free2full || !st->tet_dofs || !st->tet_order || !st->ord_tets ||
         !st->ord_dofs || !st->ord_Dminv || !st->ord_vol || !st->ord_psi || !st->ord_rho || !st->ord_type || !st->ord_coef || !st->sys.elem_g ||
-        !st->sys.elem_H) {
+        !st->sys.elem_H || (!linear && !st->vload)) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (step of %d tets)", m->nt);
         goto fail;
     }
@@ -206,10 +209,21 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
             eo_material_evaluate(mat->type, &mat->coef, I3, EO_EVAL_ENERGY, EO_PROJ_NONE, &ev);
             st->psi_rest[k] = ev.psi;
         }
-        for (int a = 0; a < 4; a++) st->vmass[m->tets[4 * k + a]] += st->rho[k] * st->vol[k] / 4.0;
+        if (linear) {
+            for (int a = 0; a < 4; a++) st->vmass[m->tets[4 * k + a]] += st->rho[k] * st->vol[k] / 4.0;
+            continue;
+        }
+        const int *en = (npe == 10 ? m->tet10 : m->tets) + (size_t)npe * k;
+        for (int a = 0; a < npe; a++) {
+            st->vmass[en[a]] += st->rho[k] * st->vol[k] * el->lumped[a];
+            st->vload[en[a]] += st->rho[k] * st->vol[k] * el->load[a];
+        }
     }
     if (sc->pmass)
-        for (int v = 0; v < m->nv; v++) st->vmass[v] += sc->pmass[v];
+        for (int v = 0; v < m->nv; v++) {
+            st->vmass[v] += sc->pmass[v];
+            if (st->vload) st->vload[v] += sc->pmass[v];
+        }
     /* shared data for the terms */
     eo_sys *s = &st->sys;
     s->ctx = ctx;
@@ -224,6 +238,11 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     s->tet_type = st->tet_type;
     s->tet_coef = st->tet_coef;
     s->vmass = st->vmass;
+    s->vload = st->vload ? st->vload : st->vmass;
+    s->el = el;
+    s->npe = npe;
+    s->linear = linear;
+    s->enodes = npe == 10 ? m->tet10 : m->tets;
     s->pmass = sc->pmass;
     s->full2free = st->full2free;
     s->tet_dofs = st->tet_dofs;
@@ -250,7 +269,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     s->ord_type = st->ord_type;
     s->ord_coef = st->ord_coef;
     s->ord_group = -1;
-    s->tet_order = m->nt > 1 ? st->tet_order : NULL;
+    s->tet_order = m->nt > 1 && linear ? st->tet_order : NULL;
     /* the term list: a scene pays only for the terms it uses */
     eo_term *t = NULL;
     if (st->integ->inertia && !st->integ->explicit_step) {
@@ -331,7 +350,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
             goto fail;
         }
     }
-    st->obj.ops = &eo_stepi_ops;
+    st->obj.ops = linear ? &eo_stepi_ops : &eo_stepi_ops_element;
     st->obj.data = st;
     st->w = eo_stepi_weight(st);
     EO_TRY(rc = eo_step_reset(st));
@@ -345,7 +364,7 @@ fail:
 
 int eo_step_set_tet_order(eo_step *st, int on)
 {
-    st->sys.tet_order = on && st->nt > 1 ? st->tet_order : NULL;
+    st->sys.tet_order = on && st->nt > 1 && st->sys.linear ? st->tet_order : NULL;
     return st->sys.tet_order != NULL;
 }
 

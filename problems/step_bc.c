@@ -91,20 +91,21 @@ static int build_pattern(eo_step *st)
         }
     }
     st->nfree = nfree;
-    const int *tets = st->sc->mesh->tets;
+    const int *tets = st->sys.enodes, npe = st->sys.npe, ne = 3 * npe;
     for (int k = 0; k < st->nt; k++)
-        for (int a = 0; a < 4; a++)
-            for (int c = 0; c < 3; c++) st->tet_dofs[12 * k + 3 * a + c] = st->full2free[3 * tets[4 * k + a] + c];
+        for (int a = 0; a < npe; a++)
+            for (int c = 0; c < 3; c++)
+                st->tet_dofs[(size_t)ne * k + 3 * a + c] = st->full2free[3 * tets[(size_t)npe * k + a] + c];
     eo_assembler_destroy(&st->as);
     st->sys.as = NULL;
     int rc = eo_assembler_create(ctx, nfree, &st->as);
     if (rc < 0) return rc;
     st->sys.as = st->as;
-    int hgroup = eo_assembler_add_elements(ctx, st->as, st->nt, 12, st->tet_dofs);
+    int hgroup = eo_assembler_add_elements(ctx, st->as, st->nt, ne, st->tet_dofs);
     if (hgroup < 0) return hgroup;
     st->sys.tet_group = hgroup;
     st->sys.ord_group = -1;
-    if (st->nt > 1) { /* the same tets in the visit order (eo_sys.ord_group) */
+    if (st->nt > 1 && st->sys.linear) { /* the same tets in the visit order (eo_sys.ord_group) */
         for (int i = 0; i < st->nt; i++)
             memcpy(st->ord_dofs + 12 * i, st->tet_dofs + 12 * st->tet_order[i], 12 * sizeof(int));
         int og = eo_assembler_add_elements(ctx, st->as, st->nt, 12, st->ord_dofs);

@@ -34,6 +34,7 @@ struct eo_step {
     double sub_done, sub_t0;
     /* rest data */
     double *Dminv, *vol, *rho, *vmass;
+    double *vload;        /* nv gravity loads (term.h eo_sys.vload); NULL: vmass (p1) */
     double *psi_rest;     /* nt: ψ(I) of each tet's material (reported energies are relative to it) */
     const eo_material_type **tet_type;
     const eo_material_coef **tet_coef;
@@ -130,7 +131,7 @@ void eo_stepi_bc_motion(const eo_step *st, const eo_bc *bc, int v, double t, dou
 int eo_stepi_update_constraints(eo_step *st, double t, int *changed);
 /* step_objective.c */
 void eo_stepi_scatter_free(eo_step *st, const double *x);
-extern const eo_objective_ops eo_stepi_ops;
+extern const eo_objective_ops eo_stepi_ops, eo_stepi_ops_element;
 /* Weight of the next step's E (history-aware) and velocity vₙ₊₁ of end positions x. */
 double eo_stepi_weight(const eo_step *st);
 void eo_stepi_velocity(const eo_step *st, const double *x, double *v);

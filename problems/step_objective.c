@@ -130,10 +130,11 @@ static int op_n_elements(void *data) { return ((eo_step *)data)->nt; }
 static int op_element_residual(void *data, const double *v, double *r)
 {
     eo_step *st = data;
+    const int npe = st->sys.npe;
     for (int k = 0; k < st->nt; k++) {
-        const int *d = st->tet_dofs + 12 * k;
+        const int *d = st->tet_dofs + (size_t)3 * npe * k;
         double m = 0;
-        for (int a = 0; a < 4; a++) {
+        for (int a = 0; a < npe; a++) {
             double s2 = 0;
             for (int c = 0; c < 3; c++) s2 += d[3 * a + c] >= 0 ? v[d[3 * a + c]] * v[d[3 * a + c]] : 0;
             m = s2 > m ? s2 : m;
@@ -170,7 +171,8 @@ static int op_rounding_scale(void *data, const double *x, double s[2])
             const double mu = c->mu > 1e-12 * ml ? c->mu : 1e-12 * ml;
             el += V * ml * ml / mu;
             const double a = ml * cbrt(V * V);
-            for (int q = 0; q < 4; q++) st->rs_a[m->tets[4 * t + q]] += a;
+            const int npe = st->sys.npe;
+            for (int q = 0; q < npe; q++) st->rs_a[st->sys.enodes[(size_t)npe * t + q]] += a;
         }
         st->rs_el = el;
     }
@@ -659,6 +661,28 @@ const eo_objective_ops eo_stepi_ops = {
     .vertex_block = op_vertex_block,
 };
 
+/* The ops of a step whose element is not the linear tet (element.h): without the per-tet
+ * ops that assume one F per tet (split_*: ADMM and local/global projective dynamics) or a
+ * 4-node stencil (vertex blocks: vertex block descent); optimizers that need them are
+ * refused when the simulation is created (eo_optimizer_type.needs_ops). */
+const eo_objective_ops eo_stepi_ops_element = {
+    .inertia = op_inertia,
+    .value = op_value,
+    .gradient = op_gradient,
+    .hessian = op_hessian,
+    .metric_diag = op_metric_diag,
+    .inverted_count = op_inverted_count,
+    .constant_hessian = op_constant_hessian,
+    .n_elements = op_n_elements,
+    .hessian_masked = op_hessian_masked,
+    .element_residual = op_element_residual,
+    .constant_factor = eo_stepi_pd_factor,
+    .constant_solve = eo_stepi_pd_solve,
+    .rounding_scale = op_rounding_scale,
+    .max_step = op_max_step,
+    .characteristic = op_characteristic,
+};
+
 
 /* ---------------------------------------------------------------- partitioned evaluation */
 
@@ -688,7 +712,7 @@ int eo_step_set_part(eo_step *st, const eo_step_part *part)
 
 eo_step *eo_step_of_objective(const eo_objective *obj)
 {
-    return obj && obj->ops == &eo_stepi_ops ? obj->data : NULL;
+    return obj && (obj->ops == &eo_stepi_ops || obj->ops == &eo_stepi_ops_element) ? obj->data : NULL;
 }
 
 unsigned long eo_step_pattern_id(const eo_step *st) { return st->pattern_id; }

@@ -17,10 +17,49 @@
 
 /* ---------------------------------------------------------------- small math */
 
+/* out = M (u − u0) (u0 NULL: 0) over all coordinates for a general element (consistent: ρV M_el ⊗ I₃ per tet,
+ * plus the point masses); out is overwritten */
+static void mass_apply_el(const eo_step *st, const double *u, const double *u0, double *out)
+{
+    const int n = st->sys.npe;
+    const double *M = st->sys.el->mass;
+    memset(out, 0, (size_t)st->n_full * sizeof(double));
+    for (int k = 0; k < st->nt; k++) {
+        const int *en = st->sys.enodes + (size_t)n * k;
+        const double rv = st->rho[k] * st->vol[k];
+        for (int a = 0; a < n; a++)
+            for (int b = 0; b < n; b++)
+                for (int c = 0; c < 3; c++) {
+                    const int j = 3 * en[b] + c;
+                    out[3 * en[a] + c] += rv * M[n * a + b] * (u0 ? u[j] - u0[j] : u[j]);
+                }
+    }
+    for (int i = 0; st->sc->pmass && i < st->nv; i++)
+        for (int c = 0; c < 3; c++) {
+            const int j = 3 * i + c;
+            out[j] += st->sc->pmass[i] * (u0 ? u[j] - u0[j] : u[j]);
+        }
+}
+
 /* det F of tet k at positions x, computed as the material kernel computes it (eo_tet_J:
  * F = Ds Dm⁻¹, then eo_det3), so that eo_tet_is_inverted agrees with the barrier. */
 double eo_stepi_tet_J(const eo_step *st, const double *x, int k)
 {
+    if (!st->sys.linear) { /* the smallest det F over the element's quadrature points */
+        const eo_element_type *el = st->sys.el;
+        const int *en = st->sys.enodes + (size_t)el->nodes * k;
+        double jmin = INFINITY;
+        for (int q = 0; q < el->nq; q++) {
+            double G[3 * EO_ELEMENT_MAX_NODES], F[9] = {0};
+            eo_element_grad(el, st->Dminv + 9 * k, el->qp + 4 * q, G);
+            for (int a = 0; a < el->nodes; a++)
+                for (int i = 0; i < 3; i++)
+                    for (int j = 0; j < 3; j++) F[3 * i + j] += x[3 * en[a] + i] * G[3 * a + j];
+            const double J = eo_det3(F);
+            if (!(J >= jmin)) jmin = J;
+        }
+        return jmin;
+    }
     double x12[12];
     eo_gather12(x, st->sc->mesh->tets + 4 * k, x12);
     return eo_tet_J(st->Dminv + 9 * k, x12);
@@ -56,6 +95,9 @@ int eo_step_stats_compute(eo_step *st, eo_step_stats *s)
     if (st->sc->lumped) {
         for (int i = 0; i < st->nv; i++)
             ke += st->vmass[i] * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
+    } else if (!st->sys.linear) {
+        mass_apply_el(st, v, NULL, st->gfull);
+        for (int j = 0; j < st->n_full; j++) ke += v[j] * st->gfull[j];
     } else {
         for (int k = 0; k < st->nt; k++) {
             const int *tet = st->sc->mesh->tets + 4 * k;
@@ -81,7 +123,7 @@ int eo_step_stats_compute(eo_step *st, eo_step_stats *s)
     }
     const double *g = st->sc->opts.gravity;
     for (int i = 0; i < st->nv; i++)
-        s->gravity -= st->vmass[i] * (g[0] * x[3 * i] + g[1] * x[3 * i + 1] + g[2] * x[3 * i + 2]);
+        s->gravity -= st->sys.vload[i] * (g[0] * x[3 * i] + g[1] * x[3 * i + 1] + g[2] * x[3 * i + 2]);
     if (st->collision) {
         double wsave = st->collision->weight;
         st->collision->weight = 1;
@@ -135,6 +177,8 @@ void eo_stepi_work_update(eo_step *st, const double *x1, const double *v1)
     double *mdv = st->gfull;
     if (st->sc->lumped || !st->nt) {
         for (int j = 0; j < st->n_full; j++) mdv[j] = st->vmass[j / 3] * (v1[j] - v[j]);
+    } else if (!st->sys.linear) {
+        mass_apply_el(st, v1, v, mdv);
     } else {
         memset(mdv, 0, (size_t)st->n_full * sizeof(double));
         for (int k = 0; k < st->nt; k++) {
@@ -171,7 +215,16 @@ int eo_step_fields(eo_step *st, double *psi, double *J, unsigned char *inverted)
 {
     for (int k = 0; k < st->nt; k++) {
         double Jk = eo_stepi_tet_J(st, st->x, k), p = 0;
-        if (psi && !(st->tet_type[k]->flags & EO_MATERIAL_EDGE)) {
+        if (psi && !(st->tet_type[k]->flags & EO_MATERIAL_EDGE) && !st->sys.linear) {
+            /* a general element: its mean ψ, energy / V */
+            const int n = st->sys.npe, *en = st->sys.enodes + (size_t)n * k;
+            double xe[3 * EO_ELEMENT_MAX_NODES], e;
+            for (int a = 0; a < n; a++)
+                for (int c = 0; c < 3; c++) xe[3 * a + c] = st->x[3 * en[a] + c];
+            eo_element_evaluate(st->sys.el, st->tet_type[k], st->tet_coef[k], st->Dminv + 9 * k, st->vol[k], xe,
+                                EO_EVAL_ENERGY, EO_PROJ_NONE, &e, NULL, NULL, NULL);
+            p = e / st->vol[k] - st->psi_rest[k];
+        } else if (psi && !(st->tet_type[k]->flags & EO_MATERIAL_EDGE)) {
             double x12[12];
             eo_tet_out out;
             eo_gather12(st->x, st->sc->mesh->tets + 4 * k, x12);

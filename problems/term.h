@@ -13,6 +13,7 @@
 #ifndef EO_PROBLEMS_TERM_H
 #define EO_PROBLEMS_TERM_H
 
+#include "elastopt/element.h"
 #include "elastopt/material.h"
 #include "elastopt/mesh.h"
 #include "elastopt/scene.h"
@@ -31,19 +32,28 @@ typedef struct eo_sys {
                                    (it would eat the digits the Armijo test compares) */
     const eo_material_type *const *tet_type;   /* nt */
     const eo_material_coef *const *tet_coef;   /* nt */
-    const double *vmass;        /* nv lumped vertex masses (ρV/4 summed, + point masses) */
+    /* the element (element.h): npe nodes per tet, their ids enodes[npe·k ..] (the mesh's
+     * tets for 4 nodes, its tet10 for 10); linear = 1 for the linear tet, whose own fast
+     * paths (eo_tet_evaluate, the Morton-ordered copies) the terms keep */
+    const struct eo_element_type *el;
+    int npe, linear;
+    const int *enodes;
+    const double *vmass;        /* nv lumped vertex masses (the element's lumped weights ·ρV
+                                   summed, ρV/4 for p1, + point masses) */
+    const double *vload;        /* nv: Σ ρ∫N_v dV + point masses, the gravity load per unit
+                                   acceleration (= vmass for p1: rows of M sum to ρV/4) */
     const double *pmass;        /* nv point masses (scene point_mass, point_masses), part of
                                    vmass; NULL if none. The consistent mass adds them on its
                                    diagonal */
     /* current pattern */
     const int *full2free;       /* n_full: free id or -1 */
-    const int *tet_dofs;        /* 12·nt free ids (-1 constrained) */
+    const int *tet_dofs;        /* 3·npe·nt free ids (-1 constrained) */
     eo_assembler *as;           /* NULL until attached */
-    int tet_group;              /* assembler group of the tets (12 ids each) */
+    int tet_group;              /* assembler group of the tets (3·npe ids each) */
     /* element workspace for the blocked parallel loops */
     int block;                  /* tets per block */
-    double *elem_g;             /* 12·block */
-    double *elem_H;             /* 144·block */
+    double *elem_g;             /* 3·npe·block */
+    double *elem_H;             /* (3·npe)²·block */
     int parallel;               /* 1: use OpenMP in element loops */
     const unsigned char *proj_of; /* nt: per-tet projection during a hessian_masked call
                                      (overrides the hessian's proj for tets), else NULL */

@@ -50,7 +50,14 @@ void eo_term_damping_apply(eo_term *t, const eo_sys *s, const double *u, double 
         if (d->lumped || s->nt == 0) {
             for (int j = 0; j < s->n_full; j++) out[j] += d->alpha * s->vmass[j / 3] * u[j];
         } else {
-            for (int k = 0; k < s->nt; k++) { /* (M_t u)_a = ρV/20 (u_a + Σ_b u_b) */
+            for (int k = 0; !s->linear && k < s->nt; k++) { /* a general element: ρV M_el ⊗ I₃ */
+                const int n = s->npe, *en = s->enodes + (size_t)n * k;
+                const double m = d->alpha * s->rho[k] * s->vol[k];
+                for (int a = 0; a < n; a++)
+                    for (int b = 0; b < n; b++)
+                        for (int c = 0; c < 3; c++) out[3 * en[a] + c] += m * s->el->mass[n * a + b] * u[3 * en[b] + c];
+            }
+            for (int k = 0; s->linear && k < s->nt; k++) { /* (M_t u)_a = ρV/20 (u_a + Σ_b u_b) */
                 const int *tet = s->mesh->tets + 4 * k;
                 double sum[3] = {0, 0, 0}, m = d->alpha * s->rho[k] * s->vol[k] / 20.0;
                 for (int a = 0; a < 4; a++)
@@ -139,7 +146,17 @@ static int prepare(eo_term *t, eo_sys *s)
         if (!d->mass_val) return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (damping mass)");
         eo_assembler_zero(s->as);
         double Ke[144];
-        for (int k = 0; k < s->nt; k++) {
+        for (int k = 0; !s->linear && k < s->nt; k++) { /* a general element: ρV M_el ⊗ I₃ */
+            const int n = s->npe, ne = 3 * n;
+            double *Kg = s->elem_H; /* one element's worth, serial */
+            memset(Kg, 0, (size_t)ne * ne * sizeof(double));
+            for (int a = 0; a < n; a++)
+                for (int b = 0; b < n; b++)
+                    for (int c = 0; c < 3; c++)
+                        Kg[(size_t)(3 * a + c) * ne + 3 * b + c] = s->rho[k] * s->vol[k] * s->el->mass[n * a + b];
+            eo_assembler_add(s->as, s->tet_group, k, Kg);
+        }
+        for (int k = 0; s->linear && k < s->nt; k++) {
             double m = s->rho[k] * s->vol[k] / 20.0;
             memset(Ke, 0, sizeof Ke);
             for (int a = 0; a < 4; a++)

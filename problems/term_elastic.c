@@ -60,8 +60,140 @@ static void eval_tet(const tref *t, const double *x, eo_eval_what what, eo_proj 
         eo_tet_evaluate(t->type, t->coef, t->Dminv, t->vol, x12, what, proj, out);
 }
 
+
+/* The term's data: the inverted count of the last gradient evaluation. */
+typedef struct elastic_data {
+    int inverted;
+} elastic_data;
+
+/* ---- elements other than the linear tet (element.h): the element's quadrature through
+ * eo_element_evaluate, the tets in mesh (or part) order, nodes s->enodes. The same
+ * block structure as above: element values in parallel into the buffers, scattered
+ * serially. */
+
+static inline const int *enodes_of(const eo_sys *s, int k) { return s->enodes + (size_t)s->npe * k; }
+
+static void gather_nodes(const eo_sys *s, const double *x, int k, double *xe)
+{
+    const int *en = enodes_of(s, k);
+    for (int a = 0; a < s->npe; a++)
+        for (int c = 0; c < 3; c++) xe[3 * a + c] = x[3 * en[a] + c];
+}
+
+static double energy_el(eo_term *t, const eo_sys *s, const double *x)
+{
+    double e = 0;
+    const int nt = eo_sys_ntets(s);
+#if defined(_OPENMP)
+#pragma omp parallel for reduction(+ : e) schedule(static) if (s->parallel)
+#endif
+    for (int i = 0; i < nt; i++) {
+        const int k = eo_sys_tet(s, i);
+        if (s->tet_type[k]->flags & EO_MATERIAL_EDGE) continue;
+        double xe[3 * EO_ELEMENT_MAX_NODES], ek;
+        gather_nodes(s, x, k, xe);
+        eo_element_evaluate(s->el, s->tet_type[k], s->tet_coef[k], s->Dminv + 9 * k, s->vol[k], xe, EO_EVAL_ENERGY,
+                            EO_PROJ_NONE, &ek, NULL, NULL, NULL);
+        e += ek - s->vol[k] * s->psi_rest[k];
+    }
+    if (isnan(e)) e = INFINITY;
+    return t->weight * e;
+}
+
+static double gradient_el(eo_term *t, const eo_sys *s, const double *x, double *g)
+{
+    double e = 0;
+    const double w = t->weight;
+    const int nt = eo_sys_ntets(s), ne = 3 * s->npe;
+    int inv = 0;
+    for (int b0 = 0; b0 < nt; b0 += s->block) {
+        int nb = nt - b0 < s->block ? nt - b0 : s->block;
+        double eb = 0;
+        int ib = 0;
+#if defined(_OPENMP)
+#pragma omp parallel for reduction(+ : eb, ib) schedule(static) if (s->parallel)
+#endif
+        for (int j = 0; j < nb; j++) {
+            const int k = eo_sys_tet(s, b0 + j);
+            if (s->tet_type[k]->flags & EO_MATERIAL_EDGE) continue;
+            double xe[3 * EO_ELEMENT_MAX_NODES], ek, minJ;
+            gather_nodes(s, x, k, xe);
+            eo_element_evaluate(s->el, s->tet_type[k], s->tet_coef[k], s->Dminv + 9 * k, s->vol[k], xe,
+                                EO_EVAL_GRAD, EO_PROJ_NONE, &ek, s->elem_g + (size_t)ne * j, NULL, &minJ);
+            eb += ek - s->vol[k] * s->psi_rest[k];
+            ib += eo_tet_is_inverted(minJ);
+        }
+        e += eb;
+        inv += ib;
+        for (int j = 0; j < nb; j++) {
+            const int k = eo_sys_tet(s, b0 + j);
+            if (s->tet_type[k]->flags & EO_MATERIAL_EDGE) continue;
+            const int *en = enodes_of(s, k);
+            const double *ge = s->elem_g + (size_t)ne * j;
+            for (int a = 0; a < s->npe; a++)
+                for (int c = 0; c < 3; c++) g[3 * en[a] + c] += w * ge[3 * a + c];
+        }
+    }
+    ((elastic_data *)t->data)->inverted = inv;
+    return isfinite(e) ? w * e : INFINITY;
+}
+
+static int hessian_el(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
+{
+    const double w = t->weight;
+    const int nt = eo_sys_ntets(s), ne = 3 * s->npe;
+    for (int b0 = 0; b0 < nt; b0 += s->block) {
+        int nb = nt - b0 < s->block ? nt - b0 : s->block;
+#if defined(_OPENMP)
+#pragma omp parallel for schedule(static) if (s->parallel)
+#endif
+        for (int j = 0; j < nb; j++) {
+            const int k = eo_sys_tet(s, b0 + j);
+            if (s->tet_type[k]->flags & EO_MATERIAL_EDGE) continue;
+            double xe[3 * EO_ELEMENT_MAX_NODES], ek;
+            gather_nodes(s, x, k, xe);
+            eo_element_evaluate(s->el, s->tet_type[k], s->tet_coef[k], s->Dminv + 9 * k, s->vol[k], xe,
+                                EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[k] : proj, &ek, s->elem_g + (size_t)ne * j,
+                                s->elem_H + (size_t)ne * ne * j, NULL);
+        }
+        for (int j = 0; j < nb; j++) {
+            const int k = eo_sys_tet(s, b0 + j);
+            if (s->tet_type[k]->flags & EO_MATERIAL_EDGE) continue;
+            eo_assembler_add_scaled(s->as, s->tet_group, k, s->elem_H + (size_t)ne * ne * j, w);
+        }
+    }
+    return EO_OK;
+}
+
+/* Projective-dynamics matrix of a general element: w Σₜ Vₜ kₜ Σ_q w_q G_qᵀG_q ⊗ I₃, G_q the
+ * shape gradients at the energy quadrature points (the linear tet's pd_hessian below for
+ * one point). */
+static int pd_hessian_el(eo_term *t, const eo_sys *s)
+{
+    const int n = s->npe, ne = 3 * n;
+    double *Ke = s->elem_H; /* one element's worth of the buffer (serial) */
+    for (int e = 0; e < s->nt; e++) {
+        if (s->tet_type[e]->flags & EO_MATERIAL_EDGE) continue;
+        const double scale = t->weight * s->vol[e] * eo_pd_tet_weight(s->tet_type[e], s->tet_coef[e]);
+        memset(Ke, 0, (size_t)ne * ne * sizeof(double));
+        for (int q = 0; q < s->el->nq; q++) {
+            double G[3 * EO_ELEMENT_MAX_NODES];
+            eo_element_grad(s->el, s->Dminv + 9 * e, s->el->qp + 4 * q, G);
+            for (int a = 0; a < n; a++)
+                for (int b = 0; b < n; b++) {
+                    const double d = scale * s->el->qw[q] *
+                                     (G[3 * a] * G[3 * b] + G[3 * a + 1] * G[3 * b + 1] + G[3 * a + 2] * G[3 * b + 2]);
+                    for (int r = 0; r < 3; r++) Ke[(size_t)(3 * a + r) * ne + 3 * b + r] += d;
+                }
+        }
+        eo_assembler_add(s->as, s->tet_group, e, Ke);
+    }
+    return EO_OK;
+}
+
 static double energy(eo_term *t, const eo_sys *s, const double *x)
 {
+    if (!s->linear) return energy_el(t, s, x);
     double e = 0;
     const int nt = eo_sys_ntets(s);
 #if defined(_OPENMP)
@@ -78,13 +210,10 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
     return t->weight * e;
 }
 
-/* The term's data: the inverted count of the last gradient evaluation. */
-typedef struct elastic_data {
-    int inverted;
-} elastic_data;
 
 static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
 {
+    if (!s->linear) return gradient_el(t, s, x, g);
     double e = 0;
     const double w = t->weight;
     const int nt = eo_sys_ntets(s);
@@ -129,6 +258,7 @@ int eo_term_elastic_inverted(const eo_term *t) { return ((const elastic_data *)t
 
 static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
 {
+    if (!s->linear) return hessian_el(t, s, x, proj);
     const double w = t->weight;
     const int nt = eo_sys_ntets(s);
     if (!s->parallel) { /* one pass: evaluate and scatter each tet, no element buffer */
@@ -169,6 +299,7 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
  * xₐ − x₃), and kₜ = eo_pd_tet_weight of the tet's material. */
 static int pd_hessian(eo_term *t, const eo_sys *s)
 {
+    if (!s->linear) return pd_hessian_el(t, s);
     double Ke[144];
     const eo_material_type *last_type = NULL;
     const eo_material_coef *last_coef = NULL;

@@ -2,7 +2,7 @@
  *
  * For a constant field g the consistent and the lumped mass give the same force: each
  * row of M_t = ρV/20 (I₄ + 𝟙𝟙ᵀ) ⊗ I₃ sums to ρV/20 · 5 = ρV/4, so f_g on vertex v is
- * m_v g with m_v = Σ_{t∋v} ρₜVₜ/4 (s->vmass). Linear in x: no Hessian. */
+ * m_v g with m_v = Σ_{t∋v} ρₜVₜ/4 (s->vload). Linear in x: no Hessian. */
 #include "term.h"
 
 typedef struct gravity_data {
@@ -14,7 +14,7 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
     const gravity_data *d = t->data;
     double e = 0;
     for (int v = 0; v < s->nv; v++)
-        if (eo_sys_vertex_on(s, v)) e -= s->vmass[v] * (d->g[0] * x[3 * v] + d->g[1] * x[3 * v + 1] + d->g[2] * x[3 * v + 2]);
+        if (eo_sys_vertex_on(s, v)) e -= s->vload[v] * (d->g[0] * x[3 * v] + d->g[1] * x[3 * v + 1] + d->g[2] * x[3 * v + 2]);
     return t->weight * e;
 }
 
@@ -22,7 +22,7 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *gra
 {
     const gravity_data *d = t->data;
     for (int v = 0; v < s->nv; v++)
-        for (int c = 0; c < 3 && eo_sys_vertex_on(s, v); c++) grad[3 * v + c] -= t->weight * s->vmass[v] * d->g[c];
+        for (int c = 0; c < 3 && eo_sys_vertex_on(s, v); c++) grad[3 * v + c] -= t->weight * s->vload[v] * d->g[c];
     return energy(t, s, x);
 }
 
@@ -38,8 +38,8 @@ static double vertex(eo_term *t, const eo_sys *s, const double *x, int v, eo_pro
     const gravity_data *d = t->data;
     double e = 0;
     for (int c = 0; c < 3; c++) {
-        e -= t->weight * s->vmass[v] * d->g[c] * x[3 * v + c];
-        if (g3) g3[c] -= t->weight * s->vmass[v] * d->g[c];
+        e -= t->weight * s->vload[v] * d->g[c] * x[3 * v + c];
+        if (g3) g3[c] -= t->weight * s->vload[v] * d->g[c];
     }
     return e;
 }

@@ -4,6 +4,8 @@
  *     M_t = ρV/20 · (I₄ + 𝟙𝟙ᵀ) ⊗ I₃      (ρV/10 on the diagonal, ρV/20 off it),
  * so dᵀM_t d = ρV/20 (Σᵢ‖dᵢ‖² + ‖Σᵢ dᵢ‖²) and (M_t d)ᵢ = ρV/20 (dᵢ + Σⱼ dⱼ).
  * Lumped mass: ρV/4 on each tet vertex (s->vmass), M = diag(m_v) ⊗ I₃.
+ * Other elements (element.h): their consistent mass ρV·M_el ⊗ I₃ and lumped weights
+ * (s->vmass); the vertex op is the linear tet's only.
  * Point masses (s->pmass, scene point_mass / point_masses) are part of s->vmass and are
  * added on the diagonal of the consistent mass too.
  * The consistent Hessian is constant: its values in the fixed pattern are computed once
@@ -18,6 +20,45 @@ typedef struct inertia_data {
     double *mass_val;   /* consistent: M's values in the pattern (nnz), per attach */
     int nnz;
 } inertia_data;
+
+
+/* Consistent mass of a general element (element.h): per tet ρV Σ_ab M_ab (d_a · d_b),
+ * M the element's consistent mass per unit ρV, nodes s->enodes. */
+static double consistent_el(const eo_sys *s, const double *x, const double *xt, double *g)
+{
+    const int n = s->npe;
+    const double *M = s->el->mass;
+    double e = 0;
+    for (int i = 0; i < eo_sys_ntets(s); i++) {
+        const int k = eo_sys_tet(s, i);
+        const int *en = s->enodes + (size_t)n * k;
+        const double rv = s->rho[k] * s->vol[k];
+        double d[3 * EO_ELEMENT_MAX_NODES];
+        for (int a = 0; a < n; a++)
+            for (int c = 0; c < 3; c++) d[3 * a + c] = x[3 * en[a] + c] - xt[3 * en[a] + c];
+        for (int a = 0; a < n; a++) {
+            double md[3] = {0, 0, 0};
+            for (int b = 0; b < n; b++)
+                for (int c = 0; c < 3; c++) md[c] += M[n * a + b] * d[3 * b + c];
+            for (int c = 0; c < 3; c++) {
+                e += rv * d[3 * a + c] * md[c];
+                if (g) g[3 * en[a] + c] += rv * md[c];
+            }
+        }
+    }
+    return e;
+}
+
+/* The element mass matrix ρV M ⊗ I₃ of tet k ((3n)², row-major). */
+static void elem_mass_matrix(const eo_sys *s, int k, double *Ke)
+{
+    const int n = s->npe, ne = 3 * n;
+    const double rv = s->rho[k] * s->vol[k];
+    memset(Ke, 0, (size_t)ne * ne * sizeof(double));
+    for (int a = 0; a < n; a++)
+        for (int b = 0; b < n; b++)
+            for (int c = 0; c < 3; c++) Ke[(size_t)(3 * a + c) * ne + 3 * b + c] = rv * s->el->mass[n * a + b];
+}
 
 static double energy(eo_term *t, const eo_sys *s, const double *x)
 {
@@ -36,8 +77,9 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
         }
         return 0.5 * e;
     }
+    if (!s->linear) e = consistent_el(s, x, xt, NULL);
     const int ord = s->tet_order && !s->part_tets; /* the copies in the visit order (term.h) */
-    for (int i = 0; i < eo_sys_ntets(s); i++) {
+    for (int i = 0; s->linear && i < eo_sys_ntets(s); i++) {
         const int k = eo_sys_tet(s, i);
         const int *tet = ord ? s->ord_tets + 4 * i : s->mesh->tets + 4 * k;
         const double rv = ord ? s->ord_rho[i] * s->ord_vol[i] : s->rho[k] * s->vol[k];
@@ -70,8 +112,9 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
             }
         return 0.5 * e;
     }
+    if (!s->linear) e = consistent_el(s, x, xt, g);
     const int ord = s->tet_order && !s->part_tets; /* the copies in the visit order (term.h) */
-    for (int i = 0; i < eo_sys_ntets(s); i++) {
+    for (int i = 0; s->linear && i < eo_sys_ntets(s); i++) {
         const int k = eo_sys_tet(s, i);
         const int *tet = ord ? s->ord_tets + 4 * i : s->mesh->tets + 4 * k;
         const double rv = ord ? s->ord_rho[i] * s->ord_vol[i] : s->rho[k] * s->vol[k];
@@ -116,6 +159,11 @@ static int prepare(eo_term *t, eo_sys *s)
     eo_assembler_zero(s->as);
     double Ke[144];
     for (int k = 0; k < s->nt; k++) {
+        if (!s->linear) { /* elem_H: one element's worth, serial */
+            elem_mass_matrix(s, k, s->elem_H);
+            eo_assembler_add(s->as, s->tet_group, k, s->elem_H);
+            continue;
+        }
         tet_mass_matrix(s->rho[k] * s->vol[k] / 20.0, Ke);
         eo_assembler_add(s->as, s->tet_group, k, Ke);
     }
@@ -144,6 +192,11 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
         double Ke[144];
         for (int i = 0; i < eo_sys_ntets(s); i++) {
             const int k = eo_sys_tet(s, i);
+            if (!s->linear) {
+                elem_mass_matrix(s, k, s->elem_H);
+                eo_assembler_add(s->as, s->tet_group, k, s->elem_H);
+                continue;
+            }
             tet_mass_matrix(s->rho[k] * s->vol[k] / 20.0, Ke);
             eo_assembler_add(s->as, s->tet_group, k, Ke);
         }

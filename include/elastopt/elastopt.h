@@ -44,6 +44,7 @@
 #include "trimesh.h"
 #include "io.h"
 #include "material.h"
+#include "element.h"
 #include "proj.h"
 #include "sparse.h"
 #include "linsolve.h"

@@ -183,7 +183,8 @@ EO_API void eo_mesh_stats_compute(const eo_mesh *m, eo_mesh_stats *s);
 /// has gets its own node). m must be order 1. EO_ERR_INVALID, EO_ERR_NOMEM.
 EO_API int eo_mesh_to_quadratic(eo_ctx *ctx, const eo_mesh *m, eo_mesh **out);
 
-/// Vertices of the boundary surface (faces used by one tet): flag[v] = 1 for each, 0
+/// Vertices of the boundary surface (faces used by one tet; with tet10 also the midside
+/// nodes of those faces' edges): flag[v] = 1 for each, 0
 /// otherwise (flag has nv entries, caller storage); *count = how many. EO_ERR_NOMEM.
 EO_API int eo_mesh_surface_vertices(eo_ctx *ctx, const eo_mesh *m, unsigned char *flag, int *count);
 

@@ -54,7 +54,8 @@ typedef struct eo_method_info {
     X(EO_KIND_STOP, "stop", "stopping rule")                                     \
     X(EO_KIND_LINSOLVE, "linear", "linear solver")                               \
     X(EO_KIND_INTEGRATOR, "integrator", "integrator")                            \
-    X(EO_KIND_SCENE, "scene", "scene")
+    X(EO_KIND_SCENE, "scene", "scene")                                           \
+    X(EO_KIND_ELEMENT, "element", "element")
 
 #define EO_X_ENUM(e, key, label) e,
 typedef enum eo_kind { EO_KIND_LIST(EO_X_ENUM) EO_KIND_COUNT } eo_kind;

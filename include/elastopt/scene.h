@@ -100,6 +100,9 @@ typedef struct eo_scene_opts {
     char mass[16];          ///< "consistent" | "lumped". Default "consistent".
     double gravity[3];      ///< m/s². Default [0, 0, -9.81].
     double point_mass;      ///< kg added to every vertex, >= 0. Default 0.
+    char element[32];       ///< finite element (registered name, element.h): "p1" (linear
+                            ///< tet) or "p2" (10-node tet; a linear mesh gets midside nodes
+                            ///< at load). Default "p1".
 } eo_scene_opts;
 
 /// `springs` section (scalar part; the pairs are `springs.list`).
@@ -347,6 +350,8 @@ typedef struct eo_scene {
     eo_ctx *ctx;                       ///< context it was created with (its destroy uses it)
     void *integrator_params;           ///< owned: the integrator's params struct (its info.params,
                                        ///< section time.<integrator>), NULL if it has none
+    const struct eo_element_type *element; ///< the element (opts.element); the mesh has its
+                                       ///< node layout (order 2 for 10-node elements)
 } eo_scene;
 
 /// Memory an implicit simulation needs per tet, bytes (mesh, step engine, Hessian pattern

@@ -802,6 +802,12 @@ static int cmp_facekey(const void *a, const void *b)
     return 0;
 }
 
+static int cmp_ll(const void *a, const void *b)
+{
+    const long long x = *(const long long *)a, y = *(const long long *)b;
+    return x < y ? -1 : x > y;
+}
+
 int eo_mesh_surface_vertices(eo_ctx *ctx, const eo_mesh *m, unsigned char *flag, int *count)
 {
     int *faces = NULL, nf = 0;
@@ -812,6 +818,32 @@ int eo_mesh_surface_vertices(eo_ctx *ctx, const eo_mesh *m, unsigned char *flag,
     for (int i = 0; i < 3 * nf; i++) {
         *count += !flag[faces[i]];
         flag[faces[i]] = 1;
+    }
+    if (m->tet10 && nf > 0) { /* the midside nodes of the boundary faces' edges */
+        static const int edge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+        long long *be = eo_malloc(ctx, 3 * (size_t)nf * sizeof *be);
+        if (!be) {
+            eo_free(ctx, faces);
+            return eo_error(ctx, EO_ERR_NOMEM, "out of memory (surface nodes)");
+        }
+        for (int f = 0; f < nf; f++)
+            for (int e = 0; e < 3; e++) {
+                long long a = faces[3 * f + e], b = faces[3 * f + (e + 1) % 3];
+                be[3 * f + e] = a < b ? a * m->nv + b : b * m->nv + a;
+            }
+        qsort(be, 3 * (size_t)nf, sizeof *be, cmp_ll);
+        for (int t = 0; t < m->nt; t++)
+            for (int e = 0; e < 6; e++) {
+                const int n = m->tet10[10 * t + 4 + e];
+                if (flag[n]) continue;
+                long long a = m->tet10[10 * t + edge[e][0]], b = m->tet10[10 * t + edge[e][1]];
+                long long key = a < b ? a * m->nv + b : b * m->nv + a;
+                if (bsearch(&key, be, 3 * (size_t)nf, sizeof *be, cmp_ll)) {
+                    flag[n] = 1;
+                    ++*count;
+                }
+            }
+        eo_free(ctx, be);
     }
     eo_free(ctx, faces);
     return EO_OK;

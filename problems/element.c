@@ -1,0 +1,116 @@
+/* The element kind: the generic per-tet kernel over an element's quadrature (element.h),
+ * and its registry (one line per element). */
+#include <math.h>
+#include <string.h>
+
+#include "elastopt/element.h"
+#include "problem_registry.h"
+
+void eo_element_grad(const eo_element_type *el, const double Dminv[9], const double lambda[4], double *G)
+{
+    double dN[4 * EO_ELEMENT_MAX_NODES];
+    el->shape(lambda, NULL, dN);
+    /* ∇λ_j = row j of Dₘ⁻¹ (j < 3), ∇λ₃ = −Σ: X − X₃ = Dₘ (λ₀, λ₁, λ₂) */
+    double gl[4][3];
+    for (int c = 0; c < 3; c++) {
+        gl[0][c] = Dminv[c], gl[1][c] = Dminv[3 + c], gl[2][c] = Dminv[6 + c];
+        gl[3][c] = -(gl[0][c] + gl[1][c] + gl[2][c]);
+    }
+    for (int a = 0; a < el->nodes; a++)
+        for (int c = 0; c < 3; c++)
+            G[3 * a + c] = dN[4 * a] * gl[0][c] + dN[4 * a + 1] * gl[1][c] + dN[4 * a + 2] * gl[2][c] +
+                           dN[4 * a + 3] * gl[3][c];
+}
+
+int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, const eo_material_coef *c,
+                        const double Dminv[9], double V, const double *x, eo_eval_what what, eo_proj proj,
+                        double *energy, double *grad, double *hess, double *minJ)
+{
+    if (mt->flags & EO_MATERIAL_EDGE) return EO_ERR_UNSUPPORTED;
+    const int n = el->nodes, n3 = 3 * n;
+    double e = 0, jmin = INFINITY;
+    if (what >= EO_EVAL_GRAD) memset(grad, 0, (size_t)n3 * sizeof(double));
+    if (what >= EO_EVAL_HESS) memset(hess, 0, (size_t)n3 * n3 * sizeof(double));
+    for (int q = 0; q < el->nq; q++) {
+        double G[3 * EO_ELEMENT_MAX_NODES], F[9] = {0};
+        eo_element_grad(el, Dminv, el->qp + 4 * q, G);
+        for (int a = 0; a < n; a++)
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) F[3 * i + j] += x[3 * a + i] * G[3 * a + j];
+        eo_material_eval me;
+        int rc = eo_material_evaluate(mt, c, F, what, proj, &me);
+        if (rc < 0) return rc;
+        if (me.J < jmin) jmin = me.J;
+        const double w = el->qw[q] * V;
+        e += w * me.psi;
+        if (!isfinite(me.psi)) continue;
+        if (what >= EO_EVAL_GRAD)
+            for (int a = 0; a < n; a++)
+                for (int i = 0; i < 3; i++)
+                    grad[3 * a + i] += w * (me.P[3 * i] * G[3 * a] + me.P[3 * i + 1] * G[3 * a + 1] +
+                                            me.P[3 * i + 2] * G[3 * a + 2]);
+        if (what >= EO_EVAL_HESS) {
+            /* T[(i j)][(b k)] = Σ_l ∂P_ij/∂F_kl G_bl, then H[(a i)][(b k)] += w Σ_j G_aj T[(i j)][(b k)] */
+            double T[9 * 3 * EO_ELEMENT_MAX_NODES];
+            for (int ij = 0; ij < 9; ij++)
+                for (int b = 0; b < n; b++)
+                    for (int k = 0; k < 3; k++) {
+                        const double *d = me.dPdF + 9 * ij + 3 * k;
+                        T[ij * n3 + 3 * b + k] = d[0] * G[3 * b] + d[1] * G[3 * b + 1] + d[2] * G[3 * b + 2];
+                    }
+            for (int a = 0; a < n; a++)
+                for (int i = 0; i < 3; i++) {
+                    double *h = hess + (size_t)(3 * a + i) * n3;
+                    const double g0 = w * G[3 * a], g1 = w * G[3 * a + 1], g2 = w * G[3 * a + 2];
+                    const double *t0 = T + (3 * i) * n3, *t1 = t0 + n3, *t2 = t1 + n3;
+                    for (int bk = 0; bk < n3; bk++) h[bk] += g0 * t0[bk] + g1 * t1[bk] + g2 * t2[bk];
+                }
+        }
+    }
+    if (minJ) *minJ = jmin;
+    if (!isfinite(e) || ((mt->flags & EO_MATERIAL_BARRIER) && eo_tet_is_inverted(jmin))) {
+        *energy = INFINITY;
+        if (what >= EO_EVAL_GRAD) memset(grad, 0, (size_t)n3 * sizeof(double));
+        if (what >= EO_EVAL_HESS) memset(hess, 0, (size_t)n3 * n3 * sizeof(double));
+        return EO_OK;
+    }
+    *energy = e;
+    return EO_OK;
+}
+
+/* ---------------------------------------------------------------- registry */
+
+const void *const eo_registry_element[] = {
+    &eo_element_p1,
+    &eo_element_p2,
+    NULL,
+};
+
+static int check_element(eo_ctx *ctx, const void *type)
+{
+    const eo_element_type *t = type;
+    if (t->nodes != 4 && t->nodes != 10)
+        return eo_error(ctx, EO_ERR_INVALID, "register element '%s': nodes must be 4 or 10 (got %d)", t->info.name,
+                        t->nodes);
+    if (t->nq < 1 || t->nq > EO_ELEMENT_MAX_QP || !t->qp || !t->qw || !t->shape || !t->mass || !t->lumped || !t->load)
+        return eo_error(ctx, EO_ERR_INVALID,
+                        "register element '%s': 1 <= nq <= %d, qp, qw, shape, mass, lumped and load are required",
+                        t->info.name, EO_ELEMENT_MAX_QP);
+    double sw = 0, sl = 0, sm = 0, sf = 0;
+    for (int q = 0; q < t->nq; q++) sw += t->qw[q];
+    for (int a = 0; a < t->nodes; a++) {
+        if (!(t->lumped[a] > 0))
+            return eo_error(ctx, EO_ERR_INVALID, "register element '%s': lumped mass of node %d not positive",
+                            t->info.name, a);
+        sl += t->lumped[a], sf += t->load[a];
+        for (int b = 0; b < t->nodes; b++) sm += t->mass[t->nodes * a + b];
+    }
+    if (fabs(sw - 1) > 1e-12 || fabs(sl - 1) > 1e-12 || fabs(sm - 1) > 1e-12 || fabs(sf - 1) > 1e-12)
+        return eo_error(ctx, EO_ERR_INVALID,
+                        "register element '%s': quadrature weights, lumped mass, consistent mass and load must each "
+                        "sum to 1 (got %g, %g, %g, %g)",
+                        t->info.name, sw, sl, sm, sf);
+    return EO_OK;
+}
+
+eo_registry eo_reg_element = EO_REGISTRY_INIT(EO_KIND_ELEMENT, eo_registry_element, check_element);
