@@ -20,6 +20,9 @@
 #include <jansson.h>
 
 #include "elastopt/sim.h"
+#include "elastopt/element.h"
+#include "elastopt/impl/method.h"
+#include "elastopt/registry.h"
 
 struct eo_sim {
     eo_ctx *ctx;
@@ -218,6 +221,35 @@ static int mass_solver(eo_ctx *ctx, eo_cfg *cfg, const char *name, eo_linsolve *
     return rc;
 }
 
+/* An optimizer that needs per-tet operations of the linear tet (needs_ops: the split
+ * F = D x, the vertex blocks) on a scene whose element has none: refused before anything
+ * is built or written. `what` names the entry (solver, solver.fallback.N). */
+static int check_element(eo_ctx *ctx, const eo_scene *sc, const eo_solver *sv, const char *what)
+{
+    const eo_optimizer_type *t = NULL;
+    if (!sc->element || (sc->element->flags & EO_ELEMENT_LINEAR) ||
+        eo_registry_find(ctx, EO_KIND_OPTIMIZER, eo_solver_get_opts(sv)->optimizer, (const void **)&t) < 0 ||
+        !t->needs_ops)
+        return EO_OK;
+    return eo_error(ctx, EO_ERR_INVALID,
+                    "%s: optimizer %s needs %s, which element %s does not have (they assume one deformation "
+                    "gradient per 4-node tet): use element p1 or another optimizer",
+                    what, t->info.name,
+                    t->needs_ops & EO_OBJ_NEEDS_SPLIT ? "the per-tet split F = D x" : "per-vertex blocks",
+                    sc->element->info.name);
+}
+
+static int check_elements(eo_ctx *ctx, const eo_scene *sc, const eo_solver *sv, eo_solver *const *fb, int nfb)
+{
+    int rc = check_element(ctx, sc, sv, "solver");
+    for (int i = 0; rc >= 0 && i < nfb; i++) {
+        char what[48];
+        snprintf(what, sizeof what, "solver.fallback.%d", i);
+        rc = check_element(ctx, sc, fb[i], what);
+    }
+    return rc;
+}
+
 int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
 {
     *out = NULL;
@@ -240,6 +272,7 @@ int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
     if (s->sc->integrator->explicit_step && !s->sc->lumped && s->sc->mesh->nt > 0)
         EO_TRY(rc = mass_solver(ctx, cfg, so.linear, &mls));
     EO_TRY(rc = eo_cfg_finish(ctx, cfg));
+    EO_TRY(rc = check_elements(ctx, s->sc, s->solver, s->fb, s->nfb));
     /* configuration valid: build the step engine */
     EO_TRY(rc = eo_step_create(ctx, s->sc, &s->st));
     if (mls) {
@@ -317,6 +350,11 @@ int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solver_cfg)
     int rc = eo_solver_create(s->ctx, opts, solver_cfg, &sv);
     if (rc < 0) return rc;
     if ((rc = fallback_load(s->ctx, solver_cfg, fb, &nfb, 0)) < 0) {
+        eo_solver_destroy(&sv);
+        return rc;
+    }
+    if ((rc = check_elements(s->ctx, s->sc, sv, fb, nfb)) < 0) {
+        fallback_clear(fb, &nfb);
         eo_solver_destroy(&sv);
         return rc;
     }

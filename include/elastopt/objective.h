@@ -52,6 +52,12 @@ struct eo_objective_characteristic;
 struct eo_material_type;
 struct eo_material_coef;
 
+/// Optional objective operations an optimizer may require (eo_optimizer_type.needs_ops):
+/// the per-tet split F = D x (split_info, split_apply, split_adjoint: one F per tet, the
+/// linear tet's), the vertex blocks (vertex_blocks, vertex_block).
+enum { EO_OBJ_NEEDS_SPLIT = 1, EO_OBJ_NEEDS_VERTEX = 2 };
+
+
 /// The elastic elements of an objective (ops->split_info), borrowed.
 typedef struct eo_objective_split {
     int ne;                                         ///< elements E (= n_elements)

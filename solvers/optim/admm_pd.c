@@ -298,6 +298,7 @@ const eo_optimizer_type eo_optimizer_admm_pd = {
     .state_size = sizeof(admm_state),
     .needs_linear = 1,
     .needs_hessian = 0,
+    .needs_ops = EO_OBJ_NEEDS_SPLIT,
     .setup = admm_setup,
     .minimize = admm_minimize,
     .destroy = admm_destroy,

@@ -340,6 +340,7 @@ const eo_optimizer_type eo_optimizer_vbd = {
     .state_size = sizeof(vbd_state),
     .needs_linear = 0,
     .needs_hessian = 0,
+    .needs_ops = EO_OBJ_NEEDS_VERTEX,
     .linesearch = "none",
     .setup = vbd_setup,
     .minimize = vbd_minimize,

@@ -282,6 +282,10 @@ typedef struct eo_optimizer_type {
     /// (newton): the stopping rules then measure progress by λ_k/λ_0. 0 (the default, also
     /// for plug-ins): by the metric gradient norm ‖∇g_k‖_{D⁻¹}/‖∇g_0‖_{D⁻¹}.
     int newton_decrement;
+    /// Objective operations beyond value, gradient and Hessian the optimizer cannot run
+    /// without (EO_OBJ_NEEDS_*, objective.h; 0 for most): the simulation driver refuses
+    /// at load, naming the element, a step objective that lacks them (eo_sim_create).
+    unsigned needs_ops;
 } eo_optimizer_type;
 
 EO_API extern const eo_optimizer_type eo_optimizer_newton, eo_optimizer_newton_tr,
