@@ -113,6 +113,8 @@ int eo_step_set_state(eo_step *st, const double *x, const double *v, double t)
 {
     memcpy(st->x, x, (size_t)st->n_full * sizeof(double));
     memcpy(st->v, v, (size_t)st->n_full * sizeof(double));
+    if (t == 0) /* a state at t = 0 is the initial state: the prescribed motions start from it */
+        memcpy(st->x0, x, (size_t)st->n_full * sizeof(double));
     st->t = t;
     st->inv_valid = 0;
     st->erestart = 1;

@@ -155,7 +155,8 @@ EO_API void eo_step_destroy(eo_step **st);
 /// Initial state of the scene: rest positions transformed by `initial`, its velocity,
 /// t = 0, step index 0.
 EO_API int eo_step_reset(eo_step *st);
-/// Set the state (3·nv positions and velocities, copied) and time.
+/// Set the state (3·nv positions and velocities, copied) and time. A state at t = 0 is
+/// the initial state: prescribed motions (boundary entries) start from its positions.
 EO_API int eo_step_set_state(eo_step *st, const double *x, const double *v, double t);
 /// Set the step index (eo_step_index; eo_sim_set_state restores it with the state).
 EO_API int eo_step_set_index(eo_step *st, int index);
