@@ -22,12 +22,65 @@ void eo_element_grad(const eo_element_type *el, const double Dminv[9], const dou
                            dN[4 * a + 3] * gl[3][c];
 }
 
-int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, const eo_material_coef *c,
+eo_material_coef eo_element_split_coef(const eo_material_coef *c, double *kappa)
+{
+    eo_material_coef d = *c;
+    const double mu = c->mu, ld = c->lambda < mu ? c->lambda : mu;
+    d.lambda = ld;
+    d.nu = ld / (2 * (ld + mu));
+    d.E = 2 * mu * (1 + d.nu);
+    if (kappa) *kappa = c->lambda - ld;
+    return d;
+}
+
+/* ∂²J/∂F_ij∂F_kl = Σ_mn ε_ikm ε_jln F_mn (row-major pairs (ij), (kl)) */
+static void det_hessian(const double F[9], double D[81])
+{
+    static const int eps[3][3][3] = {{{0, 0, 0}, {0, 0, 1}, {0, -1, 0}},
+                                     {{0, 0, -1}, {0, 0, 0}, {1, 0, 0}},
+                                     {{0, 1, 0}, {-1, 0, 0}, {0, 0, 0}}};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 3; k++)
+                for (int l = 0; l < 3; l++) {
+                    double s = 0;
+                    for (int m = 0; m < 3; m++)
+                        for (int q = 0; q < 3; q++) s += eps[i][k][m] * eps[j][l][q] * F[3 * m + q];
+                    D[9 * (3 * i + j) + 3 * k + l] = s;
+                }
+}
+
+/* H[(a i)][(b k)] += w Σ_jl G_aj D[(ij)][(kl)] G_bl for n nodes (H is (3n)², row-major) */
+static void add_GtDG(int n, const double *G, const double *D, double w, double *H)
+{
+    const int n3 = 3 * n;
+    double T[9 * 3 * EO_ELEMENT_MAX_NODES];
+    for (int ij = 0; ij < 9; ij++)
+        for (int b = 0; b < n; b++)
+            for (int k = 0; k < 3; k++) {
+                const double *d = D + 9 * ij + 3 * k;
+                T[ij * n3 + 3 * b + k] = d[0] * G[3 * b] + d[1] * G[3 * b + 1] + d[2] * G[3 * b + 2];
+            }
+    for (int a = 0; a < n; a++)
+        for (int i = 0; i < 3; i++) {
+            double *h = H + (size_t)(3 * a + i) * n3;
+            const double g0 = w * G[3 * a], g1 = w * G[3 * a + 1], g2 = w * G[3 * a + 2];
+            const double *t0 = T + (3 * i) * n3, *t1 = t0 + n3, *t2 = t1 + n3;
+            for (int bk = 0; bk < n3; bk++) h[bk] += g0 * t0[bk] + g1 * t1[bk] + g2 * t2[bk];
+        }
+}
+
+int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, const eo_material_coef *c0,
                         const double Dminv[9], double V, const double *x, eo_eval_what what, eo_proj proj,
                         double *energy, double *grad, double *hess, double *minJ)
 {
     if (mt->flags & EO_MATERIAL_EDGE) return EO_ERR_UNSUPPORTED;
-    const int n = el->nodes, n3 = 3 * n;
+    const int n = el->nodes, n3 = 3 * n, md = (el->flags & EO_ELEMENT_MEAN_DILATATION) != 0;
+    double kappa = 0;
+    const eo_material_coef cd = md ? eo_element_split_coef(c0, &kappa) : *c0;
+    const eo_material_coef *c = &cd;
+    double theta = 0, dtheta[3 * EO_ELEMENT_MAX_NODES];
+    if (md) memset(dtheta, 0, sizeof dtheta);
     double e = 0, jmin = INFINITY;
     if (what >= EO_EVAL_GRAD) memset(grad, 0, (size_t)n3 * sizeof(double));
     if (what >= EO_EVAL_HESS) memset(hess, 0, (size_t)n3 * n3 * sizeof(double));
@@ -49,21 +102,37 @@ int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, c
                 for (int i = 0; i < 3; i++)
                     grad[3 * a + i] += w * (me.P[3 * i] * G[3 * a] + me.P[3 * i + 1] * G[3 * a + 1] +
                                             me.P[3 * i + 2] * G[3 * a + 2]);
+        if (what >= EO_EVAL_HESS) add_GtDG(n, G, me.dPdF, w, hess);
+        if (md) { /* θ = Σ_q w_q J_q, ∇θ = Σ_q w_q cof(F_q) G_q, ∇²θ = Σ_q w_q Gᵀ ∂²J G */
+            const double wq = el->qw[q];
+            theta += wq * me.J;
+            if (what >= EO_EVAL_GRAD) {
+                const double C[9] = {F[4] * F[8] - F[5] * F[7], F[5] * F[6] - F[3] * F[8], F[3] * F[7] - F[4] * F[6],
+                                     F[2] * F[7] - F[1] * F[8], F[0] * F[8] - F[2] * F[6], F[1] * F[6] - F[0] * F[7],
+                                     F[1] * F[5] - F[2] * F[4], F[2] * F[3] - F[0] * F[5], F[0] * F[4] - F[1] * F[3]};
+                for (int a = 0; a < n; a++)
+                    for (int i = 0; i < 3; i++)
+                        dtheta[3 * a + i] += wq * (C[3 * i] * G[3 * a] + C[3 * i + 1] * G[3 * a + 1] + C[3 * i + 2] * G[3 * a + 2]);
+            }
+        }
+    }
+    if (md && isfinite(e)) {
+        const double r = theta - 1;
+        e += V * 0.5 * kappa * r * r;
+        if (what >= EO_EVAL_GRAD)
+            for (int k = 0; k < n3; k++) grad[k] += V * kappa * r * dtheta[k];
         if (what >= EO_EVAL_HESS) {
-            /* T[(i j)][(b k)] = Σ_l ∂P_ij/∂F_kl G_bl, then H[(a i)][(b k)] += w Σ_j G_aj T[(i j)][(b k)] */
-            double T[9 * 3 * EO_ELEMENT_MAX_NODES];
-            for (int ij = 0; ij < 9; ij++)
-                for (int b = 0; b < n; b++)
-                    for (int k = 0; k < 3; k++) {
-                        const double *d = me.dPdF + 9 * ij + 3 * k;
-                        T[ij * n3 + 3 * b + k] = d[0] * G[3 * b] + d[1] * G[3 * b + 1] + d[2] * G[3 * b + 2];
-                    }
-            for (int a = 0; a < n; a++)
-                for (int i = 0; i < 3; i++) {
-                    double *h = hess + (size_t)(3 * a + i) * n3;
-                    const double g0 = w * G[3 * a], g1 = w * G[3 * a + 1], g2 = w * G[3 * a + 2];
-                    const double *t0 = T + (3 * i) * n3, *t1 = t0 + n3, *t2 = t1 + n3;
-                    for (int bk = 0; bk < n3; bk++) h[bk] += g0 * t0[bk] + g1 * t1[bk] + g2 * t2[bk];
+            for (int a = 0; a < n3; a++)
+                for (int b = 0; b < n3; b++) hess[(size_t)a * n3 + b] += V * kappa * dtheta[a] * dtheta[b];
+            if (proj == EO_PROJ_NONE) /* the curvature term, exact Hessian only */
+                for (int q = 0; q < el->nq; q++) {
+                    double G[3 * EO_ELEMENT_MAX_NODES], F[9] = {0}, D[81];
+                    eo_element_grad(el, Dminv, el->qp + 4 * q, G);
+                    for (int a = 0; a < n; a++)
+                        for (int i = 0; i < 3; i++)
+                            for (int j = 0; j < 3; j++) F[3 * i + j] += x[3 * a + i] * G[3 * a + j];
+                    det_hessian(F, D);
+                    add_GtDG(n, G, D, V * kappa * r * el->qw[q], hess);
                 }
         }
     }
@@ -83,6 +152,7 @@ int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, c
 const void *const eo_registry_element[] = {
     &eo_element_p1,
     &eo_element_p2,
+    &eo_element_p2p0,
     NULL,
 };
 

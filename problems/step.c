@@ -208,6 +208,15 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
             eo_material_eval ev;
             eo_material_evaluate(mat->type, &mat->coef, I3, EO_EVAL_ENERGY, EO_PROJ_NONE, &ev);
             st->psi_rest[k] = ev.psi;
+            if (!linear) { /* the element's own energy density at rest (mixed elements split ψ) */
+                const int *en = (npe == 10 ? m->tet10 : m->tets) + (size_t)npe * k;
+                double Xe[3 * EO_ELEMENT_MAX_NODES], e0;
+                for (int a = 0; a < npe; a++)
+                    for (int c = 0; c < 3; c++) Xe[3 * a + c] = m->X[3 * en[a] + c];
+                eo_element_evaluate(el, mat->type, &mat->coef, st->Dminv + 9 * k, st->vol[k], Xe, EO_EVAL_ENERGY,
+                                    EO_PROJ_NONE, &e0, NULL, NULL, NULL);
+                st->psi_rest[k] = e0 / st->vol[k];
+            }
         }
         if (linear) {
             for (int a = 0; a < 4; a++) st->vmass[m->tets[4 * k + a]] += st->rho[k] * st->vol[k] / 4.0;

@@ -42,7 +42,16 @@ enum {
 enum {
     /// The linear tet: the engine's own paths (eo_tet_evaluate, the Morton-ordered loops,
     /// the per-tet operations of projective dynamics, ADMM, vertex block descent) apply.
-    EO_ELEMENT_LINEAR = 1
+    EO_ELEMENT_LINEAR = 1,
+    /// Mean-dilatation mixed element (displacement of the element's order, pressure and
+    /// dilatation constant per tet, condensed: Simo, Taylor & Pister 1985; Hughes 1980 for
+    /// the linear case): the energy per tet is
+    ///     V [Σ_q w_q ψ_d(F_q) + κ/2 (θ − 1)²],   θ = Σ_q w_q det F_q,
+    /// with ψ_d the material at the reduced λ_d = min(λ, μ) (same μ) and κ = λ − λ_d:
+    /// the same linearization as the material (λ_d + κ = λ), the volume constraint enforced
+    /// once per tet instead of at every point. With a projection asked, the curvature
+    /// term κ(θ − 1)∇²θ is dropped (Gauss–Newton: the element matrix stays PSD).
+    EO_ELEMENT_MEAN_DILATATION = 2
 };
 
 typedef struct eo_element_type {
@@ -64,8 +73,13 @@ typedef struct eo_element_type {
     const double *load;
 } eo_element_type;
 
-/// The built-in elements: the linear tet and the 10-node quadratic tet.
-EO_API extern const eo_element_type eo_element_p1, eo_element_p2;
+/// The built-in elements: the linear tet, the 10-node quadratic tet and its mean-dilatation
+/// mixed form (P2–P0).
+EO_API extern const eo_element_type eo_element_p1, eo_element_p2, eo_element_p2p0;
+
+/// The coefficients of the deviatoric-leaning part ψ_d of a mean-dilatation element: μ
+/// kept, λ_d = min(λ, μ) (E and ν recomputed to match); *kappa = λ − λ_d.
+EO_API eo_material_coef eo_element_split_coef(const eo_material_coef *c, double *kappa);
 
 /// Energy Σ_q w_q V (ψ(F_q)), and as asked its gradient (3·nodes) and Hessian
 /// ((3·nodes)², row-major; each point's ∂P/∂F projected with `proj`), at the element's

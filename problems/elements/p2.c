@@ -68,3 +68,21 @@ const eo_element_type eo_element_p2 = {
     .lumped = lumped,
     .load = load,
 };
+
+/* P2–P0: the same nodes, shape functions, quadrature and masses, with the volume
+ * constraint enforced once per tet by the mean dilatation (element.h,
+ * EO_ELEMENT_MEAN_DILATATION). P2–P0 is inf-sup stable (Boffi, Brezzi & Fortin 2013,
+ * §8.6), so it does not lock as ν → 0.5, where p2 does (tests/test_element.c). */
+const eo_element_type eo_element_p2p0 = {
+    .info = {.name = "p2p0", .summary = "10-node tet with a constant pressure per tet (mean dilatation): no locking"},
+    .nodes = 10,
+    .flags = EO_ELEMENT_MEAN_DILATATION,
+    .nq = 4,
+    .qp = qp,
+    .qw = qw,
+    .degree = 2,
+    .shape = shape,
+    .mass = mass,
+    .lumped = lumped,
+    .load = load,
+};
