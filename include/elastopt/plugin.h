@@ -44,8 +44,10 @@ extern "C" {
 /// (newton_decrement), eo_objective_ops (rounding_scale). 8: eo_objective_ops grew (max_step,
 /// characteristic, split_info, split_apply, split_adjoint), eo_stop_info grew (grad_char); vertex_blocks, vertex_block; eo_pd_local_global_params grew (chebyshev, rho,
 /// delay, gamma); CPU-time fields appended to the solve,
-/// profile, linear-solver and step results.
-#define EO_ABI_VERSION 8
+/// profile, linear-solver and step results. 9: eo_optimizer_type grew (needs_ops), the
+/// kind EO_KIND_ELEMENT (eo_element_type), eo_scene_opts / eo_scene (element) and eo_mesh
+/// (order, tet10, tri_mid) grew.
+#define EO_ABI_VERSION 9
 
 /// The library's EO_ABI_VERSION.
 EO_API int eo_abi_version(void);
