@@ -5,6 +5,7 @@
 
 #include "elastopt/element.h"
 #include "problem_registry.h"
+#include "term.h"
 
 void eo_element_grad(const eo_element_type *el, const double Dminv[9], const double lambda[4], double *G)
 {
@@ -34,7 +35,7 @@ eo_material_coef eo_element_split_coef(const eo_material_coef *c, double *kappa)
 }
 
 /* ∂²J/∂F_ij∂F_kl = Σ_mn ε_ikm ε_jln F_mn (row-major pairs (ij), (kl)) */
-static void det_hessian(const double F[9], double D[81])
+void eo_elementi_det_hessian(const double F[9], double D[81])
 {
     static const int eps[3][3][3] = {{{0, 0, 0}, {0, 0, 1}, {0, -1, 0}},
                                      {{0, 0, -1}, {0, 0, 0}, {1, 0, 0}},
@@ -51,7 +52,7 @@ static void det_hessian(const double F[9], double D[81])
 }
 
 /* H[(a i)][(b k)] += w Σ_jl G_aj D[(ij)][(kl)] G_bl for n nodes (H is (3n)², row-major) */
-static void add_GtDG(int n, const double *G, const double *D, double w, double *H)
+void eo_elementi_GtDG(int n, const double *G, const double *D, double w, double *H)
 {
     const int n3 = 3 * n;
     double T[9 * 3 * EO_ELEMENT_MAX_NODES];
@@ -76,8 +77,9 @@ int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, c
 {
     if (mt->flags & EO_MATERIAL_EDGE) return EO_ERR_UNSUPPORTED;
     const int n = el->nodes, n3 = 3 * n, md = (el->flags & EO_ELEMENT_MEAN_DILATATION) != 0;
+    const int split = md || (el->flags & EO_ELEMENT_NODAL_DILATATION);
     double kappa = 0;
-    const eo_material_coef cd = md ? eo_element_split_coef(c0, &kappa) : *c0;
+    const eo_material_coef cd = split ? eo_element_split_coef(c0, &kappa) : *c0;
     const eo_material_coef *c = &cd;
     double theta = 0, dtheta[3 * EO_ELEMENT_MAX_NODES];
     if (md) memset(dtheta, 0, sizeof dtheta);
@@ -102,7 +104,7 @@ int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, c
                 for (int i = 0; i < 3; i++)
                     grad[3 * a + i] += w * (me.P[3 * i] * G[3 * a] + me.P[3 * i + 1] * G[3 * a + 1] +
                                             me.P[3 * i + 2] * G[3 * a + 2]);
-        if (what >= EO_EVAL_HESS) add_GtDG(n, G, me.dPdF, w, hess);
+        if (what >= EO_EVAL_HESS) eo_elementi_GtDG(n, G, me.dPdF, w, hess);
         if (md) { /* θ = Σ_q w_q J_q, ∇θ = Σ_q w_q cof(F_q) G_q, ∇²θ = Σ_q w_q Gᵀ ∂²J G */
             const double wq = el->qw[q];
             theta += wq * me.J;
@@ -131,8 +133,8 @@ int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, c
                     for (int a = 0; a < n; a++)
                         for (int i = 0; i < 3; i++)
                             for (int j = 0; j < 3; j++) F[3 * i + j] += x[3 * a + i] * G[3 * a + j];
-                    det_hessian(F, D);
-                    add_GtDG(n, G, D, V * kappa * r * el->qw[q], hess);
+                    eo_elementi_det_hessian(F, D);
+                    eo_elementi_GtDG(n, G, D, V * kappa * r * el->qw[q], hess);
                 }
         }
     }
@@ -153,6 +155,7 @@ const void *const eo_registry_element[] = {
     &eo_element_p1,
     &eo_element_p2,
     &eo_element_p2p0,
+    &eo_element_p1anp,
     NULL,
 };
 

@@ -185,6 +185,21 @@ void eo_term_destroy(eo_ctx *ctx, eo_term **t);
 /* Shared helper: allocate a term with a full-length vector if `with_vec`. */
 int eo_term_alloc(eo_sys *s, const eo_term_ops *ops, int with_vec, eo_term **out);
 
+/* element.c: ∂²J/∂F² (81, pairs (ij), (kl) row-major) at F, and H += w Gᵀ D G over n
+ * nodes (G: n×3 shape gradients; H (3n)², row-major). */
+void eo_elementi_det_hessian(const double F[9], double D[81]);
+void eo_elementi_GtDG(int n, const double *G, const double *D, double w, double *H);
+/* term_elastic_nodal.c: the nodal volumetric part of the average-nodal-pressure element
+ * (EO_ELEMENT_NODAL_DILATATION), owned by the elastic term: energy (unweighted), gradient
+ * (w·∇ added into g, returns the unweighted energy), Hessian (w·∇² into s->as). */
+typedef struct eo_anp eo_anp;
+int eo_anp_create(eo_sys *s, eo_anp **out);
+int eo_anp_attach(eo_anp *a, eo_sys *s);
+double eo_anp_energy(eo_anp *a, const eo_sys *s, const double *x);
+double eo_anp_gradient(eo_anp *a, const eo_sys *s, const double *x, double w, double *g);
+int eo_anp_hessian(eo_anp *a, const eo_sys *s, const double *x, eo_proj proj, double w);
+void eo_anp_destroy(eo_anp **a, eo_ctx *ctx);
+
 /* Element loop helpers. */
 static inline void eo_gather12(const double *x, const int *tet, double x12[12])
 {

@@ -64,6 +64,7 @@ static void eval_tet(const tref *t, const double *x, eo_eval_what what, eo_proj 
 /* The term's data: the inverted count of the last gradient evaluation. */
 typedef struct elastic_data {
     int inverted;
+    eo_anp *anp;    /* the nodal volumetric part (EO_ELEMENT_NODAL_DILATATION), else NULL */
 } elastic_data;
 
 /* ---- elements other than the linear tet (element.h): the element's quadrature through
@@ -96,6 +97,8 @@ static double energy_el(eo_term *t, const eo_sys *s, const double *x)
                             EO_PROJ_NONE, &ek, NULL, NULL, NULL);
         e += ek - s->vol[k] * s->psi_rest[k];
     }
+    const elastic_data *d = t->data;
+    if (d->anp) e += eo_anp_energy(d->anp, s, x);
     if (isnan(e)) e = INFINITY;
     return t->weight * e;
 }
@@ -134,7 +137,9 @@ static double gradient_el(eo_term *t, const eo_sys *s, const double *x, double *
                 for (int c = 0; c < 3; c++) g[3 * en[a] + c] += w * ge[3 * a + c];
         }
     }
-    ((elastic_data *)t->data)->inverted = inv;
+    elastic_data *d = t->data;
+    d->inverted = inv;
+    if (d->anp) e += eo_anp_gradient(d->anp, s, x, w, g);
     return isfinite(e) ? w * e : INFINITY;
 }
 
@@ -162,7 +167,8 @@ static int hessian_el(eo_term *t, const eo_sys *s, const double *x, eo_proj proj
             eo_assembler_add_scaled(s->as, s->tet_group, k, s->elem_H + (size_t)ne * ne * j, w);
         }
     }
-    return EO_OK;
+    const elastic_data *d = t->data;
+    return d->anp ? eo_anp_hessian(d->anp, s, x, proj, w) : EO_OK;
 }
 
 /* Projective-dynamics matrix of a general element: w Σₜ Vₜ kₜ Σ_q w_q G_qᵀG_q ⊗ I₃, G_q the
@@ -362,8 +368,16 @@ static double vertex(eo_term *t, const eo_sys *s, const double *x, int v, eo_pro
 
 static void destroy(eo_term *t, eo_ctx *ctx)
 {
+    elastic_data *d = t->data;
+    if (d) eo_anp_destroy(&d->anp, ctx);
     eo_free(ctx, t->data);
     t->data = NULL;
+}
+
+static int attach(eo_term *t, eo_sys *s)
+{
+    elastic_data *d = t->data;
+    return d->anp ? eo_anp_attach(d->anp, s) : EO_OK;
 }
 
 static const eo_term_ops elastic_ops = {
@@ -372,6 +386,7 @@ static const eo_term_ops elastic_ops = {
     .gradient = gradient,
     .hessian = hessian,
     .destroy = destroy,
+    .attach = attach,
     .pd_hessian = pd_hessian,
     .vertex = vertex,
 };
@@ -380,9 +395,14 @@ int eo_term_elastic_create(eo_sys *s, eo_term **out)
 {
     int rc = eo_term_alloc(s, &elastic_ops, 0, out);
     if (rc < 0) return rc;
-    if (!((*out)->data = eo_calloc(s->ctx, 1, sizeof(elastic_data)))) {
+    elastic_data *d = eo_calloc(s->ctx, 1, sizeof(elastic_data));
+    if (!((*out)->data = d)) {
         eo_term_destroy(s->ctx, out);
         return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (term elastic)");
+    }
+    if (s->el && (s->el->flags & EO_ELEMENT_NODAL_DILATATION) && (rc = eo_anp_create(s, &d->anp)) < 0) {
+        eo_term_destroy(s->ctx, out);
+        return rc;
     }
     return EO_OK;
 }

@@ -51,7 +51,13 @@ enum {
     /// the same linearization as the material (λ_d + κ = λ), the volume constraint enforced
     /// once per tet instead of at every point. With a projection asked, the curvature
     /// term κ(θ − 1)∇²θ is dropped (Gauss–Newton: the element matrix stays PSD).
-    EO_ELEMENT_MEAN_DILATATION = 2
+    EO_ELEMENT_MEAN_DILATATION = 2,
+    /// Average nodal pressure (Bonet & Burton 1998): the tets carry the material at λ_d
+    /// (as above) and the volumetric rest, κ = λ − λ_d, acts on the patch volume ratio of
+    /// each vertex: Σ_a V_a κ_a/2 (J_a − 1)², J_a = Σ_{t∋a} V_t J_t / Σ_{t∋a} V_t, V_a and κ_a
+    /// the patch's quarter-volume sums (problems/term_elastic_nodal.c). The elastic term
+    /// adds it; eo_element_evaluate gives the tets' part only.
+    EO_ELEMENT_NODAL_DILATATION = 4
 };
 
 typedef struct eo_element_type {
@@ -73,9 +79,9 @@ typedef struct eo_element_type {
     const double *load;
 } eo_element_type;
 
-/// The built-in elements: the linear tet, the 10-node quadratic tet and its mean-dilatation
-/// mixed form (P2–P0).
-EO_API extern const eo_element_type eo_element_p1, eo_element_p2, eo_element_p2p0;
+/// The built-in elements: the linear tet, the 10-node quadratic tet, its mean-dilatation
+/// mixed form (P2–P0) and the average-nodal-pressure linear tet.
+EO_API extern const eo_element_type eo_element_p1, eo_element_p2, eo_element_p2p0, eo_element_p1anp;
 
 /// The coefficients of the deviatoric-leaning part ψ_d of a mean-dilatation element: μ
 /// kept, λ_d = min(λ, μ) (E and ν recomputed to match); *kappa = λ − λ_d.

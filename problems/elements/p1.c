@@ -31,3 +31,20 @@ const eo_element_type eo_element_p1 = {
     .lumped = quarter,
     .load = quarter,
 };
+
+/* The average-nodal-pressure linear tet (Bonet & Burton 1998): the same nodes, shape
+ * functions and masses; the volume constraint moved from the tets to the vertices'
+ * patches (element.h, EO_ELEMENT_NODAL_DILATATION; problems/term_elastic_nodal.c). */
+const eo_element_type eo_element_p1anp = {
+    .info = {.name = "p1anp", .summary = "linear tet with an average nodal pressure (Bonet & Burton 1998): no locking"},
+    .nodes = 4,
+    .flags = EO_ELEMENT_NODAL_DILATATION,
+    .nq = 1,
+    .qp = qp,
+    .qw = qw,
+    .degree = 1,
+    .shape = shape,
+    .mass = mass,
+    .lumped = quarter,
+    .load = quarter,
+};
