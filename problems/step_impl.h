@@ -86,7 +86,7 @@ struct eo_step {
     /* objective op rounding_scale: per vertex a_v = Σ_{t ∋ v} (μₜ + λₜ) Vₜ^{2/3} (nv,
      * allocated at the first call) and Σₜ Vₜ (μₜ + λₜ)²/μₜ; both depend only on the
      * materials and the rest shape */
-    double *rs_a, rs_el;
+    double *rs_a, rs_el, rs_ev;
     /* objective op characteristic (BCQN scales): ‖a‖₂ with a_v = Σ_{t ∋ v} A_{t,v} h_t,
      * Σₜ Vₜ hₜ and Σₜ Vₜ (rest shape and materials only; computed at the first call) */
     double ch_anorm, ch_vh, ch_vol;

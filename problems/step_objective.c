@@ -151,30 +151,33 @@ static int op_metric_diag(void *data, double *d)
     return EO_OK;
 }
 
-/* Rounding scales of g at x (objective.h, rounding_scale): the inertia part Σ Dᵢxᵢ²
+/* Rounding scales of g at x (objective.h, rounding_scale; s[2] = Σ Dᵢxᵢ² + w Σ V(μ + λ),
+ * the magnitude of g's summands, for the plateau): the inertia part Σ Dᵢxᵢ²
  * (x − x̃ rounded at ε|x|, seen through M⁻¹), and the elastic part w Σ V(μ + λ)²/μ for
  * the decrement (stresses rounded at (μ + λ)ε, through the softest mode μ) and
  * 3w² Σ a_v²/m_v for the metric gradient norm (nodal forces rounded at ε(μ + λ)A). Tets
  * only: springs and contact add no scale (their stiffness is not a material's). */
-static int op_rounding_scale(void *data, const double *x, double s[2])
+static int op_rounding_scale(void *data, const double *x, double s[3])
 {
     eo_step *st = data;
     const eo_mesh *m = st->sys.mesh;
     if (!st->rs_a) {
         st->rs_a = eo_calloc(st->ctx, (size_t)(m->nv > 0 ? m->nv : 1), sizeof(double));
         if (!st->rs_a) return eo_error(st->ctx, EO_ERR_NOMEM, "step: out of memory (rounding scale)");
-        double el = 0;
+        double el = 0, ev = 0;
         for (int t = 0; t < m->nt; t++) {
             const eo_material_coef *c = st->tet_coef[t];
             const double V = st->vol[t], ml = c->mu + c->lambda;
             if (!(ml > 0)) continue;
             const double mu = c->mu > 1e-12 * ml ? c->mu : 1e-12 * ml;
             el += V * ml * ml / mu;
+            ev += V * ml;
             const double a = ml * cbrt(V * V);
             const int npe = st->sys.npe;
             for (int q = 0; q < npe; q++) st->rs_a[st->sys.enodes[(size_t)npe * t + q]] += a;
         }
         st->rs_el = el;
+        st->rs_ev = ev;
     }
     double xd = 0, ag = 0;
     for (int i = 0; i < st->nfree; i++) {
@@ -186,6 +189,7 @@ static int op_rounding_scale(void *data, const double *x, double s[2])
     const double w = st->w;
     s[0] = xd + w * st->rs_el;
     s[1] = xd + w * w * ag;
+    s[2] = xd + w * st->rs_ev;
     return EO_OK;
 }
 

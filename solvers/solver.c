@@ -102,12 +102,12 @@ static void stop_begin(const eo_solver_ctx *sc, struct eo_stop_state *st, const 
     for (int i = 0; i < st->n; i++) st->dinv[i] = ok ? 1 / st->dinv[i] : 1;
     st->g0 = si->g;
     st->gm0 = st->gm_last = grad ? metric_norm(st, grad) : NAN;
-    double rs[2] = {0, 0};
+    double rs[3] = {0, 0, 0};
     const double e2 = DBL_EPSILON * DBL_EPSILON;
     if (x && eo_objective_rounding_scale(obj, x, rs) >= 0 && isfinite(rs[0]) && isfinite(rs[1])) {
         st->floor_dec = EO_STOP_FLOOR * e2 * rs[0];
         st->floor_grad = EO_STOP_FLOOR * e2 * rs[1];
-        st->g_scale = rs[0];
+        st->g_scale = isfinite(rs[2]) ? rs[2] : 0;
     } else {
         st->floor_dec = st->floor_grad = st->g_scale = 0;
     }

@@ -148,9 +148,13 @@ typedef struct eo_objective_ops {
     ///   s[0] = Σᵢ Dᵢ xᵢ² + w Σₜ Vₜ (μₜ + λₜ)²/μₜ,
     ///   s[1] = Σᵢ Dᵢ xᵢ² + 3 w² Σ_v a_v²/m_v,   a_v = Σ_{t ∋ v} (μₜ + λₜ) Vₜ^{2/3},
     /// the rounding of x − x̃ (inertia) and of the stresses (elasticity: a stress
-    /// rounded at (μ + λ)ε per unit area, seen through the softest element mode μ).
+    /// rounded at (μ + λ)ε per unit area, seen through the softest element mode μ);
+    /// s[2] the magnitude of the terms g is summed from (the plateau of the decrement
+    /// rules compares with ε·s[2]): Σᵢ Dᵢ xᵢ² + w Σₜ Vₜ (μₜ + λₜ). s[0] grows as λ²/μ,
+    /// s[2] only as λ: a nearly incompressible scene must not make the value plateau
+    /// (λ/μ)× looser than g resolves.
     /// NULL: no floor (the rules then stop only on measured progress).
-    int (*rounding_scale)(void *data, const double *x, double s[2]);
+    int (*rounding_scale)(void *data, const double *x, double s[3]);
     /// Optional: the largest step along p that inverts no element, for barrier-aware line
     /// searches (solvers/linesearch/barrier_filter.c): *alpha_max = the smallest α > 0 at
     /// which an element with J = det F > 0 at x reaches J = 0 on x + αp (+INFINITY if none
@@ -238,7 +242,7 @@ static inline int eo_objective_constant_hessian(eo_objective *o, eo_csc **L, uns
 }
 
 /// The rounding scales of ops->rounding_scale at x; EO_ERR_UNSUPPORTED if none.
-static inline int eo_objective_rounding_scale(eo_objective *o, const double *x, double s[2])
+static inline int eo_objective_rounding_scale(eo_objective *o, const double *x, double s[3])
 {
     if (!o->ops->rounding_scale) return EO_ERR_UNSUPPORTED;
     return o->ops->rounding_scale(o->data, x, s);

@@ -83,7 +83,7 @@ typedef struct eo_objective_ops {
     int (*inertia)(void *data, void *out);
     int (*constant_factor)(void *data);
     int (*constant_solve)(void *data, const double *b, double *x);
-    int (*rounding_scale)(void *data, const double *x, double *s);
+    int (*rounding_scale)(void *data, const double *x, double *s);  /* s[3] */
     int (*max_step)(void *data, const double *x, const double *p, double *alpha_max);
     int (*characteristic)(void *data, void *out);
     int (*split_info)(void *data, void *out);

@@ -42,7 +42,7 @@ typedef struct eo_stop_info {
     double grad_metric0;  ///< the same at x₀
     double floor_dec;     ///< rounding floor of λ²/2 at x₀, units of g (0: none)
     double floor_grad;    ///< rounding floor of ‖∇g‖²_{D⁻¹}/2 at x₀, units of g (0: none)
-    double g_scale;       ///< the objective's rounding scale s[0] at x₀ (units of g; 0: none):
+    double g_scale;       ///< the objective's value scale s[2] at x₀ (units of g; 0: none):
                           ///< ε·g_scale is the rounding level of g itself
     /// The objective's characteristic gradient norm g_c (objective.h, characteristic),
     /// read by eo_solver_stop_check at x₀; 0 if the objective has none (or the rule is
