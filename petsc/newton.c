@@ -439,6 +439,7 @@ const eo_optimizer_type eo_optimizer_petsc_newton = {
     .state_size = sizeof(pn_state),
     .needs_linear = 0,
     .needs_hessian = 1,
+    .needs_ops = EO_OBJ_NEEDS_PARTS,
     .linesearch = "backtracking",
     .setup = pn_setup,
     .minimize = pn_minimize,

@@ -321,6 +321,7 @@ done:
         .info = {.name = #NAME, .summary = SUMMARY, .params = eo_petsc_params_desc,                        \
                  .params_size = sizeof(eo_petsc_params)},                                                  \
         .state_size = sizeof(pk_state), .needs_linear = 0, .needs_hessian = HESS, .linesearch = "none",   \
+        .needs_ops = EO_OBJ_NEEDS_PARTS,                                                                   \
         .setup = pk_setup, .minimize = NAME##_min, .destroy = pk_destroy}
 
 PK_OPT(snes_newtonls, K_SNES_LS, "PETSc SNES newtonls on grad g = 0 (line search on g; MPI)", 1);

@@ -149,6 +149,16 @@ int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, c
     return EO_OK;
 }
 
+void eo_sys_element_mass(const eo_sys *s, int k, double *Ke)
+{
+    const int n = s->npe, ne = 3 * n;
+    const double rv = s->rho[k] * s->vol[k];
+    memset(Ke, 0, (size_t)ne * ne * sizeof(double));
+    for (int a = 0; a < n; a++)
+        for (int b = 0; b < n; b++)
+            for (int c = 0; c < 3; c++) Ke[(size_t)(3 * a + c) * ne + 3 * b + c] = rv * s->el->mass[n * a + b];
+}
+
 /* ---------------------------------------------------------------- registry */
 
 const void *const eo_registry_element[] = {

@@ -974,6 +974,9 @@ static int load_element(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     int rc = eo_registry_find(ctx, EO_KIND_ELEMENT, sc->opts.element, (const void **)&sc->element);
     if (rc < 0) return cfg_err(ctx, cfg, "element", rc, "%s", eo_ctx_message(ctx));
     eo_mesh *m = sc->mesh;
+    if (sc->points && !(sc->element->flags & EO_ELEMENT_LINEAR))
+        return cfg_err(ctx, cfg, "element", EO_ERR_INVALID, "element %s needs tets; the mesh (%s) has none",
+                       sc->element->info.name, sc->lattice ? "mesh.lattice" : "mesh.points");
     if (sc->element->nodes == 4) {
         if (m->order == 2)
             return cfg_err(ctx, cfg, "element", EO_ERR_INVALID,

@@ -235,7 +235,9 @@ static int check_element(eo_ctx *ctx, const eo_scene *sc, const eo_solver *sv, c
                     "%s: optimizer %s needs %s, which element %s does not have (they assume one deformation "
                     "gradient per 4-node tet): use element p1 or another optimizer",
                     what, t->info.name,
-                    t->needs_ops & EO_OBJ_NEEDS_SPLIT ? "the per-tet split F = D x" : "per-vertex blocks",
+                    t->needs_ops & EO_OBJ_NEEDS_SPLIT    ? "the per-tet split F = D x"
+                    : t->needs_ops & EO_OBJ_NEEDS_VERTEX ? "per-vertex blocks"
+                                                         : "the distributed evaluation of linear tets (PETSc backend)",
                     sc->element->info.name);
 }
 

@@ -34,6 +34,11 @@ static int factor_mass(eo_step *st)
     eo_assembler_zero(st->as);
     double Ke[144];
     for (int k = 0; k < st->nt; k++) {
+        if (!st->sys.linear) { /* a general element (element.h) */
+            eo_sys_element_mass(&st->sys, k, st->sys.elem_H);
+            eo_assembler_add(st->as, st->sys.tet_group, k, st->sys.elem_H);
+            continue;
+        }
         tet_mass_block(st->rho[k] * st->vol[k] / 20.0, Ke);
         eo_assembler_add(st->as, st->sys.tet_group, k, Ke);
     }

@@ -147,14 +147,8 @@ static int prepare(eo_term *t, eo_sys *s)
         eo_assembler_zero(s->as);
         double Ke[144];
         for (int k = 0; !s->linear && k < s->nt; k++) { /* a general element: ρV M_el ⊗ I₃ */
-            const int n = s->npe, ne = 3 * n;
-            double *Kg = s->elem_H; /* one element's worth, serial */
-            memset(Kg, 0, (size_t)ne * ne * sizeof(double));
-            for (int a = 0; a < n; a++)
-                for (int b = 0; b < n; b++)
-                    for (int c = 0; c < 3; c++)
-                        Kg[(size_t)(3 * a + c) * ne + 3 * b + c] = s->rho[k] * s->vol[k] * s->el->mass[n * a + b];
-            eo_assembler_add(s->as, s->tet_group, k, Kg);
+            eo_sys_element_mass(s, k, s->elem_H); /* one element's worth, serial */
+            eo_assembler_add(s->as, s->tet_group, k, s->elem_H);
         }
         for (int k = 0; s->linear && k < s->nt; k++) {
             double m = s->rho[k] * s->vol[k] / 20.0;

@@ -49,16 +49,6 @@ static double consistent_el(const eo_sys *s, const double *x, const double *xt, 
     return e;
 }
 
-/* The element mass matrix ρV M ⊗ I₃ of tet k ((3n)², row-major). */
-static void elem_mass_matrix(const eo_sys *s, int k, double *Ke)
-{
-    const int n = s->npe, ne = 3 * n;
-    const double rv = s->rho[k] * s->vol[k];
-    memset(Ke, 0, (size_t)ne * ne * sizeof(double));
-    for (int a = 0; a < n; a++)
-        for (int b = 0; b < n; b++)
-            for (int c = 0; c < 3; c++) Ke[(size_t)(3 * a + c) * ne + 3 * b + c] = rv * s->el->mass[n * a + b];
-}
 
 static double energy(eo_term *t, const eo_sys *s, const double *x)
 {
@@ -160,7 +150,7 @@ static int prepare(eo_term *t, eo_sys *s)
     double Ke[144];
     for (int k = 0; k < s->nt; k++) {
         if (!s->linear) { /* elem_H: one element's worth, serial */
-            elem_mass_matrix(s, k, s->elem_H);
+            eo_sys_element_mass(s, k, s->elem_H);
             eo_assembler_add(s->as, s->tet_group, k, s->elem_H);
             continue;
         }
@@ -193,7 +183,7 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
         for (int i = 0; i < eo_sys_ntets(s); i++) {
             const int k = eo_sys_tet(s, i);
             if (!s->linear) {
-                elem_mass_matrix(s, k, s->elem_H);
+                eo_sys_element_mass(s, k, s->elem_H);
                 eo_assembler_add(s->as, s->tet_group, k, s->elem_H);
                 continue;
             }

@@ -54,8 +54,9 @@ struct eo_material_coef;
 
 /// Optional objective operations an optimizer may require (eo_optimizer_type.needs_ops):
 /// the per-tet split F = D x (split_info, split_apply, split_adjoint: one F per tet, the
-/// linear tet's), the vertex blocks (vertex_blocks, vertex_block).
-enum { EO_OBJ_NEEDS_SPLIT = 1, EO_OBJ_NEEDS_VERTEX = 2 };
+/// linear tet's), the vertex blocks (vertex_blocks, vertex_block), the partitioned
+/// evaluation of linear tets (eo_step_set_part: the distributed PETSc backend).
+enum { EO_OBJ_NEEDS_SPLIT = 1, EO_OBJ_NEEDS_VERTEX = 2, EO_OBJ_NEEDS_PARTS = 4 };
 
 
 /// The elastic elements of an objective (ops->split_info), borrowed.
