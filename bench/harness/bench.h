@@ -177,6 +177,9 @@ typedef struct eo_bench_scene_opts {
     char stratum[48];       ///< group of the scene in the performance and data profiles (one
                             ///< profile per stratum besides the one over every scene).
                             ///< Default "" (none).
+    int stratum_axis;       ///< with "vary": the axis (0-based) whose label is the stratum of
+                            ///< each expanded scene ("<stratum>-<label>" when stratum is set),
+                            ///< e.g. the element or the ν of a sweep. Default -1 (none).
 } eo_bench_scene_opts;
 EO_API extern const eo_param_desc eo_bench_scene_desc[];
 

@@ -111,6 +111,10 @@ const eo_param_desc eo_bench_scene_desc[] = {
      .size = SZ(eo_bench_scene_opts, stratum), .def.s = "",
      .help = "group of the scene in the performance and data profiles (one profile per stratum besides the one over "
              "every scene; default none)"},
+    {.key = "stratum_axis", .kind = EO_PARAM_INT, .offset = offsetof(eo_bench_scene_opts, stratum_axis), .def.i = -1,
+     .min = -1, .max = 7, .range = EO_RANGE_MIN | EO_RANGE_MAX,
+     .help = "with vary: the axis whose label is each expanded scene's stratum (prefixed by stratum and '-' when "
+             "set); -1 none"},
     {0},
 };
 
@@ -385,6 +389,11 @@ static int load_scene_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int idx
             pick[a] = 0;
         }
     }
+    if (b.o.stratum_axis >= nvary) {
+        snprintf(sub, sizeof sub, "%s.stratum_axis", path);
+        rc = suite_err(ctx, cfg, sub, EO_ERR_RANGE, "axis %d, but vary has %d axes", b.o.stratum_axis, nvary);
+        goto done;
+    }
     for (;;) {
         bench_scene e = b;
         e.set = NULL;
@@ -401,6 +410,11 @@ static int load_scene_entry(eo_ctx *ctx, eo_bench_suite *s, eo_cfg *cfg, int idx
                 if (j++ != pick[a]) continue;
                 snprintf(e.name + ln, sizeof e.name - ln, "-%s", key);
                 ln = strlen(e.name);
+                if (a == b.o.stratum_axis) {
+                    char st[2 * sizeof e.o.stratum + 200];
+                    snprintf(st, sizeof st, "%s%s%s", b.o.stratum, b.o.stratum[0] ? "-" : "", key);
+                    snprintf(e.o.stratum, sizeof e.o.stratum, "%.*s", (int)sizeof e.o.stratum - 1, st);
+                }
                 char vp[200];
                 snprintf(vp, sizeof vp, "%s.%d.%s", sub, a, key);
                 rc = set_append(ctx, cfg, vp, v, &e.set, &e.nset);
