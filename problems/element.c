@@ -51,7 +51,8 @@ void eo_elementi_det_hessian(const double F[9], double D[81])
                 }
 }
 
-/* H[(a i)][(b k)] += w Σ_jl G_aj D[(ij)][(kl)] G_bl for n nodes (H is (3n)², row-major) */
+/* H[(a i)][(b k)] += w Σ_jl G_aj D[(ij)][(kl)] G_bl for n nodes (H is (3n)², row-major),
+ * the blocks b >= a only (D symmetric: the rest by eo_elementi_mirror, once) */
 void eo_elementi_GtDG(int n, const double *G, const double *D, double w, double *H)
 {
     const int n3 = 3 * n;
@@ -67,8 +68,16 @@ void eo_elementi_GtDG(int n, const double *G, const double *D, double w, double 
             double *h = H + (size_t)(3 * a + i) * n3;
             const double g0 = w * G[3 * a], g1 = w * G[3 * a + 1], g2 = w * G[3 * a + 2];
             const double *t0 = T + (3 * i) * n3, *t1 = t0 + n3, *t2 = t1 + n3;
-            for (int bk = 0; bk < n3; bk++) h[bk] += g0 * t0[bk] + g1 * t1[bk] + g2 * t2[bk];
+            for (int bk = 3 * a; bk < n3; bk++) h[bk] += g0 * t0[bk] + g1 * t1[bk] + g2 * t2[bk];
         }
+}
+
+/* the blocks b < a of H from the blocks b > a (H symmetric) */
+void eo_elementi_mirror(int n, double *H)
+{
+    const int n3 = 3 * n;
+    for (int r = 0; r < n3; r++)
+        for (int c = 3 * (r / 3 + 1); c < n3; c++) H[(size_t)c * n3 + r] = H[(size_t)r * n3 + c];
 }
 
 int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, const eo_material_coef *c0,
@@ -138,6 +147,7 @@ int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, c
                 }
         }
     }
+    if (what >= EO_EVAL_HESS) eo_elementi_mirror(n, hess);
     if (minJ) *minJ = jmin;
     if (!isfinite(e) || ((mt->flags & EO_MATERIAL_BARRIER) && eo_tet_is_inverted(jmin))) {
         *energy = INFINITY;

@@ -189,6 +189,8 @@ int eo_term_alloc(eo_sys *s, const eo_term_ops *ops, int with_vec, eo_term **out
  * nodes (G: n×3 shape gradients; H (3n)², row-major). */
 void eo_elementi_det_hessian(const double F[9], double D[81]);
 void eo_elementi_GtDG(int n, const double *G, const double *D, double w, double *H);
+/* the lower block triangle of H from the upper (after eo_elementi_GtDG) */
+void eo_elementi_mirror(int n, double *H);
 /* element.c: the consistent mass matrix ρₖVₖ M_el ⊗ I₃ of tet k of a general element
  * (s->el; (3·npe)², row-major), for the terms and the explicit integrators' mass solve. */
 void eo_sys_element_mass(const eo_sys *s, int k, double *Ke);

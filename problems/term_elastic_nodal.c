@@ -255,6 +255,7 @@ int eo_anp_hessian(eo_anp *a, const eo_sys *s, const double *x, eo_proj proj, do
         eo_element_grad(&eo_element_p1, s->Dminv + 9 * t, bary_c, G);
         memset(H, 0, sizeof H);
         eo_elementi_GtDG(4, G, D, c, H);
+        eo_elementi_mirror(4, H);
         eo_assembler_add(s->as, s->tet_group, t, H);
     }
     return EO_OK;
