@@ -57,7 +57,11 @@
  *             entries of s and projects the 6×6 Hessian with an eigensolver); (4) a
  *             trial whose merit change is within rounding (|m(α) − m(0)| ≤ 64ε·Σ|terms|)
  *             is accepted, so that the search does not fail at the rounding floor;
- *             (5) contact and friction stay penalty terms inside Φ (the paper also mixes
+ *             (5) where rounding breaks the system's positive definiteness (the
+ *             derivative of the polar stretch grows like 1/(σᵢ + σⱼ), unbounded at a
+ *             flat or inverted tet with σ₂ + σ₃ = 0) the factorization is retried with
+ *             H + cI, c = 1e-8·max Hᵢᵢ growing 10x (at most 12 times; res.n_shifted);
+ *             (6) contact and friction stay penalty terms inside Φ (the paper also mixes
  *             collisions; not here). F-space models (no ψ(σ): `linear`) are refused at
  *             the first minimize. Linear tets only (needs the split ops).
  * Cost        per iteration and element two SVDs (F and s), P(F), ψ''(s) and
@@ -418,9 +422,22 @@ static int mixed_minimize(void *vst, const void *params, const eo_solver_ctx *sc
                     st->H = H, st->colptr = H->colptr, st->rowind = H->rowind, st->pn = H->n, st->pnnz = H->nnz;
                 }
             }
-            if (!reason) {
+            if (!reason) { /* safeguard: H + cI, c = 1e-8·max Hᵢᵢ growing 10x, where rounding
+                              * (a polar stretch derivative near σᵢ + σⱼ = 0) breaks PD */
                 int lr = eo_linsolve_factor(sc->linear, H);
                 res->n_factor++;
+                double dmax = 0, shift = 0, c = 0;
+                if (lr == EO_WARN_NOT_PD)
+                    for (int j = 0; j < n; j++) dmax = fmax(dmax, fabs(H->val[H->colptr[j + 1] - 1]));
+                for (int t = 0; lr == EO_WARN_NOT_PD && t < 12 && dmax > 0; t++) {
+                    c = c > 0 ? 10 * c : 1e-8 * dmax;
+                    for (int j = 0; j < n; j++) H->val[H->colptr[j + 1] - 1] += c - shift;
+                    shift = c;
+                    lr = eo_linsolve_factor(sc->linear, H);
+                    res->n_factor++;
+                }
+                if (shift > 0) res->n_shifted++;
+                info.shift = shift;
                 if (lr < 0) {
                     res->status = lr;
                     reason = EO_DIVERGED_LINSOLVE;
