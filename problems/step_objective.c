@@ -494,6 +494,52 @@ static int op_split_adjoint(void *data, const double *S, double *out)
     return EO_OK;
 }
 
+/* split_assemble (objective.h): every term but the elastic one, then per non-edge tet
+ * alpha·GᵀK G with G = ∂vec(F)/∂x12 (F row-major: ∂F_ab/∂x_{c,a} = Dm⁻¹_cb for local
+ * vertex c < 3, vertex 3 minus their sum), 12×12 into the tet assembler group. */
+static int op_split_assemble(void *data, const double *x, const double *K, double alpha, eo_proj proj, eo_csc **H)
+{
+    eo_step *st = data;
+    if (st->part) return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "split ops: not with a partitioned evaluation");
+    eo_stepi_scatter_free(st, x);
+    eo_assembler_zero(st->as);
+    for (int i = 0; i < st->nterms; i++) {
+        if (st->terms[i] == st->elastic) continue;
+        int rc = st->terms[i]->ops->hessian(st->terms[i], &st->sys, st->xw, proj);
+        if (rc < 0) return rc;
+    }
+    for (int k = 0; k < st->nt; k++) {
+        if (st->tet_type[k]->flags & EO_MATERIAL_EDGE) continue;
+        const double *Dm = st->Dminv + 9 * k, *Kk = K + 81 * (size_t)k;
+        double b[4][3], KG[9][12], Ke[144];
+        for (int c = 0; c < 3; c++) {
+            b[3][c] = 0;
+            for (int a = 0; a < 3; a++) {
+                b[a][c] = Dm[3 * a + c];
+                b[3][c] -= Dm[3 * a + c];
+            }
+        }
+        /* G[(3a' + bb)][3v + c] = δ(a', c)·b[v][bb]: F_{a'bb} depends on coordinate c = a' of vertex v */
+        for (int r = 0; r < 9; r++)
+            for (int v = 0; v < 4; v++)
+                for (int c = 0; c < 3; c++) {
+                    double sum = 0;
+                    for (int bb = 0; bb < 3; bb++) sum += Kk[9 * r + 3 * c + bb] * b[v][bb];
+                    KG[r][3 * v + c] = sum;
+                }
+        for (int v = 0; v < 4; v++)
+            for (int c = 0; c < 3; c++)
+                for (int q = 0; q < 12; q++) {
+                    double sum = 0;
+                    for (int bb = 0; bb < 3; bb++) sum += b[v][bb] * KG[3 * c + bb][q];
+                    Ke[(3 * v + c) * 12 + q] = alpha * sum;
+                }
+        eo_assembler_add(st->as, st->sys.tet_group, k, Ke);
+    }
+    *H = eo_assembler_matrix(st->as);
+    return EO_OK;
+}
+
 /* ---------------------------------------------------------------- vertex blocks */
 
 /* The terms without a vertex form, or NULL if every term has one. */
@@ -663,10 +709,12 @@ const eo_objective_ops eo_stepi_ops = {
     .characteristic = op_characteristic,
     .vertex_blocks = op_vertex_blocks,
     .vertex_block = op_vertex_block,
+    .split_assemble = op_split_assemble,
 };
 
 /* The ops of a step whose element is not the linear tet (element.h): without the per-tet
- * ops that assume one F per tet (split_*: ADMM and local/global projective dynamics) or a
+ * ops that assume one F per tet (split_*: ADMM, local/global projective dynamics, mixed
+ * FEM) or a
  * 4-node stencil (vertex blocks: vertex block descent); optimizers that need them are
  * refused when the simulation is created (eo_optimizer_type.needs_ops). */
 const eo_objective_ops eo_stepi_ops_element = {

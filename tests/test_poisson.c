@@ -168,7 +168,8 @@ static void test_solvers(void)
                   eo_ctx_message(ctx));
             continue;
         }
-        if (strcmp(name, "admm_pd") == 0 || strcmp(name, "vbd") == 0) { /* need a step objective's elements */
+        if (strcmp(name, "admm_pd") == 0 || strcmp(name, "mixed_fem") == 0 ||
+            strcmp(name, "vbd") == 0) { /* need a step objective's elements */
             const char *what = strcmp(name, "vbd") == 0 ? "vertex blocks" : "elastic elements";
             printf("  %-20s not applicable (no %s): refused\n", name, what);
             CHECK(reason == 0 && strstr(eo_ctx_message(ctx), what), "%s refuses: %s", name,

@@ -17,6 +17,10 @@
 /// eo_vertex_blocks vb; eo_objective_vertex_blocks(obj, &vb);   // blocks, coupling graph
 /// eo_objective_vertex_block(obj, x, b, EO_PROJ_CLAMP, &e, g3, H3); // G_b, ∂g/∂x_b, 3×3 block
 /// ```
+/// Optional condensed assembly for mixed methods (mixed_fem), with the split ops:
+/// ```c
+/// eo_objective_split_assemble(obj, x, K, w, EO_PROJ_CLAMP, &H); // rest of g + w Σ GᵀKG
+/// ```
 /// Optional per-element ops (the Hessian fixes `progressive` and friends use them):
 /// ```c
 /// int ne = eo_objective_n_elements(obj);              // E elements, < 0: unsupported
@@ -53,9 +57,10 @@ struct eo_material_type;
 struct eo_material_coef;
 
 /// Optional objective operations an optimizer may require (eo_optimizer_type.needs_ops):
-/// the per-tet split F = D x (split_info, split_apply, split_adjoint: one F per tet, the
-/// linear tet's), the vertex blocks (vertex_blocks, vertex_block), the partitioned
-/// evaluation of linear tets (eo_step_set_part: the distributed PETSc backend).
+/// the per-tet split F = D x (split_info, split_apply, split_adjoint and, where given,
+/// split_assemble: one F per tet, the linear tet's), the vertex blocks (vertex_blocks,
+/// vertex_block), the partitioned evaluation of linear tets (eo_step_set_part: the
+/// distributed PETSc backend).
 enum { EO_OBJ_NEEDS_SPLIT = 1, EO_OBJ_NEEDS_VERTEX = 2, EO_OBJ_NEEDS_PARTS = 4 };
 
 
@@ -197,6 +202,15 @@ typedef struct eo_objective_ops {
     /// NULL, H3 = the 3×3 block ∂²g/∂x_b² (row-major) of the Hessian whose elements are
     /// projected with proj (rows and columns of non-free coordinates: 0). No allocation.
     int (*vertex_block)(void *data, const double *x, int b, eo_proj proj, double *e, double g3[3], double H3[9]);
+    /// Optional (with the split ops; for mixed methods that condense per-element variables,
+    /// solvers/optim/mixed_fem.c): the Hessian at x of every term of g EXCEPT the elastic
+    /// elements' energy w·Σ_e V_e ψ_e(F_e) (inertia, springs and edge materials, contact,
+    /// friction, damping; assembled with projection `proj`), plus alpha·Σ_e G_eᵀ K_e G_e
+    /// with the given per-element 9×9 matrices K (81 per element, row-major, the element
+    /// order and F layout of split_apply; E = split_info's ne blocks; blocks of edge-
+    /// material elements are ignored). Written into the matrix and pattern of `hessian`
+    /// (the same borrowed *H, invalidating a matrix borrowed from hessian before).
+    int (*split_assemble)(void *data, const double *x, const double *K, double alpha, eo_proj proj, eo_csc **H);
 } eo_objective_ops;
 
 /// Characteristic scales of an objective (ops->characteristic), in the units of g.
@@ -269,6 +283,16 @@ static inline int eo_objective_split_get(eo_objective *o, eo_objective_split *ou
 {
     if (!o->ops->split_info || !o->ops->split_apply || !o->ops->split_adjoint) return EO_ERR_UNSUPPORTED;
     return o->ops->split_info(o->data, out);
+}
+
+/// The condensed matrix of ops->split_assemble (counted as a Hessian evaluation);
+/// EO_ERR_UNSUPPORTED if the objective has no such op.
+static inline int eo_objective_split_assemble(eo_objective *o, const double *x, const double *K, double alpha,
+                                              eo_proj proj, eo_csc **H)
+{
+    if (!o->ops->split_assemble) return EO_ERR_UNSUPPORTED;
+    o->n_hessian++;
+    return o->ops->split_assemble(o->data, x, K, alpha, proj, H);
 }
 
 /// Number of elements of the per-element ops, or EO_ERR_UNSUPPORTED (< 0) if the

@@ -8,7 +8,7 @@
 /// The solver of one step problem is assembled from four pluggable pieces:
 ///   solver.optimizer   newton, newton_tr, gradient_descent, lbfgs, bcqn, ncg,
 ///                      projective_dynamics, pd_local_global, fixed_point, vbd,
-///                      jacobi_chebyshev, admm_pd, aqp
+///                      jacobi_chebyshev, admm_pd, aqp, mixed_fem
 ///                                                               (eo_optimizer_type)
 ///   solver.hessian_fix none, shift, clamp, abs, project_on_demand,
 ///                      progressive, trust_region_filter         (eo_hessfix_type)

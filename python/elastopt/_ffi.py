@@ -91,6 +91,7 @@ typedef struct eo_objective_ops {
     int (*split_adjoint)(void *data, const double *S, double *out);
     int (*vertex_blocks)(void *data, void *out);
     int (*vertex_block)(void *data, const double *x, int b, int proj, double *e, double *g3, double *H3);
+    int (*split_assemble)(void *data, const double *x, const double *K, double alpha, int proj, eo_csc **H);
 } eo_objective_ops;
 typedef struct eo_objective {
     int n; const eo_objective_ops *ops; void *data; long n_value, n_gradient, n_hessian;

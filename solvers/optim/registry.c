@@ -8,6 +8,7 @@ extern const eo_optimizer_type eo_optimizer_admm_pd;       /* admm_pd.c */
 extern const eo_optimizer_type eo_optimizer_aqp;           /* aqp.c */
 extern const eo_optimizer_type eo_optimizer_vbd;   /* vbd.c */
 extern const eo_optimizer_type eo_optimizer_jacobi_chebyshev;   /* jacobi_chebyshev.c */
+extern const eo_optimizer_type eo_optimizer_mixed_fem;   /* mixed_fem.c */
 #if EO_HAVE_NLOPT
 extern const eo_optimizer_type eo_optimizer_nlopt;   /* nlopt.c, optional backend */
 #endif
@@ -29,6 +30,7 @@ const void *const eo_registry_optimizer[] = {
     &eo_optimizer_aqp,
     &eo_optimizer_vbd,
     &eo_optimizer_jacobi_chebyshev,
+    &eo_optimizer_mixed_fem,
 #if EO_HAVE_NLOPT
     &eo_optimizer_nlopt,
 #endif
