@@ -127,7 +127,13 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         for (const void *const *t = eo_registry_list((eo_kind)k); t && *t; t++) {
             const eo_method_info *mi = eo_method_info_of(*t);
             if (kind_hit) printf("  %-22s %s\n", mi->name, mi->summary);
-            if (!mi->params || !mi->params[0].key) continue;
+            if (!mi->params || !mi->params[0].key) {
+                if (key && !kind_hit && strcmp(key, mi->name) == 0) { /* a method without parameters */
+                    printf("%s '%s': %s; no parameters\n\n", eo_kind_label((eo_kind)k), mi->name, mi->summary);
+                    found = 1;
+                }
+                continue;
+            }
             snprintf(path, sizeof path, "%s.%s",
                      k == EO_KIND_MATERIAL ? "material" : k == EO_KIND_INTEGRATOR ? "time" : "solver", mi->name);
             if (key && !kind_hit && strcmp(key, mi->name) != 0 && !matches(path, key) && !matches(key, path))
