@@ -53,7 +53,14 @@ void eo_elementi_det_hessian(const double F[9], double D[81])
 
 /* H[(a i)][(b k)] += w Σ_jl G_aj D[(ij)][(kl)] G_bl for n nodes (H is (3n)², row-major),
  * the blocks b >= a only (D symmetric: the rest by eo_elementi_mirror, once) */
-void eo_elementi_GtDG(int n, const double *G, const double *D, double w, double *H)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+/* the element Hessians' inner loops vectorize 2× wider with AVX2/FMA (chosen at load) */
+#define EO_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define EO_HOT_CLONES
+#endif
+
+EO_HOT_CLONES void eo_elementi_GtDG(int n, const double *G, const double *D, double w, double *H)
 {
     const int n3 = 3 * n;
     double T[9 * 3 * EO_ELEMENT_MAX_NODES];
@@ -80,7 +87,7 @@ void eo_elementi_mirror(int n, double *H)
         for (int c = 3 * (r / 3 + 1); c < n3; c++) H[(size_t)c * n3 + r] = H[(size_t)r * n3 + c];
 }
 
-int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, const eo_material_coef *c0,
+EO_HOT_CLONES int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, const eo_material_coef *c0,
                         const double Dminv[9], double V, const double *x, eo_eval_what what, eo_proj proj,
                         double *energy, double *grad, double *hess, double *minJ)
 {
