@@ -221,5 +221,17 @@ check_json "$("$EXE" mesh --json cube6.msh)" 'assert o["vertices"] == 8 and o["t
 "$EXE" convert cube6.msh back.veg > /dev/null 2> veg.err
 [ $? -eq 2 ] && grep -q "veg files can be read, not written" veg.err && [ ! -e back.veg ] && ok || bad "write .veg: $(cat veg.err)"
 
+# --- quadratic: convert --order 2 (27 vertices + 98 edges of a 2x2x2 box), mesh shows order 2,
+# the 10-node mesh survives msh -> vtu -> node; MEDIT refuses it with exit 2
+"$EXE" convert gen:1,1,1:2,2,2 q.msh --order 2 > /dev/null 2> q0.err && ok || bad "convert --order 2: $(cat q0.err)"
+check_json "$("$EXE" mesh --json q.msh)" 'assert o["order"] == 2 and o["vertices"] == 125 and o["tets"] == 48, o
+assert close(o["volume"], 1.0)'
+"$EXE" convert q.msh q.vtu > /dev/null && "$EXE" convert q.vtu q2.node > /dev/null && ok || bad "quadratic msh -> vtu -> node"
+"$EXE" mesh q2.node | grep -q "^order *2 " && "$EXE" mesh q2.node | grep -q "^vertices *125$" && ok || bad "quadratic tetgen info"
+"$EXE" convert q.msh q.mesh > /dev/null 2> q.err
+[ $? -eq 2 ] && grep -q "MEDIT output of a quadratic" q.err && [ ! -e q.mesh ] && ok || bad "medit quadratic: $(cat q.err)"
+"$EXE" convert gen:1,1,1:2,2,2 q3.msh --order 3 > /dev/null 2>&1
+[ $? -eq 2 ] && [ ! -e q3.msh ] && ok || bad "--order 3 refused"
+
 echo "cli_mesh: $pass passed, $fail failed"
 [ $fail -eq 0 ]
