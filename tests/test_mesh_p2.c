@@ -373,6 +373,47 @@ static void test_formats(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* Allocation failure injected at every allocation of the quadratic paths: the 10-node
+ * readers (Gmsh, TetGen, VTU files written above), eo_mesh_to_quadratic and validation
+ * with drops fail cleanly (an error with a message, no mesh, no live bytes), and with
+ * enough allocations they succeed. */
+static void test_injection(void)
+{
+    const char *files[] = {"p2.msh", "p2.node", "p2.vtu"};
+    for (int k = 0; k < 4; k++) {
+        int done = 0;
+        for (long n = 1; n < 400 && !done; n++) {
+            eo_ctx *ctx = eo_test_ctx();
+            eo_mesh *m = NULL, *g = NULL;
+            int rc;
+            if (k < 3) {
+                eo_ctx_fail_after(ctx, n);
+                rc = eo_mesh_read(ctx, tpath(files[k]), NULL, &m);
+            } else {
+                eo_mesh_gen_opts o = eo_mesh_gen_opts_default();
+                o.cells[0] = o.cells[1] = o.cells[2] = 2;
+                eo_mesh_generate_box(ctx, &o, &g);
+                eo_ctx_fail_after(ctx, n);
+                rc = eo_mesh_to_quadratic(ctx, g, &m);
+                if (rc >= 0) rc = eo_mesh_validate(ctx, m, NULL, "q");
+            }
+            eo_ctx_fail_after(ctx, 0);
+            if (rc >= 0) {
+                CHECK(m && m->order == 2, "%s: success after %ld allocations gives an order-2 mesh", k < 3 ? files[k] : "to_quadratic", n);
+                done = 1;
+            } else {
+                CHECK(rc == EO_ERR_NOMEM && eo_ctx_message(ctx)[0] && (k == 3 || !m),
+                      "%s: allocation %ld failed: %s (%s)", k < 3 ? files[k] : "to_quadratic", n, eo_status_name(rc),
+                      eo_ctx_message(ctx));
+            }
+            eo_mesh_destroy(&m);
+            eo_mesh_destroy(&g);
+            eo_test_ctx_done(&ctx);
+        }
+        CHECK(done, "%s: succeeds with enough allocations", k < 3 ? files[k] : "to_quadratic");
+    }
+}
+
 int main(void)
 {
     snprintf(tmp, sizeof tmp, "%s", eo_test_tmpdir("mesh_p2"));
@@ -382,5 +423,6 @@ int main(void)
     test_tetgen_o2();
     test_validate();
     test_formats();
+    test_injection();
     return eo_test_finish("test_mesh_p2");
 }
