@@ -51,6 +51,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         json_object_set_new(j, "source", json_string(src));
         json_object_set_new(j, "vertices", json_integer(m->nv));
         json_object_set_new(j, "tets", json_integer(m->nt));
+        json_object_set_new(j, "order", json_integer(m->order));
         json_object_set_new(j, "volume", json_real(s.volume));
         json_t *bb = json_array();
         for (int i = 0; i < 6; i++) json_array_append_new(bb, json_real(s.bbox[i]));
@@ -72,6 +73,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         printf("mesh            %s\n", src);
         printf("vertices        %d\n", m->nv);
         printf("tets            %d\n", m->nt);
+        printf("order           %d%s\n", m->order, m->order == 2 ? " (10-node tets; vertices count every node)" : "");
         printf("volume          %.17g\n", s.volume);
         printf("bbox            [%g, %g, %g] - [%g, %g, %g]\n", s.bbox[0], s.bbox[1], s.bbox[2], s.bbox[3], s.bbox[4],
                s.bbox[5]);

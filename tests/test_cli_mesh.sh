@@ -223,7 +223,7 @@ check_json "$("$EXE" mesh --json cube6.msh)" 'assert o["vertices"] == 8 and o["t
 
 # --- quadratic: convert --order 2 (27 vertices + 98 edges of a 2x2x2 box), mesh shows order 2,
 # the 10-node mesh survives msh -> vtu -> node; MEDIT refuses it with exit 2
-"$EXE" convert gen:1,1,1:2,2,2 q.msh --order 2 > /dev/null && ok || bad "convert --order 2"
+"$EXE" convert gen:1,1,1:2,2,2 q.msh --order 2 > /dev/null 2> q0.err && ok || bad "convert --order 2: $(cat q0.err)"
 check_json "$("$EXE" mesh --json q.msh)" 'assert o["order"] == 2 and o["vertices"] == 125 and o["tets"] == 48, o
 assert close(o["volume"], 1.0)'
 "$EXE" convert q.msh q.vtu > /dev/null && "$EXE" convert q.vtu q2.node > /dev/null && ok || bad "quadratic msh -> vtu -> node"

@@ -352,7 +352,16 @@ static void test_tetgen(void)
     put_file("tg0.node", tg_node0);
     put_file("tg0.ele", tg_ele0);
     put_file("tg1.node", "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n");
-    put_file("tg1.ele", "2 10 0\n1 1 2 3 4 1 1 1 1 1 1\n2 2 4 3 5 1 1 1 1 1 1\n");
+    put_file("tg1.ele", "2 4 0\n1 1 2 3 4\n2 2 4 3 5\n");
+    /* 10 nodes per tet make an order-2 mesh: midside nodes that are corners are refused
+     * (test_mesh_p2 reads real ones) */
+    put_file("tg2.node", "5 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n5 1 1 1\n");
+    put_file("tg2.ele", "2 10 0\n1 1 2 3 4 1 1 1 1 1 1\n2 2 4 3 5 1 1 1 1 1 1\n");
+    {
+        eo_mesh *m2 = NULL;
+        expect_err(ctx, read_file_status(ctx, "tg2.ele", NULL, &m2), EO_ERR_MESH, "10-node tets on corners",
+                   "tg2.ele:2", "tet 1", "is a corner of a tet", NULL);
+    }
     const char *names[] = {"tg0.node", "tg0.ele", "tg0", "tg1.ele"};
     for (int i = 0; i < 4; i++) {
         eo_mesh *m = NULL;
@@ -1368,7 +1377,7 @@ static void test_vtu_read(void)
     p[0] = '1';
     p[1] = '2'; /* hexahedron */
     expect_err(ctx, eo_mesh_read_buffer(ctx, t2, strlen(t2), EO_MESH_VTU, "h.vtu", NULL, &m), EO_ERR_UNSUPPORTED,
-               "hex cell", "h.vtu:16: cell 0: VTK cell type 12; expected tetrahedra (10)", NULL);
+               "hex cell", "h.vtu:16: cell 0: VTK cell type 12; expected tetrahedra (10 or quadratic 24)", NULL);
     snprintf(t2, sizeof t2, "%s", ascii);
     p = strstr(t2, "0 1 2 3 ");
     p[6] = '7';

@@ -12,6 +12,18 @@
 /// fails with EO_ERR_UNSUPPORTED naming the option). Writers: TetGen, MEDIT, Gmsh, VTU
 /// (with a .pvd series, see io.h), boundary OBJ.
 ///
+/// Quadratic (10-node) tets give an order-2 mesh (order = 2, tet10, tets = the corners):
+/// | format | read | write |
+/// |---|---|---|
+/// | Gmsh 2.2 / 4.1 | element type 11 (Gmsh order: edges 01 12 20 30 32 31; nodes 8, 9 swapped into tet10); 6-node triangles (type 9) as their corners | type 11 (4.1) |
+/// | TetGen | .ele with 10 nodes per tet (tetgen -o2: edges 23 03 01 12 13 02, permuted) | 10-node .ele |
+/// | VTU | cell type 24 (tet10 order), every encoding; quadratic triangles (22) as corners | type 24 |
+/// | MEDIT | TetrahedraP2: EO_ERR_UNSUPPORTED | EO_ERR_UNSUPPORTED |
+/// | Vega .veg | no 10-node tets (vertices per tet must be 4) | - |
+/// | OBJ boundary | - | the corners' boundary triangles |
+/// A file mixing 4- and 10-node tets is an error naming the element. tri_mid is filled
+/// from the tets' edges (a tagged triangle edge that is no tet edge is an error).
+///
 /// Where the tags come from (the `tag: K` boundary selector of scenes uses them):
 /// | format | tet_attr | tris/tri_tag | vmarker |
 /// |---|---|---|---|
@@ -75,7 +87,7 @@ typedef enum eo_mesh_format {
     EO_MESH_TETGEN,   ///< .node + .ele (give either name, or the base name)
     EO_MESH_MEDIT,    ///< .mesh
     EO_MESH_GMSH,     ///< .msh (read 2.2 and 4.1 ASCII; write 4.1 ASCII)
-    EO_MESH_VTU,      ///< .vtu (read: tets; write: VTK XML, appended raw)
+    EO_MESH_VTU,      ///< .vtu (read: tets, 4- or 10-node; write: VTK XML, appended raw)
     EO_MESH_OBJ,      ///< .obj (read: closed surface, tetrahedralized; write: boundary)
     EO_MESH_OFF,      ///< .off closed surface (read only, tetrahedralized)
     EO_MESH_STL,      ///< .stl ASCII or binary closed surface (read only, tetrahedralized)
@@ -122,8 +134,10 @@ EO_API int eo_mesh_generate_box(eo_ctx *ctx, const eo_mesh_gen_opts *o, eo_mesh 
 /// opening, see eo_path_check, so a FIFO never blocks), EO_ERR_PARSE (truncated,
 /// wrong counts, non-numeric token: "file:line: expected X, got 'tok'"),
 /// EO_ERR_NONFINITE, EO_ERR_MESH (index out of range, zero-volume/duplicate tet,
-/// unreferenced vertex; names file, line and tet/vertex as the file numbers it),
+/// unreferenced vertex, 4- and 10-node tets mixed, a bad midside node; names file, line
+/// and tet/vertex as the file numbers it),
 /// EO_ERR_UNSUPPORTED (binary or other versions, write-only formats, compressed VTU,
+/// MEDIT TetrahedraP2,
 /// surface meshes in a build without TetGen), EO_ERR_NOMEM.
 /// On error *out is NULL. With a mesh source installed on ctx (eo_ctx_set_mesh_source),
 /// the source answers instead.
@@ -160,6 +174,11 @@ EO_API const char *eo_mesh_format_name(eo_mesh_format fmt);
 EO_API int eo_mesh_write(eo_ctx *ctx, const eo_mesh *m, const char *path, eo_mesh_format fmt);
 /// Reorient negative tets, reject/drop zero-volume or duplicate tets, out-of-range
 /// indices, non-finite coordinates, unreferenced vertices. `file` is for messages.
+/// Order 2 (tet10 set): tet10's corners must equal tets; midside nodes in range, never a
+/// corner of a tet, one per edge and on one edge only (EO_ERR_MESH naming the tet);
+/// reorientation (corners 1 <-> 2) carries the midside nodes (edges 01 <-> 20, 13 <-> 23);
+/// drops remove tet10 rows; midside nodes (tet10, tri_mid) count as referenced and are
+/// renumbered; tri_mid is filled from the tets' edges when NULL.
 EO_API int eo_mesh_validate(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts, const char *file);
 /// Format from a file name's extension (EO_MESH_AUTO if unknown).
 EO_API eo_mesh_format eo_mesh_format_from_path(const char *path);

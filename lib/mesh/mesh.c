@@ -8,7 +8,15 @@
  * Validation order (eo_mesh_validate): finite coordinates; indices in range; negative
  * tets reoriented (swap vertices 1 and 2); zero-volume tets (|V| <= min_rel_volume *
  * mean |V|); duplicate tets (same vertex set); unreferenced vertices. The last three are
- * errors, or dropped with a warning (EO_WARN_DROPPED) when the options allow it. */
+ * errors, or dropped with a warning (EO_WARN_DROPPED) when the options allow it.
+ * Order-2 meshes (tet10) first get their structure checked: tet10's corners equal tets,
+ * midside nodes in range and never a corner of any tet, one midside node per edge and one
+ * edge per midside node (edges found by sorting the 6·nt (min, max) corner pairs), tri_mid
+ * in range. Orientation and volume use the corners; reorienting a tet (corners 1 <-> 2)
+ * permutes its midside nodes with it (edge 01 <-> 20, 13 <-> 23; 12 and 03 stay); dropped
+ * tets drop their tet10 rows; midside nodes (tet10, tri_mid) count as referenced and are
+ * renumbered with the rest. Last, tri_mid is filled from the tets' edges when a reader
+ * left it empty (a triangle edge that is no tet's edge is an error). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -579,6 +587,7 @@ static int compact_tets(eo_mesh *m, const unsigned char *keep, const eo_mesh_src
         if (!keep[t]) continue;
         if (n != t) {
             memcpy(m->tets + 4 * n, m->tets + 4 * t, 4 * sizeof(int));
+            if (m->tet10) memcpy(m->tet10 + 10 * n, m->tet10 + 10 * t, 10 * sizeof(int));
             if (m->tet_attr) m->tet_attr[n] = m->tet_attr[t];
             if (src && src->t_line) {
                 src->t_line[n] = src->t_line[t];
@@ -590,6 +599,170 @@ static int compact_tets(eo_mesh *m, const unsigned char *keep, const eo_mesh_src
     int dropped = m->nt - n;
     m->nt = n;
     return dropped;
+}
+
+/* ---- quadratic (10-node) tets -------------------------------------------------------- */
+
+/* local edges of tet10 slots 4..9 (VTK quadratic tetra order, mesh.h) */
+static const int p2_edge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+
+typedef struct {
+    int a, b; /* a < b: the edge's corner vertices */
+    int n, t; /* its midside node in tet t */
+} p2key;
+
+static int cmp_p2key(const void *x, const void *y)
+{
+    const p2key *p = x, *q = y;
+    if (p->a != q->a) return p->a < q->a ? -1 : 1;
+    if (p->b != q->b) return p->b < q->b ? -1 : 1;
+    return (p->t > q->t) - (p->t < q->t);
+}
+
+/* The 6·nt edges of the tets with their midside nodes, sorted by edge (then tet). */
+static int p2_edge_table(eo_ctx *ctx, const eo_mesh *m, p2key **out)
+{
+    size_t n = 6 * (size_t)m->nt;
+    p2key *k = eo_malloc(ctx, (n ? n : 1) * sizeof *k);
+    *out = NULL;
+    if (!k) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (quadratic mesh edges)");
+    for (int t = 0; t < m->nt; t++)
+        for (int e = 0; e < 6; e++) {
+            int a = m->tet10[10 * t + p2_edge[e][0]], b = m->tet10[10 * t + p2_edge[e][1]];
+            k[6 * (size_t)t + e] = (p2key){a < b ? a : b, a < b ? b : a, m->tet10[10 * t + 4 + e], t};
+        }
+    int rc = bucket_sort(ctx, k, n, sizeof *k, m->nv, cmp_p2key);
+    if (rc < 0) {
+        eo_free(ctx, k);
+        return rc;
+    }
+    *out = k;
+    return EO_OK;
+}
+
+/* Midside node of edge (a, b) in the sorted table, or -1. */
+static int p2_find(const p2key *k, size_t n, int a, int b)
+{
+    if (a > b) {
+        int s = a;
+        a = b;
+        b = s;
+    }
+    size_t lo = 0, hi = n;
+    while (lo < hi) {
+        size_t mid = lo + (hi - lo) / 2;
+        if (k[mid].a < a || (k[mid].a == a && k[mid].b < b)) lo = mid + 1;
+        else hi = mid;
+    }
+    return lo < n && k[lo].a == a && k[lo].b == b ? k[lo].n : -1;
+}
+
+static long vert_id(const eo_mesh_src *src, int v) { return src && src->v_id ? src->v_id[v] : v; }
+
+/* Structure of an order-2 mesh: tet10 present, its corners equal to tets, midside nodes
+ * in range, no midside node a corner of any tet, one node per edge and one edge per node. */
+static int p2_check(eo_ctx *ctx, const eo_mesh *m, const eo_mesh_src *src, unsigned char *flag)
+{
+    if (!m->tet10) return eo_error(ctx, EO_ERR_INVALID, "order-2 mesh without tet10");
+    memset(flag, 0, (size_t)m->nv);
+    for (int t = 0; t < m->nt; t++)
+        for (int i = 0; i < 4; i++) {
+            if (m->tet10[10 * t + i] != m->tets[4 * t + i])
+                return eo_error_at(ctx, EO_ERR_MESH, tet_loc(src, t),
+                                   "corner %d of the 10-node tet is vertex %d but the tet lists %d", i,
+                                   m->tet10[10 * t + i], m->tets[4 * t + i]);
+            flag[m->tets[4 * t + i]] = 1;
+        }
+    for (int t = 0; t < m->nt; t++)
+        for (int e = 0; e < 6; e++) {
+            int v = m->tet10[10 * t + 4 + e];
+            if (v < 0 || v >= m->nv)
+                return eo_error_at(ctx, EO_ERR_MESH, tet_loc(src, t),
+                                   "expected midside node indices in [0, %d), got %d", m->nv, v);
+            if (flag[v])
+                return eo_error_at(ctx, EO_ERR_MESH, tet_loc(src, t),
+                                   "midside node %ld of edge %d%d is a corner of a tet; expected a node of its own",
+                                   vert_id(src, v), p2_edge[e][0], p2_edge[e][1]);
+        }
+    p2key *k = NULL;
+    int rc = p2_edge_table(ctx, m, &k);
+    if (rc < 0) return rc;
+    size_t n = 6 * (size_t)m->nt;
+    for (size_t i = 1; i < n && rc >= 0; i++)
+        if (k[i].a == k[i - 1].a && k[i].b == k[i - 1].b && k[i].n != k[i - 1].n)
+            rc = eo_error_at(ctx, EO_ERR_MESH, tet_loc(src, k[i].t),
+                             "edge (%ld, %ld) has midside node %ld here and %ld in tet %ld; expected one node "
+                             "per edge",
+                             vert_id(src, k[i].a), vert_id(src, k[i].b), vert_id(src, k[i].n),
+                             vert_id(src, k[i - 1].n), tet_id(src, k[i - 1].t));
+    /* one edge per node: the first edge each node meets, by node */
+    int *ea = rc >= 0 ? eo_malloc(ctx, (size_t)m->nv * 2 * sizeof(int)) : NULL;
+    if (rc >= 0 && !ea) rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (validation)");
+    if (ea) {
+        for (int v = 0; v < 2 * m->nv; v++) ea[v] = -1;
+        for (size_t i = 0; i < n && rc >= 0; i++) {
+            int v = k[i].n;
+            if (ea[2 * v] < 0) {
+                ea[2 * v] = k[i].a;
+                ea[2 * v + 1] = k[i].b;
+            } else if (ea[2 * v] != k[i].a || ea[2 * v + 1] != k[i].b) {
+                rc = eo_error_at(ctx, EO_ERR_MESH, tet_loc(src, k[i].t),
+                                 "midside node %ld is on edge (%ld, %ld) here and on edge (%ld, %ld) elsewhere; "
+                                 "expected one edge per midside node",
+                                 vert_id(src, v), vert_id(src, k[i].a), vert_id(src, k[i].b), vert_id(src, ea[2 * v]),
+                                 vert_id(src, ea[2 * v + 1]));
+            }
+        }
+    }
+    eo_free(ctx, ea);
+    eo_free(ctx, k);
+    for (int i = 0; rc >= 0 && m->tri_mid && i < 3 * m->ntri; i++)
+        if (m->tri_mid[i] < 0 || m->tri_mid[i] >= m->nv)
+            rc = eo_error_at(ctx, EO_ERR_MESH,
+                             EO_ERRLOC_ITEM(src && src->tri_file ? src->tri_file : src ? src->tet_file : NULL,
+                                            src && src->f_line ? src->f_line[i / 3] : -1, "triangle", i / 3 + 1),
+                             "expected midside node indices in [0, %d), got %d", m->nv, m->tri_mid[i]);
+    return rc;
+}
+
+/* Tagged triangles of an order-2 mesh: fill tri_mid from the tets' edges when absent
+ * (p2_check checked a given one). */
+static int p2_tri_mid(eo_ctx *ctx, eo_mesh *m, const eo_mesh_src *src)
+{
+    if (!m->ntri || m->tri_mid) return EO_OK;
+    p2key *k = NULL;
+    int rc = p2_edge_table(ctx, m, &k);
+    if (rc < 0) return rc;
+    m->tri_mid = eo_malloc(ctx, (size_t)m->ntri * 3 * sizeof(int));
+    if (!m->tri_mid) rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (triangle midside nodes)");
+    for (int f = 0; f < m->ntri && rc >= 0; f++)
+        for (int e = 0; e < 3 && rc >= 0; e++) {
+            int a = m->tris[3 * f + e], b = m->tris[3 * f + (e + 1) % 3];
+            int v = p2_find(k, 6 * (size_t)m->nt, a, b);
+            if (v < 0)
+                rc = eo_error_at(ctx, EO_ERR_MESH,
+                                 EO_ERRLOC_ITEM(src && src->tri_file ? src->tri_file : src ? src->tet_file : NULL,
+                                                src && src->f_line ? src->f_line[f] : -1, "triangle", f + 1),
+                                 "edge (%ld, %ld) is not an edge of any tet, so it has no midside node; expected "
+                                 "the triangles of a quadratic mesh on tet edges",
+                                 vert_id(src, a), vert_id(src, b));
+            else m->tri_mid[3 * f + e] = v;
+        }
+    if (rc < 0) {
+        eo_free(ctx, m->tri_mid);
+        m->tri_mid = NULL;
+    }
+    eo_free(ctx, k);
+    return rc;
+}
+
+/* Swap corners 1 and 2 of 10-node tet q: edge 01 <-> 20, 12 stays, 13 <-> 23, 03 stays. */
+static void p2_swap12(int *q)
+{
+    static const int perm[10] = {0, 2, 1, 3, 6, 5, 4, 7, 9, 8};
+    int o[10];
+    memcpy(o, q, sizeof o);
+    for (int i = 0; i < 10; i++) q[i] = o[perm[i]];
 }
 
 int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts, const eo_mesh_src *src)
@@ -640,8 +813,12 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
         rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (validation)");
         goto fail;
     }
+    if (m->order == 2 || m->tet10) {
+        m->order = 2;
+        if ((rc = p2_check(ctx, m, src, flag)) < 0) goto fail;
+    }
 
-    /* orientation and zero volume */
+    /* orientation and zero volume (corners only; a 10-node tet's midside nodes follow) */
     double mean = 0;
     int reoriented = 0;
     for (int t = 0; t < m->nt; t++) {
@@ -656,6 +833,7 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
             int tmp = tt[1];
             tt[1] = tt[2];
             tt[2] = tmp;
+            if (m->tet10) p2_swap12(m->tet10 + 10 * t);
             reoriented++;
         }
         mean += fabs(v);
@@ -723,6 +901,11 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
     /* unreferenced vertices */
     memset(flag, 0, (size_t)m->nv);
     for (int i = 0; i < 4 * m->nt; i++) flag[m->tets[i]] = 1;
+    if (m->tet10) /* midside nodes are referenced too */
+        for (int i = 0; i < 10 * m->nt; i++) flag[m->tet10[i]] = 1;
+    if (m->tri_mid)
+        for (int i = 0; i < 3 * m->ntri; i++)
+            flag[m->tri_mid[i]] = 1;
     int nunref = 0;
     for (int v = 0; v < m->nv; v++) {
         if (flag[v]) continue;
@@ -753,12 +936,19 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
             n++;
         }
         for (int i = 0; i < 4 * m->nt; i++) m->tets[i] = map[m->tets[i]];
+        if (m->tet10)
+            for (int i = 0; i < 10 * m->nt; i++) m->tet10[i] = map[m->tet10[i]];
         int nf = 0; /* tagged triangles on a dropped vertex go too */
         for (int f = 0; f < m->ntri; f++) {
             const int *q = m->tris + 3 * f;
             if (map[q[0]] < 0 || map[q[1]] < 0 || map[q[2]] < 0) continue;
             int w[3] = {map[q[0]], map[q[1]], map[q[2]]};
             memcpy(m->tris + 3 * nf, w, sizeof w);
+            if (m->tri_mid) {
+                const int *r = m->tri_mid + 3 * f;
+                int u[3] = {map[r[0]], map[r[1]], map[r[2]]};
+                memcpy(m->tri_mid + 3 * nf, u, sizeof u);
+            }
             m->tri_tag[nf] = m->tri_tag[f];
             if (src && src->f_line) src->f_line[nf] = src->f_line[f];
             nf++;
@@ -767,6 +957,7 @@ int eo_mesh_validate_src(eo_ctx *ctx, eo_mesh *m, const eo_mesh_read_opts *opts,
         dropped_v = m->nv - n;
         m->nv = n;
     }
+    if (m->tet10 && (rc = p2_tri_mid(ctx, m, src)) < 0) goto fail;
     m->dropped_tets += dropped_t;
     m->dropped_vertices += dropped_v;
     if (dropped_t || dropped_v) {

@@ -8,13 +8,19 @@
  *       maxTag", per block "dim entity type n", then n lines "tag node1..nodeK".
  *  4.1  $Entities: "nP nC nS nV", then one line per entity: "tag [x y z | 6 bbox
  *       numbers] numPhysicalTags physicalTags... [bounding entities...]".
- * Tets (type 4) and triangles (type 2) are kept. tet_attr is the physical tag (2.2: the
+ * Tets (type 4, or type 11: 10-node tets, giving an order-2 mesh) and triangles (type 2,
+ * or type 9: 6-node triangles, of which the 3 corners are kept; their midside nodes are
+ * the tets' ones) are kept. Gmsh lists a 10-node tet's nodes as the corners, then the
+ * nodes of edges 01, 12, 20, 30, 32, 31 (manual, "Node ordering"): the last two are the
+ * other way round from the VTK order of tet10 (edges ..., 13, 23), so both the reader
+ * and the writer swap nodes 8 and 9. A file mixing types 4 and 11 is an error. tet_attr is the physical tag (2.2: the
  * first element tag, 0 if none; 4.1: the first physical tag of the tet's volume entity
  * in $Entities, else the entity tag). Triangles become tagged triangles (tris/tri_tag)
  * with the same rule, except that a 4.1 surface entity in several physical groups gives
  * its triangles once per group. Every other element type and every other section
  * ($PhysicalNames, IPC's $Surface, ...) is skipped line by line.
- * The writer emits one node block and one element block per run of equal tet_attr. */
+ * The writer emits one node block and one element block per run of equal tet_attr
+ * (type 11 for an order-2 mesh). */
 #include <string.h>
 
 #include "elastopt/io.h"
@@ -30,6 +36,7 @@ typedef struct {
     eo_tagmap map;
     int v41;         /* 1: version 4.1, 0: 2.x */
     int cap;         /* tet capacity */
+    int n4, n10;     /* tets read of 4 and 10 nodes */
     int tcap;        /* triangle capacity */
     /* 4.1 $Entities of dimension 2 and 3: tag, physical tags ent_phys[first .. first+n) */
     long *ent_tag[2];
@@ -155,21 +162,34 @@ static int alloc_elements(gmsh_reader *r, int n)
     return eo_mesh_src_alloc(r->ctx, r->src, -1, r->cap);
 }
 
-/* Read the 4 node tags of tet `tag` on the current line into the next tet slot. */
-static int read_tet(gmsh_reader *r, long tag, long line, int attr)
+/* Gmsh -> VTK order of a 10-node tet (an involution): vtk[i] = gmsh[gmsh_tet10[i]] */
+static const int gmsh_tet10[10] = {0, 1, 2, 3, 4, 5, 6, 7, 9, 8};
+
+/* Read the nn (4 or 10) node tags of tet `tag` on the current line into the next tet slot. */
+static int read_tet(gmsh_reader *r, long tag, long line, int attr, int nn)
 {
     eo_scan *s = &r->s;
     eo_mesh *m = r->m;
-    int t = m->nt, rc;
+    int t = m->nt, rc, v[10];
     eo_scan_item(s, "tet", tag);
-    for (int a = 0; a < 4; a++) {
+    if ((nn == 10 && r->n4) || (nn == 4 && r->n10))
+        return eo_scan_error(s, EO_ERR_MESH,
+                             "a %d-node tet (element type %d) in a mesh of %d-node tets; expected one kind of tet",
+                             nn, nn == 10 ? 11 : 4, nn == 10 ? 4 : 10);
+    if (nn == 10 && !m->tet10 && !(m->tet10 = eo_malloc(r->ctx, (size_t)r->cap * 10 * sizeof(int))))
+        return eo_error(r->ctx, EO_ERR_NOMEM, "out of memory (%d 10-node tets)", r->cap);
+    for (int a = 0; a < nn; a++) {
         long nt;
         if ((rc = eo_scan_long(s, "node tag", &nt)) < 0) return rc;
-        int v = eo_tagmap_find(&r->map, nt);
-        if (v < 0) return eo_scan_error(s, EO_ERR_MESH, "node %ld: expected a node tag defined in $Nodes", nt);
-        m->tets[4 * t + a] = v;
+        v[a] = eo_tagmap_find(&r->map, nt);
+        if (v[a] < 0) return eo_scan_error(s, EO_ERR_MESH, "node %ld: expected a node tag defined in $Nodes", nt);
     }
-    if ((rc = eo_scan_eol(s, "the 4 nodes of a tet")) < 0) return rc;
+    if ((rc = eo_scan_eol(s, nn == 10 ? "the 10 nodes of a tet" : "the 4 nodes of a tet")) < 0) return rc;
+    memcpy(m->tets + 4 * t, v, 4 * sizeof(int));
+    if (nn == 10)
+        for (int a = 0; a < 10; a++) m->tet10[10 * t + a] = v[gmsh_tet10[a]];
+    r->n4 += nn == 4;
+    r->n10 += nn == 10;
     eo_scan_item(s, NULL, -1);
     m->tet_attr[t] = attr;
     r->src->t_line[t] = line;
@@ -178,19 +198,20 @@ static int read_tet(gmsh_reader *r, long tag, long line, int attr)
     return EO_OK;
 }
 
-/* Read the 3 node tags of a triangle on the current line; add it once per tag. */
-static int read_tri(gmsh_reader *r, long tag, long line, const long *tags, int ntags)
+/* Read the nn (3 or 6) node tags of a triangle on the current line; add its corners once
+ * per tag. */
+static int read_tri(gmsh_reader *r, long tag, long line, const long *tags, int ntags, int nn)
 {
     eo_scan *s = &r->s;
-    int v[3], rc;
+    int v[6], rc;
     eo_scan_item(s, "triangle", tag);
-    for (int a = 0; a < 3; a++) {
+    for (int a = 0; a < nn; a++) {
         long nt;
         if ((rc = eo_scan_long(s, "node tag", &nt)) < 0) return rc;
         if ((v[a] = eo_tagmap_find(&r->map, nt)) < 0)
             return eo_scan_error(s, EO_ERR_MESH, "node %ld: expected a node tag defined in $Nodes", nt);
     }
-    if ((rc = eo_scan_eol(s, "the 3 nodes of a triangle")) < 0) return rc;
+    if ((rc = eo_scan_eol(s, nn == 6 ? "the 6 nodes of a triangle" : "the 3 nodes of a triangle")) < 0) return rc;
     eo_scan_item(s, NULL, -1);
     for (int k = 0; k < ntags; k++) {
         if (tags[k] < -2147483647L || tags[k] > 2147483647L)
@@ -287,12 +308,12 @@ static int elements_22(gmsh_reader *r)
             if ((rc = eo_scan_long(s, "element tag value", &v)) < 0) return rc;
             if (k == 0) phys = v;
         }
-        if (type == 4) {
+        if (type == 4 || type == 11) {
             if (phys < -2147483647L || phys > 2147483647L)
                 return eo_scan_error(s, EO_ERR_PARSE, "physical tag %ld out of range", phys);
-            if ((rc = read_tet(r, tag, line, (int)phys)) < 0) return rc;
-        } else if (type == 2) {
-            if ((rc = read_tri(r, tag, line, &phys, 1)) < 0) return rc;
+            if ((rc = read_tet(r, tag, line, (int)phys, type == 11 ? 10 : 4)) < 0) return rc;
+        } else if (type == 2 || type == 9) {
+            if ((rc = read_tri(r, tag, line, &phys, 1, type == 9 ? 6 : 3)) < 0) return rc;
         } else {
             eo_scan_skip_line(s);
         }
@@ -322,22 +343,23 @@ static int elements_41(gmsh_reader *r)
         if (k > n - done)
             return eo_scan_error(s, EO_ERR_PARSE,
                                  "block of %d elements exceeds the %d announced in the $Elements header", k, n);
-        if (!(type == 4 && dim == 3) && !(type == 2 && dim == 2)) {
+        const int tet = (type == 4 || type == 11) && dim == 3, tri = (type == 2 || type == 9) && dim == 2;
+        if (!tet && !tri) {
             if ((rc = eo_scan_skip_lines(s, k, "element lines")) < 0) return rc;
             done += k;
             continue;
         }
         const long *tags;
         int ntags = entity_tags(r, dim, &ent, &tags);
-        if (type == 4 && (tags[0] < -2147483647L || tags[0] > 2147483647L))
+        if (tet && (tags[0] < -2147483647L || tags[0] > 2147483647L))
             return eo_scan_error(s, EO_ERR_PARSE, "physical tag %ld out of range", tags[0]);
         if ((rc = eo_scan_eol(s, "the element block header")) < 0) return rc;
         for (int i = 0; i < k; i++) {
             long tag;
             long line = eo_scan_record(s);
             if ((rc = eo_scan_long(s, "element tag", &tag)) < 0) return rc;
-            if (type == 4) rc = read_tet(r, tag, line, (int)tags[0]);
-            else rc = read_tri(r, tag, line, tags, ntags);
+            if (tet) rc = read_tet(r, tag, line, (int)tags[0], type == 11 ? 10 : 4);
+            else rc = read_tri(r, tag, line, tags, ntags, type == 9 ? 6 : 3);
             if (rc < 0) return rc;
         }
         done += k;
@@ -385,9 +407,10 @@ static int read_gmsh(eo_ctx *ctx, const char *text, size_t len, const char *file
     }
     if (r.m->nt == 0) {
         rc = eo_error_at(ctx, EO_ERR_MESH, EO_ERRLOC_FILE(file, -1),
-                         "no tetrahedra (element type 4) found; expected a volume mesh");
+                         "no tetrahedra (element type 4 or 11) found; expected a volume mesh");
         goto fail;
     }
+    if (r.n10) r.m->order = 2;
 fail:
     eo_free(ctx, r.tags);
     for (int d = 0; d < 2; d++) {
@@ -424,8 +447,15 @@ static int write_gmsh(eo_ctx *ctx, const eo_mesh *m, const char *path)
     for (int t = 0; t < m->nt;) {
         int attr = m->tet_attr ? m->tet_attr[t] : 1, e = t + 1;
         while (e < m->nt && (!m->tet_attr || m->tet_attr[e] == attr)) e++;
-        fprintf(f, "3 %d 4 %d\n", attr, e - t);
+        fprintf(f, "3 %d %d %d\n", attr, m->tet10 ? 11 : 4, e - t);
         for (; t < e; t++) {
+            if (m->tet10) {
+                const int *q = m->tet10 + 10 * t;
+                fprintf(f, "%d", t + 1);
+                for (int a = 0; a < 10; a++) fprintf(f, " %d", q[gmsh_tet10[a]] + 1);
+                fputc('\n', f);
+                continue;
+            }
             const int *q = m->tets + 4 * t;
             fprintf(f, "%d %d %d %d %d\n", t + 1, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
         }

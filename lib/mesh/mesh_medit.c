@@ -9,7 +9,9 @@
  *   Triangles n   then n lines "v1 v2 v3 ref"    (1-based; -> tris/tri_tag)
  *   End
  * Comments start with '#'. Every other keyword (Triangles, Edges, Corners, Normals, ...)
- * is followed by a count and that many one-line entries, which are skipped. */
+ * is followed by a count and that many one-line entries, which are skipped, except the
+ * 10-node tets (TetrahedraP2), which are refused (EO_ERR_UNSUPPORTED) rather than read as
+ * a mesh without them; likewise the writer refuses an order-2 mesh. */
 #include <string.h>
 
 #include "elastopt/io.h"
@@ -129,6 +131,12 @@ static int read_medit(eo_ctx *ctx, const char *text, size_t len, const char *fil
             /* another section: keyword, count, count lines */
             char kw[48];
             snprintf(kw, sizeof kw, "%.*s", (int)(n > 40 ? 40 : n), t);
+            if (strcmp(kw, "TetrahedraP2") == 0) {
+                rc = eo_scan_error(s, EO_ERR_UNSUPPORTED,
+                                   "MEDIT TetrahedraP2 (10-node tets) are not supported; expected Tetrahedra "
+                                   "(or give the quadratic mesh as Gmsh .msh, VTU or TetGen)");
+                goto fail;
+            }
             s->p += n;
             long k;
             char what[96];
@@ -169,6 +177,10 @@ fail:
 
 static int write_medit(eo_ctx *ctx, const eo_mesh *m, const char *path)
 {
+    if (m->tet10)
+        return eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(path, -1),
+                           "MEDIT output of a quadratic (10-node) mesh is not supported; expected .msh, .vtu or "
+                           ".node/.ele (or write the linear mesh)");
     eo_afile *af = NULL;
     int rc = eo_afile_open(ctx, path, &af);
     if (rc < 0) return rc;

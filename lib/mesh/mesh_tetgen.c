@@ -5,7 +5,11 @@
  *          "<index> <x> <y> <z> [attributes...] [marker]"          (marker -> vmarker)
  *   .ele:  "<#tets> <nodes per tet 4|10> <#attributes>", then per tet
  *          "<index> <n1> <n2> <n3> <n4> [6 more nodes] [attributes...]"
- *          (the first attribute, the region, -> tet_attr; it must be an integer)
+ *          (the first attribute, the region, -> tet_attr; it must be an integer).
+ *          10 nodes per tet (tetgen -o2) give an order-2 mesh: TetGen lists the nodes of
+ *          edges 23, 03, 01, 12, 13, 02 (its edge2ver table; checked against libtet 1.5
+ *          output, each node at the midpoint of that edge), permuted here into the VTK
+ *          order of tet10 (01, 12, 20, 03, 13, 23) and back by the writer.
  *   .face: "<#faces> <#markers 0|1>", then per face "<index> <n1> <n2> <n3> [marker]"
  *          (optional; with markers -> tagged triangles tris/tri_tag, without: ignored)
  * Indices start at 0 or 1 (the first point's index decides, as TetGen's -z does) and
@@ -78,6 +82,10 @@ static int read_node(eo_scan *s, eo_mesh **out, eo_mesh_src *src, int *base)
     return EO_OK;
 }
 
+/* TetGen -> VTK order of a 10-node tet: TetGen's node j is tet10 slot tg_to[j] (and VTK
+ * slot i holds TetGen's node {0, 1, 2, 3, 6, 7, 9, 5, 8, 4}[i]) */
+static const int tg_to[10] = {0, 1, 2, 3, 9, 7, 4, 5, 8, 6};
+
 static int read_ele(eo_scan *s, eo_mesh *m, eo_mesh_src *src, int base)
 {
     eo_ctx *ctx = s->ctx;
@@ -90,6 +98,11 @@ static int read_ele(eo_scan *s, eo_mesh *m, eo_mesh_src *src, int base)
     eo_free(ctx, m->tets);
     m->tets = eo_malloc(ctx, (size_t)(n ? n : 1) * 4 * sizeof(int));
     if (!m->tets) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (%d tets)", n);
+    if (npt == 10) {
+        if (!(m->tet10 = eo_malloc(ctx, (size_t)(n ? n : 1) * 10 * sizeof(int))))
+            return eo_error(ctx, EO_ERR_NOMEM, "out of memory (%d 10-node tets)", n);
+        m->order = 2;
+    }
     if (nattr && !(m->tet_attr = eo_malloc(ctx, (size_t)(n ? n : 1) * sizeof(int))))
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory (%d tets)", n);
     if ((rc = eo_mesh_src_alloc(ctx, src, -1, n)) < 0) return rc;
@@ -115,6 +128,7 @@ static int read_ele(eo_scan *s, eo_mesh *m, eo_mesh_src *src, int base)
                 return eo_scan_error(s, EO_ERR_MESH, "expected point index in [%d, %d], got %ld", base,
                                      base + m->nv - 1, v);
             if (a < 4) m->tets[4 * t + a] = (int)(v - base);
+            if (npt == 10) m->tet10[10 * t + tg_to[a]] = (int)(v - base);
         }
         for (int k = 0; k < nattr; k++) {
             double a;
@@ -265,10 +279,11 @@ static int write_tetgen(eo_ctx *ctx, const eo_mesh *m, const char *path)
         if (m->vmarker) fprintf(f[0], " %d", m->vmarker[v]);
         fputc('\n', f[0]);
     }
-    fprintf(f[1], "# written by elastopt\n%d 4 %d\n", m->nt, m->tet_attr ? 1 : 0);
+    fprintf(f[1], "# written by elastopt\n%d %d %d\n", m->nt, m->tet10 ? 10 : 4, m->tet_attr ? 1 : 0);
     for (int t = 0; t < m->nt; t++) {
         const int *q = m->tets + 4 * t;
         fprintf(f[1], "%d %d %d %d %d", t + 1, q[0] + 1, q[1] + 1, q[2] + 1, q[3] + 1);
+        for (int j = 4; m->tet10 && j < 10; j++) fprintf(f[1], " %d", m->tet10[10 * t + tg_to[j]] + 1);
         if (m->tet_attr) fprintf(f[1], " %d", m->tet_attr[t]);
         fputc('\n', f[1]);
     }

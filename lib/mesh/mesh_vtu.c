@@ -10,9 +10,11 @@
  * '_' marker: again a byte count and the bytes) — eo_vtu_write writes appended raw.
  * Types: Int8..UInt64, Float32, Float64. Compressed files (compressor=...) and
  * big-endian files are rejected (EO_ERR_UNSUPPORTED).
- * Cells of type 10 (tetra) become tets, "region" their tet_attr; cells of type 5
- * (triangle) become tagged triangles (tag = region, or 0); vertices and lines (1, 3)
- * are skipped; any other type is an error naming the cell. Errors name file:line of
+ * Cells of type 10 (tetra) become tets, "region" their tet_attr; cells of type 24
+ * (quadratic tetra, 10 nodes in the order of tet10) instead give an order-2 mesh (a file
+ * mixing types 10 and 24 is an error); cells of type 5 (triangle) or 22 (quadratic
+ * triangle: its 3 corners) become tagged triangles (tag = region, or 0); vertices and
+ * lines (1, 3) are skipped; any other type is an error naming the cell. Errors name file:line of
  * the XML element (binary payloads have no lines). */
 #include <math.h>
 #include <stdarg.h>
@@ -386,23 +388,38 @@ int eo_vtu_read_text(eo_ctx *ctx, const char *text, size_t len, const char *file
         goto fail;
     }
     if ((rc = decode(&r, &a_conn, nconn, conn)) < 0) goto fail;
-    long ntet = 0;
+    long ntet = 0, n10 = 0;
     for (long c = 0; c < nc; c++) {
-        ntet += types[c] == 10;
-        if (types[c] != 10 && types[c] != 5 && types[c] != 3 && types[c] != 1) {
+        ntet += types[c] == 10 || types[c] == 24;
+        n10 += types[c] == 24;
+        if (types[c] != 10 && types[c] != 24 && types[c] != 5 && types[c] != 22 && types[c] != 3 && types[c] != 1) {
             rc = eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_ITEM(file, line_of(&r, a_types.tag), "cell", c),
-                             "VTK cell type %g; expected tetrahedra (10), optionally with triangles (5), lines "
-                             "(3) or vertices (1)",
+                             "VTK cell type %g; expected tetrahedra (10 or quadratic 24), optionally with "
+                             "triangles (5 or quadratic 22), lines (3) or vertices (1)",
                              types[c]);
             goto fail;
         }
     }
     if (!ntet) {
         rc = eo_error_at(ctx, EO_ERR_MESH, EO_ERRLOC_FILE(file, line_of(&r, a_types.tag)),
-                         "no tetrahedra (VTK cell type 10) found; expected a volume mesh");
+                         "no tetrahedra (VTK cell type 10 or 24) found; expected a volume mesh");
+        goto fail;
+    }
+    if (n10 && n10 != ntet) {
+        long c = 0;
+        while (types[c] != 10) c++;
+        rc = eo_error_at(ctx, EO_ERR_MESH, EO_ERRLOC_ITEM(file, line_of(&r, a_types.tag), "cell", c),
+                         "a linear tetra (type 10) among %ld quadratic ones (type 24); expected one kind of tet", n10);
         goto fail;
     }
     if ((rc = eo_mesh_create(ctx, (int)np, (int)ntet, &m)) < 0) goto fail;
+    if (n10) {
+        if (!(m->tet10 = eo_malloc(ctx, (size_t)ntet * 10 * sizeof(int)))) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (vtu)");
+            goto fail;
+        }
+        m->order = 2;
+    }
     memcpy(m->X, pts, 3 * (size_t)np * sizeof(double));
     if (have_reg && !(m->tet_attr = eo_malloc(ctx, (size_t)ntet * sizeof(int)))) {
         rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (vtu)");
@@ -413,11 +430,11 @@ int eo_vtu_read_text(eo_ctx *ctx, const char *text, size_t len, const char *file
     for (long c = 0; c < nc; c++) {
         size_t b0 = c ? (size_t)offs[c - 1] : 0, b1 = (size_t)offs[c];
         int type = types[c] == floor(types[c]) && fabs(types[c]) < 1e6 ? (int)types[c] : -1;
-        int need = type == 10 ? 4 : type == 5 ? 3 : type == 1 ? 1 : type == 3 ? 2 : -1;
+        int need = type == 10 ? 4 : type == 24 ? 10 : type == 5 ? 3 : type == 22 ? 6 : type == 1 ? 1 : type == 3 ? 2 : -1;
         if (need < 0) {
             rc = eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_ITEM(file, line_of(&r, a_types.tag), "cell", c),
-                             "VTK cell type %g; expected tetrahedra (10), optionally with triangles (5), lines "
-                             "(3) or vertices (1)",
+                             "VTK cell type %g; expected tetrahedra (10 or quadratic 24), optionally with "
+                             "triangles (5 or quadratic 22), lines (3) or vertices (1)",
                              types[c]);
             goto fail;
         }
@@ -426,7 +443,7 @@ int eo_vtu_read_text(eo_ctx *ctx, const char *text, size_t len, const char *file
                              "cell of type %d with %zu points; expected %d", type, b1 - b0, need);
             goto fail;
         }
-        int v[4];
+        int v[10];
         for (int k = 0; k < need; k++) {
             double x = conn[b0 + (size_t)k];
             if (!(x >= 0 && x < (double)np) || x != floor(x)) {
@@ -446,13 +463,14 @@ int eo_vtu_read_text(eo_ctx *ctx, const char *text, size_t len, const char *file
             }
             tag = (int)g;
         }
-        if (type == 10) {
-            memcpy(m->tets + 4 * t, v, sizeof v);
+        if (type == 10 || type == 24) {
+            memcpy(m->tets + 4 * t, v, 4 * sizeof(int));
+            if (type == 24) memcpy(m->tet10 + 10 * t, v, 10 * sizeof(int));
             if (m->tet_attr) m->tet_attr[t] = tag;
             src->t_line[t] = tline;
             src->t_id[t] = c;
             t++;
-        } else if (type == 5 && (rc = eo_mesh_add_tri(ctx, m, src, &tcap, v, tag, tline)) < 0) {
+        } else if ((type == 5 || type == 22) && (rc = eo_mesh_add_tri(ctx, m, src, &tcap, v, tag, tline)) < 0) {
             goto fail;
         }
     }

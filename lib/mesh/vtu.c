@@ -4,7 +4,8 @@
  * with every array in one <AppendedData encoding="raw"> block: after the '_' marker,
  * each array is a UInt64 byte count followed by its little-endian bytes; a DataArray's
  * `offset` is the position of its count relative to the byte after '_'.
- *   Points: Float64 ×3; Cells: connectivity Int64, offsets Int64, types UInt8 (10 = tet)
+ *   Points: Float64 ×3; Cells: connectivity Int64, offsets Int64, types UInt8 (10 = tet;
+ *   24 = quadratic tet, 10 ids each in the order of tet10, for an order-2 mesh)
  *   PointData: displacement, velocity (Float64 ×3); CellData: energy_density, J
  *   (Float64), inverted (UInt8), region (Int32, when the mesh has tet attributes).
  * Non-finite values (e.g. the barrier energy density of an inverted tet) are never
@@ -215,6 +216,8 @@ int eo_vtu_write(eo_ctx *ctx, const char *path, const eo_mesh *m, const eo_vtu_f
     if (fl->J) cd[ncd++] = (varray){"J", A_F64, 1, nt, fl->J};
     if (fl->inverted) cd[ncd++] = (varray){"inverted", A_U8, 1, nt, fl->inverted};
     if (m->tet_attr) cd[ncd++] = (varray){"region", A_I32, 1, nt, m->tet_attr};
+    if (m->tet10) /* order 2: quadratic tetra cells over every node; cell data stays per tet */
+        return write_grid(ctx, path, nv, fl->x ? fl->x : m->X, 3, nt, 10, m->tet10, 24, pd, npd, cd, ncd, NULL);
     return write_grid(ctx, path, nv, fl->x ? fl->x : m->X, 3, nt, 4, m->tets, 10, pd, npd, cd, ncd, NULL);
 }
 

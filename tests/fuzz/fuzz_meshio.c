@@ -2,7 +2,8 @@
  * eo_mesh_read_buffer), the surface parsers OBJ, OFF, STL (ASCII/binary), PLY
  * (ASCII/binary) up to the closed-surface checks (eo_surface_parse: the fuzz build has
  * no TetGen), and the tag paths of Gmsh 4.1 ($Entities, triangles), MEDIT (Triangles)
- * and TetGen (.face: node NUL ele NUL face), and Vega FEM .veg.
+ * and TetGen (.face: node NUL ele NUL face), and Vega FEM .veg; 10-node tets (Gmsh type 11,
+ * VTU type 24, TetGen 10-node .ele) on the same paths.
  * Input: byte 0 picks the reader (% 9: vtu, obj, off, stl, ply, gmsh, medit, tetgen, veg),
  * byte 1 the options (bit 0/1 drop_degenerate/drop_unreferenced; 0xE0 all set: run a
  * second pass with an allocation failure injected after 1 + (byte1 & 0x1C)). Aborts on
@@ -74,6 +75,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                     check(eo_tet_volume(m->X, m->tets + 4 * t) > 0, "non-positive tet accepted");
                 }
                 for (int i = 0; i < 3 * m->ntri; i++) check(m->tris[i] >= 0 && m->tris[i] < m->nv, "triangle index");
+                check((m->order == 2) == (m->tet10 != NULL), "order and tet10 disagree");
+                for (int t = 0; m->tet10 && t < m->nt; t++) /* order 2: corners = tets, nodes in range */
+                    for (int a = 0; a < 10; a++)
+                        check(m->tet10[10 * t + a] >= 0 && m->tet10[10 * t + a] < m->nv &&
+                                  (a >= 4 || m->tet10[10 * t + a] == m->tets[4 * t + a]),
+                              "tet10 index");
+                for (int i = 0; m->tet10 && i < 3 * m->ntri; i++)
+                    check(m->tri_mid && m->tri_mid[i] >= 0 && m->tri_mid[i] < m->nv, "tri_mid index");
                 unsigned char *flag = malloc((size_t)m->nv);
                 int n;
                 if (flag && eo_mesh_surface_vertices(ctx, m, flag, &n) >= 0) check(n > 0 && n <= m->nv, "surface count");
