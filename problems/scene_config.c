@@ -987,7 +987,28 @@ static int load_element(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     if (sc->points)
         return cfg_err(ctx, cfg, "element", EO_ERR_INVALID, "element %s needs tets; the mesh (%s) has none",
                        sc->element->info.name, sc->lattice ? "mesh.lattice" : "mesh.points");
-    if (m->order == 2) return EO_OK;
+    if (m->order == 2) { /* straight-sided elements: a file's midside nodes must sit at their edges' midpoints */
+        static const int edge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};
+        for (int t = 0; t < m->nt; t++)
+            for (int e = 0; e < 6; e++) {
+                const int *n = m->tet10 + 10 * t;
+                const double *a = m->X + 3 * n[edge[e][0]], *b = m->X + 3 * n[edge[e][1]], *c = m->X + 3 * n[4 + e];
+                double d2 = 0, l2 = 0;
+                for (int k = 0; k < 3; k++) {
+                    const double d = c[k] - 0.5 * (a[k] + b[k]);
+                    d2 += d * d;
+                    l2 += (b[k] - a[k]) * (b[k] - a[k]);
+                }
+                if (d2 > 1e-16 * l2)
+                    return cfg_err(ctx, cfg, "element", EO_ERR_MESH,
+                                   "tet %d: midside node %d of edge %d-%d is %.3g off the edge's midpoint (%.3g of its "
+                                   "length); element %s is straight-sided (geometry from the corners): curved 10-node "
+                                   "tets are not supported",
+                                   t, n[4 + e], n[edge[e][0]], n[edge[e][1]], sqrt(d2), sqrt(d2 / l2),
+                                   sc->element->info.name);
+            }
+        return EO_OK;
+    }
     eo_mesh *q = NULL;
     if ((rc = eo_mesh_to_quadratic(ctx, m, &q)) < 0) return rc;
     eo_mesh_destroy(&sc->mesh);
