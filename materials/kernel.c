@@ -358,8 +358,8 @@ static void scaling_block(const double Hs[9], eo_proj proj, double out[9])
  * (u_a the columns of U), contracted as Y_ub = Σ_d GV_ud T_bd, block(v,u) = Σ_b GV_vb Y_ub
  * for v ≤ u < 3; the blocks of vertex 3 are minus the sums of the others (translation
  * invariance, exact in G). */
-static void hess_iso(const eo_sigma_eval *se, const double U[9], const double V[9], const double Dminv[9],
-                     double w, eo_proj proj, double *H)
+/* T_bd of the comment above (the projected ∂P/∂F in the U frame) */
+static void iso_T(const eo_sigma_eval *se, const double U[9], eo_proj proj, double T[3][3][9])
 {
     double Hs[9];
     scaling_block(se->H, proj, Hs);
@@ -371,7 +371,6 @@ static void hess_iso(const eo_sigma_eval *se, const double U[9], const double V[
         al[i][j] = al[j][i] = 0.5 * (t + f);
         be[i][j] = be[j][i] = 0.5 * (t - f);
     }
-    double T[3][3][9];
     for (int b = 0; b < 3; b++) {
         double l[3];
         for (int a = 0; a < 3; a++) l[a] = a == b ? Hs[4 * b] : al[a][b];
@@ -389,6 +388,13 @@ static void hess_iso(const eo_sigma_eval *se, const double U[9], const double V[
                 }
         }
     }
+}
+
+static void hess_iso(const eo_sigma_eval *se, const double U[9], const double V[9], const double Dminv[9],
+                     double w, eo_proj proj, double *H)
+{
+    double T[3][3][9];
+    iso_T(se, U, proj, T);
     double GV[3][3];
     for (int v = 0; v < 3; v++)
         for (int b = 0; b < 3; b++)
@@ -536,5 +542,40 @@ int eo_tet_rest(const double X[12], double Dminv[9], double *w)
     Dminv[7] = (Dm[1] * Dm[6] - Dm[0] * Dm[7]) * inv;
     Dminv[8] = (Dm[0] * Dm[4] - Dm[1] * Dm[3]) * inv;
     *w = fabs(d) / 6;
+    return EO_OK;
+}
+
+int eo_material_hessian_nodes(const eo_material_type *mt, const eo_material_coef *c, const double F[9], int n,
+                              const double *G, double w, eo_proj proj, double *H, double *psi, double *J)
+{
+    if (!mt->sigma_eval || (mt->flags & EO_MATERIAL_EDGE) || n < 1 || n > 10) return EO_ERR_UNSUPPORTED;
+    *J = det3(F);
+    if ((mt->flags & EO_MATERIAL_BARRIER) && eo_tet_is_inverted(*J)) {
+        *psi = INFINITY;
+        return EO_OK;
+    }
+    double U[9], s[3], V[9];
+    eo_svd3(F, U, s, V);
+    eo_sigma_eval se;
+    *psi = iso_eval(mt, c, F, *J, EO_EVAL_HESS, U, s, V, &se, NULL);
+    if (!(*psi < INFINITY)) return EO_OK;
+    double T[3][3][9], GV[10][3], Y[10][3][9];
+    iso_T(&se, U, proj, T);
+    for (int a = 0; a < n; a++)
+        for (int b = 0; b < 3; b++)
+            GV[a][b] = G[3 * a] * V[b] + G[3 * a + 1] * V[3 + b] + G[3 * a + 2] * V[6 + b];
+    for (int u = 0; u < n; u++)
+        for (int b = 0; b < 3; b++)
+            for (int q = 0; q < 9; q++) Y[u][b][q] = GV[u][0] * T[b][0][q] + GV[u][1] * T[b][1][q] + GV[u][2] * T[b][2][q];
+    const int n3 = 3 * n;
+    for (int v = 0; v < n; v++) {
+        const double g0 = w * GV[v][0], g1 = w * GV[v][1], g2 = w * GV[v][2];
+        for (int u = v; u < n; u++) {
+            double blk[9];
+            for (int q = 0; q < 9; q++) blk[q] = g0 * Y[u][0][q] + g1 * Y[u][1][q] + g2 * Y[u][2][q];
+            for (int i = 0; i < 3; i++)
+                for (int l = 0; l < 3; l++) H[(size_t)(3 * v + i) * n3 + 3 * u + l] += blk[3 * i + l];
+        }
+    }
     return EO_OK;
 }

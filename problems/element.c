@@ -100,7 +100,9 @@ EO_HOT_CLONES int eo_element_evaluate(const eo_element_type *el, const eo_materi
     double theta = 0, dtheta[3 * EO_ELEMENT_MAX_NODES];
     if (md) memset(dtheta, 0, sizeof dtheta);
     double e = 0, jmin = INFINITY;
-    if (what >= EO_EVAL_GRAD) memset(grad, 0, (size_t)n3 * sizeof(double));
+    /* the Hessian alone (grad NULL) of an isotropic model: from the analytic modes, no ∂P/∂F */
+    const int hess_only = what >= EO_EVAL_HESS && !grad && mt->sigma_eval;
+    if (what >= EO_EVAL_GRAD && grad) memset(grad, 0, (size_t)n3 * sizeof(double));
     if (what >= EO_EVAL_HESS) memset(hess, 0, (size_t)n3 * n3 * sizeof(double));
     for (int q = 0; q < el->nq; q++) {
         double G[3 * EO_ELEMENT_MAX_NODES], F[9] = {0};
@@ -108,19 +110,24 @@ EO_HOT_CLONES int eo_element_evaluate(const eo_element_type *el, const eo_materi
         for (int a = 0; a < n; a++)
             for (int i = 0; i < 3; i++)
                 for (int j = 0; j < 3; j++) F[3 * i + j] += x[3 * a + i] * G[3 * a + j];
-        eo_material_eval me;
-        int rc = eo_material_evaluate(mt, c, F, what, proj, &me);
-        if (rc < 0) return rc;
-        if (me.J < jmin) jmin = me.J;
         const double w = el->qw[q] * V;
+        eo_material_eval me;
+        if (hess_only) {
+            int rc = eo_material_hessian_nodes(mt, c, F, n, G, w, proj, hess, &me.psi, &me.J);
+            if (rc < 0) return rc;
+        } else {
+            int rc = eo_material_evaluate(mt, c, F, what, proj, &me);
+            if (rc < 0) return rc;
+        }
+        if (me.J < jmin) jmin = me.J;
         e += w * me.psi;
         if (!isfinite(me.psi)) continue;
-        if (what >= EO_EVAL_GRAD)
+        if (what >= EO_EVAL_GRAD && grad)
             for (int a = 0; a < n; a++)
                 for (int i = 0; i < 3; i++)
                     grad[3 * a + i] += w * (me.P[3 * i] * G[3 * a] + me.P[3 * i + 1] * G[3 * a + 1] +
                                             me.P[3 * i + 2] * G[3 * a + 2]);
-        if (what >= EO_EVAL_HESS) eo_elementi_GtDG(n, G, me.dPdF, w, hess);
+        if (what >= EO_EVAL_HESS && !hess_only) eo_elementi_GtDG(n, G, me.dPdF, w, hess);
         if (md) { /* θ = Σ_q w_q J_q, ∇θ = Σ_q w_q cof(F_q) G_q, ∇²θ = Σ_q w_q Gᵀ ∂²J G */
             const double wq = el->qw[q];
             theta += wq * me.J;
@@ -137,7 +144,7 @@ EO_HOT_CLONES int eo_element_evaluate(const eo_element_type *el, const eo_materi
     if (md && isfinite(e)) {
         const double r = theta - 1;
         e += V * 0.5 * kappa * r * r;
-        if (what >= EO_EVAL_GRAD)
+        if (what >= EO_EVAL_GRAD && grad)
             for (int k = 0; k < n3; k++) grad[k] += V * kappa * r * dtheta[k];
         if (what >= EO_EVAL_HESS) {
             for (int a = 0; a < n3; a++)
@@ -158,7 +165,7 @@ EO_HOT_CLONES int eo_element_evaluate(const eo_element_type *el, const eo_materi
     if (minJ) *minJ = jmin;
     if (!isfinite(e) || ((mt->flags & EO_MATERIAL_BARRIER) && eo_tet_is_inverted(jmin))) {
         *energy = INFINITY;
-        if (what >= EO_EVAL_GRAD) memset(grad, 0, (size_t)n3 * sizeof(double));
+        if (what >= EO_EVAL_GRAD && grad) memset(grad, 0, (size_t)n3 * sizeof(double));
         if (what >= EO_EVAL_HESS) memset(hess, 0, (size_t)n3 * n3 * sizeof(double));
         return EO_OK;
     }

@@ -158,7 +158,7 @@ static int hessian_el(eo_term *t, const eo_sys *s, const double *x, eo_proj proj
             double xe[3 * EO_ELEMENT_MAX_NODES], ek;
             gather_nodes(s, x, k, xe);
             eo_element_evaluate(s->el, s->tet_type[k], s->tet_coef[k], s->Dminv + 9 * k, s->vol[k], xe,
-                                EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[k] : proj, &ek, s->elem_g + (size_t)ne * j,
+                                EO_EVAL_HESS, s->proj_of ? (eo_proj)s->proj_of[k] : proj, &ek, NULL,
                                 s->elem_H + (size_t)ne * ne * j, NULL);
         }
         for (int j = 0; j < nb; j++) {

@@ -92,7 +92,9 @@ EO_API eo_material_coef eo_element_split_coef(const eo_material_coef *c, double 
 /// node coordinates x (3·nodes, node-major, in the element's node order), F_q = Σ_a x_a ⊗ ∇N_a(λ_q).
 /// Dminv, V: the corner tet's rest data (eo_tet_rest). *minJ (may be NULL): the smallest
 /// det F over the points. Barrier models: energy +INFINITY (grad, hess zero) when a point
-/// has eo_tet_is_inverted(J). Outputs beyond `what` are not written. Never allocates.
+/// has eo_tet_is_inverted(J). Outputs beyond `what` are not written; with what =
+/// EO_EVAL_HESS, grad may be NULL (the Hessian alone: isotropic models then take the
+/// analytic-mode path, eo_material_hessian_nodes, without forming ∂P/∂F). Never allocates.
 /// Returns EO_OK or EO_ERR_UNSUPPORTED (an edge model).
 EO_API int eo_element_evaluate(const eo_element_type *el, const eo_material_type *mt, const eo_material_coef *c,
                                const double Dminv[9], double V, const double *x, eo_eval_what what, eo_proj proj,

@@ -220,6 +220,15 @@ EO_API int eo_tet_evaluate(const eo_material_type *mt, const eo_material_coef *c
 /// of the kernel for the isotropic models.
 EO_API int eo_tet_hessian(const eo_material_type *mt, const eo_material_coef *c, const double Dminv[9],
                           double w, const double x[12], eo_proj proj, eo_tet_out *out);
+/// One quadrature point's share of an element Hessian over n ≤ 10 nodes with shape
+/// gradients G (n×3, row a = ∇N_a): H[(a i)][(b k)] += w Σ_jl G_aj ∂P_ij/∂F_kl G_bl on the
+/// blocks b ≥ a of H ((3n)², row-major; the caller mirrors the rest), ∂P/∂F projected
+/// with proj, built from the analytic modes in the U frame without forming ∂P/∂F (the
+/// linear tet's eo_tet_hessian for n nodes). *psi = ψ(F), *J = det F; barrier models:
+/// ψ = +∞ where eo_tet_is_inverted(J), H untouched. EO_ERR_UNSUPPORTED for models
+/// without sigma_eval (F-space and edge models: use eo_material_evaluate). No allocation.
+EO_API int eo_material_hessian_nodes(const eo_material_type *mt, const eo_material_coef *c, const double F[9], int n,
+                                     const double *G, double w, eo_proj proj, double *H, double *psi, double *J);
 /// F = Ds Dm⁻¹ of a tet from its 12 coordinates (vertex-major), exactly as the kernel
 /// forms it, and its J = eo_det3(F): the inputs of eo_tet_is_inverted.
 EO_API void eo_tet_F(const double Dminv[9], const double x[12], double F[9]);
