@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "elastopt/impl/term.h"
 #include "elastopt/suggest.h"
 #include "cli.h"
 #include "bench.h"
@@ -128,6 +129,16 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             const eo_method_info *mi = eo_method_info_of(*t);
             if (kind_hit) printf("  %-22s %s\n", mi->name, mi->summary);
             if (!mi->params || !mi->params[0].key) continue;
+            if (k == EO_KIND_TERM) { /* its scene section, printed with the scene's; by name here */
+                const eo_term_type *tt = *t;
+                if (!key || strcmp(key, mi->name) != 0 || !tt->section) continue;
+                snprintf(path, sizeof path, "%s%s", tt->section, tt->flags & EO_TERM_SECTION_LIST ? ".N" : "");
+                printf("%s — section of %s '%s': %s\n", path, eo_kind_label((eo_kind)k), mi->name, mi->summary);
+                eo_params_help(stdout, mi->params, path);
+                printf("\n");
+                found = 1;
+                continue;
+            }
             snprintf(path, sizeof path, "%s.%s",
                      k == EO_KIND_MATERIAL ? "material" : k == EO_KIND_INTEGRATOR ? "time" : "solver", mi->name);
             if (key && !kind_hit && strcmp(key, mi->name) != 0 && !matches(path, key) && !matches(key, path))

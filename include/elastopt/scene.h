@@ -352,6 +352,11 @@ typedef struct eo_scene {
                                        ///< section time.<integrator>), NULL if it has none
     const struct eo_element_type *element; ///< the element (opts.element); the mesh has its
                                        ///< node layout (order 2 for 10-node elements)
+    /* the sections of registered term kinds (impl/term.h eo_term_type.section) the scene
+     * has: nterm_cfg of them, their kinds and what each kind's load made */
+    int nterm_cfg;
+    const struct eo_term_type **term_type; ///< owned array (the kinds are borrowed), nterm_cfg
+    void **term_cfg;                   ///< owned (each freed by its kind's free_cfg), nterm_cfg
 } eo_scene;
 
 /// Memory an implicit simulation needs per tet, bytes (mesh, step engine, Hessian pattern
