@@ -28,6 +28,7 @@
 /* ---------------------------------------------------------------- descriptor tables */
 
 static const char *const mass_choices[] = {"consistent", "lumped", NULL};
+static const char *const shape_choices[] = {"box", "cook", NULL};
 
 #define SZ(T, f) sizeof(((T *)0)->f)
 
@@ -130,6 +131,10 @@ const eo_param_desc eo_scene_generate_opts_desc[] = {
      .help = "tets per cell: 5 (alternating, symmetric) or 6 (one diagonal: bends sideways)"},
     {.key = "origin", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_generate_opts, origin),
      .def.v = {0, 0, 0}, .help = "minimum corner (m)"},
+    {.key = "shape", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_scene_generate_opts, shape),
+     .size = SZ(eo_scene_generate_opts, shape), .def.s = "box", .choices = shape_choices,
+     .help = "box; or cook: the box's x-y rectangle mapped onto Cook's tapered panel, corners origin + (0,0), "
+             "(Lx, Ly), (Lx, Ly·60/44), (0, Ly) (the classic 48 × 44/60 mm panel for size [48, 44, t])"},
     {0},
 };
 
@@ -408,6 +413,7 @@ static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
                            g.cells[0], g.cells[1], g.cells[2], nt_d, nt_d * EO_SCENE_BYTES_PER_TET / 1e9,
                            mach.mem_bytes / 1e9);
         rc = eo_mesh_generate_box(ctx, &g, &sc->mesh);
+        if (rc >= 0 && strcmp(sc->gen.shape, "cook") == 0) eo_mesh_map_cook(sc->mesh, g.origin, g.size);
         if (rc == EO_ERR_RANGE || rc == EO_ERR_NOMEM) {
             char msg[512];
             snprintf(msg, sizeof msg, "%s", eo_ctx_message(ctx));

@@ -176,6 +176,8 @@ typedef struct eo_scene_generate_opts {
                             ///< makes a bar bent in z also bend in y (measured: tip com
                             ///< drifts 5 mm sideways on the 20×2×2 cantilever).
     double origin[3];       ///< minimum corner, m. Default [0, 0, 0].
+    char shape[8];          ///< "box" (default) | "cook": the box mapped onto Cook's tapered
+                            ///< panel (eo_mesh_map_cook), size[0..1] its x and left-edge y extent
 } eo_scene_generate_opts;
 
 /// `time` section.
