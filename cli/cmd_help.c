@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "elastopt/impl/term.h"
 #include "elastopt/suggest.h"
 #include "cli.h"
 #include "bench.h"
@@ -132,6 +133,16 @@ static int run(eo_ctx *ctx, int argc, char **argv)
                     printf("%s '%s': %s; no parameters\n\n", eo_kind_label((eo_kind)k), mi->name, mi->summary);
                     found = 1;
                 }
+                continue;
+            }
+            if (k == EO_KIND_TERM) { /* its scene section, printed with the scene's; by name here */
+                const eo_term_type *tt = *t;
+                if (!key || strcmp(key, mi->name) != 0 || !tt->section) continue;
+                snprintf(path, sizeof path, "%s%s", tt->section, tt->flags & EO_TERM_SECTION_LIST ? ".N" : "");
+                printf("%s — section of %s '%s': %s\n", path, eo_kind_label((eo_kind)k), mi->name, mi->summary);
+                eo_params_help(stdout, mi->params, path);
+                printf("\n");
+                found = 1;
                 continue;
             }
             snprintf(path, sizeof path, "%s.%s",

@@ -27,6 +27,7 @@ const eo_cli_command eo_cmd_list = {
     .name = "list",
     .summary = "list every registered method of every kind",
     .usage = "elastopt list\n\nPrints each kind (material, optimizer, hessian_fix, linesearch, stop,\n"
-             "linear, integrator, scene) and its registered methods with a one-line description.\n",
+             "linear, integrator, scene, element, term) and its registered methods with a one-line\n"
+             "description (terms: the kinds of term of the step problem, in the order they are summed).\n",
     .run = run,
 };

@@ -11,6 +11,7 @@
 #include "elastopt/material.h"
 #include "elastopt/scene.h"
 #include "elastopt/impl/method.h"
+#include "elastopt/impl/term.h"
 #include "obstacle.h"
 
 #define EO_MAX_DOCS 96
@@ -45,7 +46,23 @@ static const eo_cfg_raw_doc raw_docs[] = {
     {NULL, NULL, NULL},
 };
 
-const eo_cfg_raw_doc *eo_config_raw_docs(void) { return raw_docs; }
+#define EO_MAX_RAW_DOCS 64
+
+/* raw_docs, then those of the registered terms (eo_term_type.raw_docs) */
+const eo_cfg_raw_doc *eo_config_raw_docs(void)
+{
+    static eo_cfg_raw_doc all[EO_MAX_RAW_DOCS];
+    static int built = 0;
+    if (built) return all;
+    int n = 0;
+    for (const eo_cfg_raw_doc *d = raw_docs; d->path && n < EO_MAX_RAW_DOCS - 1; d++) all[n++] = *d;
+    for (const void *const *t = eo_registry_list(EO_KIND_TERM); t && *t; t++)
+        for (const eo_cfg_raw_doc *d = ((const eo_term_type *)*t)->raw_docs; d && d->path && n < EO_MAX_RAW_DOCS - 1; d++)
+            all[n++] = *d;
+    all[n] = (eo_cfg_raw_doc){NULL, NULL, NULL};
+    built = 1;
+    return all;
+}
 
 const eo_cfg_doc *eo_config_docs(void)
 {
@@ -56,6 +73,16 @@ const eo_cfg_doc *eo_config_docs(void)
     for (const eo_cfg_doc *d = eo_scene_docs; d->path && n < EO_MAX_DOCS - 24; d++) docs[n++] = *d;
     for (const eo_obstacle_type *const *t = eo_obstacle_types; *t && n < EO_MAX_DOCS - 3; t++)
         docs[n++] = (eo_cfg_doc){(*t)->doc_path, (*t)->params, (*t)->summary};
+    /* the sections of the registered terms (a list section's entries at section.N) */
+    static char term_path[24][64];
+    int nt = 0;
+    for (const void *const *t = eo_registry_list(EO_KIND_TERM); t && *t && nt < 24 && n < EO_MAX_DOCS - 3; t++) {
+        const eo_term_type *tt = *t;
+        if (!tt->section || !tt->info.params) continue;
+        snprintf(term_path[nt], sizeof term_path[nt], "%s%s", tt->section, tt->flags & EO_TERM_SECTION_LIST ? ".N" : "");
+        docs[n++] = (eo_cfg_doc){term_path[nt++], tt->info.params, tt->info.summary};
+        for (const eo_cfg_doc *d = tt->sub_docs; d && d->path && n < EO_MAX_DOCS - 3; d++) docs[n++] = *d;
+    }
     docs[n++] = (eo_cfg_doc){"material", eo_material_opts_desc,
                              "default material of every tet (and of each `materials` list entry)"};
     docs[n++] = (eo_cfg_doc){"solver", eo_solver_opts_desc,
@@ -155,7 +182,7 @@ json_t *eo_cfg_docs_schema(const eo_cfg_doc *docs, const eo_cfg_raw_doc *raw, co
 
 json_t *eo_config_schema(void)
 {
-    json_t *root = eo_cfg_docs_schema(eo_config_docs(), raw_docs, "elastopt scene",
+    json_t *root = eo_cfg_docs_schema(eo_config_docs(), eo_config_raw_docs(), "elastopt scene",
                                       "A scene configuration of elastopt (generated from the descriptor tables by "
                                       "`elastopt help --schema scene`).");
     if (!root) return NULL;

@@ -7,8 +7,10 @@
 #include "../materials/material_registry.h"
 #include "../solvers/solver_registry.h"
 #include "problem_registry.h"
+#include "term.h"
 
 #include <stddef.h>
+#include <string.h>
 
 extern const eo_integrator_type eo_integrator_newmark, eo_integrator_backward_euler,
     eo_integrator_static, eo_integrator_forward_euler, eo_integrator_symplectic_euler,
@@ -52,6 +54,21 @@ const void *const eo_registry_scene[] = {
     NULL,
 };
 
+/* The terms of the step problem, in the order they are summed into g (inertia first;
+ * a new force is one line here, before `linear`'s or after it). */
+const void *const eo_registry_term[] = {
+    &eo_term_type_inertia,
+    &eo_term_type_elastic,
+    &eo_term_type_spring,
+    &eo_term_type_collision,
+    &eo_term_type_damping,
+    &eo_term_type_friction,
+    &eo_term_type_gravity,
+    &eo_term_type_linear,
+    &eo_term_type_traction,
+    NULL,
+};
+
 static int check_integrator(eo_ctx *ctx, const void *type)
 {
     const eo_integrator_type *t = type;
@@ -84,8 +101,37 @@ static int check_scene(eo_ctx *ctx, const void *type)
     return EO_OK;
 }
 
+static int check_term(eo_ctx *ctx, const void *type)
+{
+    const eo_term_type *t = type;
+    if (!t->create) return eo_error(ctx, EO_ERR_INVALID, "register term '%s': create is required", t->info.name);
+    if (t->info.params && !t->info.params_size && !t->load)
+        return eo_error(ctx, EO_ERR_INVALID, "register term '%s': params without params_size or load", t->info.name);
+    if ((t->info.params || t->load) && !t->section)
+        return eo_error(ctx, EO_ERR_INVALID, "register term '%s': params or load without a section", t->info.name);
+    if (t->section) {
+        for (const char *c = t->section; *c; c++)
+            if (!((*c >= 'a' && *c <= 'z') || (*c >= '0' && *c <= '9') || *c == '_'))
+                return eo_error(ctx, EO_ERR_INVALID, "register term '%s': section '%s' is not a lower-case word",
+                                t->info.name, t->section);
+        for (const void *const *o = eo_registry_types(&eo_reg_term); o && *o; o++) {
+            const eo_term_type *u = *o;
+            if (u != t && u->section && strcmp(u->section, t->section) == 0)
+                return eo_error(ctx, EO_ERR_INVALID, "register term '%s': section '%s' is term '%s''s",
+                                t->info.name, t->section, u->info.name);
+        }
+    }
+    const unsigned once = EO_TERM_INERTIA | EO_TERM_FORCE_N | EO_TERM_DAMPING | EO_TERM_LAGGED | EO_TERM_GRAVITY;
+    if (t->flags & once)
+        return eo_error(ctx, EO_ERR_INVALID,
+                        "register term '%s': the roles inertia, force_n, damping, lagged and gravity belong to the "
+                        "built-in terms", t->info.name);
+    return EO_OK;
+}
+
 eo_registry eo_reg_integrator = EO_REGISTRY_INIT(EO_KIND_INTEGRATOR, eo_registry_integrator, check_integrator);
 eo_registry eo_reg_scene = EO_REGISTRY_INIT(EO_KIND_SCENE, eo_registry_scene, check_scene);
+eo_registry eo_reg_term = EO_REGISTRY_INIT(EO_KIND_TERM, eo_registry_term, check_term);
 
 static eo_registry *const kind_registry[EO_KIND_COUNT] = {
     [EO_KIND_MATERIAL] = &eo_reg_material,
@@ -97,6 +143,7 @@ static eo_registry *const kind_registry[EO_KIND_COUNT] = {
     [EO_KIND_INTEGRATOR] = &eo_reg_integrator,
     [EO_KIND_SCENE] = &eo_reg_scene,
     [EO_KIND_ELEMENT] = &eo_reg_element,
+    [EO_KIND_TERM] = &eo_reg_term,
 };
 
 eo_registry *eo_registry_of(eo_kind kind)

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "elastopt/element.h"
+#include "elastopt/impl/term.h"
 #include "elastopt/machine.h"
 #include "elastopt/scene.h"
 #include "problem_registry.h"
@@ -27,6 +28,7 @@
 /* ---------------------------------------------------------------- descriptor tables */
 
 static const char *const mass_choices[] = {"consistent", "lumped", NULL};
+static const char *const shape_choices[] = {"box", "cook", NULL};
 
 #define SZ(T, f) sizeof(((T *)0)->f)
 
@@ -129,6 +131,10 @@ const eo_param_desc eo_scene_generate_opts_desc[] = {
      .help = "tets per cell: 5 (alternating, symmetric) or 6 (one diagonal: bends sideways)"},
     {.key = "origin", .kind = EO_PARAM_VEC3, .offset = offsetof(eo_scene_generate_opts, origin),
      .def.v = {0, 0, 0}, .help = "minimum corner (m)"},
+    {.key = "shape", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_scene_generate_opts, shape),
+     .size = SZ(eo_scene_generate_opts, shape), .def.s = "box", .choices = shape_choices,
+     .help = "box; or cook: the box's x-y rectangle mapped onto Cook's tapered panel, corners origin + (0,0), "
+             "(Lx, Ly), (Lx, Ly·60/44), (0, Ly) (the classic 48 × 44/60 mm panel for size [48, 44, t])"},
     {0},
 };
 
@@ -407,6 +413,7 @@ static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
                            g.cells[0], g.cells[1], g.cells[2], nt_d, nt_d * EO_SCENE_BYTES_PER_TET / 1e9,
                            mach.mem_bytes / 1e9);
         rc = eo_mesh_generate_box(ctx, &g, &sc->mesh);
+        if (rc >= 0 && strcmp(sc->gen.shape, "cook") == 0) eo_mesh_map_cook(sc->mesh, g.origin, g.size);
         if (rc == EO_ERR_RANGE || rc == EO_ERR_NOMEM) {
             char msg[512];
             snprintf(msg, sizeof msg, "%s", eo_ctx_message(ctx));
@@ -963,6 +970,12 @@ void eo_scene_destroy(eo_scene **psc)
     eo_free(ctx, sc->spring_k);
     eo_free(ctx, sc->collision);
     eo_free(ctx, sc->integrator_params);
+    for (int i = 0; i < sc->nterm_cfg; i++) {
+        if (sc->term_type[i]->free_cfg) sc->term_type[i]->free_cfg(ctx, sc->term_cfg[i]);
+        else eo_free(ctx, sc->term_cfg[i]);
+    }
+    eo_free(ctx, (void *)sc->term_type);
+    eo_free(ctx, sc->term_cfg);
     eo_free(ctx, sc);
     *psc = NULL;
 }
@@ -1016,11 +1029,58 @@ static int load_element(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     return EO_OK;
 }
 
+const void *eo_scene_term_cfg(const eo_scene *sc, const eo_term_type *type)
+{
+    for (int i = 0; sc && i < sc->nterm_cfg; i++)
+        if (sc->term_type[i] == type) return sc->term_cfg[i];
+    return NULL;
+}
+
+/* The sections of the registered term kinds the scene has (eo_term_type.section): read
+ * by the kind's load, or as its params section. */
+static int load_terms(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    int n = 0;
+    for (const void *const *tp = eo_registry_list(EO_KIND_TERM); tp && *tp; tp++) n++;
+    if (!n) return EO_OK;
+    sc->term_type = eo_calloc(ctx, (size_t)n, sizeof *sc->term_type);
+    sc->term_cfg = eo_calloc(ctx, (size_t)n, sizeof *sc->term_cfg);
+    if (!sc->term_type || !sc->term_cfg) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+    for (const void *const *tp = eo_registry_list(EO_KIND_TERM); tp && *tp; tp++) {
+        const eo_term_type *tt = *tp;
+        if (!tt->section || !eo_cfg_get(cfg, tt->section)) continue;
+        void *data = NULL;
+        int rc;
+        if (tt->load) {
+            rc = tt->load(ctx, cfg, sc, tt->section, &data);
+        } else {
+            data = eo_calloc(ctx, 1, tt->info.params_size ? tt->info.params_size : 1);
+            if (!data) return eo_error(ctx, EO_ERR_NOMEM, "out of memory");
+            if (tt->info.params) eo_params_default(tt->info.params, data);
+            rc = tt->info.params ? eo_cfg_section(ctx, cfg, tt->section, tt->info.params, data, NULL) : EO_OK;
+        }
+        if (rc >= 0 || data) { /* kept (freed with the scene) */
+            sc->term_type[sc->nterm_cfg] = tt;
+            sc->term_cfg[sc->nterm_cfg++] = data;
+        }
+        if (rc < 0) return rc;
+    }
+    return EO_OK;
+}
+
 int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
 {
-    static const char *const top[] = {"mesh", "material", "materials", "boundary", "initial",
-                                      "time", "solver", "output", "springs", "collisions",
-                                      "point_masses", "damping", NULL};
+    static const char *const top0[] = {"mesh", "material", "materials", "boundary", "initial",
+                                       "time", "solver", "output", "springs", "collisions",
+                                       "point_masses", "damping", NULL};
+    /* the top-level sections: the loader's own, then those of the registered terms */
+    enum { NTOP = sizeof top0 / sizeof top0[0] - 1, MAXTOP = NTOP + 32 };
+    const char *top[MAXTOP + 1];
+    int ntop = 0;
+    for (; ntop < NTOP; ntop++) top[ntop] = top0[ntop];
+    for (const void *const *tp = eo_registry_list(EO_KIND_TERM); tp && *tp && ntop < MAXTOP; tp++)
+        if (((const eo_term_type *)*tp)->section) top[ntop++] = ((const eo_term_type *)*tp)->section;
+    top[ntop] = NULL;
     *out = NULL;
     eo_scene *sc = eo_calloc(ctx, 1, sizeof *sc);
     if (sc) sc->ctx = ctx;
@@ -1078,6 +1138,7 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     EO_TRY(rc = load_point_masses(ctx, cfg, sc));
     EO_TRY(rc = load_springs(ctx, cfg, sc));
     EO_TRY(rc = load_collisions(ctx, cfg, sc));
+    EO_TRY(rc = load_terms(ctx, cfg, sc));
     EO_TRY(rc = eo_scene_check_supports(ctx, cfg, sc));
     *out = sc;
     return EO_OK;

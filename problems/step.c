@@ -30,16 +30,29 @@
 #include <omp.h>
 #endif
 
+#include "elastopt/registry.h"
 #include "step_impl.h"
 
 /* ---------------------------------------------------------------- create / destroy */
 
-static int add_term(eo_step *st, eo_term *t, eo_term **slot)
+static int add_term(eo_step *st, const eo_term_type *tt, eo_term *t)
 {
     if (!t) return EO_OK;
-    EO_ASSERT(st->nterms < MAX_TERMS);
+    if (st->nterms == MAX_TERMS) {
+        eo_term_destroy(st->ctx, &t);
+        return eo_error(st->ctx, EO_ERR_INVALID, "term %s: more than %d terms in one step problem", tt->info.name,
+                        MAX_TERMS);
+    }
+    t->type = tt;
+    t->flags = tt->flags;
     st->terms[st->nterms++] = t;
-    if (slot) *slot = t;
+    st->term_flags |= tt->flags;
+    if (tt->flags & EO_TERM_INERTIA) st->inertia = t;
+    if (tt->flags & EO_TERM_FORCE_N) st->linear = t;
+    if (tt->flags & EO_TERM_DAMPING) st->damping = t;
+    if (tt->flags & EO_TERM_LAGGED) st->friction = t;
+    if (tt == &eo_term_type_elastic) st->elastic = t;
+    if (tt == &eo_term_type_spring) st->spring = t;
     return EO_OK;
 }
 
@@ -279,51 +292,13 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     s->ord_coef = st->ord_coef;
     s->ord_group = -1;
     s->tet_order = m->nt > 1 && linear ? st->tet_order : NULL;
-    /* the term list: a scene pays only for the terms it uses */
-    eo_term *t = NULL;
-    if (st->integ->inertia && !st->integ->explicit_step) {
-        EO_TRY(rc = eo_term_inertia_create(s, sc->lumped, &t));
-        add_term(st, t, &st->inertia);
-    }
-    int any_tet = 0;
-    for (int k = 0; k < m->nt; k++) any_tet |= !(st->tet_type[k]->flags & EO_MATERIAL_EDGE);
-    if (any_tet) {
-        EO_TRY(rc = eo_term_elastic_create(s, &t));
-        add_term(st, t, &st->elastic);
-    }
-    t = NULL;
-    EO_TRY(rc = eo_term_spring_create(s, sc->nspring, sc->spring_ab, sc->springs.k, sc->spring_k, sc->springs.damping, &t));
-    add_term(st, t, &st->spring);
-    t = NULL;
-    EO_TRY(rc = eo_term_collision_create(s, sc->ncollision, sc->collision, &t));
-    add_term(st, t, &st->collision);
-    t = NULL;
-    EO_TRY(rc = eo_term_damping_create(s, sc->lumped, sc->damping.viscous, sc->damping.rayleigh_alpha,
-                                       sc->damping.rayleigh_beta, &t));
-    add_term(st, t, &st->damping);
-    t = NULL;
-    if (!st->integ->explicit_step) EO_TRY(rc = eo_term_friction_create(s, sc->ncollision, sc->collision, &t));
-    add_term(st, t, &st->friction);
-    for (int o = 0; o < sc->ncollision && st->integ->explicit_step; o++)
-        if (sc->collision[o].opts.friction > 0) {
-            rc = eo_error(ctx, EO_ERR_INVALID,
-                          "collisions.%d.friction acts in implicit integrators only (a lagged potential of the step "
-                          "problem); %s is explicit", o, st->integ->info.name);
-            goto fail;
-        }
-    if (sc->springs.damping > 0 && !st->integ->explicit_step) {
-        rc = eo_error(ctx, EO_ERR_INVALID,
-                      "springs.damping acts in explicit integrators only; %s is implicit (use damping.viscous / "
-                      "damping.rayleigh_alpha / rayleigh_beta)", st->integ->info.name);
-        goto fail;
-    }
-    if (sc->opts.gravity[0] != 0 || sc->opts.gravity[1] != 0 || sc->opts.gravity[2] != 0) {
-        EO_TRY(rc = eo_term_gravity_create(s, sc->opts.gravity, &t));
-        add_term(st, t, &st->gravity);
-    }
-    if (st->integ->force_n) {
-        EO_TRY(rc = eo_term_linear_create(s, &t));
-        add_term(st, t, &st->linear);
+    /* the term list: one term per registered kind the scene uses (a scene pays only for
+     * those), in registry order */
+    for (const void *const *tp = eo_registry_list(EO_KIND_TERM); tp && *tp; tp++) {
+        const eo_term_type *tt = *tp;
+        eo_term *t = NULL;
+        EO_TRY(rc = tt->create(s, sc, eo_scene_term_cfg(sc, tt), &t));
+        EO_TRY(rc = add_term(st, tt, t));
     }
     if (st->integ->explicit_step) {
         st->ework = eo_calloc(ctx, (size_t)(st->integ->work_vectors > 0 ? st->integ->work_vectors : 1) * nf,

@@ -79,9 +79,9 @@ static int explicit_accel(void *data, double t, const double *x, const double *v
     memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
     double e = 0;
     for (int i = 0; i < st->nterms; i++) {
-        const eo_term *t = st->terms[i];
-        if (t == st->damping) continue; /* a force of v, below */
-        if (t == st->inertia || t == st->linear || t == st->friction) continue; /* (implicit: eo_stepi_accel) */
+        /* the potentials' forces (damping: a force of v, below; inertia, linear, friction:
+         * implicit only, see eo_stepi_accel) */
+        if (!(st->terms[i]->flags & EO_TERM_POTENTIAL)) continue;
         st->terms[i]->weight = 1;
         e += st->terms[i]->ops->gradient(st->terms[i], &st->sys, st->xw, st->gfull);
     }

@@ -17,7 +17,7 @@
 #include "term.h"
 
 
-enum { MAX_TERMS = 12, BLOCK = 1024, PARALLEL_MIN_TETS = 2048 };
+enum { MAX_TERMS = 24, BLOCK = 1024, PARALLEL_MIN_TETS = 2048 };
 
 struct eo_step {
     eo_ctx *ctx;
@@ -44,11 +44,18 @@ struct eo_step {
     /* work */
     double *xw, *gfull, *vnew, *guess;
     /* terms */
+    /* terms: one per registered term kind the scene uses (registry order); the roles the
+     * engine singles out are found by their flags (impl/term.h EO_TERM_*), the two terms
+     * with their own extra ops by their kind; NULL if absent */
     eo_term *terms[MAX_TERMS];
     int nterms;
-    eo_term *inertia, *elastic, *gravity, *linear, *spring, *collision;
-    eo_term *damping;           /* viscous + Rayleigh (term_damping.c), NULL if none */
-    eo_term *friction;    /* lagged friction (term_friction.c), NULL if none */
+    unsigned term_flags;        /* the union of the terms' flags */
+    eo_term *inertia;           /* EO_TERM_INERTIA */
+    eo_term *linear;            /* EO_TERM_FORCE_N */
+    eo_term *damping;           /* EO_TERM_DAMPING: viscous + Rayleigh (term_damping.c) */
+    eo_term *friction;          /* EO_TERM_LAGGED: lagged friction (term_friction.c) */
+    eo_term *elastic;           /* the elastic term (inverted count) */
+    eo_term *spring;            /* the spring term (vertex coupling, spring damping) */
     /* constraints and pattern */
     int *vbc, *vbc_new;   /* nv: active boundary entry per vertex, -1 free */
     int have_pattern;
@@ -155,6 +162,9 @@ double eo_stepi_load_steps_done(const eo_step *st);
 /* After a step: advance the progress through the nominal step; 1 if the step ended a
  * nominal step (the index advances), 0 if it was an inner substep. */
 int eo_stepi_substep_advance(eo_step *st);
+/* r += ∇V(x) at weight 1 (the EO_TERM_POTENTIAL terms, the contact ones last): the
+ * static reaction, the force fₙ (step_objective.c, step_stats.c). */
+void eo_stepi_potential_gradient(eo_step *st, const double *x, double *r);
 /* step_stats.c */
 double eo_stepi_tet_J(const eo_step *st, const double *x, int k);
 /* Add the work of the prescribed motions over the step xₙ, vₙ (st->x, st->v) → x1, v1

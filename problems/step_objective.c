@@ -744,9 +744,12 @@ int eo_step_set_part(eo_step *st, const eo_step_part *part)
         if (st->integ->explicit_step)
             return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "partitioned evaluation: integrator %s is explicit",
                             st->integ->info.name);
-        if (st->spring || st->damping)
-            return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "partitioned evaluation: the scene has %s, which has no "
-                            "partitioned form yet", st->spring ? "springs" : "damping");
+        for (int i = 0; i < st->nterms; i++)
+            if (st->terms[i]->flags & EO_TERM_NO_PART) {
+                const eo_term_type *tt = st->terms[i]->type;
+                return eo_error(st->ctx, EO_ERR_UNSUPPORTED, "partitioned evaluation: the scene has %s, which has no "
+                                "partitioned form yet", tt->section ? tt->section : tt == &eo_term_type_spring ? "springs" : tt->info.name);
+            }
         for (int q = 0; q < part->nt; q++)
             if (part->tets[q] < 0 || part->tets[q] >= st->nt)
                 return eo_error(st->ctx, EO_ERR_INVALID, "partitioned evaluation: tet %d out of range", part->tets[q]);
@@ -802,13 +805,13 @@ int eo_stepi_damping_stiffness(eo_step *st)
 {
     if (!st->damping || !eo_term_damping_needs_stiffness(st->damping)) return EO_OK;
     eo_assembler_zero(st->as);
-    eo_term *el[2] = {st->elastic, st->spring};
-    for (int i = 0; i < 2; i++) {
-        if (!el[i]) continue;
-        double wsave = el[i]->weight;
-        el[i]->weight = 1;
-        int rc = el[i]->ops->hessian(el[i], &st->sys, st->x, EO_PROJ_CLAMP);
-        el[i]->weight = wsave;
+    for (int i = 0; i < st->nterms; i++) { /* the elastic-energy terms */
+        eo_term *t = st->terms[i];
+        if (!(t->flags & EO_TERM_ELASTIC_ENERGY)) continue;
+        double wsave = t->weight;
+        t->weight = 1;
+        int rc = t->ops->hessian(t, &st->sys, st->x, EO_PROJ_CLAMP);
+        t->weight = wsave;
         if (rc < 0) return rc;
     }
     eo_term_damping_set_stiffness(st->damping, eo_assembler_matrix(st->as));
@@ -848,8 +851,10 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
     }
     const double w = st->w = eo_stepi_weight(st), theta = eo_stepi_theta(st);
     for (int i = 0; i < st->nterms; i++) st->terms[i]->weight = w;
-    if (st->gravity && st->sc->time.load_steps > 0) /* load stepping: λ = min(1, k/L) of gravity */
-        st->gravity->weight = w * fmin(1.0, eo_stepi_load_steps_done(st) / st->sc->time.load_steps);
+    if (st->sc->time.load_steps > 0) /* load stepping: λ = min(1, k/L) of the loads (gravity, tractions) */
+        for (int i = 0; i < st->nterms; i++)
+            if (st->terms[i]->flags & EO_TERM_LOAD_STEPPED)
+                st->terms[i]->weight = w * fmin(1.0, eo_stepi_load_steps_done(st) / st->sc->time.load_steps);
     if (st->inertia) {
         st->inertia->weight = 1;
         if (st->integ->accel)
@@ -866,17 +871,10 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
     }
     if (st->friction) eo_term_friction_lag(st->friction, &st->sys, st->x, h, st->integ->force_n, step_velocity, st);
     if (st->linear) {
-        /* c = fₙ = −∇(E_el + gravity potential)(xₙ) − C vₙ (damping) */
+        /* c = fₙ = −∇V(xₙ) − C vₙ (V: the potential terms; C: damping) */
         memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
         if (st->damping) eo_term_damping_apply(st->damping, &st->sys, st->v, st->gfull);
-        eo_term *forces[4] = {st->elastic, st->spring, st->gravity, st->collision};
-        for (int i = 0; i < 4; i++) {
-            if (!forces[i]) continue;
-            double wsave = forces[i]->weight;
-            forces[i]->weight = 1;
-            forces[i]->ops->gradient(forces[i], &st->sys, st->x, st->gfull);
-            forces[i]->weight = wsave;
-        }
+        eo_stepi_potential_gradient(st, st->x, st->gfull);
         for (int j = 0; j < st->n_full; j++) st->linear->vec[j] = -st->gfull[j];
     }
     /* full work vector: xₙ with prescribed positions at tₙ₊₁ (in the stage: xₙ + θ(p − xₙ)) */

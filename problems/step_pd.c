@@ -41,7 +41,7 @@
 
 static int pd_supported(const eo_step *st)
 {
-    return st->pd_mode != EO_PD_FACTOR_OFF && !st->damping && !st->collision && !st->friction &&
+    return st->pd_mode != EO_PD_FACTOR_OFF && !(st->term_flags & EO_TERM_NO_PD) &&
            (st->integ->weight != NULL || st->integ->accel);
 }
 

@@ -113,24 +113,26 @@ int eo_step_stats_compute(eo_step *st, eo_step_stats *s)
             ke += st->sc->pmass[i] * (v[3 * i] * v[3 * i] + v[3 * i + 1] * v[3 * i + 1] + v[3 * i + 2] * v[3 * i + 2]);
     }
     s->kinetic = 0.5 * ke;
-    eo_term *el[2] = {st->elastic, st->spring};
-    for (int i = 0; i < 2; i++) {
-        if (!el[i]) continue;
-        double wsave = el[i]->weight;
-        el[i]->weight = 1;
-        s->elastic += el[i]->ops->energy(el[i], &st->sys, x);
-        el[i]->weight = wsave;
+    /* the potential terms at weight 1: elastic energy, contact, other loads (tractions);
+     * gravity from the vertex loads */
+    double other = 0;
+    int have_other = 0;
+    for (int i = 0; i < st->nterms; i++) {
+        eo_term *t = st->terms[i];
+        if (!(t->flags & EO_TERM_POTENTIAL) || (t->flags & EO_TERM_GRAVITY)) continue;
+        double wsave = t->weight;
+        t->weight = 1;
+        const double e = t->ops->energy(t, &st->sys, x);
+        t->weight = wsave;
+        if (t->flags & EO_TERM_ELASTIC_ENERGY) s->elastic += e;
+        else if (t->flags & EO_TERM_CONTACT) s->contact += e;
+        else other += e, have_other = 1;
     }
     const double *g = st->sc->opts.gravity;
     for (int i = 0; i < st->nv; i++)
         s->gravity -= st->sys.vload[i] * (g[0] * x[3 * i] + g[1] * x[3 * i + 1] + g[2] * x[3 * i + 2]);
-    if (st->collision) {
-        double wsave = st->collision->weight;
-        st->collision->weight = 1;
-        s->contact = st->collision->ops->energy(st->collision, &st->sys, x);
-        st->collision->weight = wsave;
-    }
     s->potential = s->elastic + s->gravity + s->contact;
+    if (have_other) s->potential += other;
     s->work_prescribed = st->work;
     s->total_energy = s->kinetic + s->potential - s->work_prescribed;
     return EO_OK;
@@ -140,19 +142,24 @@ double eo_step_work_prescribed(const eo_step *st) { return st->work; }
 
 void eo_step_set_work_prescribed(eo_step *st, double w) { st->work = w; }
 
-/* r = ∇V(x) over all coordinates: the static reaction (elastic, springs, gravity,
- * contact at weight 1) */
+/* r = ∇V(x) over all coordinates: the static reaction */
 static void potential_gradient(eo_step *st, const double *x, double *r)
 {
     memset(r, 0, (size_t)st->n_full * sizeof(double));
-    eo_term *forces[4] = {st->elastic, st->spring, st->gravity, st->collision};
-    for (int i = 0; i < 4; i++) {
-        if (!forces[i]) continue;
-        double wsave = forces[i]->weight;
-        forces[i]->weight = 1;
-        forces[i]->ops->gradient(forces[i], &st->sys, x, r);
-        forces[i]->weight = wsave;
-    }
+    eo_stepi_potential_gradient(st, x, r);
+}
+
+void eo_stepi_potential_gradient(eo_step *st, const double *x, double *r)
+{
+    for (int pass = 0; pass < 2; pass++) /* the contact terms last (the engine's summation order) */
+        for (int i = 0; i < st->nterms; i++) {
+            eo_term *t = st->terms[i];
+            if (!(t->flags & EO_TERM_POTENTIAL) || !(t->flags & EO_TERM_CONTACT) != !pass) continue;
+            double wsave = t->weight;
+            t->weight = 1;
+            t->ops->gradient(t, &st->sys, x, r);
+            t->weight = wsave;
+        }
 }
 
 void eo_stepi_work_update(eo_step *st, const double *x1, const double *v1)

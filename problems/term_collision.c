@@ -18,6 +18,7 @@
 #include <math.h>
 
 #include "obstacle.h"
+#include "elastopt/step.h"
 #include "term.h"
 
 typedef struct collision_data {
@@ -150,3 +151,15 @@ int eo_term_collision_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo
     }
     return EO_OK;
 }
+
+static int type_create(eo_sys *s, const eo_scene *sc, const void *cfg, eo_term **out)
+{
+    (void)cfg;
+    return eo_term_collision_create(s, sc->ncollision, sc->collision, out);
+}
+
+const eo_term_type eo_term_type_collision = {
+    .info = {.name = "collision", .summary = "penalty contact with the static obstacles of `collisions`"},
+    .flags = EO_TERM_POTENTIAL | EO_TERM_CONTACT | EO_TERM_NO_PD,
+    .create = type_create,
+};

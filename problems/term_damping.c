@@ -26,6 +26,7 @@
  * Nothing is allocated per evaluation; K₀ and M's values are stored per pattern. */
 #include <string.h>
 
+#include "elastopt/step.h"
 #include "term.h"
 
 typedef struct damping_data {
@@ -231,3 +232,16 @@ void eo_term_damping_set_stiffness(eo_term *t, const eo_csc *K)
     damping_data *d = t->data;
     if (d->K0 && K->nnz == d->K0->nnz) memcpy(d->K0->val, K->val, (size_t)K->nnz * sizeof(double));
 }
+
+static int type_create(eo_sys *s, const eo_scene *sc, const void *cfg, eo_term **out)
+{
+    (void)cfg;
+    return eo_term_damping_create(s, sc->lumped, sc->damping.viscous, sc->damping.rayleigh_alpha,
+                                  sc->damping.rayleigh_beta, out);
+}
+
+const eo_term_type eo_term_type_damping = {
+    .info = {.name = "damping", .summary = "viscous and Rayleigh damping C = γI + αM + βK₀ (`damping`)"},
+    .flags = EO_TERM_DAMPING | EO_TERM_NO_PD | EO_TERM_NO_PART,
+    .create = type_create,
+};

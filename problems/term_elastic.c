@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "pd_matrix.h"
+#include "elastopt/step.h"
 #include "term.h"
 
 /* The i-th tet of a loop: its mesh id k, its element (e in assembler group `group`) and
@@ -406,3 +407,18 @@ int eo_term_elastic_create(eo_sys *s, eo_term **out)
     }
     return EO_OK;
 }
+
+static int type_create(eo_sys *s, const eo_scene *sc, const void *cfg, eo_term **out)
+{
+    (void)sc, (void)cfg;
+    *out = NULL;
+    int any_tet = 0;
+    for (int k = 0; k < s->nt; k++) any_tet |= !(s->tet_type[k]->flags & EO_MATERIAL_EDGE);
+    return any_tet ? eo_term_elastic_create(s, out) : EO_OK;
+}
+
+const eo_term_type eo_term_type_elastic = {
+    .info = {.name = "elastic", .summary = "elastic energy Σ V(ψ(F) − ψ(I)) of the tet materials (`material`, `materials`) with the scene's `element`"},
+    .flags = EO_TERM_POTENTIAL | EO_TERM_ELASTIC_ENERGY,
+    .create = type_create,
+};

@@ -219,3 +219,22 @@ int eo_term_friction_create(eo_sys *s, int nob, const eo_scene_obstacle *ob, eo_
     }
     return EO_OK;
 }
+
+static int type_create(eo_sys *s, const eo_scene *sc, const void *cfg, eo_term **out)
+{
+    (void)cfg;
+    *out = NULL;
+    if (!sc->integrator->explicit_step) return eo_term_friction_create(s, sc->ncollision, sc->collision, out);
+    for (int o = 0; o < sc->ncollision; o++)
+        if (sc->collision[o].opts.friction > 0)
+            return eo_error(s->ctx, EO_ERR_INVALID,
+                            "collisions.%d.friction acts in implicit integrators only (a lagged potential of the step "
+                            "problem); %s is explicit", o, sc->integrator->info.name);
+    return EO_OK;
+}
+
+const eo_term_type eo_term_type_friction = {
+    .info = {.name = "friction", .summary = "lagged smoothed Coulomb friction against the obstacles with `collisions.N.friction` > 0"},
+    .flags = EO_TERM_LAGGED | EO_TERM_NO_PD,
+    .create = type_create,
+};

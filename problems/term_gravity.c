@@ -3,6 +3,7 @@
  * For a constant field g the consistent and the lumped mass give the same force: each
  * row of M_t = ρV/20 (I₄ + 𝟙𝟙ᵀ) ⊗ I₃ sums to ρV/20 · 5 = ρV/4, so f_g on vertex v is
  * m_v g with m_v = Σ_{t∋v} ρₜVₜ/4 (s->vload). Linear in x: no Hessian. */
+#include "elastopt/step.h"
 #include "term.h"
 
 typedef struct gravity_data {
@@ -68,3 +69,17 @@ int eo_term_gravity_create(eo_sys *s, const double g[3], eo_term **out)
     (*out)->data = d;
     return EO_OK;
 }
+
+static int type_create(eo_sys *s, const eo_scene *sc, const void *cfg, eo_term **out)
+{
+    (void)cfg;
+    *out = NULL;
+    const double *g = sc->opts.gravity;
+    return g[0] != 0 || g[1] != 0 || g[2] != 0 ? eo_term_gravity_create(s, g, out) : EO_OK;
+}
+
+const eo_term_type eo_term_type_gravity = {
+    .info = {.name = "gravity", .summary = "gravity −f_gᵀx, f_g = M g (scene key `gravity`; ramped by time.load_steps)"},
+    .flags = EO_TERM_POTENTIAL | EO_TERM_GRAVITY | EO_TERM_LOAD_STEPPED,
+    .create = type_create,
+};

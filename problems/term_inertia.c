@@ -13,6 +13,7 @@
  * eo_sys.part_tets, the part's tet matrices are assembled instead). */
 #include <string.h>
 
+#include "elastopt/step.h"
 #include "term.h"
 
 typedef struct inertia_data {
@@ -268,3 +269,17 @@ int eo_term_inertia_create(eo_sys *s, int lumped, eo_term **out)
     (*out)->data = d;
     return EO_OK;
 }
+
+static int type_create(eo_sys *s, const eo_scene *sc, const void *cfg, eo_term **out)
+{
+    (void)cfg;
+    *out = NULL;
+    if (!sc->integrator->inertia || sc->integrator->explicit_step) return EO_OK; /* static, or explicit */
+    return eo_term_inertia_create(s, sc->lumped, out);
+}
+
+const eo_term_type eo_term_type_inertia = {
+    .info = {.name = "inertia", .summary = "inertia ½‖x − x̃‖²_M of the implicit integrators (mass: the scene's `mass`)"},
+    .flags = EO_TERM_INERTIA,
+    .create = type_create,
+};

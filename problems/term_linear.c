@@ -4,6 +4,7 @@
  *     g(x) = ½‖x − x̃‖²_M + (h²/4)(E(x) − fₙᵀx),   x̃ = xₙ + h vₙ,
  * whose stationarity M(x − xₙ − h vₙ) = (h²/4)(f(x) + fₙ) is the Newmark update with
  * β = ¼, γ = ½, with no solve with M. No Hessian. */
+#include "elastopt/step.h"
 #include "term.h"
 
 static double energy(eo_term *t, const eo_sys *s, const double *x)
@@ -47,3 +48,16 @@ static const eo_term_ops linear_ops = {
 };
 
 int eo_term_linear_create(eo_sys *s, eo_term **out) { return eo_term_alloc(s, &linear_ops, 1, out); }
+
+static int type_create(eo_sys *s, const eo_scene *sc, const void *cfg, eo_term **out)
+{
+    (void)cfg;
+    *out = NULL;
+    return sc->integrator->force_n ? eo_term_linear_create(s, out) : EO_OK;
+}
+
+const eo_term_type eo_term_type_linear = {
+    .info = {.name = "linear", .summary = "the integrators' linear term −cᵀx, c = fₙ the force at the start of the step (force_n)"},
+    .flags = EO_TERM_FORCE_N,
+    .create = type_create,
+};

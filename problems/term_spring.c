@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "elastopt/step.h"
 #include "term.h"
 
 typedef struct spring_data {
@@ -294,3 +295,20 @@ int eo_term_spring_create(eo_sys *s, int nlist, const int *ab, double k, const d
     d->ve_ptr[0] = 0;
     return EO_OK;
 }
+
+static int type_create(eo_sys *s, const eo_scene *sc, const void *cfg, eo_term **out)
+{
+    (void)cfg;
+    *out = NULL;
+    if (sc->springs.damping > 0 && !sc->integrator->explicit_step)
+        return eo_error(s->ctx, EO_ERR_INVALID,
+                        "springs.damping acts in explicit integrators only; %s is implicit (use damping.viscous / "
+                        "damping.rayleigh_alpha / rayleigh_beta)", sc->integrator->info.name);
+    return eo_term_spring_create(s, sc->nspring, sc->spring_ab, sc->springs.k, sc->spring_k, sc->springs.damping, out);
+}
+
+const eo_term_type eo_term_type_spring = {
+    .info = {.name = "spring", .summary = "springs: edge-model regions (material.model = spring), `springs`, `mesh.lattice`"},
+    .flags = EO_TERM_POTENTIAL | EO_TERM_ELASTIC_ENERGY | EO_TERM_NO_PART,
+    .create = type_create,
+};

@@ -127,6 +127,13 @@ EO_API int eo_mesh_create(eo_ctx *ctx, int nv, int nt, eo_mesh **out);
 EO_API void eo_mesh_destroy(eo_mesh **m);
 /// Generate a box of hexahedral cells split into tets (conforming, positive).
 EO_API int eo_mesh_generate_box(eo_ctx *ctx, const eo_mesh_gen_opts *o, eo_mesh **out);
+/// Map a generated box [o, o + size] onto Cook's tapered panel (Cook 1974): in the
+/// x-y plane the box's rectangle goes bilinearly onto the quadrilateral with corners
+/// o + (0, 0), (L, H), (L, H + 16/44·H), (0, H) for L = size[0], H = size[1] (the classic
+/// (0,0), (48,44), (48,60), (0,44) for L = 48, H = 44); z unchanged. Straight columns
+/// x = const stay straight (a shear of each column), so the split stays conforming and
+/// every tet keeps a positive volume.
+EO_API void eo_mesh_map_cook(eo_mesh *m, const double origin[3], const double size[3]);
 /// Read a mesh file; validates (see eo_mesh_validate). opts may be NULL.
 /// Returns EO_OK, EO_WARN_DROPPED (items dropped as the options allow; counts in the
 /// mesh), or an error: EO_ERR_IO (missing/unreadable file; a folder, device, FIFO or

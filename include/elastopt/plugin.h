@@ -46,8 +46,10 @@ extern "C" {
 /// delay, gamma); CPU-time fields appended to the solve,
 /// profile, linear-solver and step results. 9: eo_optimizer_type grew (needs_ops), the
 /// kind EO_KIND_ELEMENT (eo_element_type), eo_scene_opts / eo_scene (element) and eo_mesh
-/// (order, tet10, tri_mid) grew; eo_objective_ops.rounding_scale fills s[3] (the value
-/// scale); eo_objective_ops grew (split_assemble).
+/// (order, tet10, tri_mid) grew; eo_objective_ops.rounding_scale fills s[3] (the value scale);
+/// eo_objective_ops grew (split_assemble); the kind EO_KIND_TERM (eo_term_type, impl/term.h:
+/// the terms of the step problem, eo_sys, eo_term_ops, eo_term) and eo_scene grew
+/// (nterm_cfg, term_type, term_cfg).
 #define EO_ABI_VERSION 9
 
 /// The library's EO_ABI_VERSION.

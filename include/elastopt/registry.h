@@ -2,7 +2,7 @@
 /// Registries of pluggable methods, looked up by name; methods can be added at run time.
 ///
 /// Every pluggable kind (material, optimizer, Hessian fix, line search, stopping rule,
-/// linear solver, integrator, scene) is a const ops table whose first member is an
+/// linear solver, integrator, scene, element, term of the step problem) is a const ops table whose first member is an
 /// `eo_method_info`: name, one-line summary, and the descriptor table of its parameters.
 /// Each kind has one registry (`eo_registry`), defined in the layer that owns the kind
 /// (materials/registry.c, solvers/<kind>/registry.c, problems/registry.c): its built-in
@@ -55,7 +55,8 @@ typedef struct eo_method_info {
     X(EO_KIND_LINSOLVE, "linear", "linear solver")                               \
     X(EO_KIND_INTEGRATOR, "integrator", "integrator")                            \
     X(EO_KIND_SCENE, "scene", "scene")                                           \
-    X(EO_KIND_ELEMENT, "element", "element")
+    X(EO_KIND_ELEMENT, "element", "element")                                     \
+    X(EO_KIND_TERM, "term", "term")
 
 #define EO_X_ENUM(e, key, label) e,
 typedef enum eo_kind { EO_KIND_LIST(EO_X_ENUM) EO_KIND_COUNT } eo_kind;
@@ -112,7 +113,8 @@ EO_API void eo_registry_names(eo_kind kind, char *buf, size_t n);
 /// Register a method table of a kind at run time (see the file comment). The table's
 /// type must match the kind: eo_material_type, eo_optimizer_type, eo_hessfix_type,
 /// eo_linesearch_type, eo_stop_type, eo_linsolve_type, eo_integrator_type,
-/// eo_scene_type. EO_OK, EO_ERR_INVALID (bad kind, name, duplicate, missing ops),
+/// eo_scene_type, eo_element_type, eo_term_type (impl/term.h; register a term before
+/// loading the scenes that use its section). EO_OK, EO_ERR_INVALID (bad kind, name, duplicate, missing ops),
 /// EO_ERR_NOMEM.
 EO_API int eo_register(eo_ctx *ctx, eo_kind kind, const void *type);
 /// Undo eo_register (e.g. before a plug-in is unloaded). EO_OK or EO_ERR_INVALID.

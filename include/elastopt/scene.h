@@ -176,6 +176,8 @@ typedef struct eo_scene_generate_opts {
                             ///< makes a bar bent in z also bend in y (measured: tip com
                             ///< drifts 5 mm sideways on the 20×2×2 cantilever).
     double origin[3];       ///< minimum corner, m. Default [0, 0, 0].
+    char shape[8];          ///< "box" (default) | "cook": the box mapped onto Cook's tapered
+                            ///< panel (eo_mesh_map_cook), size[0..1] its x and left-edge y extent
 } eo_scene_generate_opts;
 
 /// `time` section.
@@ -352,6 +354,11 @@ typedef struct eo_scene {
                                        ///< section time.<integrator>), NULL if it has none
     const struct eo_element_type *element; ///< the element (opts.element); the mesh has its
                                        ///< node layout (order 2 for 10-node elements)
+    /* the sections of registered term kinds (impl/term.h eo_term_type.section) the scene
+     * has: nterm_cfg of them, their kinds and what each kind's load made */
+    int nterm_cfg;
+    const struct eo_term_type **term_type; ///< owned array (the kinds are borrowed), nterm_cfg
+    void **term_cfg;                   ///< owned (each freed by its kind's free_cfg), nterm_cfg
 } eo_scene;
 
 /// Memory an implicit simulation needs per tet, bytes (mesh, step engine, Hessian pattern

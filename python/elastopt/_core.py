@@ -132,7 +132,7 @@ def abi_version() -> int:
 def methods(kind: Optional[str] = None) -> Union[Dict[str, List[Tuple[str, str]]], List[Tuple[str, str]]]:
     """Registered methods: {kind: [(name, summary), ...]} or the list of one kind
     ("optimizer", "hessian_fix", "linesearch", "stop", "linear", "material",
-    "integrator", "scene")."""
+    "integrator", "scene", "element", "term")."""
     from ._ffi import KINDS
     out = {}
     for k, key in enumerate(KINDS):

@@ -278,7 +278,7 @@ EO_ERR_INVALID = -4
 EO_ERR_UNSUPPORTED = -12
 EO_ERR_INTERNAL = -13
 KINDS = ["material", "optimizer", "hessian_fix", "linesearch", "stop", "linear",
-         "integrator", "scene"]
+         "integrator", "scene", "element", "term"]
 PROJ = {"none": 0, "clamp": 1, "abs": 2}
 REASONS = {  # name -> value (status.h EO_REASON_LIST)
     "iterating": 0, "converged_decrement": 1, "converged_gradient": 2, "converged_step": 3,
