@@ -230,6 +230,10 @@ const eo_param_desc eo_scene_bc_opts_desc[] = {
      .help = "the motion stops at this time (s); < 0 = never"},
     {.key = "release", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_scene_bc_opts, release), .def.d = -1,
      .help = "the vertices become free after this time (s); < 0 = never"},
+    {.key = "components", .kind = EO_PARAM_STRING, .offset = offsetof(eo_scene_bc_opts, components),
+     .size = SZ(eo_scene_bc_opts, components), .def.s = "xyz",
+     .help = "displacement components the entry prescribes, a non-empty subset of xyz (e.g. \"z\" holds u_z only: a "
+             "plane-strain slab); the others stay free. Where entries overlap, the later one decides a vertex"},
     {0},
 };
 
@@ -683,6 +687,22 @@ static int load_boundary(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
             if (m->nt < 1) return cfg_err(ctx, cfg, sub, EO_ERR_INVALID, "the mesh has no tets, hence no surface");
         } else {
             bc->select = EO_BC_NEAREST;
+        }
+        { /* components: a non-empty subset of xyz, each at most once */
+            memset(bc->mask, 0, sizeof bc->mask);
+            const char *cs = bc->opts.components;
+            int bad = !cs[0];
+            for (const char *q = cs; *q && !bad; q++) {
+                const int c = *q == 'x' ? 0 : *q == 'y' ? 1 : *q == 'z' ? 2 : -1;
+                bad = c < 0 || bc->mask[c];
+                if (!bad) bc->mask[c] = 1;
+            }
+            if (bad) {
+                snprintf(sub, sizeof sub, "%s.components", path);
+                return cfg_err(ctx, cfg, sub, EO_ERR_INVALID,
+                               "\"%s\": expected a non-empty subset of \"xyz\" (each letter at most once)", cs);
+            }
+            bc->partial = !(bc->mask[0] && bc->mask[1] && bc->mask[2]);
         }
         if (bc->opts.fixed) {
             bc->motion = EO_BC_FIXED;
@@ -1314,7 +1334,8 @@ static void tb_printf(textbuf *t, const char *fmt, ...)
 /* Two boundary entries prescribe the same motion (then a shared vertex is harmless). */
 static int same_motion(const eo_bc *a, const eo_bc *b)
 {
-    if (a->motion != b->motion || a->opts.release != b->opts.release) return 0;
+    if (a->motion != b->motion || a->opts.release != b->opts.release || memcmp(a->mask, b->mask, sizeof a->mask))
+        return 0;
     if (a->motion == EO_BC_FIXED) return 1;
     if (a->opts.until != b->opts.until) return 0;
     if (a->motion == EO_BC_TRANSLATE) return memcmp(a->opts.translate, b->opts.translate, sizeof a->opts.translate) == 0;

@@ -83,7 +83,7 @@ static int build_pattern(eo_step *st)
     int nfree = 0;
     st->inv_valid = 0;
     for (int j = 0; j < st->n_full; j++) {
-        if (st->vbc[j / 3] >= 0) {
+        if (eo_stepi_fixed(st, st->vbc, j)) {
             st->full2free[j] = -1;
         } else {
             st->free2full[nfree] = j;
@@ -161,7 +161,7 @@ int eo_stepi_update_constraints(eo_step *st, double t, int *changed)
 {
     eo_stepi_active_set(st, t, st->vbc_new);
     int ch = !st->have_pattern;
-    for (int v = 0; v < st->nv && !ch; v++) ch = (st->vbc[v] >= 0) != (st->vbc_new[v] >= 0);
+    for (int j = 0; j < st->n_full && !ch; j++) ch = eo_stepi_fixed(st, st->vbc, j) != eo_stepi_fixed(st, st->vbc_new, j);
     memcpy(st->vbc, st->vbc_new, (size_t)st->nv * sizeof(int));
     if (changed) *changed = ch;
     return ch ? build_pattern(st) : EO_OK;

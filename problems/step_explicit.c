@@ -74,7 +74,8 @@ static int explicit_accel(void *data, double t, const double *x, const double *v
         if (st->vbc[q] < 0) continue;
         double p[3], vel[3];
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc[q], q, t, p, vel);
-        for (int k = 0; k < 3; k++) st->xw[3 * q + k] = p[k];
+        for (int k = 0; k < 3; k++)
+            if (st->sc->bc[st->vbc[q]].mask[k]) st->xw[3 * q + k] = p[k];
     }
     memset(st->gfull, 0, (size_t)st->n_full * sizeof(double));
     double e = 0;
@@ -104,7 +105,8 @@ static int explicit_accel(void *data, double t, const double *x, const double *v
         for (int i = 0; i < st->nfree; i++) a[st->free2full[i]] = st->guess[i];
     }
     for (int q = 0; q < st->nv; q++)
-        if (st->vbc[q] >= 0) a[3 * q] = a[3 * q + 1] = a[3 * q + 2] = 0;
+        for (int k = 0; k < 3; k++)
+            if (eo_stepi_fixed(st, st->vbc, 3 * q + k)) a[3 * q + k] = 0;
     return EO_OK;
 }
 
@@ -173,6 +175,7 @@ int eo_step_advance(eo_step *st, int *reason)
         double p[3], vel[3];
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc[q], q, t1, p, vel);
         for (int k = 0; k < 3; k++) {
+            if (!st->sc->bc[st->vbc[q]].mask[k]) continue;
             st->xe[3 * q + k] = p[k];
             st->ve[3 * q + k] = vel[k];
         }

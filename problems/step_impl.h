@@ -128,6 +128,14 @@ struct eo_step {
     unsigned long vb_pattern;
 };
 
+/* 1 if coordinate j is prescribed by the entry vbc[j/3] (-1: free): the entry's
+ * `components` mask (a partial entry leaves the other components of its vertices free). */
+static inline int eo_stepi_fixed(const eo_step *st, const int *vbc, int j)
+{
+    const int b = vbc[j / 3];
+    return b >= 0 && st->sc->bc[b].mask[j % 3];
+}
+
 /* step_bc.c */
 /* Active boundary entry per vertex at time t (-1 free) into vbc (nv). */
 void eo_stepi_active_set(const eo_step *st, double t, int *vbc);

@@ -94,6 +94,7 @@ int eo_step_reset(eo_step *st)
         double p[3], vel[3];
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc_new[v], v, 0, p, vel);
         for (int k = 0; k < 3; k++) {
+            if (!st->sc->bc[st->vbc_new[v]].mask[k]) continue;
             st->x[3 * v + k] = p[k];
             st->v[3 * v + k] = st->integ->inertia ? vel[k] : 0;
         }

@@ -546,6 +546,8 @@ static int op_split_assemble(void *data, const double *x, const double *K, doubl
 static const char *vertex_unsupported(const eo_step *st)
 {
     if (st->part) return "a partitioned evaluation";
+    for (int b = 0; b < st->sc->nbc; b++)
+        if (st->sc->bc[b].partial) return "boundary entry holding some components only (blocks are whole vertices)";
     for (int i = 0; i < st->nterms; i++)
         if (!st->terms[i]->ops->vertex) return st->terms[i]->ops->name;
     return NULL;
@@ -883,7 +885,8 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
         if (st->vbc[v] < 0) continue;
         double p[3], vel[3];
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
-        for (int k = 0; k < 3; k++) st->xw[3 * v + k] = st->x[3 * v + k] + theta * (p[k] - st->x[3 * v + k]);
+        for (int k = 0; k < 3; k++)
+            if (st->sc->bc[st->vbc[v]].mask[k]) st->xw[3 * v + k] = st->x[3 * v + k] + theta * (p[k] - st->x[3 * v + k]);
     }
     /* starting guess: the lower of g(xₙ) and g(x̃) */
     for (int i = 0; i < st->nfree; i++) st->guess[i] = st->x[st->free2full[i]];
@@ -916,7 +919,8 @@ int eo_step_end(eo_step *st, const double *x)
         if (st->vbc[v] < 0) continue;
         double p[3], vel[3];
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
-        for (int k = 0; k < 3; k++) st->xw[3 * v + k] = p[k];
+        for (int k = 0; k < 3; k++)
+            if (st->sc->bc[st->vbc[v]].mask[k]) st->xw[3 * v + k] = p[k];
     }
     if (st->integ->accel) /* vₙ₊₁ and aₙ₊₁ */
         st->integ->accel_velocity(st->sc->integrator_params, st->n_full, st->h, st->x, st->v, st->an, st->xw, st->vnew,
@@ -927,7 +931,8 @@ int eo_step_end(eo_step *st, const double *x)
         if (st->vbc[v] < 0) continue;
         double p[3], vel[3];
         eo_stepi_bc_motion(st, st->sc->bc + st->vbc[v], v, t1, p, vel);
-        for (int k = 0; k < 3; k++) st->vnew[3 * v + k] = st->integ->inertia ? vel[k] : 0;
+        for (int k = 0; k < 3; k++)
+            if (st->sc->bc[st->vbc[v]].mask[k]) st->vnew[3 * v + k] = st->integ->inertia ? vel[k] : 0;
     }
     eo_stepi_work_update(st, st->xw, st->vnew);
     if (st->integ->history) {

@@ -82,10 +82,14 @@ static int build_and_factor(eo_step *st)
             eo_csc_destroy(&A);
             return rc;
         }
-        st->pd_info.scalar = rc == 1;
-        if (rc == 1) {
+        int partial = 0; /* an entry holding some components only: the free set is per coordinate */
+        for (int b = 0; b < st->sc->nbc; b++) partial |= st->sc->bc[b].partial;
+        st->pd_info.scalar = rc == 1 && !partial;
+        if (st->pd_info.scalar) {
             eo_csc_destroy(&A);
             A = A1;
+        } else if (rc == 1) {
+            eo_csc_destroy(&A1);
         }
         st->pd_all = A;
         st->pd_w = st->w;

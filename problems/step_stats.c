@@ -171,6 +171,7 @@ void eo_stepi_work_update(eo_step *st, const double *x1, const double *v1)
         if (st->vbc[q] < 0) continue;
         for (int k = 0; k < 3; k++) {
             const int j = 3 * q + k;
+            if (!eo_stepi_fixed(st, st->vbc, j)) continue;
             moving |= x1[j] != x[j] || v[j] + v1[j] != 0;
         }
     }
@@ -208,6 +209,7 @@ void eo_stepi_work_update(eo_step *st, const double *x1, const double *v1)
         if (st->vbc[q] < 0) continue;
         for (int k = 0; k < 3; k++) {
             const int j = 3 * q + k;
+            if (!eo_stepi_fixed(st, st->vbc, j)) continue;
             dw += 0.5 * (st->rpot[j] + st->rpot1[j]) * (x1[j] - x[j]) + 0.5 * (v[j] + v1[j]) * mdv[j];
         }
     }

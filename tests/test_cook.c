@@ -25,19 +25,30 @@
 
 #define NREF 4
 
+static double cook_tip_ps(eo_ctx *ctx, const char *el, int n, int m, int plane_strain, int *iters, double *uz);
+
 static double cook_tip(eo_ctx *ctx, const char *el, int n, int m, int *iters)
+{
+    return cook_tip_ps(ctx, el, n, m, 0, iters, NULL);
+}
+
+/* plane_strain: a slab of thickness 1 with u_z held on every node (a boundary entry with
+ * components "z", listed before the clamp so that the clamp decides its own face); *uz
+ * (may be NULL): the largest |u_z| */
+static double cook_tip_ps(eo_ctx *ctx, const char *el, int n, int m, int plane_strain, int *iters, double *uz)
 {
     char json[2048];
     snprintf(json, sizeof json,
-             "{\"mesh\": {\"generate\": {\"shape\": \"cook\", \"size\": [48, 44, 10], \"cells\": [%d, %d, %d], "
+             "{\"mesh\": {\"generate\": {\"shape\": \"cook\", \"size\": [48, 44, %s], \"cells\": [%d, %d, %d], "
              "\"split\": 5}},"
              " \"material\": {\"model\": \"neo_hookean\", \"E\": 3, \"nu\": 0.4999, \"density\": 1},"
              " \"element\": \"%s\", \"gravity\": [0, 0, 0],"
-             " \"boundary\": [{\"box\": [[-1, -100, -100], [1e-9, 100, 100]], \"fixed\": true}],"
+             " \"boundary\": [%s{\"box\": [[-1, -100, -100], [1e-9, 100, 100]], \"fixed\": true}],"
              " \"tractions\": [{\"box\": [[47.9999, -100, -100], [100, 100, 100]], \"t\": [0, 0.05, 0]}],"
              " \"time\": {\"integrator\": \"static\", \"dt\": 1, \"steps\": 1},"
              " \"solver\": {\"optimizer\": \"newton\", \"hessian_fix\": \"clamp\", \"tol\": 1e-10, \"max_iters\": 300}}",
-             n, n, m, el);
+             plane_strain ? "1" : "10", n, n, m, el,
+             plane_strain ? "{\"box\": [[-100, -100, -100], [100, 100, 100]], \"fixed\": true, \"components\": \"z\"}, " : "");
     eo_sim *s = NULL;
     if (eo_test_sim_open(&s, ctx, NULL, json, NULL) < 0) return NAN;
     eo_sim_step_result r;
@@ -53,6 +64,7 @@ static double cook_tip(eo_ctx *ctx, const char *el, int n, int m, int *iters)
     for (int v = 0; v < mesh->nv; v++) {
         const double *X = mesh->X + 3 * v;
         if (fabs(X[0] - 48) < 1e-9 && fabs(X[1] - 60) < 1e-9) sum += x[3 * v + 1] - X[1], cnt++;
+        if (uz && fabs(x[3 * v + 2] - X[2]) > *uz) *uz = fabs(x[3 * v + 2] - X[2]);
     }
     eo_sim_destroy(&s);
     return cnt ? sum / cnt : NAN;
@@ -88,6 +100,20 @@ int main(void)
           "p1anp %.4f within 10%% of p2p0 %.4f, converging", u[1][NREF - 1], conv);
     CHECK(u[0][1] < 0.5 * conv && u[0][NREF - 1] < 0.9 * conv, "p1 locks: %.4f (4×4×1) below half, %.4f (finest) "
           "below 0.9 of %.4f", u[0][1], u[0][NREF - 1], conv);
+    /* plane strain (u_z held on every node): the published value 4.7011 (Müller 2015,
+     * nu = 0.5; Elmer's 3D test 4.6933), 16×16×1 cells */
+    double ps[4];
+    int psit;
+    for (int e = 0; e < 4; e++) {
+        double uz = 0;
+        ps[e] = cook_tip_ps(ctx, els[e], 16, 1, 1, &psit, &uz);
+        CHECK(uz == 0, "plane strain %s: u_z held exactly (max |u_z| %g)", els[e], uz);
+    }
+    printf("Cook's membrane, plane strain (u_z held), 16x16x1 cells: p1 %.4f  p1anp %.4f  p2 %.4f  p2p0 %.4f  "
+           "(published %.4f)\n", ps[0], ps[1], ps[2], ps[3], ref);
+    CHECK(fabs(ps[3] / ref - 1) < 0.015, "p2p0 plane strain %.4f within 1.5%% of the published %.4f", ps[3], ref);
+    CHECK(fabs(ps[2] / ref - 1) < 0.03, "p2 plane strain %.4f within 3%% of the published %.4f", ps[2], ref);
+    CHECK(ps[0] < 0.8 * ref && ps[1] > ps[0], "p1 locks (%.4f), p1anp less (%.4f)", ps[0], ps[1]);
     eo_ctx_destroy(&ctx);
     return eo_test_finish("test_cook");
 }

@@ -250,6 +250,10 @@ typedef struct eo_scene_bc_opts {
     double translate[3];    ///< velocity of a translation, m/s. Default [0, 0, 0].
     double until;           ///< motion stops at this time, s; < 0 = never. Default -1.
     double release;         ///< set becomes free after this time, s; < 0 = never. Default -1.
+    char components[4];     ///< the displacement components the entry prescribes: a
+                            ///< non-empty subset of "xyz" (e.g. "z": u_z held, u_x, u_y
+                            ///< free; a plane-strain slab). Where entries overlap, the
+                            ///< later one decides a vertex. Default "xyz".
 } eo_scene_bc_opts;
 
 /// `boundary.N.rotate`.
@@ -307,6 +311,8 @@ typedef struct eo_bc {
     int *verts;             ///< owned
     eo_bc_tag_source tag_source;  ///< EO_BC_TAG: triangles, tets or vertex markers
     double nearest_dist;    ///< EO_BC_NEAREST: distance of the selected vertex, m
+    unsigned char mask[3];  ///< the displacement components the entry prescribes (opts.components)
+    int partial;            ///< 1 if not all three (the others stay free)
 } eo_bc;
 
 /// One material region.
