@@ -260,7 +260,7 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     s->tet_type = st->tet_type;
     s->tet_coef = st->tet_coef;
     s->vmass = st->vmass;
-    s->vload = st->vload ? st->vload : st->vmass;
+    s->vload = st->vload && !sc->lumped ? st->vload : st->vmass; /* f = M g with the scene's mass */
     s->el = el;
     s->npe = npe;
     s->linear = linear;

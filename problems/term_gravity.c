@@ -2,7 +2,10 @@
  *
  * For a constant field g the consistent and the lumped mass give the same force: each
  * row of M_t = ρV/20 (I₄ + 𝟙𝟙ᵀ) ⊗ I₃ sums to ρV/20 · 5 = ρV/4, so f_g on vertex v is
- * m_v g with m_v = Σ_{t∋v} ρₜVₜ/4 (s->vload). Linear in x: no Hessian. */
+ * m_v g with m_v = Σ_{t∋v} ρₜVₜ/4. Other elements (element.h): f = M g with the scene's
+ * mass matrix, so that a free body falls uniformly: the consistent load ρ∫N_v dV g (P2:
+ * −ρV/20 at corners, ρV/5 at midside nodes) with the consistent mass, the lumped masses'
+ * m_v g with the lumped one. Both in s->vload. Linear in x: no Hessian. */
 #include "elastopt/step.h"
 #include "term.h"
 

@@ -15,7 +15,8 @@
 ///    tet (eo_material_evaluate), so every Hessian fix works unchanged (per-point PSD
 ///    projections sum to a PSD element matrix);
 ///  - the consistent mass per unit ρV (nodes × nodes), the lumped mass per unit ρV
-///    (positive, summing to 1) and the load vector ∫N_a dV / V (gravity).
+///    (positive, summing to 1) and the load vector ∫N_a dV / V (gravity with the consistent
+///    mass; with the lumped mass gravity is the lumped masses times g).
 ///
 /// ```c
 /// const eo_element_type *el;

@@ -12,7 +12,8 @@
  * Lumped mass: the HRZ row scaling of that diagonal (Hinton, Rock & Zienkiewicz 1976),
  * ρV/36 on each corner and 4ρV/27 on each midside node, positive and summing to ρV (the
  * row sums are not positive: −ρV/20 at corners). Load ∫N_a dV = −V/20 (corners), V/5
- * (midside nodes): gravity uses this consistent load with both masses. */
+ * (midside nodes): gravity's load with the consistent mass (with the lumped mass it is
+ * the lumped masses times g, so that a free body falls uniformly). */
 #include "elastopt/element.h"
 
 static const int edge[6][2] = {{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}};

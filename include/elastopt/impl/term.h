@@ -59,8 +59,9 @@ typedef struct eo_sys {
     const int *enodes;
     const double *vmass;        /* nv lumped vertex masses (the element's lumped weights ·ρV
                                    summed, ρV/4 for p1, + point masses) */
-    const double *vload;        /* nv: Σ ρ∫N_v dV + point masses, the gravity load per unit
-                                   acceleration (= vmass for p1: rows of M sum to ρV/4) */
+    const double *vload;        /* nv: the gravity load per unit acceleration, the row sums
+                                   of the scene's mass matrix: Σ ρ∫N_v dV + point masses
+                                   (consistent), vmass (lumped; and for p1 both) */
     const double *pmass;        /* nv point masses (scene point_mass, point_masses), part of
                                    vmass; NULL if none. The consistent mass adds them on its
                                    diagonal */
