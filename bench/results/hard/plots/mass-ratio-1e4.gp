@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): pd_local_global-anderson, 1.10x faster than the next, lbfgs-wolfe; 2.28x faster than the baseline" font ',12'
+set multiplot title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): pd_local_global-anderson, 1.13x faster than the next, lbfgs-wolfe; 3.22x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
 set lmargin at screen 0.0516
@@ -41,35 +41,43 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'mass-ratio-1e4.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '11 other configurations (grey)', \
+  'mass-ratio-1e4.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'mass-ratio-1e4.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 36 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 28 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 38 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 40 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 44 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 46 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 52 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'mass-ratio-1e4.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-none', \
-  'mass-ratio-1e4.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
-  'mass-ratio-1e4.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'mass-ratio-1e4.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
-  'mass-ratio-1e4.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
-  'mass-ratio-1e4.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 3.0 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson (fastest)', \
-  'mass-ratio-1e4.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
+  'mass-ratio-1e4.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'mass-ratio-1e4.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'mass-ratio-1e4.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'bcqn', \
+  'mass-ratio-1e4.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
+  'mass-ratio-1e4.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.0 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson (fastest)', \
+  'mass-ratio-1e4.dat' index 42 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'aqp', \
+  'mass-ratio-1e4.dat' index 50 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  wolfe', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
   keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  none', \
-  keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
-  keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
+  keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)', \
+  keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand'
 
 # panel 2: measured step 4
 set lmargin at screen 0.4183
@@ -82,25 +90,33 @@ set format y ''
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 unset key
 plot \
-  'mass-ratio-1e4.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '11 other configurations (grey)', \
+  'mass-ratio-1e4.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'mass-ratio-1e4.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 37 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 27 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 29 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 39 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 41 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 45 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 47 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 53 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'mass-ratio-1e4.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-none', \
-  'mass-ratio-1e4.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
-  'mass-ratio-1e4.dat' index 27 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'mass-ratio-1e4.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
-  'mass-ratio-1e4.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
-  'mass-ratio-1e4.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 3.0 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson (fastest)', \
-  'mass-ratio-1e4.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking'
+  'mass-ratio-1e4.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'mass-ratio-1e4.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'mass-ratio-1e4.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'bcqn', \
+  'mass-ratio-1e4.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
+  'mass-ratio-1e4.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.0 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson (fastest)', \
+  'mass-ratio-1e4.dat' index 43 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'aqp', \
+  'mass-ratio-1e4.dat' index 51 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking'
 unset multiplot
 
 # ---- the same figure as SVG
@@ -129,7 +145,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): pd_local_global-anderson, 1.10x faster than the next, lbfgs-wolfe; 2.28x faster than the baseline" font ',12'
+set multiplot title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): pd_local_global-anderson, 1.13x faster than the next, lbfgs-wolfe; 3.22x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
 set lmargin at screen 0.0516
@@ -141,35 +157,43 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'mass-ratio-1e4.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '11 other configurations (grey)', \
+  'mass-ratio-1e4.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'mass-ratio-1e4.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 36 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 28 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 38 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 40 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 44 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 46 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 52 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'mass-ratio-1e4.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-none', \
-  'mass-ratio-1e4.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
-  'mass-ratio-1e4.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'mass-ratio-1e4.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
-  'mass-ratio-1e4.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
-  'mass-ratio-1e4.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 3.0 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson (fastest)', \
-  'mass-ratio-1e4.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
+  'mass-ratio-1e4.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'mass-ratio-1e4.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'mass-ratio-1e4.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'bcqn', \
+  'mass-ratio-1e4.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
+  'mass-ratio-1e4.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.0 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson (fastest)', \
+  'mass-ratio-1e4.dat' index 42 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'aqp', \
+  'mass-ratio-1e4.dat' index 50 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  wolfe', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
   keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  none', \
-  keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
-  keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
+  keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)', \
+  keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand'
 
 # panel 2: measured step 4
 set lmargin at screen 0.4183
@@ -182,23 +206,31 @@ set format y ''
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 unset key
 plot \
-  'mass-ratio-1e4.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '11 other configurations (grey)', \
+  'mass-ratio-1e4.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'mass-ratio-1e4.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 37 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 27 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 29 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 39 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 41 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 45 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 47 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 53 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'mass-ratio-1e4.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-none', \
-  'mass-ratio-1e4.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
-  'mass-ratio-1e4.dat' index 27 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'mass-ratio-1e4.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
-  'mass-ratio-1e4.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
-  'mass-ratio-1e4.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 3.0 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson (fastest)', \
-  'mass-ratio-1e4.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking'
+  'mass-ratio-1e4.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'mass-ratio-1e4.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'mass-ratio-1e4.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'bcqn', \
+  'mass-ratio-1e4.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
+  'mass-ratio-1e4.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 3.0 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson (fastest)', \
+  'mass-ratio-1e4.dat' index 43 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'aqp', \
+  'mass-ratio-1e4.dat' index 51 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking'
 unset multiplot

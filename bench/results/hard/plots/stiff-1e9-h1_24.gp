@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "stiff-1e9-h1_24: 5000 tets, stable_neo_hookean E=1e+09 nu=0.3; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-clamp-nonmonotone, 1.00x faster than the next, newton-none-backtracking; 1.05x faster than the baseline" font ',12'
+set multiplot title "stiff-1e9-h1_24: 5000 tets, stable_neo_hookean E=1e+09 nu=0.3; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-clamp-pcg-gmg-ew2, 1.44x faster than the next, newton-shift-backtracking; 1.58x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
 set lmargin at screen 0.0623
@@ -40,7 +40,7 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'stiff-1e9-h1_24.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '11 other configurations (grey)', \
+  'stiff-1e9-h1_24.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'stiff-1e9-h1_24.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -50,18 +50,25 @@ plot \
   'stiff-1e9-h1_24.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'stiff-1e9-h1_24.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
   'stiff-1e9-h1_24.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
-  'stiff-1e9-h1_24.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'stiff-1e9-h1_24.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 7 title 'lbfgs-wolfe', \
-  'stiff-1e9-h1_24.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 3 title 'ncg-wolfe', \
-  'stiff-1e9-h1_24.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 4 ps 0.8 pi 8 title 'pd_local_global-anderson', \
-  'stiff-1e9-h1_24.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 13 ps 0.8 pi 8 title 'pd-lbfgs5-backtracking', \
+  'stiff-1e9-h1_24.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2 (fastest)', \
+  'stiff-1e9-h1_24.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
+  'stiff-1e9-h1_24.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 7 title 'lbfgs-wolfe', \
+  'stiff-1e9-h1_24.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 3 title 'ncg-wolfe', \
+  'stiff-1e9-h1_24.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.6 pt 4 ps 0.8 pi 1 title 'mixed_fem', \
+  'stiff-1e9-h1_24.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 8 title 'pd-lbfgs5-backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  wolfe', \
@@ -97,7 +104,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "stiff-1e9-h1_24: 5000 tets, stable_neo_hookean E=1e+09 nu=0.3; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-clamp-nonmonotone, 1.00x faster than the next, newton-none-backtracking; 1.05x faster than the baseline" font ',12'
+set multiplot title "stiff-1e9-h1_24: 5000 tets, stable_neo_hookean E=1e+09 nu=0.3; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-clamp-pcg-gmg-ew2, 1.44x faster than the next, newton-shift-backtracking; 1.58x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
 set lmargin at screen 0.0623
@@ -108,7 +115,7 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'stiff-1e9-h1_24.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '11 other configurations (grey)', \
+  'stiff-1e9-h1_24.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'stiff-1e9-h1_24.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -118,18 +125,25 @@ plot \
   'stiff-1e9-h1_24.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stiff-1e9-h1_24.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stiff-1e9-h1_24.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'stiff-1e9-h1_24.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
   'stiff-1e9-h1_24.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
-  'stiff-1e9-h1_24.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'stiff-1e9-h1_24.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 7 title 'lbfgs-wolfe', \
-  'stiff-1e9-h1_24.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 3 title 'ncg-wolfe', \
-  'stiff-1e9-h1_24.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 4 ps 0.8 pi 8 title 'pd_local_global-anderson', \
-  'stiff-1e9-h1_24.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 13 ps 0.8 pi 8 title 'pd-lbfgs5-backtracking', \
+  'stiff-1e9-h1_24.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2 (fastest)', \
+  'stiff-1e9-h1_24.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
+  'stiff-1e9-h1_24.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 7 title 'lbfgs-wolfe', \
+  'stiff-1e9-h1_24.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 3 title 'ncg-wolfe', \
+  'stiff-1e9-h1_24.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.6 pt 4 ps 0.8 pi 1 title 'mixed_fem', \
+  'stiff-1e9-h1_24.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 8 title 'pd-lbfgs5-backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  wolfe', \
