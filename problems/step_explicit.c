@@ -20,27 +20,13 @@
 
 #include "step_impl.h"
 
-static void tet_mass_block(double m, double Ke[144])
-{
-    memset(Ke, 0, 144 * sizeof(double));
-    for (int a = 0; a < 4; a++)
-        for (int b = 0; b < 4; b++)
-            for (int c = 0; c < 3; c++) Ke[(3 * a + c) * 12 + 3 * b + c] = m * (a == b ? 2.0 : 1.0);
-}
-
 static int factor_mass(eo_step *st)
 {
     eo_ctx *ctx = st->ctx;
     eo_assembler_zero(st->as);
-    double Ke[144];
     for (int k = 0; k < st->nt; k++) {
-        if (!st->sys.linear) { /* a general element (element.h) */
-            eo_sys_element_mass(&st->sys, k, st->sys.elem_H);
-            eo_assembler_add(st->as, st->sys.tet_group, k, st->sys.elem_H);
-            continue;
-        }
-        tet_mass_block(st->rho[k] * st->vol[k] / 20.0, Ke);
-        eo_assembler_add(st->as, st->sys.tet_group, k, Ke);
+        eo_sys_element_mass(&st->sys, k, st->sys.elem_H);
+        eo_assembler_add(st->as, st->sys.tet_group, k, st->sys.elem_H);
     }
     for (int j = 0; j < st->n_full; j++) {
         int i = st->full2free[j];

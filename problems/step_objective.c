@@ -690,52 +690,31 @@ static int op_vertex_block(void *data, const double *x, int b, eo_proj proj, dou
     return EO_OK;
 }
 
+/* The ops every step objective has (whatever its element) */
+#define STEPI_COMMON_OPS                                                                       \
+    .inertia = op_inertia, .value = op_value, .gradient = op_gradient, .hessian = op_hessian,  \
+    .metric_diag = op_metric_diag, .inverted_count = op_inverted_count,                        \
+    .constant_hessian = op_constant_hessian, .n_elements = op_n_elements,                      \
+    .hessian_masked = op_hessian_masked, .element_residual = op_element_residual,              \
+    .constant_factor = eo_stepi_pd_factor, .constant_solve = eo_stepi_pd_solve,                \
+    .rounding_scale = op_rounding_scale, .max_step = op_max_step, .characteristic = op_characteristic
+
+/* the linear tet's: also the per-tet ops (one F per tet) and the vertex blocks */
 const eo_objective_ops eo_stepi_ops = {
+    STEPI_COMMON_OPS,
     .split_info = op_split_info,
     .split_apply = op_split_apply,
     .split_adjoint = op_split_adjoint,
-    .inertia = op_inertia,
-    .value = op_value,
-    .gradient = op_gradient,
-    .hessian = op_hessian,
-    .metric_diag = op_metric_diag,
-    .inverted_count = op_inverted_count,
-    .constant_hessian = op_constant_hessian,
-    .n_elements = op_n_elements,
-    .hessian_masked = op_hessian_masked,
-    .element_residual = op_element_residual,
-    .constant_factor = eo_stepi_pd_factor,
-    .constant_solve = eo_stepi_pd_solve,
-    .rounding_scale = op_rounding_scale,
-    .max_step = op_max_step,
-    .characteristic = op_characteristic,
+    .split_assemble = op_split_assemble,
     .vertex_blocks = op_vertex_blocks,
     .vertex_block = op_vertex_block,
-    .split_assemble = op_split_assemble,
 };
 
-/* The ops of a step whose element is not the linear tet (element.h): without the per-tet
- * ops that assume one F per tet (split_*: ADMM, local/global projective dynamics, mixed
- * FEM) or a
- * 4-node stencil (vertex blocks: vertex block descent); optimizers that need them are
- * refused when the simulation is created (eo_optimizer_type.needs_ops). */
-const eo_objective_ops eo_stepi_ops_element = {
-    .inertia = op_inertia,
-    .value = op_value,
-    .gradient = op_gradient,
-    .hessian = op_hessian,
-    .metric_diag = op_metric_diag,
-    .inverted_count = op_inverted_count,
-    .constant_hessian = op_constant_hessian,
-    .n_elements = op_n_elements,
-    .hessian_masked = op_hessian_masked,
-    .element_residual = op_element_residual,
-    .constant_factor = eo_stepi_pd_factor,
-    .constant_solve = eo_stepi_pd_solve,
-    .rounding_scale = op_rounding_scale,
-    .max_step = op_max_step,
-    .characteristic = op_characteristic,
-};
+/* The ops of a step whose element is not the linear tet (element.h): without the ops that
+ * assume one F per 4-node tet (split_*: ADMM, mixed FEM; vertex blocks: vertex block
+ * descent); optimizers that need them are refused when the simulation is created
+ * (eo_optimizer_type.needs_ops). */
+const eo_objective_ops eo_stepi_ops_element = {STEPI_COMMON_OPS};
 
 
 /* ---------------------------------------------------------------- partitioned evaluation */

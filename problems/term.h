@@ -67,8 +67,9 @@ void eo_elementi_det_hessian(const double F[9], double D[81]);
 void eo_elementi_GtDG(int n, const double *G, const double *D, double w, double *H);
 /* the lower block triangle of H from the upper (after eo_elementi_GtDG) */
 void eo_elementi_mirror(int n, double *H);
-/* element.c: the consistent mass matrix ρₖVₖ M_el ⊗ I₃ of tet k of a general element
- * (s->el; (3·npe)², row-major), for the terms and the explicit integrators' mass solve. */
+/* element.c: the consistent mass matrix ρₖVₖ M_el ⊗ I₃ of tet k ((3·npe)², row-major;
+ * the linear tet's ρV/20 (1 + δ_ab) exactly as always), for the inertia and damping terms
+ * and the explicit integrators' mass solve. */
 void eo_sys_element_mass(const eo_sys *s, int k, double *Ke);
 /* term_elastic_nodal.c: the nodal volumetric part of the average-nodal-pressure element
  * (EO_ELEMENT_NODAL_DILATATION), owned by the elastic term: energy (unweighted), gradient

@@ -146,18 +146,9 @@ static int prepare(eo_term *t, eo_sys *s)
         d->mass_val = eo_malloc(s->ctx, (size_t)(H->nnz > 0 ? H->nnz : 1) * sizeof(double));
         if (!d->mass_val) return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (damping mass)");
         eo_assembler_zero(s->as);
-        double Ke[144];
-        for (int k = 0; !s->linear && k < s->nt; k++) { /* a general element: ρV M_el ⊗ I₃ */
-            eo_sys_element_mass(s, k, s->elem_H); /* one element's worth, serial */
+        for (int k = 0; k < s->nt; k++) { /* ρV M_el ⊗ I₃ (elem_H: one element's worth, serial) */
+            eo_sys_element_mass(s, k, s->elem_H);
             eo_assembler_add(s->as, s->tet_group, k, s->elem_H);
-        }
-        for (int k = 0; s->linear && k < s->nt; k++) {
-            double m = s->rho[k] * s->vol[k] / 20.0;
-            memset(Ke, 0, sizeof Ke);
-            for (int a = 0; a < 4; a++)
-                for (int b = 0; b < 4; b++)
-                    for (int c = 0; c < 3; c++) Ke[(3 * a + c) * 12 + 3 * b + c] = m * (a == b ? 2.0 : 1.0);
-            eo_assembler_add(s->as, s->tet_group, k, Ke);
         }
         memcpy(d->mass_val, H->val, (size_t)H->nnz * sizeof(double));
         eo_assembler_zero(s->as);

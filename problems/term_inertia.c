@@ -130,14 +130,6 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
     return 0.5 * e;
 }
 
-static void tet_mass_matrix(double m, double Ke[144])
-{
-    memset(Ke, 0, 144 * sizeof(double));
-    for (int a = 0; a < 4; a++)
-        for (int b = 0; b < 4; b++)
-            for (int c = 0; c < 3; c++) Ke[(3 * a + c) * 12 + 3 * b + c] = m * (a == b ? 2.0 : 1.0);
-}
-
 static int prepare(eo_term *t, eo_sys *s)
 {
     inertia_data *d = t->data;
@@ -148,15 +140,9 @@ static int prepare(eo_term *t, eo_sys *s)
     if (!d->mass_val) return eo_error(s->ctx, EO_ERR_NOMEM, "out of memory (mass matrix)");
     d->nnz = H->nnz;
     eo_assembler_zero(s->as);
-    double Ke[144];
-    for (int k = 0; k < s->nt; k++) {
-        if (!s->linear) { /* elem_H: one element's worth, serial */
-            eo_sys_element_mass(s, k, s->elem_H);
-            eo_assembler_add(s->as, s->tet_group, k, s->elem_H);
-            continue;
-        }
-        tet_mass_matrix(s->rho[k] * s->vol[k] / 20.0, Ke);
-        eo_assembler_add(s->as, s->tet_group, k, Ke);
+    for (int k = 0; k < s->nt; k++) { /* elem_H: one element's worth, serial */
+        eo_sys_element_mass(s, k, s->elem_H);
+        eo_assembler_add(s->as, s->tet_group, k, s->elem_H);
     }
     for (int j = 0; s->pmass && j < s->n_full; j++) {
         int i = s->full2free[j];
@@ -180,16 +166,10 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
         return EO_OK;
     }
     if (s->part_tets || s->vown) { /* a part: its tets' mass matrices, its vertices' point masses */
-        double Ke[144];
         for (int i = 0; i < eo_sys_ntets(s); i++) {
             const int k = eo_sys_tet(s, i);
-            if (!s->linear) {
-                eo_sys_element_mass(s, k, s->elem_H);
-                eo_assembler_add(s->as, s->tet_group, k, s->elem_H);
-                continue;
-            }
-            tet_mass_matrix(s->rho[k] * s->vol[k] / 20.0, Ke);
-            eo_assembler_add(s->as, s->tet_group, k, Ke);
+            eo_sys_element_mass(s, k, s->elem_H);
+            eo_assembler_add(s->as, s->tet_group, k, s->elem_H);
         }
         for (int j = 0; s->pmass && j < s->n_full; j++) {
             int i = s->full2free[j];
