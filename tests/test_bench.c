@@ -163,8 +163,29 @@ static void test_expansion(const char *dir)
         CHECK(!strcmp(eo_bench_suite_config_name(s, 5), "gradient_descent-exact"), "%s",
               eo_bench_suite_config_name(s, 5));
         CHECK(!strcmp(eo_bench_suite_opts(s)->baseline, "newton-clamp-backtracking"), "baseline");
+        CHECK(!strcmp(eo_bench_suite_scene_stratum(s, 0), ""), "no stratum without stratum_axis");
     }
     eo_bench_suite_destroy(&s);
+    /* stratum_axis: the labels of axis 1 (prefixed by the entry's stratum) become the strata */
+    const char *strat =
+        "{\"scenes\": [{\"name\": \"c\", \"scene\": \"cantilever\", \"stratum\": \"bar\", \"stratum_axis\": 1,"
+        "   \"vary\": [{\"a\": {\"material.E\": 1e6}, \"b\": {\"material.E\": 1e7}},"
+        "              {\"p1\": {\"element\": \"p1\"}, \"p2\": {\"element\": \"p2\"}}]}],"
+        " \"configs\": [{\"name\": \"n\", \"set\": {\"solver.optimizer\": \"newton\"}}]}";
+    rc = eo_bench_suite_load(ctx, write_suite(dir, "strat.json", strat), &s);
+    CHECK(rc == 0, "load stratum_axis: %s", eo_ctx_message(ctx));
+    if (s) {
+        CHECK(eo_bench_suite_nscenes(s) == 4, "4 scenes, got %d", eo_bench_suite_nscenes(s));
+        CHECK(!strcmp(eo_bench_suite_scene_stratum(s, 0), "bar-p1") && !strcmp(eo_bench_suite_scene_stratum(s, 1), "bar-p2") &&
+                  !strcmp(eo_bench_suite_scene_stratum(s, 3), "bar-p2"),
+              "strata %s %s %s", eo_bench_suite_scene_stratum(s, 0), eo_bench_suite_scene_stratum(s, 1),
+              eo_bench_suite_scene_stratum(s, 3));
+    }
+    eo_bench_suite_destroy(&s);
+    refuse(dir,
+           "{\"scenes\": [{\"name\": \"c\", \"scene\": \"cantilever\", \"stratum_axis\": 1,"
+           " \"vary\": [{\"a\": {\"material.E\": 1e6}}]}], " CONF "}",
+           EO_ERR_RANGE, "stratum_axis");
     eo_test_ctx_done(&ctx);
 }
 

@@ -501,6 +501,67 @@ static void test_components(eo_ctx *ctx)
         }
 }
 
+/* Refusals at load (exit 2 in the CLI, nothing built): optimizers that need the linear
+ * tet's per-tet operations on other elements; a curved 10-node mesh for the straight-sided
+ * elements; a 10-node mesh with the 4-node element. */
+static int open_fails(eo_ctx *ctx, const char *json, const char *const *ov, const char *needle)
+{
+    eo_cfg *cfg = NULL;
+    eo_sim *s = NULL;
+    int rc = eo_cfg_load(ctx, NULL, json, &cfg);
+    for (const char *const *o = ov; rc >= 0 && o && *o; o++) rc = eo_cfg_override(ctx, cfg, *o);
+    if (rc >= 0) {
+        rc = eo_sim_create(ctx, cfg, &s);
+        cfg = NULL;
+    }
+    eo_cfg_destroy(&cfg);
+    const int ok = rc < 0 && strstr(eo_ctx_message(ctx), needle) != NULL;
+    if (!ok) fprintf(stderr, "open_fails: rc %d, message: %s\n", rc, eo_ctx_message(ctx));
+    eo_sim_destroy(&s);
+    return ok;
+}
+
+static void test_refusals(eo_ctx *ctx)
+{
+    static const char *bar = "{\"mesh\": {\"generate\": {\"size\": [1, 0.1, 0.1], \"cells\": [4, 1, 1]}},"
+                             " \"boundary\": [{\"box\": [[-1, -1, -1], [1e-9, 1, 1]], \"fixed\": true}]}";
+    const char *admm[] = {"element=p2", "solver.optimizer=admm_pd", NULL};
+    const char *vbd[] = {"element=p1anp", "solver.optimizer=vbd", NULL};
+    const char *fb[] = {"element=p2p0", "solver.fallback=[{\"optimizer\": \"mixed_fem\"}]", NULL};
+    CHECK(open_fails(ctx, bar, admm, "optimizer admm_pd needs the per-tet split"), "admm_pd refused on p2");
+    CHECK(open_fails(ctx, bar, vbd, "optimizer vbd needs per-vertex blocks"), "vbd refused on p1anp");
+    CHECK(open_fails(ctx, bar, fb, "solver.fallback.0: optimizer mixed_fem"), "mixed_fem refused in a fallback on p2p0");
+    /* a quadratic Gmsh file with one midside node moved off its edge */
+    eo_mesh *m = NULL, *q = NULL;
+    eo_mesh_gen_opts go = eo_mesh_gen_opts_default();
+    go.cells[0] = 3, go.cells[1] = go.cells[2] = 1;
+    if (eo_mesh_generate_box(ctx, &go, &m) < 0 || eo_mesh_to_quadratic(ctx, m, &q) < 0) {
+        CHECK(0, "quadratic box: %s", eo_ctx_message(ctx));
+        eo_mesh_destroy(&m);
+        return;
+    }
+    char straight[512], curved[512], json[1024];
+    snprintf(straight, sizeof straight, "%s/straight.msh", eo_test_tmpdir("test_element_refusals"));
+    snprintf(curved, sizeof curved, "%s/curved.msh", eo_test_tmpdir("test_element_refusals"));
+    CHECK(eo_mesh_write(ctx, q, straight, EO_MESH_AUTO) == EO_OK, "write %s", straight);
+    q->X[3 * q->tet10[4] + 1] += 0.05; /* the midside node of tet 0's edge 01 */
+    CHECK(eo_mesh_write(ctx, q, curved, EO_MESH_AUTO) == EO_OK, "write %s", curved);
+    snprintf(json, sizeof json,
+             "{\"mesh\": {\"file\": \"%s\"}, \"boundary\": [{\"box\": [[-1, -1, -1], [1e-9, 2, 2]], \"fixed\": true}]}",
+             curved);
+    const char *p2[] = {"element=p2", NULL};
+    CHECK(open_fails(ctx, json, p2, "off the edge's midpoint"), "a curved 10-node mesh refused by p2");
+    snprintf(json, sizeof json,
+             "{\"mesh\": {\"file\": \"%s\"}, \"boundary\": [{\"box\": [[-1, -1, -1], [1e-9, 2, 2]], \"fixed\": true}]}",
+             straight);
+    CHECK(open_fails(ctx, json, NULL, "the mesh has 10-node (quadratic) tets"), "a 10-node mesh refused by p1");
+    eo_sim *s = NULL;
+    CHECK(eo_test_sim_open(&s, ctx, NULL, json, p2) == EO_OK, "the straight 10-node file runs as p2");
+    eo_sim_destroy(&s);
+    eo_mesh_destroy(&q);
+    eo_mesh_destroy(&m);
+}
+
 int main(void)
 {
     eo_ctx *ctx = eo_test_ctx();
@@ -510,6 +571,7 @@ int main(void)
     test_rates(ctx);
     test_cantilever(ctx);
     test_components(ctx);
+    test_refusals(ctx);
     eo_test_ctx_done(&ctx);
     return eo_test_finish("test_element");
 }

@@ -198,6 +198,8 @@ EO_API int eo_bench_suite_nscenes(const eo_bench_suite *s);
 EO_API int eo_bench_suite_nconfigs(const eo_bench_suite *s);
 EO_API const char *eo_bench_suite_scene_name(const eo_bench_suite *s, int i);
 EO_API const char *eo_bench_suite_config_name(const eo_bench_suite *s, int i);
+/// Stratum of scene i in the profiles ("" none; a `stratum_axis` expansion sets it).
+EO_API const char *eo_bench_suite_scene_stratum(const eo_bench_suite *s, int i);
 /// Optional scenes dropped at load (their files could not be read): count, and the i-th
 /// as "name: message" (borrowed; NULL out of range).
 EO_API int eo_bench_suite_nskipped(const eo_bench_suite *s);

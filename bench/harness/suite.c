@@ -814,6 +814,10 @@ const char *eo_bench_suite_scene_name(const eo_bench_suite *s, int i)
 {
     return i >= 0 && i < s->nsc ? s->sc[i].name : NULL;
 }
+const char *eo_bench_suite_scene_stratum(const eo_bench_suite *s, int i)
+{
+    return i >= 0 && i < s->nsc ? s->sc[i].o.stratum : NULL;
+}
 const char *eo_bench_suite_config_name(const eo_bench_suite *s, int i)
 {
     return i >= 0 && i < s->ncf ? s->cf[i].name : NULL;
