@@ -33,10 +33,10 @@ int eo_mesh_to_quadratic(eo_ctx *ctx, const eo_mesh *m, eo_mesh **out)
     if (m->order == 2 || m->tet10) return eo_error(ctx, EO_ERR_INVALID, "the mesh is quadratic already");
     const long nt = m->nt, ntri = m->ntri, nk = 6 * nt + 3 * ntri;
     ekey *k = eo_malloc(ctx, (size_t)(nk ? nk : 1) * sizeof *k);
-    long *first = eo_malloc(ctx, (size_t)(nk ? nk : 1) * sizeof *first); /* group -> min slot */
+    long *gid = eo_malloc(ctx, (size_t)(nk ? nk : 1) * sizeof *gid); /* edge group -> node offset */
     int *node = eo_malloc(ctx, (size_t)(nk ? nk : 1) * sizeof *node);      /* slot -> node */
-    if (!k || !first || !node) {
-        eo_free(ctx, k), eo_free(ctx, first), eo_free(ctx, node);
+    if (!k || !gid || !node) {
+        eo_free(ctx, k), eo_free(ctx, gid), eo_free(ctx, node);
         return eo_error(ctx, EO_ERR_NOMEM, "out of memory (quadratic mesh of %d tets)", m->nt);
     }
     for (long t = 0; t < nt; t++)
@@ -50,22 +50,13 @@ int eo_mesh_to_quadratic(eo_ctx *ctx, const eo_mesh *m, eo_mesh **out)
             k[6 * nt + 3 * f + e] = (ekey){a < b ? a : b, a < b ? b : a, 6 * nt + 3 * f + e};
         }
     qsort(k, (size_t)nk, sizeof *k, ekey_cmp);
-    /* groups of equal edges: sorted by slot within a group, so its first entry is the first
-     * slot that meets the edge; number the groups in the order of those first slots */
+    /* groups of equal edges (runs of the sorted keys): slot -> group, then the groups
+     * numbered in the order the slots first meet them */
     long ne = 0;
-    for (long i = 0; i < nk; i++)
-        if (i == 0 || k[i].a != k[i - 1].a || k[i].b != k[i - 1].b) first[ne++] = k[i].slot;
-    /* rank of each group's first slot: mark slot -> group, then scan slots in order */
-    for (long i = 0; i < nk; i++) node[i] = -1;
-    {
-        long g = -1;
-        for (long i = 0; i < nk; i++) {
-            if (i == 0 || k[i].a != k[i - 1].a || k[i].b != k[i - 1].b) g++;
-            node[k[i].slot] = (int)g; /* provisional: the group id */
-        }
+    for (long i = 0; i < nk; i++) {
+        if (i == 0 || k[i].a != k[i - 1].a || k[i].b != k[i - 1].b) ne++;
+        node[k[i].slot] = (int)(ne - 1); /* provisional: the group id */
     }
-    /* renumber groups by first appearance in slot order */
-    long *gid = first; /* reuse: group -> final node offset, -1 unset */
     for (long g = 0; g < ne; g++) gid[g] = -1;
     long next = 0;
     for (long s = 0; s < nk; s++) {
@@ -73,7 +64,7 @@ int eo_mesh_to_quadratic(eo_ctx *ctx, const eo_mesh *m, eo_mesh **out)
         if (gid[g] < 0) gid[g] = next++;
         node[s] = (int)(m->nv + gid[g]);
     }
-    eo_free(ctx, first);
+    eo_free(ctx, gid);
     eo_free(ctx, k);
     if ((long)m->nv + ne > 0x7fffffffL) {
         eo_free(ctx, node);
