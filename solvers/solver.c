@@ -63,8 +63,9 @@ const eo_param_desc eo_solver_opts_desc[] = {
      OPTS_STR(stop), .def.s = "relative_decrement", .registry = &eo_reg_stop,
      .help = "stopping rule (reads tol)"},
     {.key = "linear", .kind = EO_PARAM_METHOD, .offset = offsetof(eo_solver_opts, linear),
-     OPTS_STR(linear), .def.s = "cholmod", .registry = &eo_reg_linsolve,
-     .help = "linear solver for Newton systems and the consistent-mass solve of explicit integrators"},
+     OPTS_STR(linear), .def.s = "auto", .registry = &eo_reg_linsolve,
+     .help = "linear solver for Newton systems and the consistent-mass solve of explicit integrators; auto = "
+             "the policy by size (solver.auto: cholmod, a reused factor preconditioning CG, multigrid)"},
     {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_solver_opts, tol), .def.d = 1e-10,
      .min = 0, .range = EO_RANGE_POSITIVE,
      .help = "relative_decrement: lambda <= tol*lambda_0; newton_decrement: lambda^2/2 <= tol (units of g); "
@@ -471,6 +472,12 @@ json_t *eo_solver_to_json(const eo_solver *s)
     json_t *j = eo_params_to_json(eo_solver_opts_desc, &s->opts);
     if (!j) return NULL;
     if (!s->linear) json_object_del(j, "linear");
+    if (s->linear && eo_linsolve_get_stats(s->linear)->n_analyze > 0) {
+        /* what the linear solver did with the last pattern (auto: the policy's choice) */
+        char d[256];
+        json_object_set_new(j, "linear_choice", json_string(eo_linsolve_describe(s->linear, d, sizeof d)));
+        json_object_set_new(j, "linear_refactorizations", json_integer(eo_linsolve_get_stats(s->linear)->n_refactor));
+    }
     for (size_t i = 0; i < N_KINDS; i++) {
         if (!s->type[i] || !s->params[i]) continue;
         const eo_method_info *mi = eo_method_info_of(s->type[i]);

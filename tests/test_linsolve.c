@@ -514,6 +514,10 @@ static const variant variants[] = {
     {"gmres", "preconditioner", "\"ic0\""}, {"gmres", "preconditioner", "\"none\""},
     {"gmres", "restart", "5"},             {"umfpack", "ordering", "\"metis\""},
     {"lapack_ldlt", "allow_indefinite", "true"},
+    {"pcg", "ordering", "\"nesdis\""},
+    /* the policy's three choices on the small contract matrices */
+    {"auto", "reuse_min", "0"},           {"auto", "iterative_min", "0"},
+    {"auto", "nd_min", "0"},
 };
 
 typedef struct solver_cfg {
@@ -602,7 +606,18 @@ static void contract_one(solver_cfg *c)
     CHECK(rc == EO_OK, "%s: M0 solve rc %d: %s", L, rc, eo_ctx_message(ctx));
     CHECK(rel_err(n, x, ref) < tol, "%s: M0 error %g", L, rel_err(n, x, ref));
     const eo_linsolve_stats *st = eo_linsolve_get_stats(ls);
-    if (is_iterative(c->type))
+    /* iterative, except a reused factor's first solve: the factor is of this matrix, so
+     * the solve is direct (pcg cholmod_reuse, auto's reuse) */
+    int iter = eo_linsolve_is_iterative(ls);
+    if (strcmp(name, "auto")) {
+        CHECK(iter == (c->type->set_rtol != NULL), "%s: eo_linsolve_is_iterative %d", L, iter);
+        iter = is_iterative(c->type); /* the stationary methods iterate without a forcing term */
+    } else {
+        char d[160];
+        eo_linsolve_describe(ls, d, sizeof d);
+        CHECK(iter == (strncmp(d, "pcg", 3) == 0), "%s: eo_linsolve_is_iterative %d for '%s'", L, iter, d);
+    }
+    if (iter && st->n_refactor == 0)
         CHECK(st->iterations > 0 && st->residual >= 0 && st->residual <= 1e-12 * 1.0001, "%s: stats it %d res %g",
               L, st->iterations, st->residual);
     else
@@ -765,7 +780,7 @@ static void test_contract(void)
             printf("contract %-28s %.3f s\n", c.label, eo_wtime() - t0);
         }
     }
-    CHECK(count == 14, "registered linear solvers: %d", count);
+    CHECK(count == 15, "registered linear solvers: %d", count);
     eo_test_ctx_done(&ctx);
 }
 
@@ -963,6 +978,87 @@ static void test_cholmod_reuse(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* auto: the choice by size (thresholds set low), its description, is_iterative, the
+ * reuse of the factor, a tolerance handed to a delegate created later, a new pattern of
+ * another size switching the delegate */
+static void test_auto(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    const eo_linsolve_type *t = NULL;
+    CHECK(eo_linsolve_find(ctx, "auto", &t) == EO_OK, "auto registered");
+    solver_cfg c;
+    cfg_init(ctx, &c, t);
+    set_param(ctx, &c, "reuse_min", "200");
+    set_param(ctx, &c, "iterative_min", "900");
+    set_param(ctx, &c, "nd_min", "400");
+    static const struct {
+        int nx, ny, nz;
+        const char *choice;
+        int iterative;
+    } cases[] = {{4, 4, 4, "cholmod (amd), n = 64 < reuse_min 200", 0},
+                 {6, 6, 6, "pcg + cholmod_reuse (amd), n = 216 >= reuse_min 200", 1},
+                 {8, 8, 8, "pcg + cholmod_reuse (nesdis), n = 512 >= reuse_min 200", 1},
+                 {10, 10, 10, "pcg + gmg, n = 1000 >= iterative_min 900", 1}};
+    eo_linsolve *keep = NULL; /* one object through every size: the delegate follows */
+    CHECK(eo_linsolve_create(ctx, t, c.params, &keep) == EO_OK, "create");
+    char d[160];
+    CHECK(!strcmp(eo_linsolve_describe(keep, d, sizeof d), "no matrix analyzed yet") &&
+              eo_linsolve_is_iterative(keep) == 0 && eo_linsolve_allows_own_factor(keep),
+          "before analyze: '%s'", d);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        testmat T;
+        testmat_create(ctx, cases[k].nx, cases[k].ny, cases[k].nz, cases[k].nx * 15, &T);
+        eo_csc *A = eo_assembler_matrix(T.as);
+        const int n = A->n;
+        double *b = malloc((size_t)n * sizeof(double)), *x = malloc((size_t)n * sizeof(double));
+        double *ref = malloc((size_t)n * sizeof(double));
+        for (int i = 0; i < n; i++) b[i] = cos(0.7 * i);
+        eo_linsolve *ls = NULL;
+        CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_OK, "create");
+        const eo_linsolve_stats *st = eo_linsolve_get_stats(ls);
+        /* a forcing term given before the first analyze reaches the delegate */
+        CHECK(eo_linsolve_set_rtol(ls, 1e-3) == EO_OK, "set_rtol before analyze");
+        int frc = 0;
+        testmat_fill(&T, 1.0, 1.0, 2);
+        dense_solve(A, b, ref, 1);
+        int rc = run(ctx, ls, A, b, x, 1, &frc);
+        eo_linsolve_describe(ls, d, sizeof d);
+        CHECK(rc == EO_OK && !strcmp(d, cases[k].choice), "n = %d: rc %d, choice '%s' (expected '%s')", n, rc, d,
+              cases[k].choice);
+        CHECK(eo_linsolve_is_iterative(ls) == cases[k].iterative, "n = %d: is_iterative %d", n,
+              eo_linsolve_is_iterative(ls));
+        /* direct, a fresh reused factor (exact) or the multigrid to 1e-3 */
+        const double tol1 = cases[k].iterative && strstr(d, "gmg") ? 1e-2 : 1e-10;
+        CHECK(rel_err(n, x, ref) < tol1, "n = %d (%s): first solve error %g", n, d, rel_err(n, x, ref));
+        /* a nearby matrix: the reuse keeps its factor and iterates, to the forcing term */
+        testmat_fill(&T, 1.05, 1.0, 2);
+        dense_solve(A, b, ref, 1);
+        eo_linsolve_set_rtol(ls, 1e-9);
+        rc = run(ctx, ls, A, b, x, 0, &frc);
+        CHECK(rc == EO_OK && rel_err(n, x, ref) < 1e-7, "n = %d (%s): second solve rc %d error %g", n, d, rc,
+              rel_err(n, x, ref));
+        if (strstr(d, "cholmod_reuse"))
+            CHECK(st->n_refactor == 1 && st->iterations > 0 && st->residual <= 1e-9 * 1.0001,
+                  "n = %d: reused factor: refactors %ld, PCG iterations %d, residual %g", n, st->n_refactor,
+                  st->iterations, st->residual);
+        else if (!cases[k].iterative)
+            CHECK(st->iterations == 0 && st->n_factor == 2, "n = %d: direct: its %d factors %ld", n, st->iterations,
+                  st->n_factor);
+        eo_linsolve_destroy(&ls);
+        /* the kept object: a new pattern of another size switches the delegate */
+        rc = run(ctx, keep, A, b, x, 1, &frc);
+        eo_linsolve_describe(keep, d, sizeof d);
+        CHECK(rc == EO_OK && !strcmp(d, cases[k].choice) && rel_err(n, x, ref) < 1e-7,
+              "kept solver at n = %d: '%s', error %g", n, d, rel_err(n, x, ref));
+        free(b);
+        free(x);
+        free(ref);
+        eo_assembler_destroy(&T.as);
+    }
+    eo_linsolve_destroy(&keep);
+    eo_test_ctx_done(&ctx);
+}
+
 /* set_coordinates: argument checks; amg (if built) with rigid-body modes still solves */
 static void test_coordinates(void)
 {
@@ -1067,6 +1163,7 @@ int main(int argc, char **argv)
     test_gmres_indefinite();
     test_rtol();
     test_cholmod_reuse();
+    test_auto();
     test_coordinates();
     return eo_test_finish("test_linsolve");
 }

@@ -433,7 +433,7 @@ static void test_config(void)
     eo_solver_opts o;
     eo_solver_opts_default(&o);
     CHECK(strcmp(o.optimizer, "newton") == 0 && strcmp(o.hessian_fix, "project_on_demand") == 0 &&
-              o.tol == 1e-10 && o.max_iters == 100 && strcmp(o.linear, "cholmod") == 0,
+              o.tol == 1e-10 && o.max_iters == 100 && strcmp(o.linear, "auto") == 0,
           "defaults");
     CHECK(eo_solver_opts_load(ctx, cfg, &o) == EO_OK, "%s", eo_ctx_message(ctx));
     CHECK(strcmp(o.optimizer, "lbfgs") == 0 && o.tol == 1e-9 && o.max_iters == 50, "loaded");

@@ -17,7 +17,7 @@
 ///
 /// Registered methods (config `solver.linear = "<name>"`, parameters
 /// `solver.<name>.<key>`; `elastopt list` / `--help` show keys and defaults):
-///   cholmod (supernodal LLᵀ), cholmod_ldlt (simplicial LDLᵀ), spqr (sparse QR of the
+///   auto (the default: a policy by size, see solvers/linsys/auto.c), cholmod (supernodal LLᵀ), cholmod_ldlt (simplicial LDLᵀ), spqr (sparse QR of the
 ///   full matrix), umfpack (sparse LU of the full matrix), lapack (dense Cholesky, small
 ///   n), lapack_lu (dense LU), lapack_ldlt (dense Bunch–Kaufman LDLᵀ with inertia), cg,
 ///   pcg (Jacobi, IC(0), reused CHOLMOD factor, BoomerAMG when built with hypre, Galerkin
@@ -87,6 +87,12 @@ typedef struct eo_linsolve_type {
     void (*set_rtol)(void *st, double rtol);
     /// Optional: coordinates of the nv nodes whose dofs are 3i, 3i+1, 3i+2 (copied).
     int (*set_coordinates)(void *st, int nv, const double *xyz, eo_ctx *ctx);
+    /// Optional: 1 if solves are iterative (they honour set_rtol), 0 if direct. Without
+    /// it a method is iterative exactly when it has set_rtol.
+    int (*is_iterative)(const void *st);
+    /// Optional: what the method does, in words (e.g. the choice of a policy), into buf
+    /// (snprintf semantics). Without it eo_linsolve_describe gives the method's name.
+    int (*describe)(const void *st, char *buf, size_t size);
 } eo_linsolve_type;
 
 typedef struct eo_linsolve eo_linsolve;
@@ -142,6 +148,18 @@ EO_API int eo_linsolve_set_rtol(eo_linsolve *ls, double rtol);
 /// Returns EO_OK, EO_ERR_INVALID (nv < 0 or xyz NULL with nv > 0), EO_ERR_NOMEM.
 EO_API int eo_linsolve_set_coordinates(eo_linsolve *ls, int nv, const double *xyz);
 EO_API const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls);
+/// 1 if the solves are iterative (an inexact Newton's forcing term applies: set_rtol), 0
+/// if they are direct (a policy such as `auto` answers for the method it chose at the
+/// last analyze; 0 before any).
+EO_API int eo_linsolve_is_iterative(const eo_linsolve *ls);
+/// The method and what it chose, in words, into buf (NUL-terminated, truncated to size):
+/// "cholmod", or for `auto` e.g. "pcg + cholmod_reuse (nesdis), n = 70623 >= reuse_min
+/// 20000". Returns buf.
+EO_API const char *eo_linsolve_describe(const eo_linsolve *ls, char *buf, size_t size);
+/// 1 if the caller may use a CHOLMOD factor of its own instead of this solver for a
+/// constant matrix (projective dynamics' prefactored matrix): the cholmod family and the
+/// `auto` policy, whose choice for a matrix factored once is a direct CHOLMOD factor.
+EO_API int eo_linsolve_allows_own_factor(const eo_linsolve *ls);
 EO_API const eo_linsolve_type *eo_linsolve_get_type(const eo_linsolve *ls);
 /// The solver's params struct (the copy it uses; borrowed).
 EO_API const void *eo_linsolve_get_params(const eo_linsolve *ls);

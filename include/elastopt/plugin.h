@@ -49,8 +49,8 @@ extern "C" {
 /// (order, tet10, tri_mid) grew; eo_objective_ops.rounding_scale fills s[3] (the value scale);
 /// eo_objective_ops grew (split_assemble); the kind EO_KIND_TERM (eo_term_type, impl/term.h:
 /// the terms of the step problem, eo_sys, eo_term_ops, eo_term) and eo_scene grew
-/// (nterm_cfg, term_type, term_cfg).
-#define EO_ABI_VERSION 9
+/// (nterm_cfg, term_type, term_cfg). 10: eo_linsolve_type grew (is_iterative, describe).
+#define EO_ABI_VERSION 10
 
 /// The library's EO_ABI_VERSION.
 EO_API int eo_abi_version(void);

@@ -218,7 +218,7 @@ typedef struct eo_solver_opts {
                            ///< optimizer's choice (eo_optimizer_type.linesearch),
                            ///< replaced by the resolved name in eo_solver_get_opts
     char stop[32];         ///< registered stopping rule (default "relative_decrement")
-    char linear[32];       ///< registered linear solver (default "cholmod"), used only by
+    char linear[32];       ///< registered linear solver (default "auto": the policy by size), used only by
                            ///< optimizers that solve systems (newton, projective_dynamics)
     double tol;            ///< stopping tolerance, see the file comment (default 1e-10)
     int max_iters;         ///< iteration cap → EO_DIVERGED_MAX_ITERS (default 100)

@@ -10,6 +10,8 @@
 #include <stdio.h>
 #include <string.h>
 
+extern const eo_linsolve_type eo_linsolve_auto; /* auto.c: the policy (eo_linsolve_allows_own_factor) */
+
 struct eo_linsolve {
     const eo_linsolve_type *type;
     eo_ctx *ctx;
@@ -194,5 +196,24 @@ int eo_linsolve_set_coordinates(eo_linsolve *ls, int nv, const double *xyz)
 }
 
 const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls) { return &ls->stats; }
+
+int eo_linsolve_is_iterative(const eo_linsolve *ls)
+{
+    return ls->type->is_iterative ? ls->type->is_iterative(ls->state) != 0 : ls->type->set_rtol != NULL;
+}
+
+const char *eo_linsolve_describe(const eo_linsolve *ls, char *buf, size_t size)
+{
+    if (!size) return buf;
+    buf[0] = 0;
+    if (ls->type->describe) ls->type->describe(ls->state, buf, size);
+    if (!buf[0]) snprintf(buf, size, "%s", ls->type->info.name);
+    return buf;
+}
+
+int eo_linsolve_allows_own_factor(const eo_linsolve *ls)
+{
+    return strncmp(ls->type->info.name, "cholmod", 7) == 0 || ls->type == &eo_linsolve_auto;
+}
 const eo_linsolve_type *eo_linsolve_get_type(const eo_linsolve *ls) { return ls->type; }
 const void *eo_linsolve_get_params(const eo_linsolve *ls) { return ls->params; }

@@ -26,7 +26,9 @@
  *                  A refactorization of a matrix that is not positive definite returns
  *                  EO_WARN_NOT_PD with the column, as cholmod does. stats.n_refactor
  *                  counts the refactorizations; with a fresh factor PCG converges in one
- *                  or two iterations (the factor is exact up to rounding).
+ *                  or two iterations (the factor is exact up to rounding), so a solve
+ *                  with a fresh factor is done directly (x = L⁻ᵀL⁻¹b, 0 iterations),
+ *                  like cholmod's. The factor's ordering is `ordering`.
  *   amg            hypre BoomerAMG, one V-cycle (amg.h): systems AMG with 3 unknowns
  *                  per node and nodal coarsening, plus the rigid-body rotations when
  *                  eo_linsolve_set_coordinates gave the node positions. Set up at every
@@ -51,6 +53,8 @@
  *   warm_start            start from the x passed to solve             default false
  *   refactor_iters        cholmod_reuse: refactor after a solve needing more
  *                         iterations than this                         default 20
+ *   ordering              cholmod_reuse: fill-reducing ordering of the factor
+ *                         (as solver.cholmod.ordering)                 default "amd"
  *   amg_strong_threshold  BoomerAMG strength threshold                 default 0.5
  *   amg_rbm               amg: rigid-body modes from the coordinates   default false
  *                         (measured: 10 instead of 20 iterations, but 3.7x the setup time
@@ -80,12 +84,14 @@ typedef struct pcg_params {
     int amg_rbm;             /* default false (measured) */
     char gmg_prolongation[16]; /* default "linear" */
     int gmg_coarse_size;     /* default 1500 */
+    char ordering[16];       /* cholmod_reuse: default "amd" */
 } pcg_params;
 
 /* "amg" is always a valid name (so configs and docs do not depend on the build); a build
  * without hypre refuses it at create with EO_ERR_UNSUPPORTED and says how to get it. */
 static const char *const preconds[] = {"jacobi", "ic0", "ichol0", "cholmod_reuse", "amg", "gmg", NULL};
 static const char *const gmg_prolongations[] = {"linear", "affine", NULL};
+static const char *const orderings[] = EO_CHM_ORDERINGS;
 
 static const eo_param_desc pcg_desc[] = {
     {.key = "tol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(pcg_params, tol), .def.d = 1e-10,
@@ -117,6 +123,9 @@ static const eo_param_desc pcg_desc[] = {
     {.key = "gmg_coarse_size", .kind = EO_PARAM_INT, .offset = offsetof(pcg_params, gmg_coarse_size),
      .def.i = 1500, .min = 3, .range = EO_RANGE_MIN,
      .help = "gmg: coarsening stops at a level with at most this many unknowns (CHOLMOD there)"},
+    {.key = "ordering", .kind = EO_PARAM_CHOICE, .offset = offsetof(pcg_params, ordering),
+     .size = sizeof(((pcg_params *)0)->ordering), .def.s = EO_CHM_DEFAULT_ORDERING, .choices = orderings,
+     .help = "cholmod_reuse: fill-reducing ordering of the factor (as solver.cholmod.ordering)"},
     {0},
 };
 
@@ -164,7 +173,7 @@ static int pcg_setup(void *st, const void *params, eo_ctx *ctx)
 #endif
     if (s->pc == PC_REUSE) {
         eo_chm_start(&s->chm);
-        eo_chm_ordering(&s->chm, EO_CHM_DEFAULT_ORDERING);
+        eo_chm_ordering(&s->chm, s->p.ordering);
         s->chm.c.supernodal = CHOLMOD_SUPERNODAL;
         s->chm.c.final_ll = 1;
     }
@@ -353,13 +362,17 @@ static int pcg_solve(void *st, const double *b, double *x, eo_linsolve_stats *st
     pcg_state *s = st;
     switch (s->pc) {
     case PC_REUSE: {
+        if (s->fresh) { /* the factor is of this matrix: solve directly */
+            stats->iterations = 0;
+            return eo_chm_solve(&s->chm, b, x, s->cg.n, "pcg cholmod_reuse", ctx);
+        }
         int rc = eo_cg_solve(&s->cg, precond_chol, s, b, x, stats, ctx);
-        if (s->fresh) return rc;
         if (stats->iterations > s->p.refactor_iters || rc == EO_WARN_NOT_CONVERGED) s->need_refactor = 1;
         if (rc != EO_WARN_NOT_CONVERGED) return rc;
         int frc = refactor(s, s->cg.A, stats, ctx);
         if (frc != EO_OK) return frc;
-        return eo_cg_solve(&s->cg, precond_chol, s, b, x, stats, ctx);
+        stats->iterations = 0;
+        return eo_chm_solve(&s->chm, b, x, s->cg.n, "pcg cholmod_reuse", ctx);
     }
 #if EO_HAVE_HYPRE
     case PC_AMG: return eo_cg_solve(&s->cg, eo_amg_apply, s->amg, b, x, stats, ctx);

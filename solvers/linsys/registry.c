@@ -2,6 +2,7 @@
 #include "elastopt/linsolve.h"
 #include "../solver_registry.h"
 
+extern const eo_linsolve_type eo_linsolve_auto;
 extern const eo_linsolve_type eo_linsolve_cholmod;
 extern const eo_linsolve_type eo_linsolve_cholmod_ldlt;
 extern const eo_linsolve_type eo_linsolve_spqr;
@@ -18,6 +19,7 @@ extern const eo_linsolve_type eo_linsolve_sor;
 extern const eo_linsolve_type eo_linsolve_gmg;
 
 const void *const eo_registry_linsolve[] = {
+    &eo_linsolve_auto,
     &eo_linsolve_cholmod,
     &eo_linsolve_cholmod_ldlt,
     &eo_linsolve_spqr,

@@ -74,8 +74,8 @@ double eo_forcing_eta_ew1(const eo_forcing_params *p, int k, double gnorm, doubl
 
 int eo_forcing_kind(const char *name)
 {
-    static const char *const names[] = {"none", "constant", "ew1", "ew2"};
-    for (int i = 0; i < 4; i++)
+    static const char *const names[] = {"none", "constant", "ew1", "ew2", "auto"};
+    for (int i = 0; i < 5; i++)
         if (name && !strcmp(name, names[i])) return i;
     return -1;
 }
@@ -101,6 +101,10 @@ double eo_inexact_before(eo_inexact *s, struct eo_linsolve *ls, double gnorm)
     case EO_FORCING_CONSTANT: eta = s->fp.eta0; break;
     case EO_FORCING_EW1:
         eta = eo_forcing_eta_ew1(&s->fp, s->k, gnorm, s->gnorm_prev, s->linres_prev, s->eta_prev);
+        break;
+    case EO_FORCING_AUTO: /* ew2 while the solves are iterative */
+        if (!ls || !eo_linsolve_is_iterative(ls)) return 0;
+        eta = eo_forcing_eta(&s->fp, s->k, gnorm, s->gnorm_prev, s->eta_prev);
         break;
     case EO_FORCING_EW2: eta = eo_forcing_eta(&s->fp, s->k, gnorm, s->gnorm_prev, s->eta_prev); break;
     default: return 0;

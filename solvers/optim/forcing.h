@@ -53,7 +53,9 @@ double eo_forcing_eta_ew1(const eo_forcing_params *p, int k, double gnorm, doubl
  * (sets the linear solver's rtol, returns η_k, 0 when forcing = none); eo_inexact_after
  * once the step from that direction is accepted (linres = ‖∇g_k + αH̃p_k‖, only read by
  * ew1). Nothing is allocated. */
-enum { EO_FORCING_NONE, EO_FORCING_CONSTANT, EO_FORCING_EW1, EO_FORCING_EW2 };
+/* EO_FORCING_AUTO: ew2 while the linear solver's solves are iterative
+ * (eo_linsolve_is_iterative, asked at every direction), none while they are direct. */
+enum { EO_FORCING_NONE, EO_FORCING_CONSTANT, EO_FORCING_EW1, EO_FORCING_EW2, EO_FORCING_AUTO };
 typedef struct eo_inexact {
     int kind;
     eo_forcing_params fp;
@@ -61,7 +63,7 @@ typedef struct eo_inexact {
     double eta_prev, gnorm_prev, linres_prev;
 } eo_inexact;
 
-/* kind from its name ("none", "constant", "ew1", "ew2"); -1 if unknown. */
+/* kind from its name ("none", "constant", "ew1", "ew2", "auto"); -1 if unknown. */
 int eo_forcing_kind(const char *name);
 void eo_inexact_begin(eo_inexact *s, int kind, double eta, double gamma, double alpha, double eta_min,
                       double eta_max);

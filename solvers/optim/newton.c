@@ -83,7 +83,7 @@
 /// η_0 = eta, then η_k ∈ [eta_min, eta_max] (Eisenstat & Walker 1996; solvers/optim/forcing.c).
 typedef struct eo_newton_params {
     double descent_eps;  ///< p is a descent direction iff ∇gᵀp < −eps‖∇g‖‖p‖ (1e-12)
-    char forcing[16];    ///< "none", "constant", "ew1", "ew2" (default "none")
+    char forcing[16];    ///< "auto", "none", "constant", "ew1", "ew2" (default "auto")
     double eta;          ///< constant: η_k; ew1/ew2: η_0 (default 0.5)
     double ew_gamma;     ///< ew2: γ ∈ (0, 1] (default 0.9)
     double ew_alpha;     ///< ew2: α ∈ (1, 2] (default 2)
@@ -97,7 +97,7 @@ typedef struct eo_newton_params {
                           ///< directions. 0 = always try (default 10)
 } eo_newton_params;
 
-static const char *const forcing_names[] = {"none", "constant", "ew1", "ew2", NULL};
+static const char *const forcing_names[] = {"auto", "none", "constant", "ew1", "ew2", NULL};
 
 typedef struct newton_state {
     eo_descent_ws w;
@@ -130,9 +130,11 @@ static const eo_param_desc newton_desc[] = {
      .def.d = 1e-12, .min = 0, .max = 1, .range = EO_RANGE_MIN | EO_RANGE_MAX_OPEN,
      .help = "p is a descent direction iff grad'p < -eps*|grad|*|p|"},
     {.key = "forcing", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_newton_params, forcing),
-     .size = sizeof(((eo_newton_params *)0)->forcing), .def.s = "none", .choices = forcing_names,
-     .help = "inexact Newton with an iterative solver.linear: inner relative tolerance eta_k = none "
-             "(the solver's own tol), constant (eta), ew1 / ew2 (Eisenstat-Walker choice 1 / 2)"},
+     .size = sizeof(((eo_newton_params *)0)->forcing), .def.s = "auto", .choices = forcing_names,
+     .help = "inexact Newton with an iterative solver.linear: inner relative tolerance eta_k = auto (ew2 "
+             "while the linear solves are iterative, e.g. solver.linear = auto's reused factor or multigrid; "
+             "none while they are direct), none (the solver's own tol), constant (eta), ew1 / ew2 "
+             "(Eisenstat-Walker choice 1 / 2)"},
     {.key = "eta", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, eta), .def.d = 0.5,
      .min = 0, .max = 1, .range = EO_RANGE_OPEN, .help = "forcing = constant: eta_k; ew1/ew2: eta_0"},
     {.key = "ew_gamma", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, ew_gamma), .def.d = 0.9,

@@ -114,7 +114,7 @@ int eo_pd_factor_prepare(eo_pd_factor *f, const eo_solver_ctx *sc, const double 
     if (!sc->linear) return eo_error(sc->ctx, EO_ERR_INVALID, "%s needs a linear solver", f->who);
     int rc;
     f->external = 0;
-    if (strncmp(eo_linsolve_get_type(sc->linear)->info.name, "cholmod", 7) == 0) {
+    if (eo_linsolve_allows_own_factor(sc->linear)) {
         /* the objective's own CHOLMOD factor of L, kept across constraint changes */
         rc = eo_objective_constant_factor(sc->obj);
         if (rc >= 0) {
