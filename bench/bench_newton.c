@@ -34,7 +34,7 @@
  *              base (y < −0.2) fixed, top (y > 2.3) turned about y at 3 rad/s
  *   bunny20k   the same scene on the IPC bunny itself (19 379 tets)
  *
- *   bench_newton [--reps N] [--stop RULE] [case ...]        default: every case
+ *   bench_newton [--reps N] [--stop RULE] [--defaults] [case ...]   default: every case
  * --stop: solver.stop of the Newton runs, default newton_decrement (tol 1e-10 absolute:
  * the rule of the committed results; the library's default became relative_decrement,
  * which runs these steps down to the rounding floor, 12 instead of 6 iterations on the
@@ -170,7 +170,7 @@ static eo_cfg *case_cfg(eo_ctx *ctx, const bench_case *bc)
 typedef struct trial_rec {
     double cpu, wall;
     int iterations;
-    long n_hessian, n_factor;
+    long n_hessian, n_factor, n_refactor;
     int reason;
     eo_profile prof;
 } trial_rec;
@@ -191,6 +191,12 @@ static void print_profile(const char *label, const eo_profile *p, int iterations
  * became relative_decrement) */
 static const char *stop_rule = "newton_decrement";
 static int par_elems; /* --parallel: the step's OpenMP element loops (eo_step_set_parallel) */
+/* --defaults: Newton with the library's default solver settings (project_on_demand,
+ * relative_decrement, solver.linear = auto with its own ordering and factor reuse)
+ * instead of clamp + --stop + the best ordering; the bare factorization stays the best
+ * ordering's. Repeated trials of one step then reuse the factor the previous trial left,
+ * as consecutive time steps do. */
+static int use_defaults;
 
 static int run_case(const bench_case *bc, int reps)
 {
@@ -290,8 +296,8 @@ static int run_case(const bench_case *bc, int reps)
     for (int o = 0; o < NORD; o++)
         if (o != best) eo_chm_finish(&chm[o]);
     printf("  best ordering: %s\n", ords[best]);
-    /* Newton with the best ordering */
-    {
+    /* Newton with the best ordering (or, --defaults, the library's default solver as it is) */
+    if (!use_defaults) {
         eo_solver_opts so;
         eo_solver_opts_default(&so);
         /* the fix the header names (the library default became project_on_demand, whose
@@ -319,6 +325,8 @@ static int run_case(const bench_case *bc, int reps)
     for (int r = 0; r < reps; r++) {
         eo_solve_result res;
         eo_profile p0 = *eo_solver_get_profile(solver);
+        const eo_linsolve *lsv = eo_solver_get_linsolve(solver);
+        const long nref0 = lsv ? eo_linsolve_get_stats(lsv)->n_refactor : 0;
         double w0 = eo_wtime(), c0 = cputime();
         rc = eo_sim_trial(sim, NULL, NULL, x, NULL, NULL, NULL, &res);
         tr[r].cpu = cputime() - c0;
@@ -329,6 +337,7 @@ static int run_case(const bench_case *bc, int reps)
         tr[r].n_hessian = res.n_hessian;
         tr[r].n_factor = res.n_factor;
         tr[r].reason = res.reason;
+        tr[r].n_refactor = lsv ? eo_linsolve_get_stats(lsv)->n_refactor - nref0 : 0;
         w0 = eo_wtime();
         c0 = cputime();
         int ok = eo_chm_factorize(&chm[best], &S, 0) && chm[best].c.status == CHOLMOD_OK;
@@ -345,6 +354,9 @@ static int run_case(const bench_case *bc, int reps)
                "bare factor %.4f s cpu / %.4f s wall; ratio %.3f cpu, %.3f wall\n",
                r, tr[r].iterations, eo_reason_name(tr[r].reason), tr[r].n_hessian, tr[r].n_factor, tr[r].cpu,
                tr[r].wall, fcpu[r], fwall[r], rcpu[r], rwall[r]);
+        if (tr[r].n_refactor > 0)
+            printf("    of the %ld factor calls, %ld numeric factorizations (the others reuse a factor)\n", tr[r].n_factor,
+                   tr[r].n_refactor);
         print_profile("profile", &tr[r].prof, tr[r].iterations);
     }
     {
@@ -355,6 +367,9 @@ static int run_case(const bench_case *bc, int reps)
         printf("  RESULT %s: %d tets, Newton iteration / numeric factorization (%s) = %.3f cpu [%.3f, %.3f], %.3f "
                "wall [%.3f, %.3f]; bare factor %.4f s cpu [%.4f, %.4f]; %d iterations, %ld factorizations per step\n",
                bc->name, mesh->nt, ords[best], m, lo, hi, mw, lw, hw, fm, fl, fh, tr[0].iterations, tr[0].n_factor);
+        const eo_linsolve *lsv = eo_solver_get_linsolve(solver);
+        char d[256];
+        if (lsv) printf("  linear solver: %s\n", eo_linsolve_describe(lsv, d, sizeof d));
     }
 done:
     if (rc < 0) printf("  error: %s\n", eo_ctx_message(ctx));
@@ -382,6 +397,8 @@ int main(int argc, char **argv)
             stop_rule = argv[++a];
         } else if (!strcmp(argv[a], "--parallel")) {
             par_elems = 1;
+        } else if (!strcmp(argv[a], "--defaults")) {
+            use_defaults = 1;
         } else if (!strcmp(argv[a], "--reps") && a + 1 < argc) {
             reps = atoi(argv[++a]);
             if (reps < 1) reps = 1;
@@ -398,9 +415,14 @@ int main(int argc, char **argv)
             }
             picked++;
         }
-    printf("OPENBLAS_NUM_THREADS=%s; solver: newton, clamp, backtracking, %s, tol 1e-10, cholmod "
-           "supernodal (ordering: the best of amd/metis/nesdis on H_0); first step of each scene\n",
-           thr ? thr : "(unset)", stop_rule);
+    if (use_defaults)
+        printf("OPENBLAS_NUM_THREADS=%s; solver: the library defaults (newton, project_on_demand, backtracking, "
+               "relative_decrement 1e-10, solver.linear = auto); bare factorization: the best of amd/metis/nesdis on "
+               "H_0; first step of each scene\n", thr ? thr : "(unset)");
+    else
+        printf("OPENBLAS_NUM_THREADS=%s; solver: newton, clamp, backtracking, %s, tol 1e-10, cholmod "
+               "supernodal (ordering: the best of amd/metis/nesdis on H_0); first step of each scene\n",
+               thr ? thr : "(unset)", stop_rule);
     printf("repeats: %d (interleaved: Newton trial, bare factorization)\n", reps);
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         int pick = !picked;
