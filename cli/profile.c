@@ -100,4 +100,16 @@ void eo_cli_profile_total(eo_cli_profile *p, const eo_sim *sim, const char *titl
     eo_profile c;
     eo_profile_cpu_view(eo_solver_get_profile(s), &c);
     eo_cli_profile_print(p->out, title, &c);
+    const eo_linsolve *ls = eo_solver_get_linsolve(s);
+    if (ls && eo_linsolve_get_stats(ls)->n_analyze > 0) {
+        /* the choice of solver.linear = auto; a reused factor makes most factor calls
+         * no-ops, so the real numeric factorizations are counted apart */
+        char d[256];
+        const eo_linsolve_stats *st = eo_linsolve_get_stats(ls);
+        fprintf(p->out, "  linear solver: %s", eo_linsolve_describe(ls, d, sizeof d));
+        if (st->n_refactor > 0)
+            fprintf(p->out, "; %ld numeric factorizations for %ld factor calls (the others reuse a factor as the CG "
+                    "preconditioner)", st->n_refactor, st->n_factor);
+        fputc('\n', p->out);
+    }
 }

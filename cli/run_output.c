@@ -239,7 +239,9 @@ void eo_run_record_write(FILE *f, const eo_run_record *r)
     /* appended: adaptive stepping */
     fprintf(f, ",%d,%d,%s", r->rejected, r->substeps, eo_run_num(b[13], r->min_substep, 17));
     /* appended: factorizations that found the matrix not positive definite */
-    fprintf(f, ",%ld\n", r->n_not_pd);
+    fprintf(f, ",%ld", r->n_not_pd);
+    /* appended: CPU seconds of the solving thread (solve_time is wall time) */
+    fprintf(f, ",%s\n", eo_run_num(b[14], r->cpu, 17));
 }
 
 static int reason_from_name(const char *s, int *reason)
@@ -261,8 +263,9 @@ static int reason_from_name(const char *s, int *reason)
 /* parse one row (NUL-terminated, no newline) */
 static int parse_record(char *line, eo_run_record *r)
 {
-    enum { NF = 31, NF_A = 30, NF_E = 27, NF_OLD = 23 }; /* NF_OLD: before the energy columns, NF_E: before the
-                                                           adaptive ones, NF_A: before n_not_pd */
+    enum { NF = 32, NF_P = 31, NF_A = 30, NF_E = 27, NF_OLD = 23 }; /* NF_OLD: before the energy columns, NF_E:
+                                                           before the adaptive ones, NF_A: before n_not_pd, NF_P:
+                                                           before solve_cpu_time */
     char *f[NF];
     int n = 0;
     for (char *p = line; n < NF; n++) {
@@ -275,7 +278,7 @@ static int parse_record(char *line, eo_run_record *r)
         *c = 0;
         p = c + 1;
     }
-    if (n != NF && n != NF_A && n != NF_E && n != NF_OLD) return -1;
+    if (n != NF && n != NF_P && n != NF_A && n != NF_E && n != NF_OLD) return -1;
     memset(r, 0, sizeof *r);
     r->step = atoi(f[0]);
     r->t = num_field(f[1]);
@@ -308,7 +311,8 @@ static int parse_record(char *line, eo_run_record *r)
         r->substeps = atoi(f[28]);
         r->min_substep = num_field(f[29]);
     }
-    r->n_not_pd = n == NF ? strtol(f[30], NULL, 10) : 0;
+    r->n_not_pd = n >= NF_P ? strtol(f[30], NULL, 10) : 0;
+    r->cpu = n == NF ? num_field(f[31]) : NAN;
     return 0;
 }
 

@@ -26,6 +26,7 @@
 typedef struct eo_run_record {
     int step, iterations, reason;
     double t, time, wall, g, grad_norm;
+    double cpu;           /* CPU seconds of the solving thread for the span of `time` (eo_sim_step_result.cpu_time) */
     long n_value, n_gradient, n_hessian, n_factor;
     long n_not_pd;        /* factorizations that found the matrix not positive definite */
     eo_step_stats stats;
@@ -41,7 +42,7 @@ typedef struct eo_run_record {
 #define EO_RUN_STEPS_CSV_HEADER                                                                           \
     "step,t,iterations,reason,converged,solve_time,wall_time,g,grad_norm,n_value,n_gradient,n_hessian,"     \
     "n_factor,com_x,com_y,com_z,max_disp,min_J,inverted,kinetic,elastic,gravity_potential,entry,"         \
-    "contact,potential,work_prescribed,total_energy,rejected,substeps,min_substep,n_not_pd"
+    "contact,potential,work_prescribed,total_energy,rejected,substeps,min_substep,n_not_pd,solve_cpu_time"
 #define EO_RUN_ITER_CSV_HEADER "step,iteration,time,g,grad_norm,decrement,alpha,ls_evals,inverted,reason,entry"
 
 /* The folder, locked. */
