@@ -176,8 +176,10 @@ class Cantilever:
         snes.setType('newtonls')
         snes.setFunction(self._F, b)
         snes.setJacobian(self._J, A)
-        # converged when ||R|| <= rtol ||R_0||; no step-size or absolute test
-        snes.setTolerances(rtol=a.rtol, atol=1e-300, stol=0.0, max_it=200)
+        # converged when ||R|| <= rtol ||R_0|| or ||dx|| <= stol ||x|| (PETSc's default stol);
+        # no absolute test. rtol 1e-10 is below the round-off floor of the assembled residual
+        # at 100k tets (||R|| stalls at 2e-10 ||R_0||), hence 1e-9 by default.
+        snes.setTolerances(rtol=a.rtol, atol=1e-300, stol=a.stol, max_it=a.max_it)
         ksp = snes.getKSP()
         ksp.setType('preonly')
         pc = ksp.getPC()
@@ -256,7 +258,9 @@ def main():
     ap.add_argument('--mass', choices=['consistent', 'lumped'], default='consistent')
     ap.add_argument('--pc', choices=['lu', 'cholesky'], default='lu', help='MUMPS factorization (default lu, the FEniCSx demos\' choice)')
     ap.add_argument('--linesearch', default='basic', help='SNES line search: basic = full Newton steps (as dolfinx\'s own NewtonSolver); PETSc\'s newtonls default bt stalled on the 20k static bar (200 iterations)')
-    ap.add_argument('--rtol', type=float, default=1e-10, help='SNES relative residual tolerance')
+    ap.add_argument('--rtol', type=float, default=1e-9, help='SNES relative residual tolerance')
+    ap.add_argument('--stol', type=float, default=1e-8, help='SNES relative step tolerance (PETSc default)')
+    ap.add_argument('--max-it', type=int, default=50, help='SNES iteration cap')
     ap.add_argument('--compare', help="elastopt's frame VTU of the same problem")
     ap.add_argument('--json', help='write the results here')
     ap.add_argument('--save', help='write the rest node positions X and displacements U here (.npz)')
@@ -286,7 +290,7 @@ def main():
            'petsc': '.'.join(map(str, PETSc.Sys.getVersion())),
            'mesh': os.path.abspath(a.mesh), 'vertices': int(len(pts)), 'tets': int(len(tets)),
            'clamped_vertices': prob.n_clamped, 'problem': a.problem, 'mass': a.mass, 'pc': a.pc,
-           'linesearch': a.linesearch, 'rtol': a.rtol, 'build_cpu': build_cpu,
+           'linesearch': a.linesearch, 'rtol': a.rtol, 'stol': a.stol, 'build_cpu': build_cpu,
            'tip': t.tolist(), 'tip_vertices': nt, 'max_disp': float(np.linalg.norm(U, axis=1).max()),
            'blas': blas_info(), **r}
     if a.save:
