@@ -193,11 +193,23 @@ class Cantilever:
         x.set(0.0)
         setup = time.process_time() - t_setup
         c0, w0 = time.process_time(), time.perf_counter()
+        EVENTS = ('SNESFunctionEval', 'SNESJacobianEval', 'SNESLineSearch', 'KSPSolve', 'PCSetUp', 'MatLUFactorSym',
+                  'MatLUFactorNum', 'MatCholFctrSym', 'MatCholFctrNum', 'MatSolve')
+        if a.log:
+            PETSc.Log.begin()
+            before = {ev: PETSc.Log.Event(ev).getPerfInfo() for ev in EVENTS}
         snes.solve(None, x)
         cpu, wall = time.process_time() - c0, time.perf_counter() - w0
         x.copy(self.u.vector)
         self.u.x.scatter_forward()
-        out = {'iterations': snes.getIterationNumber(), 'reason': int(snes.getConvergedReason()),
+        log = {}
+        if a.log:   # PETSc's event log of the timed solve alone (wall seconds, calls)
+            for ev in EVENTS:
+                info = PETSc.Log.Event(ev).getPerfInfo()
+                n = info.get('count', 0) - before[ev].get('count', 0)
+                if n:
+                    log[ev] = {'time': info['time'] - before[ev].get('time', 0), 'count': n}
+        out = {'petsc_log': log, 'iterations': snes.getIterationNumber(), 'reason': int(snes.getConvergedReason()),
                'cpu_time': cpu, 'wall_time': wall, 'setup_cpu': setup,
                'residual_norms': norms,
                'function_evals': snes.getFunctionEvaluations() if hasattr(snes, 'getFunctionEvaluations') else None}
@@ -265,6 +277,7 @@ def main():
     ap.add_argument('--json', help='write the results here')
     ap.add_argument('--save', help='write the rest node positions X and displacements U here (.npz)')
     ap.add_argument('--no-warmup', action='store_true')
+    ap.add_argument('--log', action='store_true', help="PETSc's event log of the timed solve (wall s per phase) in the JSON")
     a = ap.parse_args()
     a.gravity = [float(v) for v in a.gravity.split(',')]
 
