@@ -15,7 +15,7 @@
  * below nd_min unknowns and CHOLMOD's nested dissection (NESDIS: METIS separators +
  * constrained minimum degree) from there; any other value is used as given.
  *
- * Why these thresholds (bench/results/linear-auto-*.txt; CPU time, one BLAS thread, real
+ * Why these thresholds (bench/results/linear-auto-amd-epyc-2cpu.txt; CPU time, one BLAS thread, real
  * unstructured meshes): see docs/defaults.md, "The linear solver policy". In short:
  * nested dissection factors 1.6× faster than AMD on the TetGen bunny at 115k tets; at
  * 20k AMD and NESDIS are within a few percent; factorization reuse with the
