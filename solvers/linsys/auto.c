@@ -93,6 +93,7 @@ typedef struct auto_state {
     double *xyz;         /* set_coordinates copy, handed to every delegate */
     int nv;
     double rtol;         /* last set_rtol (<= 0: none), handed to a new delegate */
+    long refactor_base;  /* numeric refactorizations of the delegates destroyed so far */
 } auto_state;
 
 static int auto_setup(void *st, const void *params, eo_ctx *ctx)
@@ -122,7 +123,7 @@ static int make_inner(auto_state *s, int m, eo_ctx *ctx)
     const eo_linsolve_type *t = NULL;
     int rc = eo_linsolve_find(ctx, m == MODE_DIRECT ? "cholmod" : "pcg", &t);
     if (rc < 0) return rc;
-    char buf[512];
+    double buf[64]; /* aligned storage for the delegate's params struct */
     if (t->info.params_size > sizeof buf)
         return eo_error(ctx, EO_ERR_INTERNAL, "linear solver auto: %s's parameters do not fit", t->info.name);
     eo_params_default(t->info.params, buf);
@@ -153,7 +154,7 @@ static void copy_stats(const auto_state *s, eo_linsolve_stats *out)
     out->curvature = in->curvature;
     out->n_negative = in->n_negative;
     out->n_zero = in->n_zero;
-    out->n_refactor = in->n_refactor;
+    out->n_refactor = s->refactor_base + in->n_refactor;
 }
 
 static int auto_analyze(void *st, const eo_csc *A, eo_ctx *ctx)
@@ -163,6 +164,7 @@ static int auto_analyze(void *st, const eo_csc *A, eo_ctx *ctx)
     const int m = n >= s->p.iterative_min ? MODE_MG : n >= s->p.reuse_min ? MODE_REUSE : MODE_DIRECT;
     const char *ord = strcmp(s->p.ordering, "auto") ? s->p.ordering : n >= s->p.nd_min ? "nesdis" : "amd";
     if (!s->inner || m != s->mode || strcmp(ord, s->ordering)) {
+        if (s->inner) s->refactor_base += eo_linsolve_get_stats(s->inner)->n_refactor;
         eo_linsolve_destroy(&s->inner);
         snprintf(s->ordering, sizeof s->ordering, "%s", ord);
         s->mode = MODE_NONE;
