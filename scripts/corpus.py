@@ -8,6 +8,8 @@
     corpus.py check   [--data DIR]                    manifest against the stored files (sha256,
                                                       licences, every suite mesh listed); fast
     corpus.py suites                                  write bench/corpus-quick.json, corpus-full.json
+                                                      and corpus-full-smoke.json
+    corpus.py table                                   the manifest as a Markdown table
     corpus.py manifest [--data DIR]                   recompute the measured manifest fields
                                                       (counts, quality, bounding box, sha256)
 
@@ -43,7 +45,7 @@ IPC = {"repo": "ipc-sim/IPC", "commit": "573d2c7e04104d3f9baf526bdaee7745891a571
 OS = {"repo": "odedstein/meshes", "commit": "835213277571d625722d25880c9c3010c6f45a5a"}
 
 
-def ipc(name, stored, attribution="IPC authors (the repository names no other origin)", shared=False):
+def ipc(name, stored, attribution="IPC authors", shared=False):
     return dict(name=name, kind="tet", stored=stored, path="input/tetMeshes/" + os.path.basename(stored).replace(
         ".xz", "").replace("ipc_", ""), attribution=attribution, shared=shared, **IPC)
 
@@ -249,6 +251,9 @@ def prepare_one(exe, src, data, quality=False):
             run([exe, "convert", msh, out])
             lo, hi, s, a = normalize_node(out)
     info = json.loads(run([exe, "mesh", "--json", out]))
+    if info["reoriented"] or info["dropped_tets"]:
+        die("%s: the prepared mesh has %d reoriented and %d dropped tets (the normalization must be a rotation)"
+            % (src["name"], info["reoriented"], info["dropped_tets"]))
     m = {"vertices": info["vertices"], "tets": info["tets"], "worst_radius_ratio": float("%.4g" % info["worst_quality"]),
          "bbox_source": [float("%.6g" % v) for v in lo + hi], "scale": float("%.6g" % s),
          "axis_to_x": "xyz"[a], "sha256": sha256(stored), "stored_bytes": os.path.getsize(stored)}
@@ -377,12 +382,15 @@ def cmd_check(args):
                 errors.append("%s: licence text %s absent" % (m["name"], m.get("licence_file")))
             elif m["licence"].split()[0].lower() not in open(lic).read().lower():
                 errors.append("%s: licence text %s does not name %s" % (m["name"], m["licence_file"], m["licence"]))
-    # every mesh a suite names is in the manifest
-    for suite in ("corpus-quick.json", "corpus-full.json"):
+    # every mesh a suite names is in the manifest; the suites are those this script writes
+    for suite, want in all_suites(doc):
         with open(os.path.join(ROOT, "bench", suite)) as f:
-            for used in suite_meshes(json.load(f)):
-                if used not in names:
-                    errors.append("%s names mesh %s, not in the manifest" % (suite, used))
+            have = json.load(f)
+        for used in suite_meshes(have):
+            if used not in names:
+                errors.append("%s names mesh %s, not in the manifest" % (suite, used))
+        if have != want:
+            errors.append("bench/%s is not current (run: scripts/corpus.py suites)" % suite)
     for e in errors:
         print("corpus check: " + e, file=sys.stderr)
     print("corpus check: %d meshes in the manifest, %d stored files checked in %s, %d errors" % (
@@ -499,7 +507,7 @@ FULL_CONFIGS = QUICK_CONFIGS + [
 ]
 
 QUICK_MESHES = [("ipc-bar-651", "twist"), ("spot", "gravity"), ("fish", "drop"), ("ipc-torus", "inverted"),
-                ("ipc-torus", "random"), ("ipc-cow-head", "twist"), ("sphere", "gravity"), ("ipc-rod", "drop"),
+                ("ipc-torus", "random"), ("ipc-cow-head", "twist"), ("sphere", "gravity"), ("torus", "drop"),
                 ("ipc-hammer", "gravity"), ("goathead", "twist"), ("ipc-sphere1k", "drop"), ("ipc-mat20", "inverted")]
 SMALL = 8000  # tets: random starts and the nu x element sweep run on meshes up to this size
 
@@ -557,7 +565,7 @@ def full_suite(man):
           "nu0.499": {"material.nu": 0.499}, "nu0.4999": {"material.nu": 0.4999}}
     el = {e: {"element": e} for e in ("p1", "p1anp", "p2", "p2p0")}
     for m, ld in (("spot", "twist"), ("ipc-rod", "gravity")):
-        sc.append(dict(scene("nu-%s-%s" % (m, ld), m, ld), stratum="nu", stratum_axis=0, vary=[nu, el]))
+        sc.append(dict(scene("nu-%s-%s" % (m, ld), m, ld), stratum="poisson", stratum_axis=0, vary=[nu, el]))
     h = {"h1_24": {"time.dt": 1 / 24}, "h1_48": {"time.dt": 1 / 48}, "h1_96": {"time.dt": 1 / 96},
          "h1_240": {"time.dt": 1 / 240}, "static": {"time.integrator": "static", "time.load_steps": 0}}
     for m in ("fish", "ipc-plate", "goathead"):
@@ -567,9 +575,37 @@ def full_suite(man):
     return s
 
 
+def smoke_suite(man):
+    """the full suite's scene kinds on its smallest mesh: every load, each sweep's keys, 2 configurations"""
+    full = full_suite(man)
+    small = "ipc-bar-186"
+    keep = []
+    for sc in full["scenes"]:
+        n = sc["name"]
+        if n.startswith(small + "-") or n in ("res-box4-gravity", "res-%s-twist" % small) or \
+                n.startswith(("E-ipc-bunny", "nu-spot", "h-fish")):
+            sc = json.loads(json.dumps(sc))
+            if "mesh.file" in sc["set"]:
+                sc["set"].update(mesh_set(small))
+            sc["name"] = sc["name"].replace("ipc-bunny", small).replace("spot", small).replace("fish", small)
+            keep.append(sc)
+    s = dict(full, description="corpus-full-smoke: the full suite's scene kinds (every load, the resolution, "
+                               "stiffness, nu x element and time-step entries) on its smallest mesh (%s), with "
+                               "two configurations and one repeat: a check that every kind loads and runs "
+                               "(scripts/corpus.py writes it from the full suite)." % small,
+             repeats=1, time_budget=2.0, scenes=keep,
+             configs=[c for c in full["configs"] if c["name"] in ("newton-clamp", "lbfgs-wolfe")])
+    return s
+
+
+def all_suites(man):
+    return (("corpus-quick.json", quick_suite()), ("corpus-full.json", full_suite(man)),
+            ("corpus-full-smoke.json", smoke_suite(man)))
+
+
 def cmd_suites(args):
     man = load_manifest()
-    for name, suite in (("corpus-quick.json", quick_suite()), ("corpus-full.json", full_suite(man))):
+    for name, suite in all_suites(man):
         path = os.path.join(ROOT, "bench", name)
         with open(path, "w") as f:
             json.dump(suite, f, indent=1)
@@ -577,14 +613,29 @@ def cmd_suites(args):
         print("wrote bench/%s (%d scene entries)" % (name, len(suite["scenes"])))
 
 
+def cmd_table(args):
+    """the manifest as a Markdown table (docs/corpus.md)"""
+    print("| mesh | kind | vertices | tets | worst radius ratio | dihedral (deg) | source bbox extent | source | licence |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for m in load_manifest()["meshes"]:
+        b = m["bbox_source"]
+        ext = " × ".join("%.3g" % (b[k + 3] - b[k]) for k in range(3))
+        kind = "tet" if m["kind"] == "tet" else "surface, TetGen `%s`" % m["tetgen"]["switches"]
+        src = "%s `%s` @ %s" % (m["repo"], m["path"], m["commit"][:7])
+        print("| %s | %s | %d | %d | %.3g | %.2f – %.2f | %s | %s | %s (%s) |" % (
+            m["name"], kind, m["vertices"], m["tets"], m["worst_radius_ratio"], m["min_dihedral_deg"],
+            m["max_dihedral_deg"], ext, src, m["licence"], m["attribution"]))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("command", choices=["prepare", "check", "suites", "manifest"])
+    ap.add_argument("command", choices=["prepare", "check", "suites", "manifest", "table"])
     ap.add_argument("--data", help="folder of the stored files (default ../shared/meshes/corpus)")
     ap.add_argument("--only", help="prepare: these meshes only (comma-separated names)")
     ap.add_argument("--suite", help="prepare: the meshes this suite names only")
     args = ap.parse_args()
-    {"prepare": cmd_prepare, "check": cmd_check, "suites": cmd_suites, "manifest": cmd_manifest}[args.command](args)
+    {"prepare": cmd_prepare, "check": cmd_check, "suites": cmd_suites, "manifest": cmd_manifest,
+     "table": cmd_table}[args.command](args)
 
 
 if __name__ == "__main__":
