@@ -384,8 +384,12 @@ def cmd_check(args):
                 errors.append("%s: licence text %s does not name %s" % (m["name"], m["licence_file"], m["licence"]))
     # every mesh a suite names is in the manifest; the suites are those this script writes
     for suite, want in all_suites(doc):
-        with open(os.path.join(ROOT, "bench", suite)) as f:
-            have = json.load(f)
+        try:
+            with open(os.path.join(ROOT, "bench", suite)) as f:
+                have = json.load(f)
+        except (OSError, ValueError) as e:
+            errors.append("bench/%s: %s (run: scripts/corpus.py suites)" % (suite, e))
+            continue
         for used in suite_meshes(have):
             if used not in names:
                 errors.append("%s names mesh %s, not in the manifest" % (suite, used))

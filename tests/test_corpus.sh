@@ -26,7 +26,7 @@ trap 'rm -rf "$t"' EXIT
 mkdir -p "$t/scripts" "$t/bench/corpus" "$t/data"
 cp "$src/scripts/corpus.py" "$t/scripts/"
 cp "$src/bench/corpus/manifest.json" "$src/bench/corpus/base.json" "$t/bench/corpus/"
-cp "$src/bench/corpus-quick.json" "$src/bench/corpus-full.json" "$t/bench/"
+cp "$src"/bench/corpus-*.json "$t/bench/"
 "$py" "$t/scripts/corpus.py" check --data "$t/data" > /dev/null && ok || bad "the scratch copy is refused"
 
 edit() { # python expression on the manifest dict m
@@ -42,7 +42,7 @@ refused() { # what, expected message part
   out=$("$py" "$t/scripts/corpus.py" check --data "${data_dir:-$t/data}" 2>&1) && bad "$1 accepted" || {
     case "$out" in *"$2"*) ok ;; *) bad "$1: message '$out' lacks '$2'" ;; esac; }
   cp "$src/bench/corpus/manifest.json" "$t/bench/corpus/"
-  cp "$src/bench/corpus-quick.json" "$src/bench/corpus-full.json" "$t/bench/"
+  cp "$src"/bench/corpus-*.json "$t/bench/"
 }
 edit 'm["meshes"][0]["licence"] = ""'
 refused "a mesh without a licence" "no licence"
