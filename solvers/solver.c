@@ -167,11 +167,12 @@ int eo_solver_opts_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver_opts *o)
 {
     if (!cfg) return EO_OK;
     const char *names[MAX_EXTRA + 1];
-    method_section_names(names, MAX_EXTRA);
+    method_section_names(names, MAX_EXTRA - 1);
     size_t k = 0;
     while (names[k]) k++;
     names[k] = "fallback"; /* the fallback chain, read by the simulation driver (sim.h) */
-    names[k + 1] = NULL;
+    names[k + 1] = "fallback_start";
+    names[k + 2] = NULL;
     return eo_cfg_section(ctx, cfg, "solver", eo_solver_opts_desc, o, names);
 }
 
