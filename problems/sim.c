@@ -438,8 +438,10 @@ static int sim_coordinates(eo_sim *s, eo_solver *solver)
  * iterate so far: the point of lowest g among the starting guess and the end points of
  * the entries that ran (every optimizer of the chain ends a failed run at its last
  * accepted iterate, which for the descent methods and newton_tr is also its lowest;
- * a non-finite or higher end point is not kept). The starting guess's g is evaluated
- * only when the first entry fails. r gets the chain, the kept run's iterations, reason,
+ * a non-finite or higher end point is not kept), and measures convergence against the
+ * step's references (eo_solver_set_reference: the largest first decrement and initial
+ * metric gradient norm of the entries so far), not against its own start's. The
+ * starting guess's g is evaluated only when the first entry fails. r gets the chain, the kept run's iterations, reason,
  * g and ‖∇g‖, and adds the time and evaluations of every run. */
 static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
 {
@@ -447,11 +449,13 @@ static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
     const size_t nx = (size_t)s->obj->n * sizeof(double);
     double g_best = NAN;
     if (s->nfb) memcpy(s->x0b, x, nx);
+    double ref_dec0 = 0, ref_gm0 = 0; /* the step's references, for entries that continue */
     for (int e = 0; e <= s->nfb; e++) {
         eo_solve_result sr;
         if (e > 0) memcpy(x, s->x0b, nx); /* the step's starting guess or the best iterate */
         s->entry = e;
         eo_solver *sv = e ? s->fb[e - 1] : s->solver;
+        if (e > 0 && s->fb_best) eo_solver_set_reference(sv, ref_dec0, ref_gm0);
         if ((rc = sim_coordinates(s, sv)) < 0) return rc;
         if ((rc = eo_solver_minimize(sv, s->obj, x, s->fn, s->user, &sr)) < 0) return rc;
         r->entry = e;
@@ -471,6 +475,10 @@ static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
         r->n_not_pd += sr.n_not_pd;
         if (sr.reason >= 0 || sr.reason == EO_DIVERGED_EXTERNAL) break;
         if (s->fb_best && e < s->nfb) {
+            double d0, gm0;
+            eo_solver_get_reference(sv, &d0, &gm0);
+            if (d0 > ref_dec0) ref_dec0 = d0;
+            if (gm0 > ref_gm0) ref_gm0 = gm0;
             if (e == 0) {
                 double t0 = eo_wtime(), c0 = eo_cputime();
                 if ((rc = eo_objective_value(s->obj, s->x0b, &g_best)) < 0) return rc;
