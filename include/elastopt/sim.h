@@ -47,16 +47,17 @@ typedef struct eo_sim eo_sim;
 /// The fallback chain a scene's solver gets when its config names no `solver.fallback`
 /// (an explicit `[]` turns it off; a solver with backend other than native gets none):
 /// the same optimizer with the `abs` Hessian fix and 100 iterations, the scene's own
-/// solver again (`{}`), `abs` with 300, then trust-region Newton with 1000. Each entry is
-/// merged over the `solver` section and, with `solver.fallback_start` = best (the
-/// default), continues from the best iterate so far: `abs` (|λ| per element) takes full
-/// steps where the clamp-projected directions of project_on_demand are cut to α ~ 1e-3
-/// (many inverted elements), and the scene's solver, from there, ends in Newton's
-/// quadratic phase where `abs` alone converges linearly. Chosen by measurement
-/// (docs/defaults.md, "Defaults that converge").
+/// solver again (`{}`), then trust-region Newton with the Jacobi preconditioner and 1000.
+/// Each entry is merged over the `solver` section and, with `solver.fallback_start` = best
+/// (the default), continues from the best iterate so far: `abs` (|λ| per element) takes
+/// full steps where the clamp-projected directions of project_on_demand are cut to
+/// α ~ 1e-3 (many inverted elements); the scene's solver, from there, ends in Newton's
+/// quadratic phase where `abs` alone converges linearly; `newton_tr` follows the negative
+/// curvature out of the crawls (tangled states) where both projections take tiny full
+/// steps. Chosen by measurement (docs/defaults.md, "Defaults that converge").
 #define EO_SIM_DEFAULT_FALLBACK                                                                  \
-    "[{\"hessian_fix\": \"abs\", \"max_iters\": 100}, {}, {\"hessian_fix\": \"abs\", \"max_iters\": 300}, " \
-    "{\"optimizer\": \"newton_tr\", \"max_iters\": 1000}]"
+    "[{\"hessian_fix\": \"abs\", \"max_iters\": 100}, {}, "                                      \
+    "{\"optimizer\": \"newton_tr\", \"max_iters\": 1000, \"newton_tr\": {\"precond\": \"jacobi\"}}]"
 
 /// What one step did (eo_sim_step).
 typedef struct eo_sim_step_result {
