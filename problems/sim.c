@@ -441,8 +441,9 @@ static int sim_coordinates(eo_sim *s, eo_solver *solver)
  * a non-finite or higher end point is not kept), and measures convergence against the
  * step's references (eo_solver_set_reference: the largest first decrement and initial
  * metric gradient norm of the entries so far), not against its own start's. The
- * starting guess's g is evaluated only when the first entry fails. r gets the chain, the kept run's iterations, reason,
- * g and ‖∇g‖, and adds the time and evaluations of every run. */
+ * starting guess's g is evaluated only when the first entry fails. r gets the chain, the
+ * kept run's iterations, reason, g and ‖∇g‖, and adds the time and evaluations of every
+ * run. */
 static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
 {
     int rc;

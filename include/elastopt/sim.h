@@ -131,9 +131,11 @@ EO_API int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solv
 /// `solver` section with the keys the entry names replaced (merged recursively, so
 /// `{"hessian_fix": "clamp"}` or `{"optimizer": "lbfgs", "lbfgs": {"history": 20}}`).
 /// When the configuration running a step stops without converging (any diverged_*
-/// reason but diverged_external, the callback's stop), the step is solved again from the
-/// same starting guess with the next entry; the first that converges is kept (else the
-/// last). Every entry is validated at create (errors name `solver.fallback.N`).
+/// reason but diverged_external, the callback's stop), the step is solved again with the
+/// next entry, from the best iterate so far (`solver.fallback_start` = best, the default:
+/// the lowest g among the starting guess and the entries' end points; its convergence is
+/// measured against the step's references, eo_solver_set_reference) or from the same
+/// starting guess (`guess`); the first that converges is kept (else the last). Every entry is validated at create (errors name `solver.fallback.N`).
 /// eo_sim_trial uses only the solver it is given.
 ///
 /// Adaptive stepping (scene keys time.adaptive, time.adaptive_min_fraction,
