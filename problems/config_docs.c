@@ -42,7 +42,11 @@ static const eo_cfg_raw_doc raw_docs[] = {
      "[[i, j], ...]: scene springs between vertex pairs (springs.edges = \"list\")"},
     {"solver.fallback", "{\"type\": \"array\", \"items\": {\"type\": \"object\"}, \"maxItems\": 7}",
      "fallback chain: list of solver sections, each merged over `solver` (keys it names replace those); a "
-     "step that stops diverged_* (not diverged_external) is solved again from its start with the next entry"},
+     "step that stops diverged_* (not diverged_external) is solved again with the next entry, from where "
+     "solver.fallback_start says"},
+    {"solver.fallback_start", "{\"enum\": [\"best\", \"guess\"], \"default\": \"best\"}",
+     "where a fallback entry starts: best = the iterate of lowest g so far (the starting guess or an earlier "
+     "entry's end point), guess = the step's starting guess (each entry from scratch)"},
     {NULL, NULL, NULL},
 };
 

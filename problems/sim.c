@@ -35,9 +35,11 @@ struct eo_sim {
     eo_objective *obj;   /* objective of the prepared next step */
     int prepared;        /* obj and the step's guess belong to the current state */
     double *xb, *vb;     /* state before an implicit step (restored if it diverges) */
-    double *x0b;         /* the step's starting guess, for the fallback entries */
+    double *x0b;         /* where the next fallback entry starts: the step's starting guess,
+                            or (fb_best) the best iterate of the entries run so far */
     eo_solver *fb[EO_SIM_MAX_ENTRIES - 1]; /* solver.fallback entries */
     int nfb;
+    int fb_best;         /* solver.fallback_start = best (default) */
     int entry;           /* configuration running (or last run) */
     /* adaptive stepping (time.adaptive; see adaptive_step) */
     int adapt;           /* on */
@@ -138,13 +140,26 @@ static const char default_fallback[] = EO_SIM_DEFAULT_FALLBACK;
 
 /* The solvers of cfg's `solver.fallback` (each entry merged over the `solver` section),
  * validated like the main one; the list is consumed in cfg. cfg NULL or no list: none,
- * or with use_default the default chain. */
-static int fallback_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver **fb, int *nfb, int use_default)
+ * or with use_default the default chain. *best: `solver.fallback_start` is "best" (the
+ * default) rather than "guess". */
+static int fallback_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver **fb, int *nfb, int use_default, int *best)
 {
     *nfb = 0;
+    *best = 1;
     if (!cfg) return EO_OK;
     /* read without marking `solver` consumed whole (its keys are checked by its loads) */
     json_t *main_sec = json_object_get(eo_cfg_root(cfg), "solver");
+    json_t *from = json_is_object(main_sec) ? json_object_get(main_sec, "fallback_start") : NULL;
+    if (from) {
+        eo_cfg_consume(cfg, "solver.fallback_start");
+        const char *v = json_is_string(from) ? json_string_value(from) : NULL;
+        if (!v || (strcmp(v, "best") && strcmp(v, "guess")))
+            return eo_error(ctx, EO_ERR_TYPE,
+                            "%s: key 'solver.fallback_start': expected \"best\" or \"guess\" (where a fallback "
+                            "entry starts: the best iterate so far, or the step's starting guess)",
+                            eo_cfg_file(cfg));
+        *best = strcmp(v, "best") == 0;
+    }
     json_t *list = json_is_object(main_sec) ? json_object_get(main_sec, "fallback") : NULL;
     json_t *deflist = NULL;
     if (!list) {
@@ -172,6 +187,7 @@ static int fallback_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver **fb, int *nfb, int
         json_t *merged = json_deep_copy(main_sec);
         if (!merged) merged = json_object();
         json_object_del(merged, "fallback");
+        json_object_del(merged, "fallback_start");
         if (!merged || json_object_update_recursive(merged, item) < 0 ||
             json_object_set_new(eo_cfg_root(ec), "solver", merged) < 0) {
             eo_cfg_destroy(&ec);
@@ -270,7 +286,7 @@ int eo_sim_create(eo_ctx *ctx, eo_cfg *cfg, eo_sim **out)
     eo_solver_opts_default(&so);
     EO_TRY(rc = eo_solver_opts_load(ctx, cfg, &so));
     EO_TRY(rc = eo_solver_create(ctx, &so, cfg, &s->solver));
-    EO_TRY(rc = fallback_load(ctx, cfg, s->fb, &s->nfb, !s->sc->integrator->explicit_step));
+    EO_TRY(rc = fallback_load(ctx, cfg, s->fb, &s->nfb, !s->sc->integrator->explicit_step, &s->fb_best));
     if (s->sc->integrator->explicit_step && !s->sc->lumped && s->sc->mesh->nt > 0)
         EO_TRY(rc = mass_solver(ctx, cfg, so.linear, &mls));
     EO_TRY(rc = eo_cfg_finish(ctx, cfg));
@@ -348,10 +364,10 @@ void eo_sim_set_iter_callback(eo_sim *s, eo_iter_fn fn, void *user)
 int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solver_cfg)
 {
     eo_solver *sv = NULL, *fb[EO_SIM_MAX_ENTRIES - 1];
-    int nfb = 0;
+    int nfb = 0, best = 1;
     int rc = eo_solver_create(s->ctx, opts, solver_cfg, &sv);
     if (rc < 0) return rc;
-    if ((rc = fallback_load(s->ctx, solver_cfg, fb, &nfb, 0)) < 0) {
+    if ((rc = fallback_load(s->ctx, solver_cfg, fb, &nfb, 0, &best)) < 0) {
         eo_solver_destroy(&sv);
         return rc;
     }
@@ -375,6 +391,7 @@ int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solver_cfg)
     fallback_clear(s->fb, &s->nfb);
     for (int i = 0; i < nfb; i++) s->fb[i] = fb[i];
     s->nfb = nfb;
+    s->fb_best = best;
     s->coord_solver = NULL;
     return EO_OK;
 }
@@ -416,19 +433,30 @@ static int sim_coordinates(eo_sim *s, eo_solver *solver)
 }
 
 /* Solve the prepared step from x (in place, obj->n values) with `solver`, then while it
- * has not converged with the fallback entries, each from the step's starting guess. r
- * gets the chain, the kept run's iterations, reason, g and ‖∇g‖, and adds the time and
- * evaluations of every run. */
+ * has not converged with the fallback entries. With solver.fallback_start = guess each
+ * entry starts from the step's starting guess; with best (the default) from the best
+ * iterate so far: the point of lowest g among the starting guess and the end points of
+ * the entries that ran (every optimizer of the chain ends a failed run at its last
+ * accepted iterate, which for the descent methods and newton_tr is also its lowest;
+ * a non-finite or higher end point is not kept), and measures convergence against the
+ * step's references (eo_solver_set_reference: the largest first decrement and initial
+ * metric gradient norm of the entries so far), not against its own start's. The
+ * starting guess's g is evaluated only when the first entry fails. r gets the chain, the
+ * kept run's iterations, reason, g and ‖∇g‖, and adds the time and evaluations of every
+ * run. */
 static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
 {
     int rc;
     const size_t nx = (size_t)s->obj->n * sizeof(double);
+    double g_best = NAN;
     if (s->nfb) memcpy(s->x0b, x, nx);
+    double ref_dec0 = 0, ref_gm0 = 0; /* the step's references, for entries that continue */
     for (int e = 0; e <= s->nfb; e++) {
         eo_solve_result sr;
-        if (e > 0) memcpy(x, s->x0b, nx); /* again from the step's starting guess */
+        if (e > 0) memcpy(x, s->x0b, nx); /* the step's starting guess or the best iterate */
         s->entry = e;
         eo_solver *sv = e ? s->fb[e - 1] : s->solver;
+        if (e > 0 && s->fb_best) eo_solver_set_reference(sv, ref_dec0, ref_gm0);
         if ((rc = sim_coordinates(s, sv)) < 0) return rc;
         if ((rc = eo_solver_minimize(sv, s->obj, x, s->fn, s->user, &sr)) < 0) return rc;
         r->entry = e;
@@ -447,6 +475,23 @@ static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
         r->n_factor += sr.n_factor;
         r->n_not_pd += sr.n_not_pd;
         if (sr.reason >= 0 || sr.reason == EO_DIVERGED_EXTERNAL) break;
+        if (s->fb_best && e < s->nfb) {
+            double d0, gm0;
+            eo_solver_get_reference(sv, &d0, &gm0);
+            if (d0 > ref_dec0) ref_dec0 = d0;
+            if (gm0 > ref_gm0) ref_gm0 = gm0;
+            if (e == 0) {
+                double t0 = eo_wtime(), c0 = eo_cputime();
+                if ((rc = eo_objective_value(s->obj, s->x0b, &g_best)) < 0) return rc;
+                r->time += eo_wtime() - t0;
+                r->cpu_time += eo_cputime() - c0;
+                r->n_value++;
+            }
+            if (isfinite(sr.g) && !(sr.g >= g_best)) {
+                memcpy(s->x0b, x, nx);
+                g_best = sr.g;
+            }
+        }
     }
     return EO_OK;
 }

@@ -7,7 +7,8 @@ library's defaults for everything it does not name, the default fallback chain) 
   - the hard suite's scenes (bench/hard.json), each for `--hard-steps` steps;
   - the stiff real-bar two-turn twist (IPC bar, E = 1e8, nu = 0.499) and the real-mesh
     hard starts (inverted and random bunny), when ../shared/meshes is present.
-Prints one line per case (converged steps / steps, iterations, worst reason, time) and
+Prints one line per case (converged steps / steps, iterations, worst reason, CPU time of
+the run: user + system of the child process; wall time in parentheses) and
 writes a JSON table (--json). `--cli` selects the binary (e.g. an older build, for a
 before/after table); `--extra -o KEY=VALUE` is added to every run.
 
@@ -17,6 +18,7 @@ Usage: scripts/defaults-check.py [--cli build/cli/elastopt] [--only NAME,...]
 import argparse
 import json
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -72,8 +74,11 @@ def run(cli, name, args, sets, extra, tmp):
     out = os.path.join(tmp, "run")
     cmd = [cli, "run", *args, "--out", out, "--force", "--quiet", "-o", "output.vtu=false", *ov_args(sets), *extra]
     t0 = time.time()
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     p = subprocess.run(cmd, capture_output=True, text=True)
     dt = time.time() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
     try:
         s = json.load(open(os.path.join(out, "summary.json")))
     except (OSError, ValueError):
@@ -84,7 +89,7 @@ def run(cli, name, args, sets, extra, tmp):
     worst = bad[0]["reason"] if bad else ""
     minj = min((x["min_J"] for x in st if x["min_J"] is not None), default=float("nan"))
     return {"case": name, "converged": conv, "steps": len(st), "planned": s.get("steps_planned", len(st)),
-            "iterations": sum(x["iterations"] for x in st), "worst": worst, "min_J": minj, "wall": dt,
+            "iterations": sum(x["iterations"] for x in st), "worst": worst, "min_J": minj, "wall": dt, "cpu": cpu,
             "fallback_steps": sum(1 for x in st if x.get("entry", 0) > 0), "exit": p.returncode,
             "warnings": sum(1 for ln in p.stderr.splitlines() if "warning" in ln),
             "factor_warnings": sum(1 for ln in p.stderr.splitlines() if "not positive definite" in ln)}
@@ -119,7 +124,8 @@ def main():
             else:
                 print(f"{name:45s} {r['converged']:4d}/{r['planned']:<4d} iters {r['iterations']:6d}  "
                       f"fallback {r['fallback_steps']:3d}  min J {r['min_J']:10.3g}  {r['worst']:24s} "
-                      f"warn {r['warnings']:3d} (factor {r['factor_warnings']})  {r['wall']:6.1f} s", flush=True)
+                      f"warn {r['warnings']:3d} (factor {r['factor_warnings']})  cpu {r['cpu']:7.1f} s (wall {r['wall']:.0f})",
+                      flush=True)
     if a.json:
         json.dump({"cli": a.cli, "extra": a.extra, "rows": rows}, open(a.json, "w"), indent=1)
     ok = all("error" not in r and r["converged"] == r["planned"] for r in rows)

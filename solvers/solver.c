@@ -31,6 +31,7 @@ struct eo_solver {
     eo_linsolve *linear;
     eo_profile prof;            /* accumulated over the minimizations (eo_solver_get_profile) */
     struct eo_stop_state *stop; /* the convergence measure's state (eo_solver_stop_check) */
+    double ref_dec0, ref_gm0;   /* eo_solver_set_reference for the next minimization (0: none) */
 };
 
 /* The convergence measure of one minimization (solver.h, eo_solver_stop_check): the
@@ -41,6 +42,8 @@ struct eo_stop_state {
     double g0, gm0, floor_dec, floor_grad, g_scale;
     double grad_char;          /* the objective's characteristic gradient norm (0: none) */
     double gm_last;            /* ‖∇g‖_{D⁻¹} of the last call with a gradient (same iterate) */
+    double ref_dec0, ref_gm0;  /* references given for this minimization (0: none) */
+    double dec0_used, gm0_used; /* the references measured against (eo_solver_get_reference) */
 };
 
 static const char *const linesearch_auto[] = {"auto", NULL};
@@ -127,6 +130,11 @@ int eo_solver_stop_check(const eo_solver_ctx *sc, eo_stop_info *si, const double
     if (grad) st->gm_last = metric_norm(st, grad);
     si->grad_metric = st->gm_last;
     si->grad_metric0 = st->gm0;
+    /* a continuation measures against the step's start (eo_solver_set_reference) */
+    if (st->ref_gm0 > 0 && !(si->grad_metric0 >= st->ref_gm0)) si->grad_metric0 = st->ref_gm0;
+    if (st->ref_dec0 > 0 && isfinite(si->decrement0) && si->decrement0 < st->ref_dec0) si->decrement0 = st->ref_dec0;
+    st->gm0_used = si->grad_metric0;
+    if (isfinite(si->decrement0) && si->decrement0 > 0) st->dec0_used = si->decrement0;
     si->floor_dec = st->floor_dec;
     si->floor_grad = st->floor_grad;
     si->g_scale = st->g_scale;
@@ -168,11 +176,12 @@ int eo_solver_opts_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver_opts *o)
 {
     if (!cfg) return EO_OK;
     const char *names[MAX_EXTRA + 1];
-    method_section_names(names, MAX_EXTRA);
+    method_section_names(names, MAX_EXTRA - 1);
     size_t k = 0;
     while (names[k]) k++;
     names[k] = "fallback"; /* the fallback chain, read by the simulation driver (sim.h) */
-    names[k + 1] = NULL;
+    names[k + 1] = "fallback_start";
+    names[k + 2] = NULL;
     return eo_cfg_section(ctx, cfg, "solver", eo_solver_opts_desc, o, names);
 }
 
@@ -352,6 +361,10 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         s->n = obj->n;
     }
     s->stop->begun = 0;
+    s->stop->ref_dec0 = s->ref_dec0 > 0 && isfinite(s->ref_dec0) ? s->ref_dec0 : 0;
+    s->stop->ref_gm0 = s->ref_gm0 > 0 && isfinite(s->ref_gm0) ? s->ref_gm0 : 0;
+    s->ref_dec0 = s->ref_gm0 = 0; /* for this minimization only */
+    s->stop->dec0_used = s->stop->gm0_used = NAN;
     eo_solver_ctx sc = {
         .obj = obj,
         .ctx = s->ctx,
@@ -409,6 +422,18 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         p->n_not_pd += res->n_not_pd;
     }
     return rc;
+}
+
+void eo_solver_set_reference(eo_solver *s, double decrement0, double grad_metric0)
+{
+    s->ref_dec0 = decrement0;
+    s->ref_gm0 = grad_metric0;
+}
+
+void eo_solver_get_reference(const eo_solver *s, double *decrement0, double *grad_metric0)
+{
+    *decrement0 = s->stop ? s->stop->dec0_used : NAN;
+    *grad_metric0 = s->stop ? s->stop->gm0_used : NAN;
 }
 
 const eo_profile *eo_solver_get_profile(const eo_solver *s) { return &s->prof; }

@@ -405,21 +405,27 @@ static void test_sim_api(void)
 /* Fallback chain (solver.fallback, in eo_sim_step): newton + hessian_fix none with a
  * budget of 20 iterations does not finish the inverted start's first step
  * (diverged_max_iters); the chain's entry 1 (hessian_fix clamp, 100 iterations) solves it
- * again from the step's starting guess, to the same point as newton + clamp alone; the
- * step record names entry 1 and the first entry's reason; the callback sees the entry
- * running; a later step that entry 0 solves records entry 0. Bad entries are errors
- * naming solver.fallback.N. */
+ * again. With solver.fallback_start = guess it starts from the step's starting guess and
+ * ends at the same point as newton + clamp alone; with best (the default) it starts where
+ * entry 0 stopped (its first record has entry 0's last g, below the starting guess's) and
+ * converges below it. The step record names entry 1 and the first entry's
+ * reason; the callback sees the entry running; a later step that entry 0 solves records
+ * entry 0. Bad entries and a bad fallback_start are errors naming the key. */
 typedef struct entry_seen {
     const eo_sim *sim;
     int rows[3];
+    double g_first[2], g_last[2]; /* g of each entry's first and last record */
 } entry_seen;
 
 static int count_entry(const eo_iter_info *info, void *user)
 {
-    (void)info;
     entry_seen *e = user;
     int k = eo_sim_entry(e->sim);
     e->rows[k >= 0 && k < 2 ? k : 2]++;
+    if (k >= 0 && k < 2) {
+        if (info->iteration == 0) e->g_first[k] = info->g;
+        e->g_last[k] = info->g;
+    }
     return 0;
 }
 
@@ -427,7 +433,8 @@ static void test_fallback(void)
 {
     eo_ctx *ctx = eo_test_ctx();
     const char *ov[] = {"solver.hessian_fix=none", "solver.max_iters=20", "time.steps=2",
-                        "solver.fallback=[{\"hessian_fix\": \"clamp\", \"max_iters\": 100}]", NULL};
+                        "solver.fallback=[{\"hessian_fix\": \"clamp\", \"max_iters\": 100}]",
+                        "solver.fallback_start=guess", NULL};
     const char *ref[] = {"solver.hessian_fix=clamp", "solver.max_iters=100", "time.steps=2", "solver.fallback=[]", NULL};
     eo_sim *s = NULL, *sr = NULL;
     CHECK(eo_test_sim_open(&s, ctx, "inverted", NULL, ov) == 0, "open with fallback");
@@ -435,7 +442,7 @@ static void test_fallback(void)
     if (s && sr) {
         CHECK(eo_sim_n_fallback(s) == 1 && eo_sim_n_fallback(sr) == 0, "fallback entries");
         eo_sim_step_result r, rr;
-        entry_seen es = {s, {0, 0, 0}};
+        entry_seen es = {.sim = s};
         CHECK(eo_test_sim_step(s, count_entry, &es, &r) == 0, "step: %s", eo_ctx_message(ctx));
         CHECK(eo_test_sim_step(sr, NULL, NULL, &rr) == 0, "step: %s", eo_ctx_message(ctx));
         printf("fallback: step 1 entry %d of %d tried: entry 0 %s after %d it., entry 1 %s after %d it.; "
@@ -460,11 +467,43 @@ static void test_fallback(void)
         CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0, "step 2");
         CHECK(r.entry == 0 && r.n_entries == 1 && eo_reason_is_converged(r.reason), "step 2: entry %d, %s", r.entry,
               eo_reason_name(r.reason));
+        CHECK(es.g_first[1] == es.g_first[0], "guess: entry 1 starts at the starting guess (g %.17g, %.17g)",
+              es.g_first[1], es.g_first[0]);
+        /* the default start: entry 1 continues from entry 0's end point */
+        eo_sim *sb = NULL;
+        ov[4] = NULL;
+        CHECK(eo_test_sim_open(&sb, ctx, "inverted", NULL, ov) == 0, "open with fallback_start best");
+        if (sb) {
+            eo_sim_step_result rb;
+            entry_seen eb = {.sim = sb};
+            CHECK(eo_test_sim_step(sb, count_entry, &eb, &rb) == 0, "step: %s", eo_ctx_message(ctx));
+            printf("fallback best: entry 0 ended at g = %.10g (start %.10g), entry 1 started at %.10g and %s after "
+                   "%d it. (newton+clamp alone: %d)\n", eb.g_last[0], eb.g_first[0], eb.g_first[1],
+                   eo_reason_name(rb.reason), rb.iterations, rr.iterations);
+            CHECK(rb.entry == 1 && eo_reason_is_converged(rb.reason), "best: entry %d, %s", rb.entry,
+                  eo_reason_name(rb.reason));
+            CHECK(eb.g_first[1] == eb.g_last[0] && eb.g_last[0] < eb.g_first[0],
+                  "best: entry 1 starts where entry 0 stopped (g %.17g, entry 0 ended at %.17g, started at %.17g)",
+                  eb.g_first[1], eb.g_last[0], eb.g_first[0]);
+            /* a minimizer below entry 0's end point (the inverted start has several: which one
+             * a run reaches depends on where it starts, so it need not be clamp's) */
+            eo_sim_get_state(sb, x, NULL, NULL, NULL);
+            double db = 0;
+            for (int i = 0; i < 3 * nv; i++) db = fmax(db, fabs(x[i] - xr[i]));
+            printf("fallback best: g = %.10g (newton+clamp from the guess: %.10g), max distance %g\n", rb.g, rr.g, db);
+            CHECK(rb.g <= eb.g_last[0] && eb.g_last[1] == rb.g, "best: ends below entry 0's end point (g %.17g, %.17g)",
+                  rb.g, eb.g_last[0]);
+        }
+        eo_sim_destroy(&sb);
         free(x);
         free(xr);
     }
     eo_sim_destroy(&s);
     eo_sim_destroy(&sr);
+    const char *bad4[] = {"solver.fallback_start=last", NULL};
+    CHECK(eo_sim_create_from(ctx, NULL, "cantilever", bad4, &s) < 0 && !s &&
+              strstr(eo_ctx_message(ctx), "solver.fallback_start"),
+          "bad fallback_start: %s", eo_ctx_message(ctx));
     const char *bad1[] = {"solver.fallback=[{\"hessian_fx\": \"clamp\"}]", NULL};
     const char *bad2[] = {"solver.fallback=[{\"optimizer\": \"newtn\"}]", NULL};
     const char *bad3[] = {"solver.fallback={\"optimizer\": \"lbfgs\"}", NULL};

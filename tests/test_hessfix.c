@@ -22,6 +22,10 @@
  *     they need fewer iterations than clamp (measured 6 vs 10).
  *  5. projective_dynamics runs with every registered fix on the cantilever (constant
  *     matrix: the same iterates as with clamp).
+ *  5b. solver.project_on_demand.projection: at the inverted box's start (the true Hessian
+ *     is not positive definite) the first Newton step of project_on_demand is exactly
+ *     that of clamp (projection = clamp, the default) or of abs (projection = abs), and
+ *     the record says projected.
  *  6. a fix registered at run time (eo_register), written only against solver.h
  *     (clamp without safeguard), works in newton and projective_dynamics on the twist:
  *     same iterations and |x − x_clamp| ≤ 1e-12; a fix without `factor` is refused. */
@@ -370,6 +374,31 @@ static void test_pd_fixes(void)
     free(ref.x);
 }
 
+/* ---- 5b. project_on_demand's projection -------------------------------------------- */
+static void test_pod_projection(void)
+{
+    const char *const one[] = {"solver.max_iters=1", NULL};
+    const char *const one_abs[] = {"solver.max_iters=1", "solver.project_on_demand.projection=abs", NULL};
+    static run_out pod_c, pod_a, clamp, abs_;
+    int rc = run_first("inverted", one, "project_on_demand", "newton", "1e-20", &pod_c);
+    rc |= run_first("inverted", one_abs, "project_on_demand", "newton", "1e-20", &pod_a);
+    rc |= run_first("inverted", one, "clamp", "newton", "1e-20", &clamp);
+    rc |= run_first("inverted", one, "abs", "newton", "1e-20", &abs_);
+    double dc = 0, da = 0, dca = 0;
+    for (int j = 0; j < pod_c.n; j++) {
+        dc = fmax(dc, fabs(pod_c.x[j] - clamp.x[j]));
+        da = fmax(da, fabs(pod_a.x[j] - abs_.x[j]));
+        dca = fmax(dca, fabs(clamp.x[j] - abs_.x[j]));
+    }
+    printf("  inverted, first step: |pod - clamp| = %.2e, |pod(abs) - abs| = %.2e (|clamp - abs| = %.2e)\n", dc, da,
+           dca);
+    CHECK(rc == 0 && pod_c.iters == 1 && pod_a.iters == 1, "runs of one iteration");
+    CHECK(dc == 0 && da == 0 && dca > 0, "pod retries with its projection: %g, %g (clamp vs abs %g)", dc, da, dca);
+    CHECK(pod_c.L.proj[0] == 1 && pod_a.L.proj[0] == 1, "the first direction is projected: %g, %g", pod_c.L.proj[0],
+          pod_a.L.proj[0]);
+    free(pod_c.x), free(pod_a.x), free(clamp.x), free(abs_.x);
+}
+
 /* ---- 6. a fix registered at run time, written only against solver.h ---------------- */
 static int ext_factor(void *st, const void *params, const eo_hessfix_env *env, double *p,
                       eo_hessfix_out *out)
@@ -437,6 +466,7 @@ int main(void)
     test_same_minimizer();
     test_quadratic();
     test_pd_fixes();
+    test_pod_projection();
     test_external_fix();
     return eo_test_finish("test_hessfix");
 }

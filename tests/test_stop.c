@@ -142,6 +142,66 @@ static void backtracking_rounding(eo_ctx *ctx)
     CHECK(r.n - 1 <= 20, "static cantilever converges in <= 20 iterations: %d", r.n - 1);
 }
 
+/* eo_solver_set_reference (the fallback chain's continuation from the best iterate): on
+ * the static cantilever's first step a run stopped after 3 iterations is continued (a)
+ * without a reference: its tolerance is relative to its own, smaller first decrement, and
+ * (b) with the uninterrupted run's references: it stops at the first iterate whose
+ * decrement is below tol²·λ₀² of the uninterrupted run (not earlier, not later), in no more
+ * iterations than (a), and eo_solver_get_reference reports the references it used. */
+static void reference(eo_ctx *ctx)
+{
+    eo_sim *s = NULL;
+    if (eo_test_sim_open(&s, ctx, "cantilever_static", NULL, NULL) < 0) return;
+    eo_solver_opts o;
+    eo_solver_opts_default(&o);
+    eo_solver *full = NULL, *part = NULL, *cont = NULL;
+    CHECK(eo_solver_create(ctx, &o, NULL, &full) == 0 && eo_solver_create(ctx, &o, NULL, &cont) == 0, "solvers");
+    o.max_iters = 3;
+    CHECK(eo_solver_create(ctx, &o, NULL, &part) == 0, "solver with 3 iterations");
+    eo_objective *obj = NULL;
+    eo_solve_result rf, rp, ra, rb;
+    eo_sim_prepare(s, &obj, NULL);
+    const int n = obj->n;
+    double *x = malloc((size_t)n * sizeof(double)), *x3 = malloc((size_t)n * sizeof(double));
+    static rec r;
+    memset(&r, 0, sizeof r);
+    eo_sim_trial(s, full, NULL, x, record, &r, NULL, &rf);
+    double d0 = NAN, gm0 = NAN, d, gm;
+    eo_solver_get_reference(full, &d0, &gm0);
+    CHECK(rf.reason > 0 && r.n > 4 && d0 == r.dec[0] && gm0 > 0, "uninterrupted: %s in %d, lambda_0^2/2 %.3g (first %.3g)",
+          eo_reason_string(rf.reason), rf.iterations, d0, r.dec[0]);
+    eo_sim_trial(s, part, NULL, x3, NULL, NULL, NULL, &rp);
+    CHECK(rp.reason == EO_DIVERGED_MAX_ITERS && rp.iterations == 3, "3 iterations: %s", eo_reason_string(rp.reason));
+    memset(&r, 0, sizeof r);
+    eo_sim_trial(s, cont, x3, x, record, &r, NULL, &ra);
+    eo_solver_get_reference(cont, &d, &gm);
+    const double own = r.dec[0], own_gm = gm;
+    CHECK(ra.reason > 0 && d == own && d < d0, "(a) own reference %.3g (< %.3g)", d, d0);
+    memset(&r, 0, sizeof r);
+    eo_solver_set_reference(cont, d0, gm0);
+    eo_sim_trial(s, cont, x3, x, record, &r, NULL, &rb);
+    eo_solver_get_reference(cont, &d, &gm);
+    printf("continued after 3 of %d iterations: own reference %d iterations, the run's %d\n", rf.iterations,
+           ra.iterations, rb.iterations);
+    CHECK(rb.reason > 0 && d == d0 && gm == fmax(gm0, own_gm), "(b) references used %.3g %.3g (given %.3g %.3g, own %.3g)",
+          d, gm, d0, gm0, own_gm);
+    CHECK(rb.iterations <= ra.iterations, "(b) %d iterations <= (a) %d", rb.iterations, ra.iterations);
+    const double tol = o.tol;
+    CHECK(r.dec[r.n - 1] <= tol * tol * d0, "(b) stops below tol^2 lambda_0^2 of the run: %.3g vs %.3g",
+          r.dec[r.n - 1], tol * tol * d0);
+    for (int k = 0; k + 1 < r.n; k++)
+        CHECK(!(r.dec[k] <= tol * tol * d0), "(b) not later than that: k %d %.3g", k, r.dec[k]);
+    eo_sim_trial(s, cont, x3, x, NULL, NULL, NULL, &ra);
+    eo_solver_get_reference(cont, &d, &gm);
+    CHECK(d == own, "the reference is for one minimization only (%.3g, own %.3g)", d, own);
+    free(x);
+    free(x3);
+    eo_solver_destroy(&full);
+    eo_solver_destroy(&part);
+    eo_solver_destroy(&cont);
+    eo_sim_destroy(&s);
+}
+
 int main(void)
 {
     eo_ctx *ctx = eo_test_ctx();
@@ -149,6 +209,7 @@ int main(void)
     tip_accuracy(ctx, "dynamic cantilever 50 steps", "cantilever", "stable_neo_hookean", 50);
     rule_semantics(ctx);
     backtracking_rounding(ctx);
+    reference(ctx);
     eo_test_ctx_done(&ctx);
     return eo_test_finish("test_stop");
 }

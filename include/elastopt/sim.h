@@ -46,12 +46,18 @@ typedef struct eo_sim eo_sim;
 
 /// The fallback chain a scene's solver gets when its config names no `solver.fallback`
 /// (an explicit `[]` turns it off; a solver with backend other than native gets none):
-/// the same optimizer with the `abs` Hessian fix and 300 iterations, then trust-region
-/// Newton with 1000. Each entry is merged over the `solver` section and restarts the step
-/// from its starting guess. Chosen by measurement (docs/defaults.md, "Defaults that converge"):
-/// with it the built-in twist run 400 steps converges on every step.
-#define EO_SIM_DEFAULT_FALLBACK \
-    "[{\"hessian_fix\": \"abs\", \"max_iters\": 300}, {\"optimizer\": \"newton_tr\", \"max_iters\": 1000}]"
+/// the same optimizer with the `abs` Hessian fix and 100 iterations, the scene's own
+/// solver again (`{}`), then trust-region Newton with the Jacobi preconditioner and 1000.
+/// Each entry is merged over the `solver` section and, with `solver.fallback_start` = best
+/// (the default), continues from the best iterate so far: `abs` (|λ| per element) takes
+/// full steps where the clamp-projected directions of project_on_demand are cut to
+/// α ~ 1e-3 (many inverted elements); the scene's solver, from there, ends in Newton's
+/// quadratic phase where `abs` alone converges linearly; `newton_tr` follows the negative
+/// curvature out of the crawls (tangled states) where both projections take tiny full
+/// steps. Chosen by measurement (docs/defaults.md, "Defaults that converge").
+#define EO_SIM_DEFAULT_FALLBACK                                                                  \
+    "[{\"hessian_fix\": \"abs\", \"max_iters\": 100}, {}, "                                      \
+    "{\"optimizer\": \"newton_tr\", \"max_iters\": 1000, \"newton_tr\": {\"precond\": \"jacobi\"}}]"
 
 /// What one step did (eo_sim_step).
 typedef struct eo_sim_step_result {
@@ -125,9 +131,11 @@ EO_API int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solv
 /// `solver` section with the keys the entry names replaced (merged recursively, so
 /// `{"hessian_fix": "clamp"}` or `{"optimizer": "lbfgs", "lbfgs": {"history": 20}}`).
 /// When the configuration running a step stops without converging (any diverged_*
-/// reason but diverged_external, the callback's stop), the step is solved again from the
-/// same starting guess with the next entry; the first that converges is kept (else the
-/// last). Every entry is validated at create (errors name `solver.fallback.N`).
+/// reason but diverged_external, the callback's stop), the step is solved again with the
+/// next entry, from the best iterate so far (`solver.fallback_start` = best, the default:
+/// the lowest g among the starting guess and the entries' end points; its convergence is
+/// measured against the step's references, eo_solver_set_reference) or from the same
+/// starting guess (`guess`); the first that converges is kept (else the last). Every entry is validated at create (errors name `solver.fallback.N`).
 /// eo_sim_trial uses only the solver it is given.
 ///
 /// Adaptive stepping (scene keys time.adaptive, time.adaptive_min_fraction,

@@ -252,6 +252,19 @@ EO_API int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg
 /// (EO_ERR_INVALID for no objective, an objective error, EO_ERR_NOMEM).
 EO_API int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on_iter,
                        void *user, eo_solve_result *res);
+/// The references of the relative convergence measure for the NEXT eo_solver_minimize
+/// only (then cleared): that minimization compares its decrement with max(its own first
+/// λ²/2, decrement0) and its metric gradient norm with max(its own ‖∇g(x₀)‖_{D⁻¹},
+/// grad_metric0) instead of its own alone (0 or NAN: its own). For a minimization that
+/// continues another one's work from a better point (the fallback chain with
+/// solver.fallback_start = best): the tolerance stays relative to the step's start, not to
+/// the point where the continuation began (measured: newton_tr continuing on the inverted
+/// bunny reached the rounding floor of ∇g, 1e-8 of the step's ‖∇g₀‖, but not 1e-10 of its
+/// own start's and wandered 40 iterations to diverged_stagnated).
+EO_API void eo_solver_set_reference(eo_solver *s, double decrement0, double grad_metric0);
+/// The references the last eo_solver_minimize measured against (the larger of its own
+/// and the ones given by eo_solver_set_reference; NAN before any or where not measured).
+EO_API void eo_solver_get_reference(const eo_solver *s, double *decrement0, double *grad_metric0);
 /// Free; sets *s = NULL; accepts NULL.
 EO_API void eo_solver_destroy(eo_solver **s);
 /// The options in use (borrowed).
