@@ -147,6 +147,18 @@ static int write_frame(eo_ctx *ctx, eo_step *st, const char *dir, int step, eo_p
     return eo_pvd_add(ctx, pvd, eo_step_time(st), file);
 }
 
+/* A distributed run (dnv >= 0): x, v gathered on rank 0 in the input vertex order and the
+ * work of the prescribed motions summed (every rank holds its part); nothing otherwise. */
+static int gather_state(eo_ctx *ctx, int dnv, const double *xs, const double *vs, double *xg, double *vg,
+                        double *work)
+{
+    if (dnv < 0) return EO_OK;
+    if (eo_cli_dist_gather(xs, 3, xg) < 0 || eo_cli_dist_gather(vs, 3, vg) < 0)
+        return eo_error(ctx, EO_ERR_IO, "the gather of the distributed state to rank 0 failed");
+    (void)work; /* each rank's share; the statistics sum it (steps.csv, summary.json) */
+    return EO_OK;
+}
+
 /* ---------------------------------------------------------------- summary.json */
 
 static json_t *vec3(const double *v) { return json_pack("[fff]", v[0], v[1], v[2]); }
@@ -449,7 +461,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_cfg *cfg = NULL;
     eo_pvd *pvd = NULL;
     eo_run_record *rec = NULL;
-    double *fbuf = NULL, *xs = NULL, *vs = NULL, *hs = NULL;
+    double *fbuf = NULL, *xs = NULL, *vs = NULL, *hs = NULL, *xg = NULL, *vg = NULL;
     double work = 0; /* the work of prescribed motions, for restart.dat */
     FILE *csv = NULL, *scsv = NULL;
     json_t *run_doc = NULL;
@@ -465,6 +477,11 @@ static int run(eo_ctx *ctx, int argc, char **argv)
 
     /* ---- validate everything before writing anything (eo_sim_create: scene, solver
      * section, every method's section, unknown keys) */
+    if (restart && eo_cli_size() > 1) { /* every rank, before reading or writing anything */
+        rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "--restart is not supported under mpirun yet (continue the run on "
+                      "one process, or start it again)");
+        goto fail;
+    }
     if (restart) {
         EO_TRY(rc = read_run_json(ctx, restart, &org, &run_doc, &cfg));
     } else {
@@ -489,15 +506,28 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     cfg = NULL;
     const eo_scene *sc = eo_sim_scene(sim);
     eo_step *st = eo_sim_step_problem(sim);
+    if (eo_cli_size() > 1) { /* under mpirun every rank holds a part: only distributed solvers can run it */
+        const eo_solver_opts *so = eo_solver_get_opts(eo_sim_solver(sim));
+        const char *on = so->optimizer;
+        const int dist_opt = strcmp(so->backend, "petsc") == 0 || strncmp(on, "petsc_", 6) == 0 ||
+                             strncmp(on, "snes_", 5) == 0 || strncmp(on, "tao_", 4) == 0;
+        if (eo_sim_is_explicit(sim)) {
+            rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "under mpirun (%d ranks): integrator %s is explicit and has no "
+                          "distributed form; run it on one process", eo_cli_size(), sc->integrator->info.name);
+            goto fail;
+        }
+        if (!dist_opt) {
+            rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "under mpirun (%d ranks) the solver must be distributed: add -o "
+                          "solver.backend=petsc (or run on one process); optimizer '%s' would run on each rank's part "
+                          "of the mesh alone", eo_cli_size(), on);
+            goto fail;
+        }
+    }
     if (restart) snprintf(dir, sizeof dir, "%s", restart);
     else if (out_dir) snprintf(dir, sizeof dir, "%s", out_dir);
     else if (sc->output.dir[0]) snprintf(dir, sizeof dir, "%s", sc->output.dir);
     else snprintf(dir, sizeof dir, "out/%s", org.name);
     if (eo_cli_rank() != 0) { /* under MPI, rank 0 writes the run; the others a private scratch folder */
-        if (restart) {
-            rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "--restart is not supported under mpirun yet");
-            goto fail;
-        }
         const char *tmpdir = getenv("TMPDIR");
         snprintf(rank_tmp, sizeof rank_tmp, "%s/elastopt-rank%d-XXXXXX", tmpdir && *tmpdir ? tmpdir : "/tmp",
                  eo_cli_rank());
@@ -533,6 +563,18 @@ static int run(eo_ctx *ctx, int argc, char **argv)
                           "out of memory for the records of %d steps", nsteps);
         goto fail;
     }
+    /* a distributed run (each rank simulates its part of the mesh): restart.dat holds the
+     * whole state, gathered on rank 0 in the input vertex order */
+    const int dnv = eo_cli_dist_nv();
+    const int nv_out = dnv >= 0 ? dnv : m->nv;
+    if (dnv >= 0) {
+        xg = eo_calloc(ctx, (size_t)(3 * dnv > 0 ? 3 * dnv : 1), sizeof(double));
+        vg = eo_calloc(ctx, (size_t)(3 * dnv > 0 ? 3 * dnv : 1), sizeof(double));
+        if (!xg || !vg) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (the gathered state)");
+            goto fail;
+        }
+    }
     frame_buf fb = {.disp = fbuf, .psi = fbuf + 3 * m->nv, .J = fbuf + 3 * m->nv + m->nt};
     fb.inv = (unsigned char *)(fb.J + m->nt);
     eo_step_stats s0;
@@ -544,7 +586,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     signals_install(&sig);
     have_signals = 1;
     EO_TRY(rc = eo_run_dir_open(ctx, dir, &rd));
-    const int frames = sc->output.vtu && sc->output.every > 0 && eo_cli_rank() == 0;
+    /* frames of a distributed run: not yet (each rank holds its part of the mesh) */
+    const int frames = sc->output.vtu && sc->output.every > 0 && eo_cli_rank() == 0 && dnv < 0;
     snprintf(pvd_file, sizeof pvd_file, "%s.pvd", org.name);
     snprintf(path, sizeof path, "%s/%s", dir, pvd_file);
     if (frames) EO_TRY(rc = eo_pvd_create(ctx, path, &pvd));
@@ -556,13 +599,13 @@ static int run(eo_ctx *ctx, int argc, char **argv)
      * (steps end on nominal boundaries, so that is all a restart needs besides the state) */
     double as[2] = {0, 0};
     eo_run_array arrays[] = {
-        {.name = "x", .data = xs, .count = 3 * (size_t)m->nv, .required = 1},
-        {.name = "v", .data = vs, .count = 3 * (size_t)m->nv, .required = 1},
+        {.name = "x", .data = dnv >= 0 ? xg : xs, .count = 3 * (size_t)nv_out, .required = 1},
+        {.name = "v", .data = dnv >= 0 ? vg : vs, .count = 3 * (size_t)nv_out, .required = 1},
         {.name = "work_prescribed", .data = &work, .count = 1, .required = 0},
         {.name = "history", .data = hs, .count = hlen, .required = 0},
         {.name = "adaptive", .data = as, .count = 2, .required = 0},
     };
-    int narrays = hlen ? 4 : 3;
+    int narrays = hlen && dnv < 0 ? 4 : 3; /* a distributed run: no multistep history (no restart) */
     if (eo_sim_adaptive(sim)) { /* the table without the history, if none */
         arrays[narrays] = arrays[4];
         narrays++;
@@ -631,7 +674,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
         work = eo_step_work_prescribed(st);
         get_adaptive(sim, as);
-        EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), m->nv, arrays, narrays));
+        EO_TRY(rc = gather_state(ctx, dnv, xs, vs, xg, vg, &work));
+        EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), nv_out, arrays, narrays));
     }
     summary_info si = {.dir = dir, .name = org.name, .pvd_file = frames ? pvd_file : NULL, .status = "running",
                        .restarted_at = first};
@@ -718,7 +762,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
         work = eo_step_work_prescribed(st);
         get_adaptive(sim, as);
-        EO_TRY(rc = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), m->nv, arrays, narrays));
+        EO_TRY(rc = gather_state(ctx, dnv, xs, vs, xg, vg, &work));
+        EO_TRY(rc = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), nv_out, arrays, narrays));
         if (sc->output.summary_every > 0 && (k + 1) % sc->output.summary_every == 0 && k + 1 < nsteps) {
             si.nframes = nframes;
             si.wall = eo_wtime() - t_start;
@@ -776,6 +821,8 @@ done:
     eo_free(ctx, xs);
     eo_free(ctx, vs);
     eo_free(ctx, hs);
+    eo_free(ctx, xg);
+    eo_free(ctx, vg);
     eo_cfg_destroy(&cfg);
     eo_sim_destroy(&sim);
     json_decref(run_doc);

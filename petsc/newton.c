@@ -37,6 +37,8 @@ typedef struct pn_state {
     /* the line search's objective: n = owned entries, evaluations through d */
     eo_objective lsobj;
     eo_objective *obj;
+    /* the objective the stopping rule sees: the local one with rank-summed scales */
+    eo_objective gobj;
 } pn_state;
 
 static int pn_setup(void *st, const void *params, int n, eo_ctx *ctx)
@@ -101,6 +103,58 @@ static int ls_hessian(void *data, const double *x, eo_proj proj, eo_csc **H)
 }
 
 static const eo_objective_ops ls_ops = {.value = ls_value, .gradient = ls_gradient, .hessian = ls_hessian};
+
+/* ---- the stopping rule's view: the rounding scales and characteristic scales of g summed
+ * (largest) over the ranks, so that every rank measures the same floors */
+
+static int g_value(void *data, const double *x, double *g)
+{
+    pn_state *s = data;
+    return eo_objective_value(s->obj, x, g);
+}
+
+static int g_gradient(void *data, const double *x, double *g, double *grad)
+{
+    pn_state *s = data;
+    return eo_objective_gradient(s->obj, x, g, grad);
+}
+
+static int g_hessian(void *data, const double *x, eo_proj proj, eo_csc **H)
+{
+    pn_state *s = data;
+    return eo_objective_hessian(s->obj, x, proj, H);
+}
+
+static int g_rounding_scale(void *data, const double *x, double out[3])
+{
+    pn_state *s = data;
+    int rc = eo_objective_rounding_scale(s->obj, x, out);
+    int ok = rc >= 0;
+    MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, s->d.comm);
+    if (!ok) return rc < 0 ? rc : EO_ERR_UNSUPPORTED;
+    MPI_Allreduce(MPI_IN_PLACE, out, 3, MPI_DOUBLE, MPI_SUM, s->d.comm);
+    return EO_OK;
+}
+
+static int g_characteristic(void *data, eo_objective_characteristic *out)
+{
+    pn_state *s = data;
+    int rc = eo_objective_characteristic_get(s->obj, out);
+    int ok = rc >= 0;
+    MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, s->d.comm);
+    if (!ok) return rc < 0 ? rc : EO_ERR_UNSUPPORTED;
+    double gr = out->grad * out->grad; /* a norm: the ranks' squares summed (shared vertices twice) */
+    MPI_Allreduce(MPI_IN_PLACE, &gr, 1, MPI_DOUBLE, MPI_SUM, s->d.comm);
+    out->grad = sqrt(gr);
+    double sv[2] = {out->stiffness * out->volume, out->volume}; /* volume-weighted mean */
+    MPI_Allreduce(MPI_IN_PLACE, sv, 2, MPI_DOUBLE, MPI_SUM, s->d.comm);
+    out->volume = sv[1];
+    out->stiffness = sv[1] > 0 ? sv[0] / sv[1] : out->stiffness;
+    return EO_OK;
+}
+
+static const eo_objective_ops g_ops = {.value = g_value, .gradient = g_gradient, .hessian = g_hessian,
+                                       .rounding_scale = g_rounding_scale, .characteristic = g_characteristic};
 
 /* ---- setup per minimization */
 
@@ -247,7 +301,7 @@ static int direction(pn_state *s, const eo_solver_ctx *sc, double gnorm, eo_solv
     EO_PC(MatGetDiagonal(s->d.A, s->D));
     double sabs;
     EO_PC(VecNorm(s->D, NORM_1, &sabs));
-    sabs = s->d.n > 0 ? sabs / s->d.n : 1;
+    sabs = s->d.nglobal > 0 ? sabs / s->d.nglobal : 1;
     if (!isfinite(sabs)) {
         o->reason = EO_DIVERGED_NONFINITE;
         return EO_OK;
@@ -301,14 +355,17 @@ static int pn_minimize(void *st, const void *params, const eo_solver_ctx *sc, do
     const double t0 = eo_wtime();
     const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
     double g = NAN, gn = NAN, gn0 = NAN, g_prev = NAN, step_norm = NAN, last_dec = NAN, dec0 = NAN, dec_prev = NAN;
-    int rc, reason = 0, k = 0, part = 0;
+    int rc, reason = 0, k = 0;
     double ghist[EO_LS_HISTORY];
     int nhist = 0;
     memset(res, 0, sizeof *res);
     res->decrement = NAN;
     if ((rc = prepare(s, sc, p)) < 0) goto done;
-    if ((rc = eo_dist_begin(&s->d)) < 0) goto done;
-    part = 1;
+    /* the stopping rule's measure through the rank-summed objective (its rounding scales) */
+    eo_solver_ctx scg = *sc;
+    s->gobj = (eo_objective){.n = obj->n, .ops = &g_ops, .data = s};
+    scg.obj = &s->gobj;
+    sc = &scg;
     if ((rc = eo_dist_from_rep(&s->d, x, s->X)) < 0) goto done;
     double tg = eo_wtime();
     if ((rc = eo_dist_gradient(&s->d, obj, s->X, &g, s->G)) < 0) goto done;
@@ -416,7 +473,6 @@ static int pn_minimize(void *st, const void *params, const eo_solver_ctx *sc, do
 petsc_fail:
     rc = eo_error(ctx, EO_ERR_LINSOLVE, "petsc_newton: a PETSc vector operation failed");
 done:
-    if (part) eo_dist_end(&s->d);
     res->reason = reason;
     res->iterations = k;
     res->g = g;
