@@ -19,6 +19,11 @@
  * The mesh source of a distributed run reads the file on rank 0 only; the other ranks get
  * rank 0's status and message (a bad file ends every rank with exit 2 and one message)
  * and an empty mesh, replaced by their part right after (eo_dist_hooks.distribute_mesh). */
+#if EO_PETSC_SCOTCH
+#include <stdint.h>
+#include <stdio.h>
+#include <scotch.h>
+#endif
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -77,6 +82,170 @@ static int reduce(double *v, int n, eo_reduce_op op, void *user)
     MPI_Op o = op == EO_REDUCE_MIN ? MPI_MIN : op == EO_REDUCE_MAX ? MPI_MAX : MPI_SUM;
     return MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, o, PETSC_COMM_WORLD) == MPI_SUCCESS ? 0 : EO_ERR_IO;
 }
+
+/* ---------------------------------------------------------------- partition */
+
+#if EO_PETSC_SCOTCH
+typedef struct face_key {
+    int v[3];
+    int tet;
+} face_key;
+
+static int face_cmp(const void *a, const void *b)
+{
+    const face_key *x = a, *y = b;
+    for (int i = 0; i < 3; i++)
+        if (x->v[i] != y->v[i]) return x->v[i] < y->v[i] ? -1 : 1;
+    return x->tet < y->tet ? -1 : x->tet > y->tet;
+}
+
+static void sort3(int *v)
+{
+    int t;
+    if (v[0] > v[1]) t = v[0], v[0] = v[1], v[1] = t;
+    if (v[1] > v[2]) t = v[1], v[1] = v[2], v[2] = t;
+    if (v[0] > v[1]) t = v[0], v[0] = v[1], v[1] = t;
+}
+
+/* nb[4k..4k+3]: face neighbours of tet k (-1 none) */
+static int dual_graph(eo_ctx *ctx, const eo_mesh *m, int *nb)
+{
+    face_key *f = eo_malloc(ctx, (size_t)(4 * (m->nt > 0 ? m->nt : 1)) * sizeof *f);
+    if (!f) return eo_error(ctx, EO_ERR_NOMEM, "petsc: out of memory (dual graph)");
+    static const int fv[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
+    for (int k = 0; k < m->nt; k++)
+        for (int a = 0; a < 4; a++) {
+            face_key *q = f + 4 * k + a;
+            for (int i = 0; i < 3; i++) q->v[i] = m->tets[4 * k + fv[a][i]];
+            sort3(q->v);
+            q->tet = k;
+        }
+    qsort(f, (size_t)(4 * m->nt), sizeof *f, face_cmp);
+    for (int i = 0; i < 4 * m->nt; i++) nb[i] = -1;
+    int *cnt = eo_calloc(ctx, (size_t)(m->nt > 0 ? m->nt : 1), sizeof(int));
+    if (!cnt) {
+        eo_free(ctx, f);
+        return eo_error(ctx, EO_ERR_NOMEM, "petsc: out of memory (dual graph)");
+    }
+    for (int i = 0; i + 1 < 4 * m->nt; i++) {
+        if (f[i].v[0] != f[i + 1].v[0] || f[i].v[1] != f[i + 1].v[1] || f[i].v[2] != f[i + 1].v[2]) continue;
+        int a = f[i].tet, b = f[i + 1].tet;
+        if (a == b || cnt[a] >= 4 || cnt[b] >= 4) continue;
+        nb[4 * a + cnt[a]++] = b;
+        nb[4 * b + cnt[b]++] = a;
+    }
+    eo_free(ctx, cnt);
+    eo_free(ctx, f);
+    return EO_OK;
+}
+
+
+/* Scotch's graph partitioning in a context with a fixed random seed and deterministic
+ * threads: the same partition in every run. */
+static int scotch_part(eo_ctx *ctx, int n, const PetscInt *ia, const PetscInt *ja, int nparts, int *owner)
+{
+    int rc = EO_OK;
+    SCOTCH_Num *vt = eo_malloc(ctx, (size_t)(n + 1) * sizeof *vt);
+    SCOTCH_Num *et = eo_malloc(ctx, (size_t)(ia[n] > 0 ? ia[n] : 1) * sizeof *et);
+    SCOTCH_Num *pt = eo_malloc(ctx, (size_t)(n > 0 ? n : 1) * sizeof *pt);
+    SCOTCH_Context *cx = SCOTCH_contextAlloc();
+    SCOTCH_Graph g, gc;
+    SCOTCH_Strat strat;
+    int have_g = 0, have_gc = 0, have_s = 0, have_cx = 0;
+    if (!vt || !et || !pt || !cx) {
+        rc = eo_error(ctx, EO_ERR_NOMEM, "petsc: out of memory (partition)");
+        goto done;
+    }
+    for (int i = 0; i <= n; i++) vt[i] = (SCOTCH_Num)ia[i];
+    for (PetscInt k = 0; k < ia[n]; k++) et[k] = (SCOTCH_Num)ja[k];
+    if (SCOTCH_contextInit(cx) != 0) goto bad;
+    have_cx = 1;
+    SCOTCH_contextRandomSeed(cx, 1);
+    if (SCOTCH_contextOptionSetNum(cx, SCOTCH_OPTIONNUMDETERMINISTIC, 1) != 0 ||
+        SCOTCH_contextOptionSetNum(cx, SCOTCH_OPTIONNUMRANDOMFIXEDSEED, 1) != 0)
+        goto bad;
+    if (SCOTCH_graphInit(&g) != 0) goto bad;
+    have_g = 1;
+    if (SCOTCH_graphBuild(&g, 0, n, vt, NULL, NULL, NULL, vt[n], et, NULL) != 0) goto bad;
+    if (SCOTCH_graphInit(&gc) != 0) goto bad;
+    have_gc = 1;
+    if (SCOTCH_contextBindGraph(cx, &g, &gc) != 0) goto bad;
+    if (SCOTCH_stratInit(&strat) != 0) goto bad;
+    have_s = 1;
+    if (SCOTCH_stratGraphMapBuild(&strat, SCOTCH_STRATQUALITY, nparts, 0.01) != 0) goto bad;
+    if (SCOTCH_graphPart(&gc, nparts, &strat, pt) != 0) goto bad;
+    for (int i = 0; i < n; i++) owner[i] = (int)pt[i];
+    goto done;
+bad:
+    rc = eo_error(ctx, EO_ERR_LINSOLVE, "petsc: Scotch could not partition the %d tets into %d parts", n, nparts);
+done:
+    if (have_s) SCOTCH_stratExit(&strat);
+    if (have_gc) SCOTCH_graphExit(&gc);
+    if (have_g) SCOTCH_graphExit(&g);
+    if (have_cx) SCOTCH_contextExit(cx);
+    if (cx) SCOTCH_memFree(cx);
+    eo_free(ctx, vt);
+    eo_free(ctx, et);
+    eo_free(ctx, pt);
+    return rc;
+}
+
+/* The partition DMPlexDistribute applies (PETSCPARTITIONERSHELL): Scotch on the face dual
+ * graph of rank 0's cells in a context with a fixed seed and deterministic threads, the
+ * same partition in every run. PETSc's own PT-Scotch partitioner (-petscpartitioner_type
+ * ptscotch) gave another partition in every run, and with it other GAMG iteration counts. */
+static int shell_partition(eo_ctx *ctx, PetscPartitioner part, const eo_mesh *m, int rank, int size)
+{
+    int rc = EO_OK, nt = rank == 0 ? m->nt : 0;
+    int *nb = NULL, *owner = NULL;
+    PetscInt *ia = NULL, *ja = NULL, *sizes = NULL, *points = NULL;
+    EO_PC(PetscCalloc1(size, &sizes));
+    EO_PC(PetscMalloc1(nt + 1, &points));
+    if (rank == 0) {
+        nb = malloc((size_t)(4 * nt + 1) * sizeof(int));
+        owner = malloc((size_t)(nt + 1) * sizeof(int));
+        if (!nb || !owner) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "petsc: out of memory (partition)");
+            goto fail;
+        }
+        if ((rc = dual_graph(ctx, m, nb)) < 0) goto fail;
+        EO_PC(PetscMalloc1(nt + 1, &ia));
+        EO_PC(PetscMalloc1(4 * nt + 1, &ja));
+        ia[0] = 0;
+        for (int q = 0; q < nt; q++) {
+            ia[q + 1] = ia[q];
+            for (int a = 0; a < 4; a++)
+                if (nb[4 * q + a] >= 0) ja[ia[q + 1]++] = nb[4 * q + a];
+        }
+        if ((rc = scotch_part(ctx, nt, ia, ja, size, owner)) < 0) goto fail;
+        int *next = calloc((size_t)size + 1, sizeof(int));
+        if (!next) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "petsc: out of memory (partition)");
+            goto fail;
+        }
+        for (int q = 0; q < nt; q++) sizes[owner[q]]++;
+        for (int r = 1; r < size; r++) next[r] = next[r - 1] + (int)sizes[r - 1];
+        for (int q = 0; q < nt; q++) points[next[owner[q]]++] = q;
+        free(next);
+    }
+fail:;
+    int st = rc; /* rank 0's outcome */
+    if (MPI_Bcast(&st, 1, MPI_INT, 0, PETSC_COMM_WORLD) != MPI_SUCCESS) st = EO_ERR_IO;
+    if (st < 0 && rank != 0) rc = eo_error(ctx, st, "petsc: the partition failed on rank 0");
+    if (st >= 0) {
+        PetscErrorCode e = PetscPartitionerSetType(part, PETSCPARTITIONERSHELL);
+        if (!e) e = PetscPartitionerShellSetPartition(part, size, sizes, points);
+        if (e) rc = eo_petsc_fail(ctx, e, "PetscPartitionerShellSetPartition");
+    }
+    free(nb);
+    free(owner);
+    PetscFree(ia);
+    PetscFree(ja);
+    PetscFree(sizes);
+    PetscFree(points);
+    return rc;
+}
+#endif
 
 /* ---------------------------------------------------------------- distribution */
 
@@ -142,8 +311,20 @@ static int distribute(eo_ctx *ctx, eo_mesh **mesh, void *user)
         r[0] = v, r[1] = m->vmarker ? m->vmarker[v] : 0, r[2] = r[3] = r[4] = 0;
     }
     EO_PC(DMPlexGetPartitioner(dm, &part));
-    EO_PC(PetscPartitionerSetType(part, PETSCPARTITIONERPTSCOTCH));
-    EO_PC(PetscPartitionerSetFromOptions(part)); /* -petscpartitioner_type ... */
+    PetscBool chosen = PETSC_FALSE; /* -petscpartitioner_type ...: PETSc's partitioner */
+    EO_PC(PetscOptionsHasName(NULL, NULL, "-petscpartitioner_type", &chosen));
+    const char *how = "ptscotch";
+#if EO_PETSC_SCOTCH
+    if (!chosen) {
+        if ((rc = shell_partition(ctx, part, m, rank, size)) < 0) goto fail;
+        how = "Scotch on rank 0, fixed seed";
+    }
+#endif
+    if (chosen || strcmp(how, "ptscotch") == 0) {
+        EO_PC(PetscPartitionerSetType(part, PETSCPARTITIONERPTSCOTCH));
+        EO_PC(PetscPartitionerSetFromOptions(part));
+        if (chosen) how = "-petscpartitioner_type";
+    }
     EO_PC(DMPlexDistribute(dm, 0, &mig, &dist));
     if (!dist) { /* one rank: nothing moved */
         dist = dm;
@@ -250,7 +431,7 @@ static int distribute(eo_ctx *ctx, eo_mesh **mesh, void *user)
     snprintf(g_note, sizeof g_note,
              "mesh: %d vertices, %d tets distributed over %d ranks by DMPlex (%s, overlap 0); rank 0 holds %d tets, "
              "%d vertices (%d owned)",
-             head[1], head[0], size, "ptscotch", lnt, lnv, g_layout.nown);
+             head[1], head[0], size, how, lnt, lnv, g_layout.nown);
     eo_mesh_destroy(mesh);
     *mesh = lm;
     lm = NULL;
