@@ -62,6 +62,7 @@
 
 #include "eo_build_config.h"
 #include "petsc_load.h"
+#include "petsc/petsc_options.h"
 #include "elastopt/io.h"
 #include "elastopt/machine.h"
 #include "elastopt/sim.h"
@@ -506,6 +507,17 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     cfg = NULL;
     const eo_scene *sc = eo_sim_scene(sim);
     eo_step *st = eo_sim_step_problem(sim);
+    { /* petsc_newton's fixes and line searches, checked before anything is written */
+        const eo_solver_opts *so = eo_solver_get_opts(eo_sim_solver(sim));
+        const int pn = strcmp(so->optimizer, "petsc_newton") == 0 ||
+                       (strcmp(so->backend, "petsc") == 0 && strcmp(so->optimizer, "newton") == 0);
+        const char *why = pn ? eo_petsc_newton_refuses(so->hessian_fix, so->linesearch) : NULL;
+        if (why) {
+            rc = eo_cfg_error(ctx, eo_sim_cfg(sim), "solver.hessian_fix", EO_ERR_UNSUPPORTED,
+                              "petsc_newton: %s / line search %s: %s", so->hessian_fix, so->linesearch, why);
+            goto fail;
+        }
+    }
     if (eo_cli_size() > 1) { /* under mpirun every rank holds a part: only distributed solvers can run it */
         const eo_solver_opts *so = eo_solver_get_opts(eo_sim_solver(sim));
         const char *on = so->optimizer;
@@ -687,6 +699,15 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         rc = eo_error(ctx, EO_ERR_IO, "another MPI rank could not set up the run");
         goto fail;
     }
+    /* the other ranks' scratch folder goes now: their logs stay open (unlinked), they write
+     * no restart.dat or summary.json (rank 0 does), so an abnormal end (a rank killed by
+     * mpirun) leaves nothing in the temp dir */
+    if (rank_tmp[0]) {
+        nftw(rank_tmp, remove_entry, 8, FTW_DEPTH | FTW_PHYS);
+        rank_tmp[0] = 0;
+        rd.locked = 0;
+    }
+    const int writer = eo_cli_rank() == 0;
 
     /* ---- the steps */
     run_state rs = {.csv = csv, .sim = sim};
@@ -698,7 +719,12 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     double t_start = eo_wtime();
     eo_cli_profile prof;
     eo_cli_profile_begin(&prof, profile, sim);
-    for (int k = first; k < nsteps && !g_signal; k++) {
+    int stop_sig = 0; /* a signal seen by any rank (all ranks stop at the same step) */
+    for (int k = first; k < nsteps; k++) {
+        if (eo_cli_size() > 1 ? !eo_cli_agree(!g_signal) : g_signal != 0) {
+            stop_sig = g_signal ? g_signal : SIGTERM;
+            break;
+        }
         rs.step = k + 1;
         double tb;
         eo_sim_get_state(sim, xs, vs, &tb, NULL);
@@ -710,6 +736,10 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         double w0 = eo_wtime();
         rc = eo_sim_step(sim, &r);
         double wall = eo_wtime() - w0;
+        if (eo_cli_size() > 1 && !eo_cli_agree(!rs.interrupted)) { /* stopped on some rank: on all */
+            rs.interrupted = 1;
+            if (!g_signal) g_signal = SIGTERM;
+        }
         if (rs.interrupted) { /* the step was stopped half-way: back to the last completed one */
             EO_TRY(rc = eo_sim_set_state(sim, xs, vs, tb, k));
             EO_TRY(rc = set_adaptive(ctx, sim, rspath, as));
@@ -763,8 +793,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         work = eo_step_work_prescribed(st);
         get_adaptive(sim, as);
         EO_TRY(rc = gather_state(ctx, dnv, xs, vs, xg, vg, &work));
-        EO_TRY(rc = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), nv_out, arrays, narrays));
-        if (sc->output.summary_every > 0 && (k + 1) % sc->output.summary_every == 0 && k + 1 < nsteps) {
+        if (writer) EO_TRY(rc = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), nv_out, arrays, narrays));
+        if (writer && sc->output.summary_every > 0 && (k + 1) % sc->output.summary_every == 0 && k + 1 < nsteps) {
             si.nframes = nframes;
             si.wall = eo_wtime() - t_start;
             EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
@@ -773,7 +803,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         eo_cli_profile_step(&prof, sim, k + 1);
     }
     eo_cli_profile_total(&prof, sim, org.name);
-    const int signo = g_signal;
+    const int signo = g_signal ? g_signal : stop_sig;
     double wall = eo_wtime() - t_start;
     eo_cli_progress_done(&pg);
     int bad_close = fclose(csv) != 0;
@@ -788,7 +818,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     si.error = errtext[0] ? errtext : NULL;
     si.stop_reason = diverged ? eo_reason_name(EO_DIVERGED_NONFINITE) : signo ? "interrupted" : NULL;
     si.status = signo ? "interrupted" : (diverged || errtext[0]) ? "stopped" : "finished";
-    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
+    if (writer) EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
     if (errtext[0]) fprintf(stderr, "elastopt: error: %s\n", errtext);
     if (signo && verb != EO_CLI_QUIET)
         fprintf(stderr, "elastopt: interrupted (%s) after step %d of %d; every file is complete; continue with: "

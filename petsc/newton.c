@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "petsc_backend.h"
+#include "petsc_options.h"
 
 typedef struct pn_state {
     eo_dist d;
@@ -162,15 +163,9 @@ static int prepare(pn_state *s, const eo_solver_ctx *sc, const eo_petsc_params *
 {
     eo_ctx *ctx = sc->ctx;
     int rc;
-    const char *ls = eo_method_info_of(sc->linesearch)->name;
-    if (strcmp(ls, "backtracking") != 0 && strcmp(ls, "nonmonotone") != 0 && strcmp(ls, "none") != 0)
-        return eo_error(ctx, EO_ERR_UNSUPPORTED, "petsc_newton: line search '%s' needs gradient products inside "
-                        "the search; use backtracking, nonmonotone or none", ls);
-    const char *hf = eo_method_info_of(sc->hessfix)->name;
-    if (strcmp(hf, "none") != 0 && strcmp(hf, "shift") != 0 && strcmp(hf, "clamp") != 0 && strcmp(hf, "abs") != 0 &&
-        strcmp(hf, "project_on_demand") != 0)
-        return eo_error(ctx, EO_ERR_UNSUPPORTED, "petsc_newton: Hessian fix '%s' has no distributed form; use none, "
-                        "shift, clamp, abs or project_on_demand", hf);
+    const char *ls = eo_method_info_of(sc->linesearch)->name, *hf = eo_method_info_of(sc->hessfix)->name;
+    const char *why = eo_petsc_newton_refuses(hf, ls);
+    if (why) return eo_error(ctx, EO_ERR_UNSUPPORTED, "petsc_newton: %s / %s: %s", hf, ls, why);
     const int rebuilt = !s->d.ctx || s->d.st != eo_step_of_objective(sc->obj) ||
                         s->d.pattern != eo_step_pattern_id(eo_step_of_objective(sc->obj)) || s->d.n != sc->obj->n;
     if ((rc = eo_dist_setup(&s->d, ctx, sc->obj, p)) < 0) return rc;

@@ -123,6 +123,28 @@ check [ $? -eq 2 ]
 check grep -q "restart" "$tmp/r3.err"
 check cmp -s "$tmp/s-twist/summary.json" "$tmp/s-twist-summary.before"
 
+# a signal: every rank stops at the same step, rank 0 marks the run interrupted (files
+# complete), no scratch folder is left in $TMPDIR. SIGTERM to the ranks: mpirun exits 143;
+# SIGTERM to mpirun: Open MPI forwards it and exits 1 itself (its own choice)
+for target in ranks mpirun; do
+    rm -rf "$tmp/sig"
+    "${mpi[@]}" "$ELASTOPT" run --scene twist -o solver.backend=petsc -o time.steps=400 --out "$tmp/sig" -q \
+        > /dev/null 2>&1 &
+    mp=$!
+    for _ in $(seq 1 100); do [ -s "$tmp/sig/steps.csv" ] && [ "$(wc -l < "$tmp/sig/steps.csv")" -ge 3 ] && break; sleep 0.3; done
+    if [ $target = ranks ]; then pkill -TERM -P $mp; else kill -TERM $mp; fi
+    wait $mp
+    rc=$?
+    [ $target = ranks ] && check [ $rc -eq 143 ]
+    check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if d['status'] == 'interrupted' and d['stop_reason'] == 'interrupted' else 1)" "$tmp/sig/summary.json"
+    check [ "$(ls "$tmp/scratch" | wc -l)" -eq 0 ]
+done
+# a Hessian fix petsc_newton has no distributed form: refused at load, nothing written
+"$ELASTOPT" run --scene twist -o solver.backend=petsc -o solver.hessian_fix=progressive --out "$tmp/hp" -q 2> "$tmp/hp.err"
+check [ $? -eq 2 ]
+check grep -q "progressive" "$tmp/hp.err"
+check [ ! -e "$tmp/hp" ]
+
 # 4. the mesh file read on rank 0 only and broadcast (petsc/mesh_bcast.c): a MEDIT bar with
 #    two regions (tet references 1 and 2, the second 3x stiffer through `materials`), so
 #    the broadcast must carry the references too; every rank's openat calls are traced
