@@ -156,7 +156,7 @@ static int gather_state(eo_ctx *ctx, int dnv, const double *xs, const double *vs
     if (dnv < 0) return EO_OK;
     if (eo_cli_dist_gather(xs, 3, xg) < 0 || eo_cli_dist_gather(vs, 3, vg) < 0)
         return eo_error(ctx, EO_ERR_IO, "the gather of the distributed state to rank 0 failed");
-    (void)work; /* each rank's share; the statistics sum it (steps.csv, summary.json) */
+    eo_ctx_reduce(ctx, work, 1, EO_REDUCE_SUM); /* each rank's share of the prescribed work */
     return EO_OK;
 }
 
@@ -592,7 +592,9 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_step_stats s0;
     EO_TRY(rc = eo_step_stats_compute(st, &s0)); /* the scene's initial state */
     eo_cli_scene_report(ctx, sc, verb == EO_CLI_QUIET);
-    if (verb == EO_CLI_VERBOSE && eo_cli_mesh_note()) printf("%s\n", eo_cli_mesh_note());
+    /* a distributed run: the lines above describe rank 0's part; this one the whole mesh */
+    if ((verb == EO_CLI_VERBOSE || (dnv >= 0 && verb != EO_CLI_QUIET)) && eo_cli_mesh_note())
+        printf("%s\n", eo_cli_mesh_note());
 
     /* ---- the folder: lock, earlier runs */
     signals_install(&sig);

@@ -9,17 +9,14 @@
  *   snes_newtonls, snes_newtontr      PETSc SNES on ∇g = 0 with g as the line-search merit
  *   tao_nls, tao_ntr, tao_lmvm, tao_bqnls   PETSc TAO on min g
  *
- * Every rank runs the same eo_sim (the scene, its state and the per-step protocol are
- * replicated); inside a minimization each rank evaluates the energy, gradient and
- * (projected) Hessian of its own tets and owned vertices only (eo_step_set_part, the same
- * terms and material kernels as the serial engine), into a distributed Vec / MPIAIJ Mat
- * (block size 3, preallocated from the pattern); at the end the minimizer is gathered to
- * every rank so the driver accepts the same step everywhere.
- *
- * The mesh is split once per step engine by Scotch on the tet dual graph (faces), on rank
- * 0 with a fixed seed (the same partition every run), or by coordinate slabs
- * (solver.<name>.partitioner). Under mpirun a mesh file is read on rank 0 and broadcast
- * (mesh_bcast.c). */
+ * Under mpirun with several ranks the scene's mesh is distributed with DMPlex (dmplex.c):
+ * each rank runs eo_sim on its local mesh (its tets and their vertices), whose element
+ * sums (energies, masses, gravity) add up to the whole problem; the library's decisions
+ * over the whole mesh are reduced through the context's distribution hooks
+ * (eo_ctx_set_dist). Inside a minimization (dist.c) the ranks' local g, ∇g and Hessians
+ * are summed into distributed Vecs and an MPIAIJ matrix over the free coordinates of the
+ * owned vertices; each rank keeps its local minimizer. On one rank (an MPI singleton)
+ * the whole step engine is the rank's part. */
 #ifndef EO_PETSC_BACKEND_H
 #define EO_PETSC_BACKEND_H
 
