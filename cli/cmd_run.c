@@ -160,6 +160,45 @@ static int gather_state(eo_ctx *ctx, int dnv, const double *xs, const double *vs
     return EO_OK;
 }
 
+/* A distributed run's frame: every rank writes its part of the mesh as the piece
+ * frame_NNNNNN_rR.vtu in the run's folder, rank 0 the frame_NNNNNN.pvtu listing the pieces
+ * (the arrays of eo_vtu_write) and adds it to the .pvd. */
+static int write_piece(eo_ctx *ctx, eo_step *st, const char *dir, int step, eo_pvd *pvd, const frame_buf *b)
+{
+    const eo_mesh *m = eo_step_mesh(st);
+    const double *x = eo_step_x(st);
+    for (int i = 0; i < 3 * m->nv; i++) b->disp[i] = x[i] - m->X[i];
+    eo_step_fields(st, b->psi, b->J, b->inv);
+    eo_vtu_fields f = {.x = x, .displacement = b->disp, .velocity = eo_step_v(st), .energy_density = b->psi,
+                       .J = b->J, .inverted = b->inv};
+    char file[96], path[1200];
+    snprintf(file, sizeof file, "frame_%06d_r%d.vtu", step, eo_cli_rank());
+    snprintf(path, sizeof path, "%s/%s", dir, file);
+    int rc = eo_vtu_write(ctx, path, m, &f);
+    if (rc < 0 || eo_cli_rank() != 0) return rc;
+    char pfile[64];
+    snprintf(pfile, sizeof pfile, "frame_%06d.pvtu", step);
+    snprintf(path, sizeof path, "%s/%s", dir, pfile);
+    FILE *o = fopen(path, "w");
+    if (!o) return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot write");
+    fprintf(o, "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"0.1\" "
+               "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n"
+               "    <PPointData>\n"
+               "      <PDataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\"/>\n"
+               "      <PDataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\"/>\n"
+               "    </PPointData>\n    <PCellData>\n"
+               "      <PDataArray type=\"Float64\" Name=\"energy_density\"/>\n"
+               "      <PDataArray type=\"Float64\" Name=\"J\"/>\n"
+               "      <PDataArray type=\"UInt8\" Name=\"inverted\"/>\n%s"
+               "    </PCellData>\n    <PPoints>\n      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n"
+               "    </PPoints>\n",
+            m->tet_attr ? "      <PDataArray type=\"Int32\" Name=\"region\"/>\n" : "");
+    for (int r = 0; r < eo_cli_size(); r++) fprintf(o, "    <Piece Source=\"frame_%06d_r%d.vtu\"/>\n", step, r);
+    fprintf(o, "  </PUnstructuredGrid>\n</VTKFile>\n");
+    if (fclose(o) != 0) return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "write failed");
+    return eo_pvd_add(ctx, pvd, eo_step_time(st), pfile);
+}
+
 /* ---------------------------------------------------------------- summary.json */
 
 static json_t *vec3(const double *v) { return json_pack("[fff]", v[0], v[1], v[2]); }
@@ -470,6 +509,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     signals sig;
     int rc, nrec = 0, nframes = 0, first = 0, have_signals = 0, agreed = 0;
     char rank_tmp[1100] = "";
+    char out_real[1024] = ""; /* the run's folder, on a rank other than 0 (its pieces go there) */
     char dir[1024], path[1400], pvd_file[300], errtext[1024] = "";
     static run_origin org; /* big (PATH_MAX); one per process */
     memset(&org, 0, sizeof org);
@@ -548,6 +588,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             rc = eo_error(ctx, EO_ERR_IO, "rank %d: cannot make a scratch folder in $TMPDIR or /tmp", eo_cli_rank());
             goto fail;
         }
+        snprintf(out_real, sizeof out_real, "%s", dir);
         snprintf(dir, sizeof dir, "%s", rank_tmp);
     }
     const eo_mesh *m = sc->mesh;
@@ -600,11 +641,13 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     signals_install(&sig);
     have_signals = 1;
     EO_TRY(rc = eo_run_dir_open(ctx, dir, &rd));
-    /* frames of a distributed run: not yet (each rank holds its part of the mesh) */
-    const int frames = sc->output.vtu && sc->output.every > 0 && eo_cli_rank() == 0 && dnv < 0;
+    /* frames: rank 0 writes them; in a distributed run every rank writes its piece and rank
+     * 0 the .pvtu that lists them */
+    const int frames = sc->output.vtu && sc->output.every > 0 && (eo_cli_rank() == 0 || dnv >= 0);
+    const char *piece_dir = out_real[0] ? out_real : dir;
     snprintf(pvd_file, sizeof pvd_file, "%s.pvd", org.name);
     snprintf(path, sizeof path, "%s/%s", dir, pvd_file);
-    if (frames) EO_TRY(rc = eo_pvd_create(ctx, path, &pvd));
+    if (frames && eo_cli_rank() == 0) EO_TRY(rc = eo_pvd_create(ctx, path, &pvd));
     char itpath[1200], stpath[1200], rspath[1200];
     snprintf(itpath, sizeof itpath, "%s/iterations.csv", dir);
     snprintf(stpath, sizeof stpath, "%s/steps.csv", dir);
@@ -680,7 +723,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         fprintf(scsv, "%s\n", EO_RUN_STEPS_CSV_HEADER);
         fflush(csv);
         fflush(scsv);
-        if (frames) {
+        if (frames && dnv < 0) { /* a distributed run's first frame: once every rank is set up */
             EO_TRY(rc = write_frame(ctx, st, dir, 0, pvd, &fb));
             nframes++;
         }
@@ -710,6 +753,14 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         rd.locked = 0;
     }
     const int writer = eo_cli_rank() == 0;
+    if (frames && dnv >= 0 && first == 0) { /* rank 0 has made (or cleared) the folder by now */
+        rc = write_piece(ctx, st, piece_dir, 0, pvd, &fb);
+        if (!eo_cli_agree(rc >= 0)) {
+            if (rc >= 0) rc = eo_error(ctx, EO_ERR_IO, "another MPI rank could not write its frame piece");
+            goto fail;
+        }
+        nframes++;
+    }
 
     /* ---- the steps */
     run_state rs = {.csv = csv, .sim = sim};
@@ -787,7 +838,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             break;
         }
         if (frames && (k + 1) % sc->output.every == 0) {
-            EO_TRY(rc = write_frame(ctx, st, dir, k + 1, pvd, &fb));
+            if (dnv >= 0) EO_TRY(rc = write_piece(ctx, st, piece_dir, k + 1, pvd, &fb));
+            else EO_TRY(rc = write_frame(ctx, st, dir, k + 1, pvd, &fb));
             nframes++;
         }
         eo_sim_get_state(sim, xs, vs, NULL, NULL);

@@ -65,6 +65,22 @@ timeout 300 "${mpi[@]}" "$ELASTOPT" run --scene twist -o time.steps=10 -o solver
 check [ $? -eq 0 ]
 check python3 "$here/petsc_compare.py" "$tmp/p-twist-gamg" "$tmp/p-twist-gamg-2" 0 "twist 2 ranks gamg, run twice"
 
+# VTU frames of a distributed run: each rank's piece and rank 0's .pvtu in the .pvd; the
+# pieces hold every tet once; --force clears them like serial frames
+d=$tmp/p-cantilever-mumps
+check grep -q 'file="frame_000010.pvtu"' "$d/cantilever.pvd"
+check grep -q 'Source="frame_000010_r1.vtu"' "$d/frame_000010.pvtu"
+nt=0
+for f in "$d"/frame_000010_r*.vtu; do nt=$((nt + $("$ELASTOPT" mesh "$f" | awk '$1 == "tets" {print $2}'))); done
+check [ "$nt" -eq 400 ]
+cp -r "$d" "$tmp/pv"
+timeout 120 "${mpi[@]}" "$ELASTOPT" run --scene cantilever -o time.steps=2 -o solver.backend=petsc --out "$tmp/pv" \
+    --force -q
+check [ $? -eq 0 ]
+check [ ! -e "$tmp/pv/frame_000010_r1.vtu" ]
+check [ ! -e "$tmp/pv/frame_000010.pvtu" ]
+check [ -e "$tmp/pv/frame_000002_r1.vtu" ]
+
 # iteration parity with the scenes' own solver settings (only solver.backend=petsc added):
 # every step converges in both runs, the Newton iterations of each step within 2 of the
 # serial engine's (tests/petsc_parity.py)
