@@ -188,6 +188,7 @@ int eo_dist_setup(eo_dist *d, eo_ctx *ctx, eo_objective *obj, const eo_petsc_par
             return rc;
         }
         d->pattern = eo_step_pattern_id(st);
+        d->gen++;
     }
     return EO_OK;
 }
@@ -196,7 +197,9 @@ void eo_dist_destroy(eo_dist *d)
 {
     if (!d->ctx) return;
     numbering_free(d);
+    const unsigned long gen = d->gen;
     memset(d, 0, sizeof *d);
+    d->gen = gen + 1;
 }
 
 int eo_dist_vec(eo_dist *d, Vec *v)

@@ -57,9 +57,25 @@ static void vecs_free(pn_state *s)
     s->ready = 0;
 }
 
+/* KSPs of destroyed states, destroyed at the next agreed rebuild: the solver destroys an
+ * optimizer's state when its objective's n changes, which under MPI may happen on one rank
+ * only (a released vertex), while destroying a KSP with a MUMPS factor is collective */
+static KSP g_deferred[8];
+static int g_ndeferred;
+
+static void deferred_flush(void)
+{
+    for (int i = 0; i < g_ndeferred; i++) KSPDestroy(&g_deferred[i]);
+    g_ndeferred = 0;
+}
+
 static void pn_destroy(void *st, eo_ctx *ctx)
 {
     pn_state *s = st;
+    if (s->ksp && g_ndeferred < (int)(sizeof g_deferred / sizeof g_deferred[0])) {
+        g_deferred[g_ndeferred++] = s->ksp;
+        s->ksp = NULL;
+    }
     vecs_free(s);
     eo_free(ctx, s->work);
     s->work = NULL;
@@ -166,10 +182,11 @@ static int prepare(pn_state *s, const eo_solver_ctx *sc, const eo_petsc_params *
     const char *ls = eo_method_info_of(sc->linesearch)->name, *hf = eo_method_info_of(sc->hessfix)->name;
     const char *why = eo_petsc_newton_refuses(hf, ls);
     if (why) return eo_error(ctx, EO_ERR_UNSUPPORTED, "petsc_newton: %s / %s: %s", hf, ls, why);
-    const int rebuilt = !s->d.ctx || s->d.st != eo_step_of_objective(sc->obj) ||
-                        s->d.pattern != eo_step_pattern_id(eo_step_of_objective(sc->obj)) || s->d.n != sc->obj->n;
+    const unsigned long gen0 = s->d.gen;
     if ((rc = eo_dist_setup(&s->d, ctx, sc->obj, p)) < 0) return rc;
+    const int rebuilt = s->d.gen != gen0; /* renumbered here or on another rank */
     if (rebuilt || !s->ready) {
+        deferred_flush(); /* at the same point as the other ranks' vecs_free */
         vecs_free(s);
         Vec *v[] = {&s->X, &s->G, &s->P, &s->Xn, &s->Gn, &s->Xt, &s->D};
         for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)

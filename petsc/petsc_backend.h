@@ -84,6 +84,7 @@ typedef struct eo_dist {
     Vec coords;                 /* rest coordinates of the owned rows (GAMG rigid-body modes) */
     MatNullSpace rbm;
     long n_value, n_gradient, n_hessian;
+    unsigned long gen;          /* numberings made (vectors of an older one are stale) */
 } eo_dist;
 
 /* Build or update for the objective obj (a step objective; EO_ERR_UNSUPPORTED else). */

@@ -193,9 +193,9 @@ static int run(kind kd, void *st, const void *params, const eo_solver_ctx *sc, d
     s->stop = 0;
     s->err = 0;
     s->res = res;
-    const int rebuilt = !s->d.ctx || s->d.st != eo_step_of_objective(obj) || s->d.n != obj->n ||
-                        s->d.pattern != eo_step_pattern_id(eo_step_of_objective(obj));
+    const unsigned long gen0 = s->d.gen;
     if ((rc = eo_dist_setup(&s->d, ctx, obj, p)) < 0) goto done;
+    const int rebuilt = s->d.gen != gen0; /* renumbered here or on another rank */
     if (rebuilt || !s->X) {
         VecDestroy(&s->X);
         VecDestroy(&s->G);
