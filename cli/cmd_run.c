@@ -544,6 +544,11 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     rc = eo_sim_create(ctx, cfg, &sim); /* takes cfg over */
     cfg = NULL;
     if (rc < 0) goto fail;
+    if (eo_cli_size() > 1 && !eo_cli_agree(1)) { /* before the next collective (statistics, gathers) */
+        agreed = 1;
+        rc = eo_error(ctx, EO_ERR_IO, "another MPI rank could not load the scene");
+        goto fail;
+    }
     cfg = NULL;
     const eo_scene *sc = eo_sim_scene(sim);
     eo_step *st = eo_sim_step_problem(sim);
@@ -731,8 +736,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
         work = eo_step_work_prescribed(st);
         get_adaptive(sim, as);
-        EO_TRY(rc = gather_state(ctx, dnv, xs, vs, xg, vg, &work));
-        EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), nv_out, arrays, narrays));
+        /* a distributed run's gather (collective) waits until every rank is set up */
+        if (dnv < 0) EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), nv_out, arrays, narrays));
     }
     summary_info si = {.dir = dir, .name = org.name, .pvd_file = frames ? pvd_file : NULL, .status = "running",
                        .restarted_at = first};
@@ -753,6 +758,10 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         rd.locked = 0;
     }
     const int writer = eo_cli_rank() == 0;
+    if (dnv >= 0 && first == 0) { /* the initial state's restart.dat (gathered on rank 0) */
+        EO_TRY(rc = gather_state(ctx, dnv, xs, vs, xg, vg, &work));
+        if (writer) EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), nv_out, arrays, narrays));
+    }
     if (frames && dnv >= 0 && first == 0) { /* rank 0 has made (or cleared) the folder by now */
         rc = write_piece(ctx, st, piece_dir, 0, pvd, &fb);
         if (!eo_cli_agree(rc >= 0)) {

@@ -159,6 +159,20 @@ timeout 120 "${mpi[@]}" "$ELASTOPT" run --restart "$tmp/s-twist" -o time.steps=1
 check [ $? -eq 2 ]
 check grep -q "restart" "$tmp/r3.err"
 check cmp -s "$tmp/s-twist/summary.json" "$tmp/s-twist-summary.before"
+# a folder holding an earlier run, without --force: rank 0 refuses, every rank ends (exit 2)
+timeout 120 "${mpi[@]}" "$ELASTOPT" run --scene twist -o time.steps=1 -o solver.backend=petsc --out "$tmp/s-twist" \
+    > /dev/null 2> "$tmp/r4.err"
+check [ $? -eq 2 ]
+check grep -q "earlier run" "$tmp/r4.err"
+check cmp -s "$tmp/s-twist/summary.json" "$tmp/s-twist-summary.before"
+# a static scene (its supports are not checked on a part: a part without the clamp is not
+# a free body) converges as in the serial engine
+"$ELASTOPT" run --scene cantilever_static -o time.steps=2 --out "$tmp/cs-s" -q || { echo "FAIL: serial static"; fail=1; }
+timeout 300 "${mpi[@]}" "$ELASTOPT" run --scene cantilever_static -o time.steps=2 -o solver.backend=petsc \
+    --out "$tmp/cs-p" -q
+check [ $? -eq 0 ]
+check python3 "$here/petsc_parity.py" "$tmp/cs-s" "$tmp/cs-p" 2 "cantilever_static, 2 ranks"
+check python3 "$here/petsc_compare.py" "$tmp/cs-s" "$tmp/cs-p" 1e-8 "cantilever_static, 2 ranks"
 
 # a signal: every rank stops at the same step, rank 0 marks the run interrupted (files
 # complete), no scratch folder is left in $TMPDIR. SIGTERM to the ranks: mpirun exits 143;
