@@ -62,6 +62,7 @@
 
 #include "eo_build_config.h"
 #include "petsc_load.h"
+#include "petsc/petsc_options.h"
 #include "elastopt/io.h"
 #include "elastopt/machine.h"
 #include "elastopt/sim.h"
@@ -145,6 +146,57 @@ static int write_frame(eo_ctx *ctx, eo_step *st, const char *dir, int step, eo_p
     int rc = eo_vtu_write(ctx, path, m, &f);
     if (rc < 0) return rc;
     return eo_pvd_add(ctx, pvd, eo_step_time(st), file);
+}
+
+/* A distributed run (dnv >= 0): x, v gathered on rank 0 in the input vertex order and the
+ * work of the prescribed motions summed (every rank holds its part); nothing otherwise. */
+static int gather_state(eo_ctx *ctx, int dnv, const double *xs, const double *vs, double *xg, double *vg,
+                        double *work)
+{
+    if (dnv < 0) return EO_OK;
+    if (eo_cli_dist_gather(xs, 3, xg) < 0 || eo_cli_dist_gather(vs, 3, vg) < 0)
+        return eo_error(ctx, EO_ERR_IO, "the gather of the distributed state to rank 0 failed");
+    eo_ctx_reduce(ctx, work, 1, EO_REDUCE_SUM); /* each rank's share of the prescribed work */
+    return EO_OK;
+}
+
+/* A distributed run's frame: every rank writes its part of the mesh as the piece
+ * frame_NNNNNN_rR.vtu in the run's folder, rank 0 the frame_NNNNNN.pvtu listing the pieces
+ * (the arrays of eo_vtu_write) and adds it to the .pvd. */
+static int write_piece(eo_ctx *ctx, eo_step *st, const char *dir, int step, eo_pvd *pvd, const frame_buf *b)
+{
+    const eo_mesh *m = eo_step_mesh(st);
+    const double *x = eo_step_x(st);
+    for (int i = 0; i < 3 * m->nv; i++) b->disp[i] = x[i] - m->X[i];
+    eo_step_fields(st, b->psi, b->J, b->inv);
+    eo_vtu_fields f = {.x = x, .displacement = b->disp, .velocity = eo_step_v(st), .energy_density = b->psi,
+                       .J = b->J, .inverted = b->inv};
+    char file[96], path[1200];
+    snprintf(file, sizeof file, "frame_%06d_r%d.vtu", step, eo_cli_rank());
+    snprintf(path, sizeof path, "%s/%s", dir, file);
+    int rc = eo_vtu_write(ctx, path, m, &f);
+    if (rc < 0 || eo_cli_rank() != 0) return rc;
+    char pfile[64];
+    snprintf(pfile, sizeof pfile, "frame_%06d.pvtu", step);
+    snprintf(path, sizeof path, "%s/%s", dir, pfile);
+    FILE *o = fopen(path, "w");
+    if (!o) return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot write");
+    fprintf(o, "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"0.1\" "
+               "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n"
+               "    <PPointData>\n"
+               "      <PDataArray type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\"/>\n"
+               "      <PDataArray type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\"/>\n"
+               "    </PPointData>\n    <PCellData>\n"
+               "      <PDataArray type=\"Float64\" Name=\"energy_density\"/>\n"
+               "      <PDataArray type=\"Float64\" Name=\"J\"/>\n"
+               "      <PDataArray type=\"UInt8\" Name=\"inverted\"/>\n%s"
+               "    </PCellData>\n    <PPoints>\n      <PDataArray type=\"Float64\" NumberOfComponents=\"3\"/>\n"
+               "    </PPoints>\n",
+            m->tet_attr ? "      <PDataArray type=\"Int32\" Name=\"region\"/>\n" : "");
+    for (int r = 0; r < eo_cli_size(); r++) fprintf(o, "    <Piece Source=\"frame_%06d_r%d.vtu\"/>\n", step, r);
+    fprintf(o, "  </PUnstructuredGrid>\n</VTKFile>\n");
+    if (fclose(o) != 0) return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "write failed");
+    return eo_pvd_add(ctx, pvd, eo_step_time(st), pfile);
 }
 
 /* ---------------------------------------------------------------- summary.json */
@@ -453,7 +505,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_cfg *cfg = NULL;
     eo_pvd *pvd = NULL;
     eo_run_record *rec = NULL;
-    double *fbuf = NULL, *xs = NULL, *vs = NULL, *hs = NULL;
+    double *fbuf = NULL, *xs = NULL, *vs = NULL, *hs = NULL, *xg = NULL, *vg = NULL;
     double work = 0; /* the work of prescribed motions, for restart.dat */
     FILE *csv = NULL, *scsv = NULL;
     json_t *run_doc = NULL;
@@ -461,6 +513,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     signals sig;
     int rc, nrec = 0, nframes = 0, first = 0, have_signals = 0, agreed = 0;
     char rank_tmp[1100] = "";
+    char out_real[1024] = ""; /* the run's folder, on a rank other than 0 (its pieces go there) */
     char dir[1024], path[1400], pvd_file[300], errtext[1024] = "";
     static run_origin org; /* big (PATH_MAX); one per process */
     memset(&org, 0, sizeof org);
@@ -469,6 +522,11 @@ static int run(eo_ctx *ctx, int argc, char **argv)
 
     /* ---- validate everything before writing anything (eo_sim_create: scene, solver
      * section, every method's section, unknown keys) */
+    if (restart && eo_cli_size() > 1) { /* every rank, before reading or writing anything */
+        rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "--restart is not supported under mpirun yet (continue the run on "
+                      "one process, or start it again)");
+        goto fail;
+    }
     if (restart) {
         EO_TRY(rc = read_run_json(ctx, restart, &org, &run_doc, &cfg));
     } else {
@@ -490,18 +548,47 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     rc = eo_sim_create(ctx, cfg, &sim); /* takes cfg over */
     cfg = NULL;
     if (rc < 0) goto fail;
+    if (eo_cli_size() > 1 && !eo_cli_agree(1)) { /* before the next collective (statistics, gathers) */
+        agreed = 1;
+        rc = eo_error(ctx, EO_ERR_IO, "another MPI rank could not load the scene");
+        goto fail;
+    }
     cfg = NULL;
     const eo_scene *sc = eo_sim_scene(sim);
     eo_step *st = eo_sim_step_problem(sim);
+    { /* petsc_newton's fixes and line searches, checked before anything is written */
+        const eo_solver_opts *so = eo_solver_get_opts(eo_sim_solver(sim));
+        const int pn = strcmp(so->optimizer, "petsc_newton") == 0 ||
+                       (strcmp(so->backend, "petsc") == 0 && strcmp(so->optimizer, "newton") == 0);
+        const char *why = pn ? eo_petsc_newton_refuses(so->hessian_fix, so->linesearch) : NULL;
+        if (why) {
+            rc = eo_cfg_error(ctx, eo_sim_cfg(sim), "solver.hessian_fix", EO_ERR_UNSUPPORTED,
+                              "petsc_newton: %s / line search %s: %s", so->hessian_fix, so->linesearch, why);
+            goto fail;
+        }
+    }
+    if (eo_cli_size() > 1) { /* under mpirun every rank holds a part: only distributed solvers can run it */
+        const eo_solver_opts *so = eo_solver_get_opts(eo_sim_solver(sim));
+        const char *on = so->optimizer;
+        const int dist_opt = strcmp(so->backend, "petsc") == 0 || strncmp(on, "petsc_", 6) == 0 ||
+                             strncmp(on, "snes_", 5) == 0 || strncmp(on, "tao_", 4) == 0;
+        if (eo_sim_is_explicit(sim)) {
+            rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "under mpirun (%d ranks): integrator %s is explicit and has no "
+                          "distributed form; run it on one process", eo_cli_size(), sc->integrator->info.name);
+            goto fail;
+        }
+        if (!dist_opt) {
+            rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "under mpirun (%d ranks) the solver must be distributed: add -o "
+                          "solver.backend=petsc (or run on one process); optimizer '%s' would run on each rank's part "
+                          "of the mesh alone", eo_cli_size(), on);
+            goto fail;
+        }
+    }
     if (restart) snprintf(dir, sizeof dir, "%s", restart);
     else if (out_dir) snprintf(dir, sizeof dir, "%s", out_dir);
     else if (sc->output.dir[0]) snprintf(dir, sizeof dir, "%s", sc->output.dir);
     else snprintf(dir, sizeof dir, "out/%s", org.name);
     if (eo_cli_rank() != 0) { /* under MPI, rank 0 writes the run; the others a private scratch folder */
-        if (restart) {
-            rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "--restart is not supported under mpirun yet");
-            goto fail;
-        }
         const char *tmpdir = getenv("TMPDIR");
         snprintf(rank_tmp, sizeof rank_tmp, "%s/elastopt-rank%d-XXXXXX", tmpdir && *tmpdir ? tmpdir : "/tmp",
                  eo_cli_rank());
@@ -510,6 +597,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             rc = eo_error(ctx, EO_ERR_IO, "rank %d: cannot make a scratch folder in $TMPDIR or /tmp", eo_cli_rank());
             goto fail;
         }
+        snprintf(out_real, sizeof out_real, "%s", dir);
         snprintf(dir, sizeof dir, "%s", rank_tmp);
     }
     const eo_mesh *m = sc->mesh;
@@ -537,21 +625,38 @@ static int run(eo_ctx *ctx, int argc, char **argv)
                           "out of memory for the records of %d steps", nsteps);
         goto fail;
     }
+    /* a distributed run (each rank simulates its part of the mesh): restart.dat holds the
+     * whole state, gathered on rank 0 in the input vertex order */
+    const int dnv = eo_cli_dist_nv();
+    const int nv_out = dnv >= 0 ? dnv : m->nv;
+    if (dnv >= 0) {
+        xg = eo_calloc(ctx, (size_t)(3 * dnv > 0 ? 3 * dnv : 1), sizeof(double));
+        vg = eo_calloc(ctx, (size_t)(3 * dnv > 0 ? 3 * dnv : 1), sizeof(double));
+        if (!xg || !vg) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "out of memory (the gathered state)");
+            goto fail;
+        }
+    }
     frame_buf fb = {.disp = fbuf, .psi = fbuf + 3 * m->nv, .J = fbuf + 3 * m->nv + m->nt};
     fb.inv = (unsigned char *)(fb.J + m->nt);
     eo_step_stats s0;
     EO_TRY(rc = eo_step_stats_compute(st, &s0)); /* the scene's initial state */
     eo_cli_scene_report(ctx, sc, verb == EO_CLI_QUIET);
-    if (verb == EO_CLI_VERBOSE && eo_cli_mesh_note()) printf("%s\n", eo_cli_mesh_note());
+    /* a distributed run: the lines above describe rank 0's part; this one the whole mesh */
+    if ((verb == EO_CLI_VERBOSE || (dnv >= 0 && verb != EO_CLI_QUIET)) && eo_cli_mesh_note())
+        printf("%s\n", eo_cli_mesh_note());
 
     /* ---- the folder: lock, earlier runs */
     signals_install(&sig);
     have_signals = 1;
     EO_TRY(rc = eo_run_dir_open(ctx, dir, &rd));
-    const int frames = sc->output.vtu && sc->output.every > 0 && eo_cli_rank() == 0;
+    /* frames: rank 0 writes them; in a distributed run every rank writes its piece and rank
+     * 0 the .pvtu that lists them */
+    const int frames = sc->output.vtu && sc->output.every > 0 && (eo_cli_rank() == 0 || dnv >= 0);
+    const char *piece_dir = out_real[0] ? out_real : dir;
     snprintf(pvd_file, sizeof pvd_file, "%s.pvd", org.name);
     snprintf(path, sizeof path, "%s/%s", dir, pvd_file);
-    if (frames) EO_TRY(rc = eo_pvd_create(ctx, path, &pvd));
+    if (frames && eo_cli_rank() == 0) EO_TRY(rc = eo_pvd_create(ctx, path, &pvd));
     char itpath[1200], stpath[1200], rspath[1200];
     snprintf(itpath, sizeof itpath, "%s/iterations.csv", dir);
     snprintf(stpath, sizeof stpath, "%s/steps.csv", dir);
@@ -560,13 +665,13 @@ static int run(eo_ctx *ctx, int argc, char **argv)
      * (steps end on nominal boundaries, so that is all a restart needs besides the state) */
     double as[2] = {0, 0};
     eo_run_array arrays[] = {
-        {.name = "x", .data = xs, .count = 3 * (size_t)m->nv, .required = 1},
-        {.name = "v", .data = vs, .count = 3 * (size_t)m->nv, .required = 1},
+        {.name = "x", .data = dnv >= 0 ? xg : xs, .count = 3 * (size_t)nv_out, .required = 1},
+        {.name = "v", .data = dnv >= 0 ? vg : vs, .count = 3 * (size_t)nv_out, .required = 1},
         {.name = "work_prescribed", .data = &work, .count = 1, .required = 0},
         {.name = "history", .data = hs, .count = hlen, .required = 0},
         {.name = "adaptive", .data = as, .count = 2, .required = 0},
     };
-    int narrays = hlen ? 4 : 3;
+    int narrays = hlen && dnv < 0 ? 4 : 3; /* a distributed run: no multistep history (no restart) */
     if (eo_sim_adaptive(sim)) { /* the table without the history, if none */
         arrays[narrays] = arrays[4];
         narrays++;
@@ -627,7 +732,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         fprintf(scsv, "%s\n", EO_RUN_STEPS_CSV_HEADER);
         fflush(csv);
         fflush(scsv);
-        if (frames) {
+        if (frames && dnv < 0) { /* a distributed run's first frame: once every rank is set up */
             EO_TRY(rc = write_frame(ctx, st, dir, 0, pvd, &fb));
             nframes++;
         }
@@ -635,7 +740,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
         work = eo_step_work_prescribed(st);
         get_adaptive(sim, as);
-        EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), m->nv, arrays, narrays));
+        /* a distributed run's gather (collective) waits until every rank is set up */
+        if (dnv < 0) EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), nv_out, arrays, narrays));
     }
     summary_info si = {.dir = dir, .name = org.name, .pvd_file = frames ? pvd_file : NULL, .status = "running",
                        .restarted_at = first};
@@ -646,6 +752,27 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     if (!eo_cli_agree(1)) {
         rc = eo_error(ctx, EO_ERR_IO, "another MPI rank could not set up the run");
         goto fail;
+    }
+    /* the other ranks' scratch folder goes now: their logs stay open (unlinked), they write
+     * no restart.dat or summary.json (rank 0 does), so an abnormal end (a rank killed by
+     * mpirun) leaves nothing in the temp dir */
+    if (rank_tmp[0]) {
+        nftw(rank_tmp, remove_entry, 8, FTW_DEPTH | FTW_PHYS);
+        rank_tmp[0] = 0;
+        rd.locked = 0;
+    }
+    const int writer = eo_cli_rank() == 0;
+    if (dnv >= 0 && first == 0) { /* the initial state's restart.dat (gathered on rank 0) */
+        EO_TRY(rc = gather_state(ctx, dnv, xs, vs, xg, vg, &work));
+        if (writer) EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), nv_out, arrays, narrays));
+    }
+    if (frames && dnv >= 0 && first == 0) { /* rank 0 has made (or cleared) the folder by now */
+        rc = write_piece(ctx, st, piece_dir, 0, pvd, &fb);
+        if (!eo_cli_agree(rc >= 0)) {
+            if (rc >= 0) rc = eo_error(ctx, EO_ERR_IO, "another MPI rank could not write its frame piece");
+            goto fail;
+        }
+        nframes++;
     }
 
     /* ---- the steps */
@@ -658,7 +785,12 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     double t_start = eo_wtime();
     eo_cli_profile prof;
     eo_cli_profile_begin(&prof, profile, sim);
-    for (int k = first; k < nsteps && !g_signal; k++) {
+    int stop_sig = 0; /* a signal seen by any rank (all ranks stop at the same step) */
+    for (int k = first; k < nsteps; k++) {
+        if (eo_cli_size() > 1 ? !eo_cli_agree(!g_signal) : g_signal != 0) {
+            stop_sig = g_signal ? g_signal : SIGTERM;
+            break;
+        }
         rs.step = k + 1;
         double tb;
         eo_sim_get_state(sim, xs, vs, &tb, NULL);
@@ -670,6 +802,10 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         double w0 = eo_wtime();
         rc = eo_sim_step(sim, &r);
         double wall = eo_wtime() - w0;
+        if (eo_cli_size() > 1 && !eo_cli_agree(!rs.interrupted)) { /* stopped on some rank: on all */
+            rs.interrupted = 1;
+            if (!g_signal) g_signal = SIGTERM;
+        }
         if (rs.interrupted) { /* the step was stopped half-way: back to the last completed one */
             EO_TRY(rc = eo_sim_set_state(sim, xs, vs, tb, k));
             EO_TRY(rc = set_adaptive(ctx, sim, rspath, as));
@@ -715,15 +851,17 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             break;
         }
         if (frames && (k + 1) % sc->output.every == 0) {
-            EO_TRY(rc = write_frame(ctx, st, dir, k + 1, pvd, &fb));
+            if (dnv >= 0) EO_TRY(rc = write_piece(ctx, st, piece_dir, k + 1, pvd, &fb));
+            else EO_TRY(rc = write_frame(ctx, st, dir, k + 1, pvd, &fb));
             nframes++;
         }
         eo_sim_get_state(sim, xs, vs, NULL, NULL);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
         work = eo_step_work_prescribed(st);
         get_adaptive(sim, as);
-        EO_TRY(rc = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), m->nv, arrays, narrays));
-        if (sc->output.summary_every > 0 && (k + 1) % sc->output.summary_every == 0 && k + 1 < nsteps) {
+        EO_TRY(rc = gather_state(ctx, dnv, xs, vs, xg, vg, &work));
+        if (writer) EO_TRY(rc = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), nv_out, arrays, narrays));
+        if (writer && sc->output.summary_every > 0 && (k + 1) % sc->output.summary_every == 0 && k + 1 < nsteps) {
             si.nframes = nframes;
             si.wall = eo_wtime() - t_start;
             EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
@@ -732,7 +870,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         eo_cli_profile_step(&prof, sim, k + 1);
     }
     eo_cli_profile_total(&prof, sim, org.name);
-    const int signo = g_signal;
+    const int signo = g_signal ? g_signal : stop_sig;
     double wall = eo_wtime() - t_start;
     eo_cli_progress_done(&pg);
     int bad_close = fclose(csv) != 0;
@@ -747,7 +885,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     si.error = errtext[0] ? errtext : NULL;
     si.stop_reason = diverged ? eo_reason_name(EO_DIVERGED_NONFINITE) : signo ? "interrupted" : NULL;
     si.status = signo ? "interrupted" : (diverged || errtext[0]) ? "stopped" : "finished";
-    EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
+    if (writer) EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
     if (errtext[0]) fprintf(stderr, "elastopt: error: %s\n", errtext);
     if (signo && verb != EO_CLI_QUIET)
         fprintf(stderr, "elastopt: interrupted (%s) after step %d of %d; every file is complete; continue with: "
@@ -780,6 +918,8 @@ done:
     eo_free(ctx, xs);
     eo_free(ctx, vs);
     eo_free(ctx, hs);
+    eo_free(ctx, xg);
+    eo_free(ctx, vg);
     eo_cfg_destroy(&cfg);
     eo_sim_destroy(&sim);
     json_decref(run_doc);

@@ -39,6 +39,8 @@ static int g_rank = 0, g_size = 1;
 static int (*g_agree)(int);
 static void (*g_attach)(eo_ctx *);
 static const char *(*g_mesh_note)(void);
+static int (*g_nv_global)(void);
+static int (*g_gather)(const double *, int, double *);
 
 int eo_cli_rank(void) { return g_rank; }
 void eo_cli_petsc_attach(eo_ctx *ctx)
@@ -51,6 +53,11 @@ const char *eo_cli_mesh_note(void)
     return n && *n ? n : NULL;
 }
 int eo_cli_size(void) { return g_size; }
+int eo_cli_dist_nv(void) { return g_nv_global && g_size > 1 ? g_nv_global() : -1; }
+int eo_cli_dist_gather(const double *local, int width, double *out)
+{
+    return g_gather ? g_gather(local, width, out) : -1;
+}
 int eo_cli_agree(int ok) { return g_agree ? g_agree(ok) : ok; }
 
 #if EO_HAVE_PETSC && !defined(EO_NO_DEEPBIND)
@@ -145,7 +152,9 @@ int eo_cli_petsc_load(eo_ctx *ctx, int *argc, char **argv)
     *(void **)(&g_agree) = dlsym(h, "eo_petsc_cli_agree");
     *(void **)(&g_attach) = dlsym(h, "eo_petsc_cli_attach");
     *(void **)(&g_mesh_note) = dlsym(h, "eo_petsc_cli_mesh_note");
-    if (!init || !start || !g_agree || !g_attach || !g_mesh_note) {
+    *(void **)(&g_nv_global) = dlsym(h, "eo_petsc_cli_nv_global");
+    *(void **)(&g_gather) = dlsym(h, "eo_petsc_cli_gather");
+    if (!init || !start || !g_agree || !g_attach || !g_mesh_note || !g_nv_global || !g_gather) {
         fprintf(stderr, "elastopt: error: %s is not the PETSc backend module\n", path);
         g_agree = NULL;
         g_attach = NULL;

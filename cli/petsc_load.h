@@ -20,6 +20,12 @@ const char *eo_cli_mesh_note(void);
 /* Rank and number of processes (0 and 1 without MPI). */
 int eo_cli_rank(void);
 int eo_cli_size(void);
+/* A distributed run (each rank simulates its part of the mesh): the whole mesh's vertex
+ * count, or -1 when the scene is not distributed. */
+int eo_cli_dist_nv(void);
+/* Collective: a per-vertex array of `width` doubles per local vertex gathered to rank 0
+ * in the input vertex order (out: nv·width doubles there). Returns 0 or -1. */
+int eo_cli_dist_gather(const double *local, int width, double *out);
 /* 1 if ok is 1 on every rank (collective over all ranks when there are several). */
 int eo_cli_agree(int ok);
 

@@ -127,13 +127,19 @@ static int ends_with(const char *s, const char *suffix)
     return n >= k && strcmp(s + n - k, suffix) == 0;
 }
 
-/* frame_NNNNNN.vtu: its step, else -1 */
+/* frame_NNNNNN.vtu, a distributed run's frame_NNNNNN.pvtu and its pieces
+ * frame_NNNNNN_rR.vtu: its step, else -1 */
 static long frame_step(const char *name)
 {
-    if (strncmp(name, "frame_", 6) != 0 || !ends_with(name, ".vtu")) return -1;
+    if (strncmp(name, "frame_", 6) != 0) return -1;
     char *e;
     long k = strtol(name + 6, &e, 10);
-    return e != name + 6 && strcmp(e, ".vtu") == 0 && k >= 0 ? k : -1;
+    if (e == name + 6 || k < 0) return -1;
+    if (strcmp(e, ".vtu") == 0 || strcmp(e, ".pvtu") == 0) return k;
+    if (strncmp(e, "_r", 2) != 0) return -1;
+    char *e2;
+    long r = strtol(e + 2, &e2, 10);
+    return e2 != e + 2 && r >= 0 && strcmp(e2, ".vtu") == 0 ? k : -1;
 }
 
 static int is_run_file(const char *name)

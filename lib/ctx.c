@@ -27,6 +27,7 @@ struct eo_ctx {
     eo_mesh_source_fn mesh_source; /* eo_mesh_read's replacement (NULL: read the file) */
     void *mesh_source_user;
     int quiet_warnings; /* eo_ctx_set_quiet_warnings */
+    eo_dist_hooks dist;  /* eo_ctx_set_dist (nparts 0: none) */
 };
 
 /* header keeps max alignment */
@@ -81,6 +82,21 @@ eo_mesh_source_fn eo_ctx_mesh_source(const eo_ctx *ctx, void **user)
 {
     *user = ctx->mesh_source_user;
     return ctx->mesh_source;
+}
+
+void eo_ctx_set_dist(eo_ctx *ctx, const eo_dist_hooks *h)
+{
+    if (h) ctx->dist = *h;
+    else memset(&ctx->dist, 0, sizeof ctx->dist);
+}
+
+const eo_dist_hooks *eo_ctx_dist(const eo_ctx *ctx) { return ctx && ctx->dist.nparts > 1 ? &ctx->dist : NULL; }
+
+int eo_ctx_reduce(eo_ctx *ctx, double *v, int n, eo_reduce_op op)
+{
+    const eo_dist_hooks *h = eo_ctx_dist(ctx);
+    if (!h || !h->reduce || n <= 0) return 0;
+    return h->reduce(v, n, op, h->user);
 }
 
 void eo_ctx_set_logger(eo_ctx *ctx, eo_log_fn fn, void *user, eo_log_level level)

@@ -18,7 +18,6 @@
 
 static const char *const ksp_names[] = {"preonly", "cg", "minres", "gmres", NULL};
 static const char *const pc_names[] = {"mumps", "gamg", "hypre", "bjacobi_icc", "jacobi", NULL};
-static const char *const part_names[] = {"ptscotch", "slab", NULL};
 
 #define PP_STR(field) .size = sizeof(((eo_petsc_params *)0)->field)
 const eo_param_desc eo_petsc_params_desc[] = {
@@ -35,11 +34,6 @@ const eo_param_desc eo_petsc_params_desc[] = {
     {.key = "max_lin_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_petsc_params, max_lin_iters),
      .def.i = 10000, .min = 1, .max = 100000000, .range = EO_RANGE_CLOSED,
      .help = "iteration cap of an iterative Newton solve"},
-    {.key = "partitioner", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_petsc_params, partitioner),
-     PP_STR(partitioner), .def.s = "ptscotch", .choices = part_names,
-     .help = "how the tets are split over the ranks: ptscotch (Scotch on the face graph, on rank 0, the same "
-             "partition every run) or "
-             "slab (equal slabs along the longest axis)"},
     {.key = "options", .kind = EO_PARAM_STRING, .offset = offsetof(eo_petsc_params, options), PP_STR(options),
      .def.s = "", .help = "PETSc options for experts, e.g. \"-ksp_monitor -log_view\" (also PETSC_OPTIONS and "
                           "the command line)"},
@@ -223,7 +217,22 @@ __attribute__((visibility("default"))) int eo_petsc_cli_agree(int ok)
 
 /* The context a CLI command runs with: meshes read on rank 0 and broadcast (under
  * mpirun with several ranks). */
-__attribute__((visibility("default"))) void eo_petsc_cli_attach(eo_ctx *ctx) { eo_petsc_mesh_source_install(ctx); }
+__attribute__((visibility("default"))) void eo_petsc_cli_attach(eo_ctx *ctx) { eo_petsc_dist_install(ctx); }
+
+/* The distributed run's vertex counts: global (input) vertices, or -1 if the last scene
+ * was not distributed. */
+__attribute__((visibility("default"))) int eo_petsc_cli_nv_global(void)
+{
+    const eo_petsc_layout *L = eo_petsc_layout_get();
+    return L ? L->nv_global : -1;
+}
+
+/* A per-vertex array of width doubles gathered to rank 0 in the input vertex order
+ * (collective; 0 or -1). */
+__attribute__((visibility("default"))) int eo_petsc_cli_gather(const double *local, int width, double *out)
+{
+    return eo_petsc_gather_vertices(local, width, out);
+}
 
 /* What the last mesh read did under MPI ("" if nothing was broadcast). */
 __attribute__((visibility("default"))) const char *eo_petsc_cli_mesh_note(void) { return eo_petsc_mesh_note(); }

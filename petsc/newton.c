@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "petsc_backend.h"
+#include "petsc_options.h"
 
 typedef struct pn_state {
     eo_dist d;
@@ -37,6 +38,8 @@ typedef struct pn_state {
     /* the line search's objective: n = owned entries, evaluations through d */
     eo_objective lsobj;
     eo_objective *obj;
+    /* the objective the stopping rule sees: the local one with rank-summed scales */
+    eo_objective gobj;
 } pn_state;
 
 static int pn_setup(void *st, const void *params, int n, eo_ctx *ctx)
@@ -54,9 +57,25 @@ static void vecs_free(pn_state *s)
     s->ready = 0;
 }
 
+/* KSPs of destroyed states, destroyed at the next agreed rebuild: the solver destroys an
+ * optimizer's state when its objective's n changes, which under MPI may happen on one rank
+ * only (a released vertex), while destroying a KSP with a MUMPS factor is collective */
+static KSP g_deferred[8];
+static int g_ndeferred;
+
+static void deferred_flush(void)
+{
+    for (int i = 0; i < g_ndeferred; i++) KSPDestroy(&g_deferred[i]);
+    g_ndeferred = 0;
+}
+
 static void pn_destroy(void *st, eo_ctx *ctx)
 {
     pn_state *s = st;
+    if (s->ksp && g_ndeferred < (int)(sizeof g_deferred / sizeof g_deferred[0])) {
+        g_deferred[g_ndeferred++] = s->ksp;
+        s->ksp = NULL;
+    }
     vecs_free(s);
     eo_free(ctx, s->work);
     s->work = NULL;
@@ -102,25 +121,72 @@ static int ls_hessian(void *data, const double *x, eo_proj proj, eo_csc **H)
 
 static const eo_objective_ops ls_ops = {.value = ls_value, .gradient = ls_gradient, .hessian = ls_hessian};
 
+/* ---- the stopping rule's view: the rounding scales and characteristic scales of g summed
+ * (largest) over the ranks, so that every rank measures the same floors */
+
+static int g_value(void *data, const double *x, double *g)
+{
+    pn_state *s = data;
+    return eo_objective_value(s->obj, x, g);
+}
+
+static int g_gradient(void *data, const double *x, double *g, double *grad)
+{
+    pn_state *s = data;
+    return eo_objective_gradient(s->obj, x, g, grad);
+}
+
+static int g_hessian(void *data, const double *x, eo_proj proj, eo_csc **H)
+{
+    pn_state *s = data;
+    return eo_objective_hessian(s->obj, x, proj, H);
+}
+
+static int g_rounding_scale(void *data, const double *x, double out[3])
+{
+    pn_state *s = data;
+    int rc = eo_objective_rounding_scale(s->obj, x, out);
+    int ok = rc >= 0;
+    MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, s->d.comm);
+    if (!ok) return rc < 0 ? rc : EO_ERR_UNSUPPORTED;
+    MPI_Allreduce(MPI_IN_PLACE, out, 3, MPI_DOUBLE, MPI_SUM, s->d.comm);
+    return EO_OK;
+}
+
+static int g_characteristic(void *data, eo_objective_characteristic *out)
+{
+    pn_state *s = data;
+    int rc = eo_objective_characteristic_get(s->obj, out);
+    int ok = rc >= 0;
+    MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, s->d.comm);
+    if (!ok) return rc < 0 ? rc : EO_ERR_UNSUPPORTED;
+    double gr = out->grad * out->grad; /* a norm: the ranks' squares summed (shared vertices twice) */
+    MPI_Allreduce(MPI_IN_PLACE, &gr, 1, MPI_DOUBLE, MPI_SUM, s->d.comm);
+    out->grad = sqrt(gr);
+    double sv[2] = {out->stiffness * out->volume, out->volume}; /* volume-weighted mean */
+    MPI_Allreduce(MPI_IN_PLACE, sv, 2, MPI_DOUBLE, MPI_SUM, s->d.comm);
+    out->volume = sv[1];
+    out->stiffness = sv[1] > 0 ? sv[0] / sv[1] : out->stiffness;
+    return EO_OK;
+}
+
+static const eo_objective_ops g_ops = {.value = g_value, .gradient = g_gradient, .hessian = g_hessian,
+                                       .rounding_scale = g_rounding_scale, .characteristic = g_characteristic};
+
 /* ---- setup per minimization */
 
 static int prepare(pn_state *s, const eo_solver_ctx *sc, const eo_petsc_params *p)
 {
     eo_ctx *ctx = sc->ctx;
     int rc;
-    const char *ls = eo_method_info_of(sc->linesearch)->name;
-    if (strcmp(ls, "backtracking") != 0 && strcmp(ls, "nonmonotone") != 0 && strcmp(ls, "none") != 0)
-        return eo_error(ctx, EO_ERR_UNSUPPORTED, "petsc_newton: line search '%s' needs gradient products inside "
-                        "the search; use backtracking, nonmonotone or none", ls);
-    const char *hf = eo_method_info_of(sc->hessfix)->name;
-    if (strcmp(hf, "none") != 0 && strcmp(hf, "shift") != 0 && strcmp(hf, "clamp") != 0 && strcmp(hf, "abs") != 0 &&
-        strcmp(hf, "project_on_demand") != 0)
-        return eo_error(ctx, EO_ERR_UNSUPPORTED, "petsc_newton: Hessian fix '%s' has no distributed form; use none, "
-                        "shift, clamp, abs or project_on_demand", hf);
-    const int rebuilt = !s->d.ctx || s->d.st != eo_step_of_objective(sc->obj) ||
-                        s->d.pattern != eo_step_pattern_id(eo_step_of_objective(sc->obj)) || s->d.n != sc->obj->n;
+    const char *ls = eo_method_info_of(sc->linesearch)->name, *hf = eo_method_info_of(sc->hessfix)->name;
+    const char *why = eo_petsc_newton_refuses(hf, ls);
+    if (why) return eo_error(ctx, EO_ERR_UNSUPPORTED, "petsc_newton: %s / %s: %s", hf, ls, why);
+    const unsigned long gen0 = s->d.gen;
     if ((rc = eo_dist_setup(&s->d, ctx, sc->obj, p)) < 0) return rc;
+    const int rebuilt = s->d.gen != gen0; /* renumbered here or on another rank */
     if (rebuilt || !s->ready) {
+        deferred_flush(); /* at the same point as the other ranks' vecs_free */
         vecs_free(s);
         Vec *v[] = {&s->X, &s->G, &s->P, &s->Xn, &s->Gn, &s->Xt, &s->D};
         for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
@@ -247,7 +313,7 @@ static int direction(pn_state *s, const eo_solver_ctx *sc, double gnorm, eo_solv
     EO_PC(MatGetDiagonal(s->d.A, s->D));
     double sabs;
     EO_PC(VecNorm(s->D, NORM_1, &sabs));
-    sabs = s->d.n > 0 ? sabs / s->d.n : 1;
+    sabs = s->d.nglobal > 0 ? sabs / s->d.nglobal : 1;
     if (!isfinite(sabs)) {
         o->reason = EO_DIVERGED_NONFINITE;
         return EO_OK;
@@ -301,14 +367,17 @@ static int pn_minimize(void *st, const void *params, const eo_solver_ctx *sc, do
     const double t0 = eo_wtime();
     const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
     double g = NAN, gn = NAN, gn0 = NAN, g_prev = NAN, step_norm = NAN, last_dec = NAN, dec0 = NAN, dec_prev = NAN;
-    int rc, reason = 0, k = 0, part = 0;
+    int rc, reason = 0, k = 0;
     double ghist[EO_LS_HISTORY];
     int nhist = 0;
     memset(res, 0, sizeof *res);
     res->decrement = NAN;
     if ((rc = prepare(s, sc, p)) < 0) goto done;
-    if ((rc = eo_dist_begin(&s->d)) < 0) goto done;
-    part = 1;
+    /* the stopping rule's measure through the rank-summed objective (its rounding scales) */
+    eo_solver_ctx scg = *sc;
+    s->gobj = (eo_objective){.n = obj->n, .ops = &g_ops, .data = s};
+    scg.obj = &s->gobj;
+    sc = &scg;
     if ((rc = eo_dist_from_rep(&s->d, x, s->X)) < 0) goto done;
     double tg = eo_wtime();
     if ((rc = eo_dist_gradient(&s->d, obj, s->X, &g, s->G)) < 0) goto done;
@@ -416,7 +485,6 @@ static int pn_minimize(void *st, const void *params, const eo_solver_ctx *sc, do
 petsc_fail:
     rc = eo_error(ctx, EO_ERR_LINSOLVE, "petsc_newton: a PETSc vector operation failed");
 done:
-    if (part) eo_dist_end(&s->d);
     res->reason = reason;
     res->iterations = k;
     res->g = g;

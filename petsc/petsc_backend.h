@@ -9,21 +9,20 @@
  *   snes_newtonls, snes_newtontr      PETSc SNES on ∇g = 0 with g as the line-search merit
  *   tao_nls, tao_ntr, tao_lmvm, tao_bqnls   PETSc TAO on min g
  *
- * Every rank runs the same eo_sim (the scene, its state and the per-step protocol are
- * replicated); inside a minimization each rank evaluates the energy, gradient and
- * (projected) Hessian of its own tets and owned vertices only (eo_step_set_part, the same
- * terms and material kernels as the serial engine), into a distributed Vec / MPIAIJ Mat
- * (block size 3, preallocated from the pattern); at the end the minimizer is gathered to
- * every rank so the driver accepts the same step everywhere.
- *
- * The mesh is split once per step engine by Scotch on the tet dual graph (faces), on rank
- * 0 with a fixed seed (the same partition every run), or by coordinate slabs
- * (solver.<name>.partitioner). Under mpirun a mesh file is read on rank 0 and broadcast
- * (mesh_bcast.c). */
+ * Under mpirun with several ranks the scene's mesh is distributed with DMPlex (dmplex.c):
+ * each rank runs eo_sim on its local mesh (its tets and their vertices), whose element
+ * sums (energies, masses, gravity) add up to the whole problem; the library's decisions
+ * over the whole mesh are reduced through the context's distribution hooks
+ * (eo_ctx_set_dist). Inside a minimization (dist.c) the ranks' local g, ∇g and Hessians
+ * are summed into distributed Vecs and an MPIAIJ matrix over the free coordinates of the
+ * owned vertices; each rank keeps its local minimizer. On one rank (an MPI singleton)
+ * the whole step engine is the rank's part. */
 #ifndef EO_PETSC_BACKEND_H
 #define EO_PETSC_BACKEND_H
 
+#include <petscdmplex.h>
 #include <petscksp.h>
+#include <petscsf.h>
 
 #include "elastopt/impl/method.h"
 #include "elastopt/step.h"
@@ -34,54 +33,58 @@ typedef struct eo_petsc_params {
     char pc[16];           /* mumps | gamg | hypre | bjacobi_icc | jacobi (default mumps) */
     double rtol;           /* KSP relative tolerance for iterative solves (default 1e-10) */
     int max_lin_iters;     /* KSP iteration cap (default 10000) */
-    char partitioner[16];  /* ptscotch | slab (default ptscotch) */
     char options[256];     /* PETSc options for experts, e.g. "-ksp_monitor" (default "") */
 } eo_petsc_params;
 extern const eo_param_desc eo_petsc_params_desc[];
 
-/* The distributed problem behind one optimizer instance: partition of the current step
- * engine, numbering of the free coordinates, vectors, matrix, scatters. Rebuilt when the
- * step engine or its pattern (free set) changes. */
+/* The distributed mesh of a run under mpirun with several ranks (dmplex.c): each rank's
+ * local mesh (its tets and their vertices) is the mesh of its eo_sim and step engine. */
+typedef struct eo_petsc_layout {
+    int active;
+    int nv, nt;                 /* local vertices, tets */
+    int nv_global, nt_global;
+    int nown;                   /* owned local vertices */
+    PetscInt *gid;              /* nv: input (global) vertex number */
+    unsigned char *owned;       /* nv: 1 = this rank owns the vertex */
+    PetscSF vsf;                /* roots: local vertices; leaves: ghosts -> owner's local vertex */
+} eo_petsc_layout;
+/* The layout of the distributed run, NULL if none (one rank, or a mesh not distributed). */
+const eo_petsc_layout *eo_petsc_layout_get(void);
+/* Under MPI with more than one rank: the context's mesh source (file read on rank 0 only)
+ * and distribution hooks (eo_ctx_set_dist: DMPlex distribution, reductions). */
+void eo_petsc_dist_install(eo_ctx *ctx);
+const char *eo_petsc_mesh_note(void);
+/* A per-vertex array (width doubles per local vertex) gathered to rank 0 in the input
+ * vertex order (collective; 0 or -1). */
+int eo_petsc_gather_vertices(const double *local, int width, double *out);
+
+/* The distributed problem behind one optimizer instance: the local step engine of the
+ * rank (a local mesh) or, on one rank, the whole one; global numbering of the free
+ * coordinates (owned vertices' coordinates are rows [rstart, rstart + nown)), vectors,
+ * the Hessian (MPIAIJ assembled from each rank's local Hessian by COO with summed
+ * duplicates). Rebuilt when the step engine or its pattern (free set) changes on any rank. */
 typedef struct eo_dist {
     eo_ctx *ctx;
     MPI_Comm comm;
     int rank, size;
     eo_step *st;                /* the step engine it was built for */
-    int nt_mesh, nv_mesh;
     unsigned long pattern;      /* eo_step_pattern_id it was numbered for */
     int have_pattern;
-    char partitioner[16];
     const eo_petsc_params *params;  /* of the running minimization (borrowed) */
-    /* partition (per step engine) */
-    int *tet_owner;             /* nt */
-    int *vert_owner;            /* nv */
-    int *my_tets, n_my_tets;
-    int *my_verts, n_my_verts;  /* vertices of my tets */
-    unsigned char *vown;        /* nv */
-    eo_step_part part;
-    /* numbering (per pattern) */
-    int n;                      /* free coordinates (global) */
+    int n;                      /* local free coordinates (the objective's n) */
+    int nglobal;                /* global free coordinates */
     int nown, rstart;           /* owned rows, first global row */
-    int *perm;                  /* n: free index -> global row */
-    int nl;                     /* local free coordinates (of my_verts) */
-    int *lfree;                 /* nl free indices */
-    PetscInt *lglob;            /* nl global rows */
-    double *xrep, *grep;        /* n: replicated x for the step objective, its gradient */
-    Vec xl;                     /* sequential, nl */
-    VecScatter to_local;        /* global -> xl */
-    Vec xall;                   /* sequential, n: the whole vector on every rank */
-    VecScatter to_all;
-    /* Hessian: rows of my entries, gathered from the step's CSC */
-    int nrows;
-    PetscInt *rows;             /* nrows global rows */
-    int *rowptr;                /* nrows+1 */
-    PetscInt *cols;             /* entries: global columns */
-    int *pos;                   /* entries: positions in the CSC values */
-    PetscScalar *vals;          /* entries: scratch */
+    PetscInt *lglob;            /* n: local free index -> global row */
+    double *grep;               /* n: local gradient */
+    Vec xl;                     /* sequential, n: the local free coordinates */
+    VecScatter to_local;        /* global -> xl (reverse: sum onto the owners) */
+    PetscCount ncoo;            /* Hessian entries of the local CSC, both triangles */
+    PetscScalar *coo_v;
     Mat A;
     Vec coords;                 /* rest coordinates of the owned rows (GAMG rigid-body modes) */
     MatNullSpace rbm;
     long n_value, n_gradient, n_hessian;
+    unsigned long gen;          /* numberings made (vectors of an older one are stale) */
 } eo_dist;
 
 /* Build or update for the objective obj (a step objective; EO_ERR_UNSUPPORTED else). */
@@ -89,7 +92,8 @@ int eo_dist_setup(eo_dist *d, eo_ctx *ctx, eo_objective *obj, const eo_petsc_par
 void eo_dist_destroy(eo_dist *d);
 /* Vectors laid out like the distributed free coordinates. */
 int eo_dist_vec(eo_dist *d, Vec *v);
-/* X <- x (replicated free coordinates); x <- X (gathered on every rank). */
+/* X <- x (the local free coordinates; each rank sets its owned rows); x <- X (every local
+ * coordinate, ghosts included, from its owner). */
 int eo_dist_from_rep(eo_dist *d, const double *x, Vec X);
 int eo_dist_to_rep(eo_dist *d, Vec X, double *x);
 /* g(X) (summed over the ranks; +INF where undefined); with G: ∇g(X). */
@@ -99,17 +103,11 @@ int eo_dist_gradient(eo_dist *d, eo_objective *obj, Vec X, double *g, Vec G);
 int eo_dist_hessian(eo_dist *d, eo_objective *obj, Vec X, eo_proj proj);
 /* Inverted tets at X over all ranks. */
 int eo_dist_inverted(eo_dist *d, eo_objective *obj, Vec X);
-/* Begin / end of a minimization: set / clear the step's part. */
-int eo_dist_begin(eo_dist *d);
-void eo_dist_end(eo_dist *d);
+/* Sum of v over the ranks. */
+double eo_dist_sum(eo_dist *d, double v);
 
 /* KSP set up from the params (+ the options string, + the PETSc options database). */
 int eo_petsc_ksp_configure(eo_ctx *ctx, KSP ksp, const eo_petsc_params *p, eo_dist *d, const char *prefix);
-
-/* Under MPI with more than one rank: ctx reads meshes on rank 0 and broadcasts them
- * (mesh_bcast.c); a no-op on one rank. The note says what the last read did ("" before). */
-void eo_petsc_mesh_source_install(eo_ctx *ctx);
-const char *eo_petsc_mesh_note(void);
 
 /* PETSc initialized (PetscInitialize once, MPI singleton if not launched by mpirun). */
 int eo_petsc_ensure(eo_ctx *ctx);

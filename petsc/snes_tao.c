@@ -183,7 +183,7 @@ static int run(kind kd, void *st, const void *params, const eo_solver_ctx *sc, d
     SNES snes = NULL;
     Tao tao = NULL;
     KSP ksp = NULL;
-    int rc, part = 0, reason = 0;
+    int rc, reason = 0;
     memset(res, 0, sizeof *res);
     res->decrement = NAN;
     s->sc = sc;
@@ -193,16 +193,14 @@ static int run(kind kd, void *st, const void *params, const eo_solver_ctx *sc, d
     s->stop = 0;
     s->err = 0;
     s->res = res;
-    const int rebuilt = !s->d.ctx || s->d.st != eo_step_of_objective(obj) || s->d.n != obj->n ||
-                        s->d.pattern != eo_step_pattern_id(eo_step_of_objective(obj));
+    const unsigned long gen0 = s->d.gen;
     if ((rc = eo_dist_setup(&s->d, ctx, obj, p)) < 0) goto done;
+    const int rebuilt = s->d.gen != gen0; /* renumbered here or on another rank */
     if (rebuilt || !s->X) {
         VecDestroy(&s->X);
         VecDestroy(&s->G);
         if ((rc = eo_dist_vec(&s->d, &s->X)) < 0 || (rc = eo_dist_vec(&s->d, &s->G)) < 0) goto done;
     }
-    if ((rc = eo_dist_begin(&s->d)) < 0) goto done;
-    part = 1;
     if ((rc = eo_dist_from_rep(&s->d, x, s->X)) < 0) goto done;
     const int needs_h = kd == K_SNES_LS || kd == K_SNES_TR || kd == K_TAO_NLS || kd == K_TAO_NTR;
     if (needs_h && (rc = eo_dist_hessian(&s->d, obj, s->X, sc->hessfix ? sc->hessfix->elem_proj : EO_PROJ_CLAMP)) < 0)
@@ -299,7 +297,6 @@ static int run(kind kd, void *st, const void *params, const eo_solver_ctx *sc, d
     }
 fail:
 done:
-    if (part) eo_dist_end(&s->d);
     SNESDestroy(&snes);
     TaoDestroy(&tao);
     res->reason = reason ? reason : EO_DIVERGED_EXTERNAL;

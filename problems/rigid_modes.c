@@ -375,6 +375,10 @@ int eo_scene_check_supports(eo_ctx *ctx, eo_cfg *cfg, const eo_scene *sc)
 {
     const eo_integrator_type *it = sc->integrator;
     if (!it || it->inertia || it->explicit_step || sc->mesh->nv <= 0) return EO_OK;
+    /* a distributed run (ctx.h, eo_dist_hooks): this part's mesh alone cannot tell the
+     * whole body's supports (a part without a constrained vertex is not a free body);
+     * not checked there */
+    if (eo_ctx_dist(ctx)) return EO_OK;
     unsigned char *mask = eo_malloc(ctx, (size_t)sc->mesh->nv);
     if (!mask) return eo_error(ctx, EO_ERR_NOMEM, "out of memory (supports of %d vertices)", sc->mesh->nv);
     /* the constrained set changes only when an entry is released: check the first step's

@@ -442,6 +442,49 @@ static int load_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     return rc;
 }
 
+/* A distributed run (eo_ctx_dist): the whole mesh (on part 0) becomes this part's local
+ * mesh. Mass-spring meshes have no tets to distribute. */
+static int distribute_mesh(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    const eo_dist_hooks *h = eo_ctx_dist(ctx);
+    if (sc->points)
+        return cfg_err(ctx, cfg, sc->lattice ? "mesh.lattice" : "mesh.points", EO_ERR_UNSUPPORTED,
+                       "a mesh without tets has no distributed form (run it on one process)");
+    if (!h->distribute_mesh)
+        return eo_error(ctx, EO_ERR_UNSUPPORTED, "distributed run without a mesh distribution");
+    return h->distribute_mesh(ctx, &sc->mesh, h->user);
+}
+
+/* A distributed run: refuse what the local meshes cannot express as sums of their parts
+ * (include/elastopt/ctx.h, eo_dist_hooks). */
+static int check_distributed(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
+{
+    static const char *const why = "has no distributed form yet (run it on one process)";
+    for (int b = 0; b < sc->nbc; b++)
+        if (sc->bc[b].select == EO_BC_TAG || sc->bc[b].select == EO_BC_SURFACE ||
+            sc->bc[b].select == EO_BC_NEAREST) {
+            char path[64];
+            snprintf(path, sizeof path, "boundary.%d", b);
+            return cfg_err(ctx, cfg, path, EO_ERR_UNSUPPORTED, "a %s selection %s; select by box, plane or marker",
+                           sc->bc[b].select == EO_BC_TAG ? "tag" : sc->bc[b].select == EO_BC_SURFACE ? "surface"
+                                                                                                 : "nearest",
+                           why);
+        }
+    if (sc->has_ball) return cfg_err(ctx, cfg, "initial.random_ball", EO_ERR_UNSUPPORTED, "%s", why);
+    if (sc->pmass) return cfg_err(ctx, cfg, "point_masses", EO_ERR_UNSUPPORTED, "point masses: %s", why);
+    if (sc->nspring) return cfg_err(ctx, cfg, "springs", EO_ERR_UNSUPPORTED, "springs: %s", why);
+    if (sc->ncollision) return cfg_err(ctx, cfg, "collisions", EO_ERR_UNSUPPORTED, "collisions: %s", why);
+    if (sc->damping.viscous > 0 || sc->damping.rayleigh_alpha > 0 || sc->damping.rayleigh_beta > 0)
+        return cfg_err(ctx, cfg, "damping", EO_ERR_UNSUPPORTED, "damping: %s", why);
+    for (int i = 0; i < sc->nterm_cfg; i++)
+        if (sc->term_type[i]->section)
+            return cfg_err(ctx, cfg, sc->term_type[i]->section, EO_ERR_UNSUPPORTED, "%s %s",
+                           sc->term_type[i]->section, why);
+    if (!(sc->element->flags & EO_ELEMENT_LINEAR))
+        return cfg_err(ctx, cfg, "element", EO_ERR_UNSUPPORTED, "element %s %s; use p1", sc->element->info.name, why);
+    return EO_OK;
+}
+
 static int load_materials(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
 {
     const eo_mesh *m = sc->mesh;
@@ -634,6 +677,11 @@ static int load_boundary(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
             if (m->X[3 * v + k] < lo[k]) lo[k] = m->X[3 * v + k];
             if (m->X[3 * v + k] > hi[k]) hi[k] = m->X[3 * v + k];
         }
+    { /* a distributed run: the whole mesh's box (the same tolerance on every part) */
+        double b[6] = {-lo[0], -lo[1], -lo[2], hi[0], hi[1], hi[2]};
+        eo_ctx_reduce(ctx, b, 6, EO_REDUCE_MAX);
+        for (int k = 0; k < 3; k++) lo[k] = -b[k], hi[k] = b[3 + k];
+    }
     double diag = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) +
                        (hi[2] - lo[2]) * (hi[2] - lo[2]));
     double tol = 1e-9 * (diag > 0 ? diag : 1);
@@ -741,7 +789,9 @@ static int load_boundary(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
             }
             if (hit) bc->verts[bc->nverts++] = v;
         }
-        if (!bc->nverts) return cfg_err(ctx, cfg, path, EO_ERR_INVALID, "boundary entry selects no vertex");
+        double nsel_all = bc->nverts; /* over every part of a distributed run */
+        eo_ctx_reduce(ctx, &nsel_all, 1, EO_REDUCE_SUM);
+        if (!(nsel_all > 0)) return cfg_err(ctx, cfg, path, EO_ERR_INVALID, "boundary entry selects no vertex");
     }
     return EO_OK;
 }
@@ -1139,6 +1189,7 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     }
     EO_TRY(rc = eo_cfg_section(ctx, cfg, "output", eo_scene_output_opts_desc, &sc->output, NULL));
     EO_TRY(rc = load_mesh(ctx, cfg, sc));
+    if (eo_ctx_dist(ctx)) EO_TRY(rc = distribute_mesh(ctx, cfg, sc));
     if (sc->mesh->nt < 1 && !sc->points) {
         rc = cfg_err(ctx, cfg, "mesh", EO_ERR_MESH, "the mesh has no tet");
         goto fail;
@@ -1160,6 +1211,7 @@ int eo_scene_load(eo_ctx *ctx, eo_cfg *cfg, eo_scene **out)
     EO_TRY(rc = load_collisions(ctx, cfg, sc));
     EO_TRY(rc = load_terms(ctx, cfg, sc));
     EO_TRY(rc = eo_scene_check_supports(ctx, cfg, sc));
+    if (eo_ctx_dist(ctx)) EO_TRY(rc = check_distributed(ctx, cfg, sc));
     *out = sc;
     return EO_OK;
 fail:

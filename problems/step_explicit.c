@@ -126,7 +126,9 @@ static int state_finite(const eo_step *st, const double *x, const double *v)
         sx += x[j] * x[j];
         sv += st->vmass[j / 3] * v[j] * v[j];
     }
-    return isfinite(sx) && isfinite(sv);
+    double ok = isfinite(sx) && isfinite(sv);
+    eo_ctx_reduce(st->ctx, &ok, 1, EO_REDUCE_MIN); /* a distributed run: every part finite */
+    return ok > 0;
 }
 
 int eo_step_state_finite(const eo_step *st) { return state_finite(st, st->x, st->v); }

@@ -874,6 +874,9 @@ int eo_step_begin(eo_step *st, eo_objective **obj)
         op_value(st, st->guess, &g0);
         for (int i = 0; i < st->nfree; i++) st->vnew[i] = st->inertia->vec[st->free2full[i]];
         op_value(st, st->vnew, &g1);
+        double gg[2] = {g0, g1}; /* a distributed run: g of every part (ctx.h, eo_dist_hooks) */
+        eo_ctx_reduce(st->ctx, gg, 2, EO_REDUCE_SUM);
+        g0 = gg[0], g1 = gg[1];
         if (g1 < g0) memcpy(st->guess, st->vnew, (size_t)st->nfree * sizeof(double));
     }
     st->obj.n = st->nfree;

@@ -81,7 +81,7 @@ int eo_step_stats_compute(eo_step *st, eo_step_stats *s)
         mt += st->vmass[i];
         if (sqrt(d2) > s->max_disp) s->max_disp = sqrt(d2);
     }
-    for (int k = 0; k < 3; k++) s->com[k] /= mt > 0 ? mt : 1;
+    double mt_all = mt, com_all[3] = {s->com[0], s->com[1], s->com[2]};
     s->min_J = st->nt ? INFINITY : 1; /* no tets (mesh.points): nothing deformed, J = 1 */
     s->max_J = st->nt ? -INFINITY : 1;
     for (int k = 0; k < st->nt; k++) {
@@ -134,6 +134,23 @@ int eo_step_stats_compute(eo_step *st, eo_step_stats *s)
     s->potential = s->elastic + s->gravity + s->contact;
     if (have_other) s->potential += other;
     s->work_prescribed = st->work;
+    if (eo_ctx_dist(st->ctx)) { /* a distributed run: every part's sums and extremes */
+        double sum[9] = {com_all[0], com_all[1], com_all[2], mt_all, s->kinetic, s->elastic, s->gravity, s->contact,
+                         s->work_prescribed};
+        double mx[3] = {s->max_disp, s->max_J, -s->min_J}, inv = s->inverted;
+        eo_ctx_reduce(st->ctx, sum, 9, EO_REDUCE_SUM);
+        eo_ctx_reduce(st->ctx, mx, 3, EO_REDUCE_MAX);
+        eo_ctx_reduce(st->ctx, &inv, 1, EO_REDUCE_SUM);
+        double oth = other;
+        eo_ctx_reduce(st->ctx, &oth, 1, EO_REDUCE_SUM);
+        for (int k = 0; k < 3; k++) com_all[k] = sum[k];
+        mt_all = sum[3], s->kinetic = sum[4], s->elastic = sum[5], s->gravity = sum[6], s->contact = sum[7];
+        s->work_prescribed = sum[8];
+        s->max_disp = mx[0], s->max_J = mx[1], s->min_J = -mx[2], s->inverted = (int)inv;
+        other = oth;
+        s->potential = s->elastic + s->gravity + s->contact + (have_other ? other : 0);
+    }
+    for (int k = 0; k < 3; k++) s->com[k] = com_all[k] / (mt_all > 0 ? mt_all : 1);
     s->total_energy = s->kinetic + s->potential - s->work_prescribed;
     return EO_OK;
 }

@@ -111,6 +111,39 @@ EO_API int eo_ctx_set_quiet_warnings(eo_ctx *ctx, int on);
 /// The current setting of eo_ctx_set_quiet_warnings.
 EO_API int eo_ctx_get_quiet_warnings(const eo_ctx *ctx);
 
+/// A simulation distributed over several processes (a distributed backend installs this on
+/// the context; the library itself knows nothing of MPI). With hooks installed and
+/// nparts > 1, the scene loader hands the whole mesh (given on part 0; the other parts'
+/// mesh is ignored) to distribute_mesh, which replaces it by this part's local mesh (its
+/// tets and their vertices), and every decision the scene loader and the step engine
+/// take on sums or extremes over the mesh (the box-selection tolerance, a boundary entry
+/// selecting no vertex, the step's starting guess, a finite state, the statistics) is
+/// reduced over the parts with `reduce`, so that every part takes the same one. Element
+/// sums (energies, masses, gravity loads) of the local meshes add up to the whole; the
+/// scene features whose local form would not (contact, friction, tractions, springs,
+/// point masses, damping, surface/tag/nearest selections, random initial balls,
+/// mass-spring meshes) are refused at load with a message.
+typedef enum eo_reduce_op { EO_REDUCE_SUM = 0, EO_REDUCE_MIN = 1, EO_REDUCE_MAX = 2 } eo_reduce_op;
+struct eo_mesh;
+typedef struct eo_dist_hooks {
+    int nparts; ///< number of processes (> 1: distributed)
+    int part;   ///< this process (0 .. nparts-1)
+    /// In place over the parts (collective); returns 0 or a negative status.
+    int (*reduce)(double *v, int n, eo_reduce_op op, void *user);
+    /// Collective: *mesh (the whole mesh on part 0) -> this part's local mesh (allocated
+    /// through ctx; the old one destroyed). Returns EO_OK or a negative status with a
+    /// message in ctx (then every part fails).
+    int (*distribute_mesh)(eo_ctx *ctx, struct eo_mesh **mesh, void *user);
+    void *user;
+} eo_dist_hooks;
+/// Install (h != NULL, copied) or remove (NULL) the distribution hooks.
+EO_API void eo_ctx_set_dist(eo_ctx *ctx, const eo_dist_hooks *h);
+/// The hooks if the context runs one part of a distributed simulation (nparts > 1), else NULL.
+EO_API const eo_dist_hooks *eo_ctx_dist(const eo_ctx *ctx);
+/// v[0..n) reduced over the parts in place (nothing on a serial context); returns 0 or a
+/// negative status.
+EO_API int eo_ctx_reduce(eo_ctx *ctx, double *v, int n, eo_reduce_op op);
+
 /// The last error message ("" if none) and its status.
 EO_API const char *eo_ctx_message(const eo_ctx *ctx);
 EO_API int eo_ctx_status(const eo_ctx *ctx);

@@ -272,7 +272,9 @@ EO_API int eo_step_full_to_free(const eo_step *st, int j);
 /// Lumped mass of each vertex (nv), borrowed.
 EO_API const double *eo_step_vertex_mass(const eo_step *st);
 
-/// Partitioned evaluation, for distributed backends (the PETSc module, petsc/): while a
+/// Partitioned evaluation, for distributed backends that keep the whole step engine on
+/// every process (the PETSc module no longer does: each rank runs its own step engine on
+/// its local mesh, ctx.h eo_dist_hooks): while a
 /// part is set, the step objective's value, gradient, hessian and inverted_count add only
 ///  - the tets tets[0..nt) (elastic energy, consistent mass), and
 ///  - the nodal terms (lumped mass, point masses, gravity, the linear term of newmark,
