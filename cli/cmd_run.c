@@ -132,14 +132,21 @@ typedef struct frame_buf {
     unsigned char *inv;
 } frame_buf;
 
-static int write_frame(eo_ctx *ctx, eo_step *st, const char *dir, int step, eo_pvd *pvd, const frame_buf *b)
+/* The fields of a frame of the step's (local) mesh, computed into b. */
+static eo_vtu_fields frame_fields(eo_step *st, const frame_buf *b)
 {
     const eo_mesh *m = eo_step_mesh(st);
     const double *x = eo_step_x(st);
     for (int i = 0; i < 3 * m->nv; i++) b->disp[i] = x[i] - m->X[i];
     eo_step_fields(st, b->psi, b->J, b->inv);
-    eo_vtu_fields f = {.x = x, .displacement = b->disp, .velocity = eo_step_v(st), .energy_density = b->psi,
-                       .J = b->J, .inverted = b->inv};
+    return (eo_vtu_fields){.x = x, .displacement = b->disp, .velocity = eo_step_v(st), .energy_density = b->psi,
+                           .J = b->J, .inverted = b->inv};
+}
+
+static int write_frame(eo_ctx *ctx, eo_step *st, const char *dir, int step, eo_pvd *pvd, const frame_buf *b)
+{
+    const eo_mesh *m = eo_step_mesh(st);
+    eo_vtu_fields f = frame_fields(st, b);
     char file[64], path[1200];
     eo_run_frame_name(step, file, sizeof file);
     snprintf(path, sizeof path, "%s/%s", dir, file);
@@ -166,11 +173,7 @@ static int gather_state(eo_ctx *ctx, int dnv, const double *xs, const double *vs
 static int write_piece(eo_ctx *ctx, eo_step *st, const char *dir, int step, eo_pvd *pvd, const frame_buf *b)
 {
     const eo_mesh *m = eo_step_mesh(st);
-    const double *x = eo_step_x(st);
-    for (int i = 0; i < 3 * m->nv; i++) b->disp[i] = x[i] - m->X[i];
-    eo_step_fields(st, b->psi, b->J, b->inv);
-    eo_vtu_fields f = {.x = x, .displacement = b->disp, .velocity = eo_step_v(st), .energy_density = b->psi,
-                       .J = b->J, .inverted = b->inv};
+    eo_vtu_fields f = frame_fields(st, b);
     char file[96], path[1200];
     snprintf(file, sizeof file, "frame_%06d_r%d.vtu", step, eo_cli_rank());
     snprintf(path, sizeof path, "%s/%s", dir, file);
@@ -179,8 +182,10 @@ static int write_piece(eo_ctx *ctx, eo_step *st, const char *dir, int step, eo_p
     char pfile[64];
     snprintf(pfile, sizeof pfile, "frame_%06d.pvtu", step);
     snprintf(path, sizeof path, "%s/%s", dir, pfile);
-    FILE *o = fopen(path, "w");
-    if (!o) return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "cannot write");
+    eo_afile *af = NULL; /* temporary + rename: an interrupted run leaves no half-written .pvtu */
+    rc = eo_afile_open(ctx, path, &af);
+    if (rc < 0) return rc;
+    FILE *o = eo_afile_fp(af);
     fprintf(o, "<?xml version=\"1.0\"?>\n<VTKFile type=\"PUnstructuredGrid\" version=\"0.1\" "
                "byte_order=\"LittleEndian\" header_type=\"UInt64\">\n  <PUnstructuredGrid GhostLevel=\"0\">\n"
                "    <PPointData>\n"
@@ -195,7 +200,8 @@ static int write_piece(eo_ctx *ctx, eo_step *st, const char *dir, int step, eo_p
             m->tet_attr ? "      <PDataArray type=\"Int32\" Name=\"region\"/>\n" : "");
     for (int r = 0; r < eo_cli_size(); r++) fprintf(o, "    <Piece Source=\"frame_%06d_r%d.vtu\"/>\n", step, r);
     fprintf(o, "  </PUnstructuredGrid>\n</VTKFile>\n");
-    if (fclose(o) != 0) return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(path, -1), "write failed");
+    rc = eo_afile_commit(ctx, &af);
+    if (rc < 0) return rc;
     return eo_pvd_add(ctx, pvd, eo_step_time(st), pfile);
 }
 
