@@ -245,7 +245,7 @@ static int check_element(eo_ctx *ctx, const eo_scene *sc, const eo_solver *sv, c
     const eo_optimizer_type *t = NULL;
     if (!sc->element || (sc->element->flags & EO_ELEMENT_LINEAR) ||
         eo_registry_find(ctx, EO_KIND_OPTIMIZER, eo_solver_get_opts(sv)->optimizer, (const void **)&t) < 0 ||
-        !t->needs_ops)
+        !(t->needs_ops & (EO_OBJ_NEEDS_SPLIT | EO_OBJ_NEEDS_VERTEX | EO_OBJ_NEEDS_PARTS)))
         return EO_OK;
     return eo_error(ctx, EO_ERR_INVALID,
                     "%s: optimizer %s needs %s, which element %s does not have (they assume one deformation "
