@@ -241,7 +241,9 @@ __attribute__((visibility("default"))) const char *eo_petsc_cli_mesh_note(void) 
 
 EO_PLUGIN_ENTRY(ctx)
 {
-    const eo_optimizer_type *all[] = {&eo_optimizer_petsc_newton, &eo_optimizer_snes_newtonls,
+    int lrc = eo_register(ctx, EO_KIND_LINSOLVE, &eo_linsolve_petsc_ksp);
+    if (lrc < 0) return lrc;
+    const eo_optimizer_type *all[] = {&eo_optimizer_snes_newtonls,
                                       &eo_optimizer_snes_newtontr, &eo_optimizer_tao_nls,
                                       &eo_optimizer_tao_ntr, &eo_optimizer_tao_lmvm,
                                       &eo_optimizer_tao_bqnls, NULL};

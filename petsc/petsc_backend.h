@@ -106,6 +106,23 @@ int eo_dist_inverted(eo_dist *d, eo_objective *obj, Vec X);
 /* Sum of v over the ranks. */
 double eo_dist_sum(eo_dist *d, double v);
 
+/* The vector space of the distributed step objective (space.c): the context hook
+ * eo_dist_hooks.space, with which the library's optimizers run distributed. */
+typedef struct eo_petsc_space {
+    eo_vspace vs;
+    eo_dist d;              /* the numbering (d.gen changes with it) */
+    Vec G;                  /* global work vector of assemble */
+    unsigned char *own;
+    long *gid;
+} eo_petsc_space;
+int eo_petsc_space_hook(eo_ctx *ctx, eo_objective *obj, const eo_vspace **out, void *user);
+/* 1 if vs is this backend's space (its user is an eo_petsc_space). */
+int eo_petsc_space_is(const eo_vspace *vs);
+
+/* The linear solver petsc_ksp (ksp.c): the Newton system of the library's optimizers
+ * through KSP, from each rank's part of the Hessian. */
+extern const eo_linsolve_type eo_linsolve_petsc_ksp;
+
 /* KSP set up from the params (+ the options string, + the PETSc options database). */
 int eo_petsc_ksp_configure(eo_ctx *ctx, KSP ksp, const eo_petsc_params *p, eo_dist *d, const char *prefix);
 
@@ -122,7 +139,7 @@ int eo_petsc_fail(eo_ctx *ctx, PetscErrorCode ierr, const char *what);
         }                                                                                \
     } while (0)
 
-extern const eo_optimizer_type eo_optimizer_petsc_newton, eo_optimizer_snes_newtonls, eo_optimizer_snes_newtontr,
-    eo_optimizer_tao_nls, eo_optimizer_tao_ntr, eo_optimizer_tao_lmvm, eo_optimizer_tao_bqnls;
+extern const eo_optimizer_type eo_optimizer_snes_newtonls, eo_optimizer_snes_newtontr, eo_optimizer_tao_nls,
+    eo_optimizer_tao_ntr, eo_optimizer_tao_lmvm, eo_optimizer_tao_bqnls;
 
 #endif
