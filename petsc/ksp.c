@@ -21,6 +21,7 @@
  * matrix and the KSP together. Parameters: config section solver.petsc_ksp (ksp, pc, rtol,
  * max_lin_iters, options; eo_petsc_params). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "petsc_backend.h"
@@ -45,10 +46,35 @@ typedef struct ksp_state {
     KSP ksp;
     double rtol;                 /* set_rtol (0: p.rtol) */
     int built;
+    /* pc = cholmod: the whole matrix on rank 0, the library's CHOLMOD LLᵀ */
+    int root, rank;
+    eo_linsolve *rls;            /* rank 0 */
+    eo_csc *RA;                  /* rank 0: the global upper triangle */
+    int nup;                     /* this rank's upper-triangle entries */
+    int *rcounts, *rdispls, *rslot; /* rank 0: entries per rank, offsets, CSC slot of each */
+    double *upv, *rvals, *rb, *rx;
+    VecScatter toz;              /* B -> B0 (all entries on rank 0) */
+    Vec B0;
 } ksp_state;
+
+static void root_free(ksp_state *s)
+{
+    eo_linsolve_destroy(&s->rls);
+    eo_csc_destroy(&s->RA);
+    eo_free(s->ctx, s->rcounts);
+    eo_free(s->ctx, s->rslot);
+    eo_free(s->ctx, s->upv);
+    eo_free(s->ctx, s->rvals);
+    eo_free(s->ctx, s->rb);
+    s->rcounts = s->rdispls = s->rslot = NULL;
+    s->upv = s->rvals = s->rb = s->rx = NULL;
+    VecScatterDestroy(&s->toz);
+    VecDestroy(&s->B0);
+}
 
 static void sys_free(ksp_state *s)
 {
+    root_free(s);
     KSPDestroy(&s->ksp);
     MatDestroy(&s->A);
     VecDestroy(&s->B);
@@ -68,7 +94,8 @@ static int ks_setup(void *st, const void *params, eo_ctx *ctx)
     s->ctx = ctx;
     int rc = eo_petsc_ensure(ctx);
     if (rc < 0) return rc;
-    if (strcmp(s->p.ksp, "preonly") == 0 && strcmp(s->p.pc, "mumps") != 0)
+    s->root = strcmp(s->p.pc, "cholmod") == 0;
+    if (strcmp(s->p.ksp, "preonly") == 0 && strcmp(s->p.pc, "mumps") != 0 && !s->root)
         return eo_error(ctx, EO_ERR_INVALID, "key 'solver.petsc_ksp.ksp': preonly needs pc = mumps (a direct solve); "
                         "pc = %s is a preconditioner: use ksp = cg, minres or gmres", s->p.pc);
     return EO_OK;
@@ -98,6 +125,115 @@ static int ks_analyze(void *st, const eo_csc *A, eo_ctx *ctx)
     return EO_OK;
 }
 
+typedef struct rc_entry {
+    int col, row, src; /* global column ≥ row; index in the gathered array */
+} rc_entry;
+
+static int rc_cmp(const void *a, const void *b)
+{
+    const rc_entry *x = a, *y = b;
+    if (x->col != y->col) return x->col < y->col ? -1 : 1;
+    if (x->row != y->row) return x->row < y->row ? -1 : 1;
+    return (x->src > y->src) - (x->src < y->src);
+}
+
+/* pc = cholmod: the pattern of the whole upper triangle gathered on rank 0, analyzed by
+ * the library's CHOLMOD there (collective). */
+static int root_build(ksp_state *s, const eo_csc *A)
+{
+    eo_ctx *ctx = s->ctx;
+    int rc = EO_OK, size = 1;
+    int *ij = NULL, *all = NULL;
+    rc_entry *ent = NULL;
+    MPI_Comm_rank(s->comm, &s->rank);
+    MPI_Comm_size(s->comm, &size);
+    s->nup = 0;
+    for (int j = 0; j < A->n; j++)
+        for (int q = A->colptr[j]; q < A->colptr[j + 1]; q++) s->nup++;
+    s->upv = eo_malloc(ctx, (size_t)(s->nup + 1) * sizeof(double));
+    ij = eo_malloc(ctx, (size_t)(2 * s->nup + 1) * sizeof(int));
+    if (!s->upv || !ij) {
+        rc = eo_error(ctx, EO_ERR_NOMEM, "petsc_ksp: out of memory");
+        goto fail;
+    }
+    int k = 0;
+    for (int j = 0; j < A->n; j++)
+        for (int q = A->colptr[j]; q < A->colptr[j + 1]; q++) {
+            const int a = (int)s->glob[A->rowind[q]], b = (int)s->glob[j];
+            ij[2 * k] = a < b ? a : b, ij[2 * k + 1] = a < b ? b : a;
+            k++;
+        }
+    if (s->rank == 0) {
+        s->rcounts = eo_calloc(ctx, 2 * (size_t)size, sizeof(int));
+        if (!s->rcounts) {
+            rc = eo_error(ctx, EO_ERR_NOMEM, "petsc_ksp: out of memory");
+            goto fail;
+        }
+        s->rdispls = s->rcounts + size;
+    }
+    (void)MPI_Gather(&s->nup, 1, MPI_INT, s->rcounts, 1, MPI_INT, 0, s->comm);
+    long total = 0;
+    int *c2 = NULL, *d2 = NULL;
+    if (s->rank == 0) {
+        for (int r = 0; r < size; r++) s->rdispls[r] = (int)total, total += s->rcounts[r];
+        all = eo_malloc(ctx, (size_t)(2 * total + 1) * sizeof(int));
+        c2 = eo_malloc(ctx, 2 * (size_t)size * sizeof(int));
+        s->rvals = eo_malloc(ctx, (size_t)(total + 1) * sizeof(double));
+        s->rslot = eo_malloc(ctx, (size_t)(total + 1) * sizeof(int));
+        s->rb = eo_malloc(ctx, 2 * (size_t)(s->nglobal + 1) * sizeof(double));
+        if (!all || !c2 || !s->rvals || !s->rslot || !s->rb) {
+            eo_free(ctx, c2);
+            rc = eo_error(ctx, EO_ERR_NOMEM, "petsc_ksp: out of memory (%ld entries on rank 0)", total);
+            goto fail_collective;
+        }
+        s->rx = s->rb + s->nglobal + 1;
+        d2 = c2 + size;
+        for (int r = 0; r < size; r++) c2[r] = 2 * s->rcounts[r], d2[r] = 2 * s->rdispls[r];
+    }
+fail_collective:
+    (void)MPI_Gatherv(ij, 2 * s->nup, MPI_INT, all, c2, d2, MPI_INT, 0, s->comm);
+    eo_free(ctx, c2);
+    int ok = rc >= 0;
+    if (s->rank == 0 && ok) {
+        ent = eo_malloc(ctx, (size_t)(total + 1) * sizeof(rc_entry));
+        if (!ent) ok = 0, rc = eo_error(ctx, EO_ERR_NOMEM, "petsc_ksp: out of memory");
+        for (long e = 0; ok && e < total; e++) ent[e] = (rc_entry){all[2 * e + 1], all[2 * e], (int)e};
+        if (ok) qsort(ent, (size_t)total, sizeof *ent, rc_cmp);
+        long nnz = 0;
+        for (long e = 0; ok && e < total; e++)
+            if (e == 0 || ent[e].col != ent[e - 1].col || ent[e].row != ent[e - 1].row) nnz++;
+        if (ok && (rc = eo_csc_create(ctx, s->nglobal, (int)nnz, &s->RA)) < 0) ok = 0;
+        if (ok) {
+            long z = -1;
+            for (int j = 0; j <= s->nglobal; j++) s->RA->colptr[j] = 0;
+            for (long e = 0; e < total; e++) {
+                if (e == 0 || ent[e].col != ent[e - 1].col || ent[e].row != ent[e - 1].row) {
+                    z++;
+                    s->RA->rowind[z] = ent[e].row;
+                    s->RA->colptr[ent[e].col + 1]++;
+                }
+                s->rslot[ent[e].src] = (int)z;
+            }
+            for (int j = 0; j < s->nglobal; j++) s->RA->colptr[j + 1] += s->RA->colptr[j];
+            for (long q = 0; q < nnz; q++) s->RA->val[q] = 1;
+            const eo_linsolve_type *t = NULL;
+            if ((rc = eo_linsolve_find(ctx, "cholmod", &t)) < 0 || (rc = eo_linsolve_create(ctx, t, NULL, &s->rls)) < 0 ||
+                (rc = eo_linsolve_analyze(s->rls, s->RA)) < 0)
+                ok = 0;
+        }
+    }
+    MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_MIN, s->comm);
+    if (!ok && rc >= 0) rc = eo_error(ctx, EO_ERR_LINSOLVE, "petsc_ksp: pc = cholmod failed on rank 0");
+    if (ok) {
+        EO_PC(VecScatterCreateToZero(s->B, &s->toz, &s->B0));
+    }
+fail:
+    eo_free(ctx, ij);
+    eo_free(ctx, all);
+    eo_free(ctx, ent);
+    return rc;
+}
+
 /* The matrix, vectors and KSP for the pattern of A (collective). */
 static int build(ksp_state *s, const eo_csc *A)
 {
@@ -114,6 +250,14 @@ static int build(ksp_state *s, const eo_csc *A)
         return eo_error(ctx, EO_ERR_INVALID, "petsc_ksp: the matrix has n = %d, the vector space %d", A->n, d->n);
     EO_PC(PetscMalloc1(A->n + 1, &s->glob));
     for (int i = 0; i < A->n; i++) s->glob[i] = d ? d->lglob[i] : i;
+    if (s->root) { /* no PETSc matrix: the vectors and the rank-0 system */
+        EO_PC(VecCreateMPI(s->comm, s->nown, s->nglobal, &s->B));
+        EO_PC(VecDuplicate(s->B, &s->X));
+        if ((rc = root_build(s, A)) < 0) goto fail;
+        s->gen = d ? d->gen : 0;
+        s->built = 1;
+        goto fail;
+    }
     PetscCount nc = 0;
     for (int j = 0; j < A->n; j++)
         for (int q = A->colptr[j]; q < A->colptr[j + 1]; q++) nc += A->rowind[q] == j ? 1 : 2;
@@ -183,6 +327,30 @@ static int ks_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ctx
         if ((rc = build(s, A)) < 0) return rc;
     }
     s->dirty = 0;
+    if (s->root) {
+        int k = 0;
+        for (int j = 0; j < A->n; j++)
+            for (int q = A->colptr[j]; q < A->colptr[j + 1]; q++) s->upv[k++] = A->val[q];
+        if (k != s->nup) return eo_error(ctx, EO_ERR_LINSOLVE, "petsc_ksp: the pattern changed without analyze");
+        (void)MPI_Gatherv(s->upv, s->nup, MPI_DOUBLE, s->rvals, s->rcounts, s->rdispls, MPI_DOUBLE, 0, s->comm);
+        int frc = EO_OK;
+        if (s->rank == 0) {
+            for (int q = 0; q < s->RA->nnz; q++) s->RA->val[q] = 0;
+            long all = 0;
+            int size;
+            MPI_Comm_size(s->comm, &size);
+            for (int r = 0; r < size; r++) all += s->rcounts[r];
+            for (long e = 0; e < all; e++) s->RA->val[s->rslot[e]] += s->rvals[e];
+            frc = eo_linsolve_factor(s->rls, s->RA);
+            if (frc > 0 && frc != EO_WARN_NOT_PD) frc = EO_OK;
+        }
+        (void)MPI_Bcast(&frc, 1, MPI_INT, 0, s->comm);
+        if (frc == EO_WARN_NOT_PD)
+            return eo_error(ctx, EO_WARN_NOT_PD, "petsc_ksp: CHOLMOD's Cholesky factorization failed: the matrix is "
+                            "not positive definite");
+        if (frc < 0) return eo_error(ctx, EO_ERR_LINSOLVE, "petsc_ksp: CHOLMOD failed on rank 0");
+        return EO_OK;
+    }
     PetscCount k = 0;
     for (int j = 0; j < A->n; j++)
         for (int q = A->colptr[j]; q < A->colptr[j + 1]; q++) {
@@ -219,8 +387,29 @@ static int ks_solve(void *st, const double *b, double *x, eo_linsolve_stats *sta
         if (g >= 0 && g < s->nown) a[g] = b[i];
     }
     EO_PC(VecRestoreArray(s->B, &a));
-    PetscErrorCode e = KSPSolve(s->ksp, s->B, s->X);
-    KSPConvergedReason kr = KSP_DIVERGED_PC_FAILED;
+    PetscErrorCode e = 0;
+    KSPConvergedReason kr = KSP_CONVERGED_ITS;
+    if (s->root) {
+        EO_PC(VecScatterBegin(s->toz, s->B, s->B0, INSERT_VALUES, SCATTER_FORWARD));
+        EO_PC(VecScatterEnd(s->toz, s->B, s->B0, INSERT_VALUES, SCATTER_FORWARD));
+        int src = EO_OK;
+        if (s->rank == 0) {
+            PetscScalar *b0;
+            EO_PC(VecGetArray(s->B0, &b0));
+            memcpy(s->rb, b0, (size_t)s->nglobal * sizeof(double));
+            src = eo_linsolve_solve(s->rls, s->rb, s->rx);
+            memcpy(b0, s->rx, (size_t)s->nglobal * sizeof(double));
+            EO_PC(VecRestoreArray(s->B0, &b0));
+        }
+        (void)MPI_Bcast(&src, 1, MPI_INT, 0, s->comm);
+        if (src < 0) return eo_error(ctx, EO_ERR_LINSOLVE, "petsc_ksp: CHOLMOD's solve failed on rank 0");
+        EO_PC(VecScatterBegin(s->toz, s->B0, s->X, INSERT_VALUES, SCATTER_REVERSE));
+        EO_PC(VecScatterEnd(s->toz, s->B0, s->X, INSERT_VALUES, SCATTER_REVERSE));
+        stats->iterations = 0;
+        goto back;
+    }
+    e = KSPSolve(s->ksp, s->B, s->X);
+    kr = KSP_DIVERGED_PC_FAILED;
     PetscInt it = 0;
     if (!e) EO_PC(KSPGetConvergedReason(s->ksp, &kr));
     EO_PC(KSPGetIterationNumber(s->ksp, &it));
@@ -240,6 +429,7 @@ static int ks_solve(void *st, const double *b, double *x, eo_linsolve_stats *sta
         EO_PC(KSPGetIterationNumber(s->ksp, &it));
         stats->iterations += (int)it;
     }
+back:
     if (d) {
         eo_dist *dd = (eo_dist *)d;
         EO_PC(VecScatterBegin(dd->to_local, s->X, dd->xl, INSERT_VALUES, SCATTER_FORWARD));
@@ -266,11 +456,16 @@ fail:
 static void ks_set_rtol(void *st, double rtol)
 {
     ksp_state *s = st;
+    if (s->root) return;
     s->rtol = rtol;
     if (s->ksp) KSPSetTolerances(s->ksp, rtol, 1e-300, 1e10, s->p.max_lin_iters);
 }
 
-static int ks_is_iterative(const void *st) { return strcmp(((const ksp_state *)st)->p.ksp, "preonly") != 0; }
+static int ks_is_iterative(const void *st)
+{
+    const ksp_state *s = st;
+    return strcmp(s->p.ksp, "preonly") != 0 && !s->root;
+}
 
 static int ks_describe(const void *st, char *buf, size_t size)
 {

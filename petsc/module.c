@@ -17,7 +17,7 @@
 #include "petsc_options.h"
 
 static const char *const ksp_names[] = {"preonly", "cg", "minres", "gmres", NULL};
-static const char *const pc_names[] = {"mumps", "gamg", "hypre", "bjacobi_icc", "jacobi", NULL};
+static const char *const pc_names[] = {"mumps", "gamg", "hypre", "bjacobi_icc", "jacobi", "cholmod", NULL};
 
 #define PP_STR(field) .size = sizeof(((eo_petsc_params *)0)->field)
 const eo_param_desc eo_petsc_params_desc[] = {
