@@ -81,8 +81,9 @@ const eo_param_desc eo_solver_opts_desc[] = {
      .def.d = 0, .min = 0, .range = EO_RANGE_MIN, .help = "seconds per minimization, 0 = none"},
     {.key = "backend", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_solver_opts, backend), OPTS_STR(backend),
      .def.s = "native", .choices = backend_names,
-     .help = "native, or petsc: the optimizer distributed over MPI ranks by the PETSc backend (newton runs as "
-             "petsc_newton; snes_* and tao_* as they are); needs a build with -Dpetsc"},
+     .help = "native, or petsc: the optimizer distributed over MPI ranks by the PETSc backend (the library's "
+             "optimizer on the ranks' parts, linear solver auto = petsc_ksp; snes_* and tao_* as they are); needs a "
+             "build with -Dpetsc"},
     {0},
 };
 
@@ -285,13 +286,8 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, eo_so
     }
 
     /* backend petsc: the library's optimizer distributed (solvers/dist_objective.c), its
-     * systems solved by the backend's linear solver; petsc_newton is the old name of newton
-     * with it; the backend's own snes_* and tao_* optimizers run as they are */
-    const int petsc = strcmp(s->opts.backend, "petsc") == 0;
-    if (strcmp(s->opts.optimizer, "petsc_newton") == 0) {
-        snprintf(s->opts.optimizer, sizeof s->opts.optimizer, "newton");
-        if (!petsc) snprintf(s->opts.backend, sizeof s->opts.backend, "petsc");
-    }
+     * systems solved by the backend's linear solver (auto: petsc_ksp); the backend's own
+     * snes_* and tao_* optimizers run as they are */
     if (strcmp(s->opts.backend, "petsc") == 0 && strcmp(s->opts.linear, "auto") == 0)
         snprintf(s->opts.linear, sizeof s->opts.linear, "petsc_ksp");
     /* resolve the selected methods; the linear solver only if the optimizer needs one */
