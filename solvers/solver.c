@@ -376,7 +376,14 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         if (rc < 0) return res->status = rc;
         obj = &view.obj;
     }
-    if (obj->n != s->n) {
+    int resize = obj->n != s->n;
+    if (obj->space) { /* a part's size changed: every part sets up afresh, so that the
+                       * optimizers' carried state (shift, decrement history) stays alike */
+        double r = resize;
+        eo_vreduce(obj->space, &r, 1, EO_REDUCE_MAX);
+        resize = r != 0;
+    }
+    if (resize) {
         /* first minimize, or a new problem size (a boundary set was released): size the
          * optimizer's workspace for it (the only allocation outside create) */
         if (s->opt_set_up && opt->destroy) opt->destroy(s->opt_state, s->ctx);
