@@ -14,8 +14,10 @@
  *   inverted_count  summed; max_step: the smallest over the parts
  *   rounding_scale  the parts' scales summed (sums over elements and vertices)
  *   characteristic  ‖a‖₂ from the parts' squares, the volume-weighted stiffness
- * and nothing else (constant matrices, vertex blocks, split ops: the optimizers that need
- * them are refused at configuration, solvers/solver.c). Every operation is collective and
+ *   constant_hessian  this part's terms of L, like the Hessian (lbfgs h0 = pd, ncg
+ *                   precond = pd factor it with the distributed linear solver)
+ * and nothing else (the objective's own factor of L, vertex blocks, split ops, inertia: the
+ * optimizers that need them are refused at configuration, solvers/solver.c). Every operation is collective and
  * called by every part with the same decisions, since the optimizers decide on values
  * reduced over the parts. */
 #include <math.h>
@@ -133,6 +135,19 @@ static int dv_characteristic(void *data, eo_objective_characteristic *out)
     return EO_OK;
 }
 
+/* The part's constant matrix L (its elements' terms, like the Hessian: a linear solver
+ * that takes parts factors it); a new version on any part is a new version for all. */
+static int dv_constant_hessian(void *data, eo_csc **L, unsigned long *version)
+{
+    eo_dist_view *v = data;
+    int rc = eo_objective_constant_hessian(v->local, L, version);
+    if ((rc = fail_all(v->space, rc)) < 0) return rc;
+    double ver = (double)*version;
+    eo_vreduce(v->space, &ver, 1, EO_REDUCE_MAX);
+    *version = (unsigned long)ver;
+    return EO_OK;
+}
+
 int eo_dist_view_consistent(const eo_vspace *s, double *x)
 {
     for (int i = 0; i < s->n; i++)
@@ -152,22 +167,27 @@ int eo_dist_view_init(eo_dist_view *v, eo_ctx *ctx, eo_objective *local)
     if (!s || s->n != local->n || !s->own || !s->assemble || !s->reduce)
         return eo_error(ctx, EO_ERR_INVALID, "solver: the backend's vector space does not fit the objective "
                         "(n = %d, space n = %d)", local->n, s ? s->n : -1);
-    static const eo_objective_ops ops = {
+    static const eo_objective_ops all = {
         .value = dv_value, .gradient = dv_gradient, .hessian = dv_hessian, .metric_diag = dv_metric_diag,
         .inverted_count = dv_inverted_count, .n_elements = dv_n_elements, .hessian_masked = dv_hessian_masked,
         .element_residual = dv_element_residual, .rounding_scale = dv_rounding_scale, .max_step = dv_max_step,
-        .characteristic = dv_characteristic};
-    static const eo_objective_ops ops_min = {.value = dv_value, .gradient = dv_gradient, .hessian = dv_hessian};
-    /* optional ops only where the part's objective has them (the same on every part: the
-     * same kind of objective) */
+        .characteristic = dv_characteristic, .constant_hessian = dv_constant_hessian};
     v->ctx = ctx;
     v->local = local;
     v->space = s;
-    v->obj = (eo_objective){.n = local->n, .ops = &ops, .data = v, .space = s};
+    /* the optional ops where the part's objective has them (the same on every part: the
+     * same kind of objective) */
     const eo_objective_ops *lo = local->ops;
-    if (!lo->metric_diag || !lo->inverted_count || !lo->n_elements || !lo->hessian_masked ||
-        !lo->element_residual || !lo->rounding_scale || !lo->max_step || !lo->characteristic)
-        v->obj.ops = &ops_min;
+    v->ops = all;
+    if (!lo->metric_diag) v->ops.metric_diag = NULL;
+    if (!lo->inverted_count) v->ops.inverted_count = NULL;
+    if (!lo->n_elements || !lo->hessian_masked || !lo->element_residual)
+        v->ops.n_elements = NULL, v->ops.hessian_masked = NULL, v->ops.element_residual = NULL;
+    if (!lo->rounding_scale) v->ops.rounding_scale = NULL;
+    if (!lo->max_step) v->ops.max_step = NULL;
+    if (!lo->characteristic) v->ops.characteristic = NULL;
+    if (!lo->constant_hessian) v->ops.constant_hessian = NULL;
+    v->obj = (eo_objective){.n = local->n, .ops = &v->ops, .data = v, .space = s};
     return EO_OK;
 }
 

@@ -7,6 +7,7 @@
 
 typedef struct eo_dist_view {
     eo_objective obj;          /* the view the optimizer minimizes (obj.space = space) */
+    eo_objective_ops ops;      /* its ops: the part's optional ones it can give */
     eo_objective *local;       /* this part's objective (its terms only) */
     const eo_vspace *space;    /* from the context's hook, borrowed */
     eo_ctx *ctx;
