@@ -69,5 +69,20 @@ for scene in "${scenes[@]}"; do
         printf "%-11s %-20s%s\n" "$scene" "$m" "$row"
     done
 done
+# the other methods that run distributed, twist, 2 ranks: newton_tr, ncg, newton with the
+# line searches that evaluate gradients (wolfe, exact) or the step bound (barrier_filter),
+# the other stopping rules
+for m in "solver.optimizer=newton_tr" "solver.optimizer=ncg" "solver.linesearch=wolfe" "solver.linesearch=exact" \
+    "solver.linesearch=barrier_filter" "solver.stop=newton_decrement" "solver.stop=characteristic_gradient"; do
+    "$ELASTOPT" run --scene twist -o time.steps=10 -o "$m" --out "$tmp/s" -q --force || { echo "FAIL: serial $m"; fail=1; continue; }
+    timeout 300 mpirun -n 2 "${mpi[@]}" "$ELASTOPT" run --scene twist -o time.steps=10 -o "$m" -o solver.backend=petsc \
+        --out "$tmp/p" -q --force > "$tmp/p.log" 2>&1
+    rc=$?
+    out=$(python3 "$here/petsc_compare.py" "$tmp/s" "$tmp/p" 1e-8 "twist $m, 2 ranks")
+    crc=$?
+    echo "$out"
+    python3 "$here/petsc_parity.py" "$tmp/s" "$tmp/p" 100 x > "$tmp/par.log" || crc=1
+    if [ $rc -ne 0 ] || [ $crc -ne 0 ]; then echo "FAIL: twist $m 2 ranks: exit $rc"; cat "$tmp/par.log"; fail=1; fi
+done
 [ $fail -eq 0 ] && echo "petsc parity: all checks passed"
 exit $fail
