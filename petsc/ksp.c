@@ -239,7 +239,6 @@ static int build(ksp_state *s, const eo_csc *A)
 {
     eo_ctx *ctx = s->ctx;
     int rc = EO_OK;
-    PetscInt *ci = NULL, *cj = NULL;
     const eo_dist *d = s->vs ? &((const eo_petsc_space *)s->vs->user)->d : NULL;
     sys_free(s);
     s->comm = d ? d->comm : PETSC_COMM_SELF;
@@ -258,55 +257,19 @@ static int build(ksp_state *s, const eo_csc *A)
         s->built = 1;
         goto fail;
     }
-    PetscCount nc = 0;
-    for (int j = 0; j < A->n; j++)
-        for (int q = A->colptr[j]; q < A->colptr[j + 1]; q++) nc += A->rowind[q] == j ? 1 : 2;
-    EO_PC(PetscMalloc1(nc + 1, &ci));
-    EO_PC(PetscMalloc1(nc + 1, &cj));
-    EO_PC(PetscMalloc1(nc + 1, &s->coo_v));
-    PetscCount k = 0;
-    for (int j = 0; j < A->n; j++)
-        for (int q = A->colptr[j]; q < A->colptr[j + 1]; q++) {
-            const int i = A->rowind[q];
-            ci[k] = s->glob[i], cj[k++] = s->glob[j];
-            if (i != j) ci[k] = s->glob[j], cj[k++] = s->glob[i];
-        }
-    s->ncoo = nc;
-    int bs3 = s->nown % 3 == 0;
-    MPI_Allreduce(MPI_IN_PLACE, &bs3, 1, MPI_INT, MPI_MIN, s->comm);
-    EO_PC(MatCreate(s->comm, &s->A));
-    EO_PC(MatSetSizes(s->A, s->nown, s->nown, s->nglobal, s->nglobal));
-    EO_PC(MatSetType(s->A, MATAIJ));
-    if (bs3) EO_PC(MatSetBlockSize(s->A, 3));
-    EO_PC(MatSetPreallocationCOO(s->A, nc, ci, cj));
-    EO_PC(MatSetOption(s->A, MAT_SYMMETRIC, PETSC_TRUE));
-    EO_PC(MatSetOption(s->A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
-    /* SPD: MUMPS factors LLᵀ and fails on a matrix that is not (the definiteness test) */
+    if ((rc = eo_petsc_coo_mat(ctx, s->comm, A, s->glob, s->nown, s->nglobal, &s->A, &s->ncoo)) < 0) goto fail;
+    EO_PC(PetscMalloc1(s->ncoo + 1, &s->coo_v));
+    /* SPD: MUMPS factors LLᵀ (SYM = 1; it fails on a zero pivot, not on a negative one) */
     EO_PC(MatSetOption(s->A, MAT_SPD, PETSC_TRUE));
     EO_PC(MatSetOption(s->A, MAT_SPD_ETERNAL, PETSC_TRUE));
     EO_PC(MatCreateVecs(s->A, &s->X, &s->B));
-    if (strcmp(s->p.pc, "gamg") == 0 && bs3 && d) { /* rigid-body modes from the rest coordinates */
-        EO_PC(VecDuplicate(s->X, &s->coords));
-        EO_PC(VecSetBlockSize(s->coords, 3));
-        const double *x0 = eo_step_x0(d->st);
-        PetscScalar *a;
-        EO_PC(VecGetArray(s->coords, &a));
-        for (int i = 0; i < d->n; i++) {
-            const PetscInt g = d->lglob[i] - d->rstart;
-            if (g >= 0 && g < d->nown) a[g] = x0[eo_step_free_to_full(d->st, i)];
-        }
-        EO_PC(VecRestoreArray(s->coords, &a));
-        EO_PC(MatNullSpaceCreateRigidBody(s->coords, &s->rbm));
-        EO_PC(MatSetNearNullSpace(s->A, s->rbm));
-    }
+    if (strcmp(s->p.pc, "gamg") == 0 && d && (rc = eo_petsc_rigid_modes(d, s->A, &s->coords, &s->rbm)) < 0) goto fail;
     EO_PC(KSPCreate(s->comm, &s->ksp));
     if ((rc = eo_petsc_ksp_configure(ctx, s->ksp, &s->p, NULL, NULL)) < 0) goto fail;
     if (s->rtol > 0) EO_PC(KSPSetTolerances(s->ksp, s->rtol, 1e-300, 1e10, s->p.max_lin_iters));
     s->gen = d ? d->gen : 0;
     s->built = 1;
 fail:
-    PetscFree(ci);
-    PetscFree(cj);
     return rc;
 }
 
@@ -351,13 +314,7 @@ static int ks_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ctx
         if (frc < 0) return eo_error(ctx, EO_ERR_LINSOLVE, "petsc_ksp: CHOLMOD failed on rank 0");
         return EO_OK;
     }
-    PetscCount k = 0;
-    for (int j = 0; j < A->n; j++)
-        for (int q = A->colptr[j]; q < A->colptr[j + 1]; q++) {
-            s->coo_v[k++] = A->val[q];
-            if (A->rowind[q] != j) s->coo_v[k++] = A->val[q];
-        }
-    if (k != s->ncoo) return eo_error(ctx, EO_ERR_LINSOLVE, "petsc_ksp: the pattern changed without analyze");
+    if (eo_petsc_coo_fill(A, s->coo_v) != s->ncoo) return eo_error(ctx, EO_ERR_LINSOLVE, "petsc_ksp: the pattern changed without analyze");
     EO_PC(MatSetValuesCOO(s->A, s->coo_v, INSERT_VALUES));
     EO_PC(KSPSetOperators(s->ksp, s->A, s->A));
     PetscErrorCode e = KSPSetUp(s->ksp);

@@ -106,6 +106,17 @@ int eo_dist_inverted(eo_dist *d, eo_objective *obj, Vec X);
 /* Sum of v over the ranks. */
 double eo_dist_sum(eo_dist *d, double v);
 
+/* A MATAIJ (block size 3 where every rank's rows allow it, symmetric) preallocated for the
+ * COO entries of both triangles of the part's upper-triangle CSC H in global numbering glob
+ * (duplicates of shared vertices summed by MatSetValuesCOO); *ncoo entries (collective). */
+int eo_petsc_coo_mat(eo_ctx *ctx, MPI_Comm comm, const eo_csc *H, const PetscInt *glob, int nown, int nglobal,
+                     Mat *A, PetscCount *ncoo);
+/* H's values in that COO order into v; returns their count. */
+PetscCount eo_petsc_coo_fill(const eo_csc *H, PetscScalar *v);
+/* GAMG's near-null space of A: the rigid-body modes of d's rest coordinates (block size 3
+ * only). */
+int eo_petsc_rigid_modes(const eo_dist *d, Mat A, Vec *coords, MatNullSpace *ns);
+
 /* The vector space of the distributed step objective (space.c): the context hook
  * eo_dist_hooks.space, with which the library's optimizers run distributed. */
 typedef struct eo_petsc_space {
