@@ -1,11 +1,11 @@
 /* The PETSc / MPI backend (private to petsc/): a plug-in module (elastopt_petsc.so, loaded
- * by the CLI with its own symbol scope, see README "PETSc / MPI backend") that registers
- * optimizers running the step problem of eo_sim distributed over the ranks of
- * PETSC_COMM_WORLD:
+ * by the CLI with its own symbol scope, docs/petsc.md) that lets the library's own
+ * optimizers run the step problem of eo_sim distributed over the ranks of PETSC_COMM_WORLD
+ * (solver.backend=petsc), and registers
  *
- *   petsc_newton        our Newton (Hessian fixes none/shift/clamp/abs with the shift
- *                       loop, our line searches backtracking/nonmonotone/none, our stopping
- *                       rules) on PETSc vectors, the Newton system through KSP
+ *   petsc_ksp           the linear solver of those runs (ksp.c): the ranks' Hessian parts
+ *                       assembled into an MPIAIJ, KSP (MUMPS, CG + GAMG, BoomerAMG, ...),
+ *                       or pc = cholmod (the whole matrix on rank 0, the library's CHOLMOD)
  *   snes_newtonls, snes_newtontr      PETSc SNES on ∇g = 0 with g as the line-search merit
  *   tao_nls, tao_ntr, tao_lmvm, tao_bqnls   PETSc TAO on min g
  *
@@ -13,10 +13,11 @@
  * each rank runs eo_sim on its local mesh (its tets and their vertices), whose element
  * sums (energies, masses, gravity) add up to the whole problem; the library's decisions
  * over the whole mesh are reduced through the context's distribution hooks
- * (eo_ctx_set_dist). Inside a minimization (dist.c) the ranks' local g, ∇g and Hessians
- * are summed into distributed Vecs and an MPIAIJ matrix over the free coordinates of the
- * owned vertices; each rank keeps its local minimizer. On one rank (an MPI singleton)
- * the whole step engine is the rank's part. */
+ * (eo_ctx_set_dist), whose `space` hook (space.c) numbers the free coordinates over the
+ * ranks for the library's distributed objective view (solvers/dist_objective.c). The SNES
+ * and TAO optimizers sum the ranks' local g, ∇g and Hessians into distributed Vecs and an
+ * MPIAIJ matrix themselves (dist.c). On one rank (an MPI singleton) the whole step engine
+ * is the rank's part. */
 #ifndef EO_PETSC_BACKEND_H
 #define EO_PETSC_BACKEND_H
 
@@ -27,7 +28,7 @@
 #include "elastopt/impl/method.h"
 #include "elastopt/step.h"
 
-/* Parameters shared by every PETSc optimizer (config section solver.<name>). */
+/* Parameters of petsc_ksp and of every PETSc optimizer (config section solver.<name>). */
 typedef struct eo_petsc_params {
     char ksp[16];          /* preonly | cg | minres | gmres (default preonly) */
     char pc[16];           /* mumps | gamg | hypre | bjacobi_icc | jacobi (default mumps) */

@@ -127,7 +127,7 @@ check python3 "$here/petsc_parity.py" "$tmp/rel/s" "$tmp/rel/p" 2 "release at st
 bar=${EO_SHARED:-$here/../../shared}/meshes/ipc_bar-2523.msh
 if [ -f "$bar" ]; then
     mkdir -p "$tmp/b"
-    cat > "$tmp/b/bar.json" <<EOF
+    bash "$here/petsc_bar_scene.sh" "$bar" 4 clamp > "$tmp/b/bar.json"
 {"mesh": {"file": "$bar"},
  "material": {"model": "stable_neo_hookean", "E": 1e6, "nu": 0.4, "density": 1000},
  "gravity": [0, 0, -9.81],

@@ -26,16 +26,7 @@ fail=0
 scenes=(cantilever twist)
 bar=${EO_SHARED:-$here/../../shared}/meshes/ipc_bar-2523.msh
 if [ -f "$bar" ]; then
-    cat > "$tmp/bar.json" <<JSON
-{"mesh": {"file": "$bar"},
- "material": {"model": "stable_neo_hookean", "E": 1e6, "nu": 0.4, "density": 1000},
- "gravity": [0, 0, -9.81],
- "boundary": [
-  {"box": [[-1, -1, -1], [0, 2, 2]], "fixed": true},
-  {"box": [[10, -1, -1], [11, 2, 2]], "rotate": {"axis": [1, 0, 0], "center": [0, 0.25, 0.5], "rate": 3}}],
- "time": {"integrator": "newmark", "dt": 0.02, "steps": 10},
- "solver": {"optimizer": "newton"}}
-JSON
+    bash "$here/petsc_bar_scene.sh" "$bar" 10 project_on_demand > "$tmp/bar.json"
     scenes+=(bar)
 else
     echo "note: $bar missing: the real-mesh rows are skipped"
