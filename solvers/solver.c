@@ -236,8 +236,7 @@ static const char *dist_why(const eo_optimizer_type *o)
     return "it sums over whole vectors itself";
 }
 
-/* A distributed run (solver.backend=petsc, or a context with distribution hooks): every
- * selected method must declare that it runs on distributed vectors (EO_METHOD_DISTRIBUTED).
+/* A distributed run (solver.backend=petsc): every selected method must declare that it runs on distributed vectors (EO_METHOD_DISTRIBUTED).
  * The backend's own optimizers (EO_OBJ_NEEDS_PARTS) take the parts as they are. */
 static int check_distributed(eo_solver *s)
 {
@@ -313,7 +312,7 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, eo_so
     }
 
     const eo_optimizer_type *opt = s->type[SLOT_OPT];
-    if (strcmp(s->opts.backend, "petsc") == 0 || eo_ctx_dist(ctx)) EO_TRY(rc = check_distributed(s));
+    if (strcmp(s->opts.backend, "petsc") == 0) EO_TRY(rc = check_distributed(s));
     if (opt->needs_linear) {
         EO_TRY(rc = eo_linsolve_create(ctx, s->type[SLOT_LINEAR], s->params[SLOT_LINEAR], &s->linear));
     }
@@ -367,7 +366,7 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         return res->status = eo_error(s->ctx, EO_ERR_INVALID, "solver: objective has n = %d < 0", obj->n);
     const eo_optimizer_type *opt = s->type[SLOT_OPT];
     eo_dist_view view;
-    if (eo_ctx_dist(s->ctx) && !(opt->needs_ops & EO_OBJ_NEEDS_PARTS)) {
+    if (eo_ctx_dist(s->ctx) && strcmp(s->opts.backend, "petsc") == 0 && !(opt->needs_ops & EO_OBJ_NEEDS_PARTS)) {
         /* one part of a distributed problem: the optimizer minimizes the distributed view
          * of the part's objective, from x made equal to its owners' values */
         int rc = eo_dist_view_init(&view, s->ctx, obj);
