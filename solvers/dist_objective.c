@@ -190,8 +190,3 @@ int eo_dist_view_init(eo_dist_view *v, eo_ctx *ctx, eo_objective *local)
     v->obj = (eo_objective){.n = local->n, .ops = &v->ops, .data = v, .space = s};
     return EO_OK;
 }
-
-void eo_dist_view_finish(eo_dist_view *v)
-{
-    (void)v; /* the part's objective counted its own evaluations */
-}

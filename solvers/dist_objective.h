@@ -17,8 +17,6 @@ typedef struct eo_dist_view {
  * context has eo_dist_hooks with a `space` hook; collective). EO_ERR_UNSUPPORTED with a
  * message when the context cannot give a vector space. */
 int eo_dist_view_init(eo_dist_view *v, eo_ctx *ctx, eo_objective *local);
-/* After a minimization: the view's counters added to the local objective's. */
-void eo_dist_view_finish(eo_dist_view *v);
 /* x (n) made equal to its owner's value at every copy (collective). */
 int eo_dist_view_consistent(const eo_vspace *s, double *x);
 
