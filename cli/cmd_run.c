@@ -562,17 +562,6 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     cfg = NULL;
     const eo_scene *sc = eo_sim_scene(sim);
     eo_step *st = eo_sim_step_problem(sim);
-    { /* petsc_newton's fixes and line searches, checked before anything is written */
-        const eo_solver_opts *so = eo_solver_get_opts(eo_sim_solver(sim));
-        const int pn = strcmp(so->optimizer, "petsc_newton") == 0 ||
-                       (strcmp(so->backend, "petsc") == 0 && strcmp(so->optimizer, "newton") == 0);
-        const char *why = pn ? eo_petsc_newton_refuses(so->hessian_fix, so->linesearch) : NULL;
-        if (why) {
-            rc = eo_cfg_error(ctx, eo_sim_cfg(sim), "solver.hessian_fix", EO_ERR_UNSUPPORTED,
-                              "petsc_newton: %s / line search %s: %s", so->hessian_fix, so->linesearch, why);
-            goto fail;
-        }
-    }
     if (eo_cli_size() > 1) { /* under mpirun every rank holds a part: only distributed solvers can run it */
         const eo_solver_opts *so = eo_solver_get_opts(eo_sim_solver(sim));
         const char *on = so->optimizer;

@@ -112,11 +112,9 @@ fail:
 
 /* ---------------------------------------------------------------- matrix */
 
-/* The COO layout of the local Hessian H (upper-triangle CSC, local free indices), both
- * triangles, in global rows and columns; preallocation from it. */
-static int matrix_build(eo_dist *d, const eo_csc *H, const eo_petsc_params *p)
+int eo_petsc_coo_mat(eo_ctx *ctx, MPI_Comm comm, const eo_csc *H, const PetscInt *glob, int nown, int nglobal,
+                     Mat *A, PetscCount *ncoo)
 {
-    eo_ctx *ctx = d->ctx;
     int rc = EO_OK;
     PetscInt *ci = NULL, *cj = NULL;
     PetscCount nc = 0;
@@ -124,41 +122,73 @@ static int matrix_build(eo_dist *d, const eo_csc *H, const eo_petsc_params *p)
         for (int q = H->colptr[j]; q < H->colptr[j + 1]; q++) nc += H->rowind[q] == j ? 1 : 2;
     EO_PC(PetscMalloc1(nc + 1, &ci));
     EO_PC(PetscMalloc1(nc + 1, &cj));
-    EO_PC(PetscMalloc1(nc + 1, &d->coo_v));
     PetscCount k = 0;
     for (int j = 0; j < H->n; j++)
         for (int q = H->colptr[j]; q < H->colptr[j + 1]; q++) {
             const int i = H->rowind[q];
-            ci[k] = d->lglob[i], cj[k++] = d->lglob[j];
-            if (i != j) ci[k] = d->lglob[j], cj[k++] = d->lglob[i];
+            ci[k] = glob[i], cj[k++] = glob[j];
+            if (i != j) ci[k] = glob[j], cj[k++] = glob[i];
         }
-    d->ncoo = nc;
-    int bs3 = d->nown % 3 == 0;
-    MPI_Allreduce(MPI_IN_PLACE, &bs3, 1, MPI_INT, MPI_MIN, d->comm);
-    EO_PC(MatCreate(d->comm, &d->A));
-    EO_PC(MatSetSizes(d->A, d->nown, d->nown, d->nglobal, d->nglobal));
-    EO_PC(MatSetType(d->A, MATAIJ));
-    if (bs3) EO_PC(MatSetBlockSize(d->A, 3));
-    EO_PC(MatSetPreallocationCOO(d->A, nc, ci, cj));
-    EO_PC(MatSetOption(d->A, MAT_SYMMETRIC, PETSC_TRUE));
-    EO_PC(MatSetOption(d->A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
-    if (strcmp(p->pc, "gamg") == 0 && bs3) { /* rigid-body modes from the rest coordinates */
-        EO_PC(VecCreateMPI(d->comm, d->nown, d->nglobal, &d->coords));
-        EO_PC(VecSetBlockSize(d->coords, 3));
-        const double *x0 = eo_step_x0(d->st);
-        PetscScalar *a;
-        EO_PC(VecGetArray(d->coords, &a));
-        for (int i = 0; i < d->n; i++) {
-            const PetscInt g = d->lglob[i] - d->rstart;
-            if (g >= 0 && g < d->nown) a[g] = x0[eo_step_free_to_full(d->st, i)];
-        }
-        EO_PC(VecRestoreArray(d->coords, &a));
-        EO_PC(MatNullSpaceCreateRigidBody(d->coords, &d->rbm));
-        EO_PC(MatSetNearNullSpace(d->A, d->rbm));
-    }
+    *ncoo = nc;
+    int bs3 = nown % 3 == 0;
+    MPI_Allreduce(MPI_IN_PLACE, &bs3, 1, MPI_INT, MPI_MIN, comm);
+    EO_PC(MatCreate(comm, A));
+    EO_PC(MatSetSizes(*A, nown, nown, nglobal, nglobal));
+    EO_PC(MatSetType(*A, MATAIJ));
+    if (bs3) EO_PC(MatSetBlockSize(*A, 3));
+    EO_PC(MatSetPreallocationCOO(*A, nc, ci, cj));
+    EO_PC(MatSetOption(*A, MAT_SYMMETRIC, PETSC_TRUE));
+    EO_PC(MatSetOption(*A, MAT_SYMMETRY_ETERNAL, PETSC_TRUE));
 fail:
     PetscFree(ci);
     PetscFree(cj);
+    return rc;
+}
+
+PetscCount eo_petsc_coo_fill(const eo_csc *H, PetscScalar *v)
+{
+    PetscCount k = 0;
+    for (int j = 0; j < H->n; j++)
+        for (int q = H->colptr[j]; q < H->colptr[j + 1]; q++) {
+            v[k++] = H->val[q];
+            if (H->rowind[q] != j) v[k++] = H->val[q];
+        }
+    return k;
+}
+
+int eo_petsc_rigid_modes(const eo_dist *d, Mat A, Vec *coords, MatNullSpace *ns)
+{
+    eo_ctx *ctx = d->ctx;
+    int rc = EO_OK;
+    PetscInt bs = 1;
+    EO_PC(MatGetBlockSize(A, &bs));
+    if (bs != 3) return EO_OK;
+    EO_PC(MatCreateVecs(A, coords, NULL));
+    EO_PC(VecSetBlockSize(*coords, 3));
+    const double *x0 = eo_step_x0(d->st);
+    PetscScalar *a;
+    EO_PC(VecGetArray(*coords, &a));
+    for (int i = 0; i < d->n; i++) {
+        const PetscInt g = d->lglob[i] - d->rstart;
+        if (g >= 0 && g < d->nown) a[g] = x0[eo_step_free_to_full(d->st, i)];
+    }
+    EO_PC(VecRestoreArray(*coords, &a));
+    EO_PC(MatNullSpaceCreateRigidBody(*coords, ns));
+    EO_PC(MatSetNearNullSpace(A, *ns));
+fail:
+    return rc;
+}
+
+/* The MPIAIJ of the local Hessians (COO of both triangles in global rows and columns), with
+ * GAMG's rigid-body modes. */
+static int matrix_build(eo_dist *d, const eo_csc *H, const eo_petsc_params *p)
+{
+    eo_ctx *ctx = d->ctx;
+    int rc = eo_petsc_coo_mat(ctx, d->comm, H, d->lglob, d->nown, d->nglobal, &d->A, &d->ncoo);
+    if (rc < 0) return rc;
+    EO_PC(PetscMalloc1(d->ncoo + 1, &d->coo_v));
+    if (strcmp(p->pc, "gamg") == 0) rc = eo_petsc_rigid_modes(d, d->A, &d->coords, &d->rbm);
+fail:
     return rc;
 }
 
@@ -320,13 +350,7 @@ int eo_dist_hessian(eo_dist *d, eo_objective *obj, Vec X, eo_proj proj)
     if (rc < 0) return rc;
     d->n_hessian++;
     if (!d->A && (rc = matrix_build(d, H, d->params)) < 0) return rc;
-    PetscCount k = 0;
-    for (int j = 0; j < H->n; j++)
-        for (int q = H->colptr[j]; q < H->colptr[j + 1]; q++) {
-            d->coo_v[k++] = H->val[q];
-            if (H->rowind[q] != j) d->coo_v[k++] = H->val[q];
-        }
-    if (k != d->ncoo) return eo_error(ctx, EO_ERR_LINSOLVE, "petsc: the Hessian's pattern changed without a release");
+    if (eo_petsc_coo_fill(H, d->coo_v) != d->ncoo) return eo_error(ctx, EO_ERR_LINSOLVE, "petsc: the Hessian's pattern changed without a release");
     EO_PC(MatSetValuesCOO(d->A, d->coo_v, INSERT_VALUES));
 fail:
     return rc;

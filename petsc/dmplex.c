@@ -468,7 +468,8 @@ void eo_petsc_dist_install(eo_ctx *ctx)
     }
     if (size < 2) return;
     eo_ctx_set_mesh_source(ctx, mesh_source, NULL);
-    g_hooks = (eo_dist_hooks){.nparts = size, .part = rank, .reduce = reduce, .distribute_mesh = distribute};
+    g_hooks = (eo_dist_hooks){.nparts = size, .part = rank, .reduce = reduce, .distribute_mesh = distribute,
+                              .space = eo_petsc_space_hook};
     eo_ctx_set_dist(ctx, &g_hooks);
 }
 

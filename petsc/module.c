@@ -17,7 +17,7 @@
 #include "petsc_options.h"
 
 static const char *const ksp_names[] = {"preonly", "cg", "minres", "gmres", NULL};
-static const char *const pc_names[] = {"mumps", "gamg", "hypre", "bjacobi_icc", "jacobi", NULL};
+static const char *const pc_names[] = {"mumps", "gamg", "hypre", "bjacobi_icc", "jacobi", "cholmod", NULL};
 
 #define PP_STR(field) .size = sizeof(((eo_petsc_params *)0)->field)
 const eo_param_desc eo_petsc_params_desc[] = {
@@ -241,7 +241,9 @@ __attribute__((visibility("default"))) const char *eo_petsc_cli_mesh_note(void) 
 
 EO_PLUGIN_ENTRY(ctx)
 {
-    const eo_optimizer_type *all[] = {&eo_optimizer_petsc_newton, &eo_optimizer_snes_newtonls,
+    int lrc = eo_register(ctx, EO_KIND_LINSOLVE, &eo_linsolve_petsc_ksp);
+    if (lrc < 0) return lrc;
+    const eo_optimizer_type *all[] = {&eo_optimizer_snes_newtonls,
                                       &eo_optimizer_snes_newtontr, &eo_optimizer_tao_nls,
                                       &eo_optimizer_tao_ntr, &eo_optimizer_tao_lmvm,
                                       &eo_optimizer_tao_bqnls, NULL};

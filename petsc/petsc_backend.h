@@ -1,11 +1,11 @@
 /* The PETSc / MPI backend (private to petsc/): a plug-in module (elastopt_petsc.so, loaded
- * by the CLI with its own symbol scope, see README "PETSc / MPI backend") that registers
- * optimizers running the step problem of eo_sim distributed over the ranks of
- * PETSC_COMM_WORLD:
+ * by the CLI with its own symbol scope, docs/petsc.md) that lets the library's own
+ * optimizers run the step problem of eo_sim distributed over the ranks of PETSC_COMM_WORLD
+ * (solver.backend=petsc), and registers
  *
- *   petsc_newton        our Newton (Hessian fixes none/shift/clamp/abs with the shift
- *                       loop, our line searches backtracking/nonmonotone/none, our stopping
- *                       rules) on PETSc vectors, the Newton system through KSP
+ *   petsc_ksp           the linear solver of those runs (ksp.c): the ranks' Hessian parts
+ *                       assembled into an MPIAIJ, KSP (MUMPS, CG + GAMG, BoomerAMG, ...),
+ *                       or pc = cholmod (the whole matrix on rank 0, the library's CHOLMOD)
  *   snes_newtonls, snes_newtontr      PETSc SNES on ∇g = 0 with g as the line-search merit
  *   tao_nls, tao_ntr, tao_lmvm, tao_bqnls   PETSc TAO on min g
  *
@@ -13,10 +13,11 @@
  * each rank runs eo_sim on its local mesh (its tets and their vertices), whose element
  * sums (energies, masses, gravity) add up to the whole problem; the library's decisions
  * over the whole mesh are reduced through the context's distribution hooks
- * (eo_ctx_set_dist). Inside a minimization (dist.c) the ranks' local g, ∇g and Hessians
- * are summed into distributed Vecs and an MPIAIJ matrix over the free coordinates of the
- * owned vertices; each rank keeps its local minimizer. On one rank (an MPI singleton)
- * the whole step engine is the rank's part. */
+ * (eo_ctx_set_dist), whose `space` hook (space.c) numbers the free coordinates over the
+ * ranks for the library's distributed objective view (solvers/dist_objective.c). The SNES
+ * and TAO optimizers sum the ranks' local g, ∇g and Hessians into distributed Vecs and an
+ * MPIAIJ matrix themselves (dist.c). On one rank (an MPI singleton) the whole step engine
+ * is the rank's part. */
 #ifndef EO_PETSC_BACKEND_H
 #define EO_PETSC_BACKEND_H
 
@@ -27,7 +28,7 @@
 #include "elastopt/impl/method.h"
 #include "elastopt/step.h"
 
-/* Parameters shared by every PETSc optimizer (config section solver.<name>). */
+/* Parameters of petsc_ksp and of every PETSc optimizer (config section solver.<name>). */
 typedef struct eo_petsc_params {
     char ksp[16];          /* preonly | cg | minres | gmres (default preonly) */
     char pc[16];           /* mumps | gamg | hypre | bjacobi_icc | jacobi (default mumps) */
@@ -106,6 +107,34 @@ int eo_dist_inverted(eo_dist *d, eo_objective *obj, Vec X);
 /* Sum of v over the ranks. */
 double eo_dist_sum(eo_dist *d, double v);
 
+/* A MATAIJ (block size 3 where every rank's rows allow it, symmetric) preallocated for the
+ * COO entries of both triangles of the part's upper-triangle CSC H in global numbering glob
+ * (duplicates of shared vertices summed by MatSetValuesCOO); *ncoo entries (collective). */
+int eo_petsc_coo_mat(eo_ctx *ctx, MPI_Comm comm, const eo_csc *H, const PetscInt *glob, int nown, int nglobal,
+                     Mat *A, PetscCount *ncoo);
+/* H's values in that COO order into v; returns their count. */
+PetscCount eo_petsc_coo_fill(const eo_csc *H, PetscScalar *v);
+/* GAMG's near-null space of A: the rigid-body modes of d's rest coordinates (block size 3
+ * only). */
+int eo_petsc_rigid_modes(const eo_dist *d, Mat A, Vec *coords, MatNullSpace *ns);
+
+/* The vector space of the distributed step objective (space.c): the context hook
+ * eo_dist_hooks.space, with which the library's optimizers run distributed. */
+typedef struct eo_petsc_space {
+    eo_vspace vs;
+    eo_dist d;              /* the numbering (d.gen changes with it) */
+    Vec G;                  /* global work vector of assemble */
+    unsigned char *own;
+    long *gid;
+} eo_petsc_space;
+int eo_petsc_space_hook(eo_ctx *ctx, eo_objective *obj, const eo_vspace **out, void *user);
+/* 1 if vs is this backend's space (its user is an eo_petsc_space). */
+int eo_petsc_space_is(const eo_vspace *vs);
+
+/* The linear solver petsc_ksp (ksp.c): the Newton system of the library's optimizers
+ * through KSP, from each rank's part of the Hessian. */
+extern const eo_linsolve_type eo_linsolve_petsc_ksp;
+
 /* KSP set up from the params (+ the options string, + the PETSc options database). */
 int eo_petsc_ksp_configure(eo_ctx *ctx, KSP ksp, const eo_petsc_params *p, eo_dist *d, const char *prefix);
 
@@ -122,7 +151,7 @@ int eo_petsc_fail(eo_ctx *ctx, PetscErrorCode ierr, const char *what);
         }                                                                                \
     } while (0)
 
-extern const eo_optimizer_type eo_optimizer_petsc_newton, eo_optimizer_snes_newtonls, eo_optimizer_snes_newtontr,
-    eo_optimizer_tao_nls, eo_optimizer_tao_ntr, eo_optimizer_tao_lmvm, eo_optimizer_tao_bqnls;
+extern const eo_optimizer_type eo_optimizer_snes_newtonls, eo_optimizer_snes_newtontr, eo_optimizer_tao_nls,
+    eo_optimizer_tao_ntr, eo_optimizer_tao_lmvm, eo_optimizer_tao_bqnls;
 
 #endif

@@ -1,5 +1,5 @@
 /* PETSc's own nonlinear solvers as optimizers (petsc_backend.h), on the same distributed
- * step problem as petsc_newton:
+ * step problem as the library's optimizers on the PETSc backend:
  *
  *   snes_newtonls   SNES newtonls on F(x) = ∇g(x) = 0, Jacobian = the Hessian projected by
  *                   the Hessian fix's element projection (clamp by default), line search
@@ -12,7 +12,7 @@
  *
  * Stopping: SNES: ‖F‖ ≤ tol·‖F(x₀)‖ (snes rtol = solver.tol, step tolerance off); TAO:
  * ‖∇g‖ ≤ tol·‖∇g(x₀)‖ (gttol). solver.max_iters caps the iterations; the KSP is
- * configured from solver.<name> as for petsc_newton (then -snes_* / -tao_* / -ksp_*
+ * configured from solver.<name> as for petsc_ksp (then -snes_* / -tao_* / -ksp_*
  * options). The callback gets one record per iteration from the solver's monitor
  * (g, ‖∇g‖). Reasons: PETSc's converged reasons → converged_gradient (converged_step for
  * a SNES step-length stop), iteration cap → diverged_max_iters, line search failure →

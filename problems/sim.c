@@ -134,8 +134,8 @@ static void fallback_clear(eo_solver **fb, int *nfb)
 }
 
 /* The default fallback chain of a scene's solver (EO_SIM_DEFAULT_FALLBACK, sim.h): used
- * when the scene names no `solver.fallback` (an explicit [] turns it off) and the solver
- * runs natively. Measured choice: docs/defaults.md, "Defaults that converge". */
+ * when the scene names no `solver.fallback` (an explicit [] turns it off), also with
+ * solver.backend = petsc (its entries run distributed like the first). Measured choice: docs/defaults.md, "Defaults that converge". */
 static const char default_fallback[] = EO_SIM_DEFAULT_FALLBACK;
 
 /* The solvers of cfg's `solver.fallback` (each entry merged over the `solver` section),
@@ -163,9 +163,7 @@ static int fallback_load(eo_ctx *ctx, eo_cfg *cfg, eo_solver **fb, int *nfb, int
     json_t *list = json_is_object(main_sec) ? json_object_get(main_sec, "fallback") : NULL;
     json_t *deflist = NULL;
     if (!list) {
-        json_t *be = json_is_object(main_sec) ? json_object_get(main_sec, "backend") : NULL;
-        if (!use_default || (be && !(json_is_string(be) && !strcmp(json_string_value(be), "native"))))
-            return EO_OK;
+        if (!use_default) return EO_OK;
         if (!(list = deflist = json_loads(default_fallback, 0, NULL)))
             return eo_error(ctx, EO_ERR_NOMEM, "sim: out of memory");
     }
@@ -245,7 +243,7 @@ static int check_element(eo_ctx *ctx, const eo_scene *sc, const eo_solver *sv, c
     const eo_optimizer_type *t = NULL;
     if (!sc->element || (sc->element->flags & EO_ELEMENT_LINEAR) ||
         eo_registry_find(ctx, EO_KIND_OPTIMIZER, eo_solver_get_opts(sv)->optimizer, (const void **)&t) < 0 ||
-        !t->needs_ops)
+        !(t->needs_ops & (EO_OBJ_NEEDS_SPLIT | EO_OBJ_NEEDS_VERTEX | EO_OBJ_NEEDS_PARTS)))
         return EO_OK;
     return eo_error(ctx, EO_ERR_INVALID,
                     "%s: optimizer %s needs %s, which element %s does not have (they assume one deformation "
@@ -523,6 +521,7 @@ static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
             if (e == 0) {
                 double t0 = eo_wtime(), c0 = eo_cputime();
                 if ((rc = eo_objective_value(s->obj, s->x0b, &g_best)) < 0) return rc;
+                eo_ctx_reduce(s->ctx, &g_best, 1, EO_REDUCE_SUM); /* a distributed run: the parts' g */
                 r->time += eo_wtime() - t0;
                 r->cpu_time += eo_cputime() - c0;
                 r->n_value++;

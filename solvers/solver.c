@@ -4,6 +4,7 @@
  * per-iteration reporting helper shared by the optimizers. */
 #include "elastopt/impl/method.h"
 #include "solver_registry.h"
+#include "dist_objective.h"
 
 #include <float.h>
 #include <jansson.h>
@@ -80,17 +81,20 @@ const eo_param_desc eo_solver_opts_desc[] = {
      .def.d = 0, .min = 0, .range = EO_RANGE_MIN, .help = "seconds per minimization, 0 = none"},
     {.key = "backend", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_solver_opts, backend), OPTS_STR(backend),
      .def.s = "native", .choices = backend_names,
-     .help = "native, or petsc: the optimizer distributed over MPI ranks by the PETSc backend (newton runs as "
-             "petsc_newton; snes_* and tao_* as they are); needs a build with -Dpetsc"},
+     .help = "native, or petsc: the optimizer distributed over MPI ranks by the PETSc backend (the library's "
+             "optimizer on the ranks' parts, linear solver auto = petsc_ksp; snes_* and tao_* as they are); needs a "
+             "build with -Dpetsc"},
     {0},
 };
 
 void eo_solver_opts_default(eo_solver_opts *o) { eo_params_default(eo_solver_opts_desc, o); }
 
-static double metric_norm(const struct eo_stop_state *st, const double *v)
+static double metric_norm(const struct eo_stop_state *st, const eo_vspace *vs, const double *v)
 {
     double s = 0;
-    for (int i = 0; i < st->n; i++) s += v[i] * v[i] * st->dinv[i];
+    for (int i = 0; i < st->n; i++)
+        if (!vs || vs->own[i]) s += v[i] * v[i] * st->dinv[i];
+    eo_vreduce(vs, &s, 1, EO_REDUCE_SUM);
     return sqrt(s);
 }
 
@@ -103,9 +107,14 @@ static void stop_begin(const eo_solver_ctx *sc, struct eo_stop_state *st, const 
     eo_objective *obj = sc->obj;
     int ok = obj->ops->metric_diag && obj->ops->metric_diag(obj->data, st->dinv) >= 0;
     for (int i = 0; ok && i < st->n; i++) ok = isfinite(st->dinv[i]) && st->dinv[i] > 0;
+    if (obj->space) { /* every part the same choice */
+        double o = ok;
+        eo_vreduce(obj->space, &o, 1, EO_REDUCE_MIN);
+        ok = o == 1;
+    }
     for (int i = 0; i < st->n; i++) st->dinv[i] = ok ? 1 / st->dinv[i] : 1;
     st->g0 = si->g;
-    st->gm0 = st->gm_last = grad ? metric_norm(st, grad) : NAN;
+    st->gm0 = st->gm_last = grad ? metric_norm(st, obj->space, grad) : NAN;
     double rs[3] = {0, 0, 0};
     const double e2 = DBL_EPSILON * DBL_EPSILON;
     if (x && eo_objective_rounding_scale(obj, x, rs) >= 0 && isfinite(rs[0]) && isfinite(rs[1])) {
@@ -127,7 +136,7 @@ int eo_solver_stop_check(const eo_solver_ctx *sc, eo_stop_info *si, const double
     if (!st->begun) stop_begin(sc, st, si, x, grad);
     si->measure = sc->optimizer && sc->optimizer->newton_decrement ? EO_MEASURE_DECREMENT : EO_MEASURE_GRADIENT;
     si->g0 = st->g0;
-    if (grad) st->gm_last = metric_norm(st, grad);
+    if (grad) st->gm_last = metric_norm(st, sc->obj->space, grad);
     si->grad_metric = st->gm_last;
     si->grad_metric0 = st->gm0;
     /* a continuation measures against the step's start (eo_solver_set_reference) */
@@ -215,6 +224,41 @@ static const char *opts_name(const eo_solver_opts *o, int slot)
     return names[slot];
 }
 
+/* Why the optimizer cannot run on a distributed objective, from what it needs. */
+static const char *dist_why(const eo_optimizer_type *o)
+{
+    if (o->needs_ops & EO_OBJ_NEEDS_CONSTANT)
+        return "it factors the constant matrix of the whole problem in one process";
+    if (o->needs_ops & EO_OBJ_NEEDS_VERTEX) return "it sweeps over vertex blocks one after the other";
+    if (o->needs_ops & EO_OBJ_NEEDS_SPLIT) return "it needs the per-tet split of the whole problem";
+    if (o->needs_ops & EO_OBJ_NEEDS_INERTIA) return "it needs the mass matrix of the whole problem";
+    if (o->needs_ops & EO_OBJ_NEEDS_WHOLE) return "it hands the whole vector to an external code";
+    return "it sums over whole vectors itself";
+}
+
+/* A distributed run (solver.backend=petsc): every selected method must declare that it runs on distributed vectors (EO_METHOD_DISTRIBUTED).
+ * The backend's own optimizers (EO_OBJ_NEEDS_PARTS) take the parts as they are. */
+static int check_distributed(eo_solver *s)
+{
+    const eo_optimizer_type *opt = s->type[SLOT_OPT];
+    if (opt->needs_ops & EO_OBJ_NEEDS_PARTS) return EO_OK;
+    static const char *const key[N_KINDS] = {"optimizer", "hessian_fix", "linesearch", "stop", "linear"};
+    static const char *const kind[N_KINDS] = {"optimizer", "Hessian fix", "line search", "stopping rule",
+                                              "linear solver"};
+    for (int i = 0; i < N_KINDS; i++) {
+        if (!s->type[i] || (i == SLOT_HESSFIX && !opt->needs_hessian)) continue;
+        const eo_method_info *mi = eo_method_info_of(s->type[i]);
+        if (mi->flags & EO_METHOD_DISTRIBUTED) continue;
+        const char *why = i == SLOT_OPT      ? dist_why(opt)
+                          : i == SLOT_LINEAR ? "it needs the whole matrix in one process; use petsc_ksp"
+                                             : "it sums over whole vectors itself";
+        return eo_error(s->ctx, EO_ERR_UNSUPPORTED,
+                        "key 'solver.%s': %s '%s' has no distributed form (solver.backend=petsc): %s", key[i],
+                        kind[i], mi->name, why);
+    }
+    return EO_OK;
+}
+
 int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, eo_solver **out)
 {
     int rc = EO_OK;
@@ -240,25 +284,11 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, eo_so
         goto fail;
     }
 
-    /* backend petsc: the distributed version of the optimizer */
-    if (strcmp(s->opts.backend, "petsc") == 0) {
-        const void *t = NULL;
-        char name[40];
-        snprintf(name, sizeof name, "petsc_%s", s->opts.optimizer);
-        if (strlen(name) < sizeof s->opts.optimizer && eo_registry_lookup(ctx, &eo_reg_optimizer, name, &t) >= 0) {
-            memcpy(s->opts.optimizer, name, strlen(name) + 1);
-        } else if (strncmp(s->opts.optimizer, "petsc_", 6) != 0 && strncmp(s->opts.optimizer, "snes_", 5) != 0 &&
-                   strncmp(s->opts.optimizer, "tao_", 4) != 0) {
-            rc = eo_error(ctx, EO_ERR_UNKNOWN_NAME,
-                          "key 'solver.backend': petsc has no version of optimizer '%s'%s", s->opts.optimizer,
-                          eo_registry_lookup(ctx, &eo_reg_optimizer, "petsc_newton", &t) >= 0
-                              ? " (it runs newton as petsc_newton, and snes_newtonls, snes_newtontr, tao_nls, "
-                                "tao_ntr, tao_lmvm, tao_bqnls)"
-                              : " (the PETSc backend is not loaded: build with meson -Dpetsc=enabled; the CLI "
-                                "loads it by itself)");
-            goto fail;
-        }
-    }
+    /* backend petsc: the library's optimizer distributed (solvers/dist_objective.c), its
+     * systems solved by the backend's linear solver (auto: petsc_ksp); the backend's own
+     * snes_* and tao_* optimizers run as they are */
+    if (strcmp(s->opts.backend, "petsc") == 0 && strcmp(s->opts.linear, "auto") == 0)
+        snprintf(s->opts.linear, sizeof s->opts.linear, "petsc_ksp");
     /* resolve the selected methods; the linear solver only if the optimizer needs one */
     for (size_t i = 0; i < N_KINDS; i++) {
         if (i == SLOT_LINEAR && !((const eo_optimizer_type *)s->type[SLOT_OPT])->needs_linear)
@@ -282,6 +312,7 @@ int eo_solver_create(eo_ctx *ctx, const eo_solver_opts *opts, eo_cfg *cfg, eo_so
     }
 
     const eo_optimizer_type *opt = s->type[SLOT_OPT];
+    if (strcmp(s->opts.backend, "petsc") == 0) EO_TRY(rc = check_distributed(s));
     if (opt->needs_linear) {
         EO_TRY(rc = eo_linsolve_create(ctx, s->type[SLOT_LINEAR], s->params[SLOT_LINEAR], &s->linear));
     }
@@ -334,7 +365,24 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
     if (obj->n < 0)
         return res->status = eo_error(s->ctx, EO_ERR_INVALID, "solver: objective has n = %d < 0", obj->n);
     const eo_optimizer_type *opt = s->type[SLOT_OPT];
-    if (obj->n != s->n) {
+    eo_dist_view view;
+    if (eo_ctx_dist(s->ctx) && strcmp(s->opts.backend, "petsc") == 0 && !(opt->needs_ops & EO_OBJ_NEEDS_PARTS)) {
+        /* one part of a distributed problem: the optimizer minimizes the distributed view
+         * of the part's objective, from x made equal to its owners' values */
+        int rc = eo_dist_view_init(&view, s->ctx, obj);
+        if (rc >= 0) rc = eo_dist_view_consistent(view.space, x);
+        if (rc >= 0 && s->linear) rc = eo_linsolve_set_space(s->linear, view.space);
+        if (rc < 0) return res->status = rc;
+        obj = &view.obj;
+    }
+    int resize = obj->n != s->n;
+    if (obj->space) { /* a part's size changed: every part sets up afresh, so that the
+                       * optimizers' carried state (shift, decrement history) stays alike */
+        double r = resize;
+        eo_vreduce(obj->space, &r, 1, EO_REDUCE_MAX);
+        resize = r != 0;
+    }
+    if (resize) {
         /* first minimize, or a new problem size (a boundary set was released): size the
          * optimizer's workspace for it (the only allocation outside create) */
         if (s->opt_set_up && opt->destroy) opt->destroy(s->opt_state, s->ctx);

@@ -1,12 +1,16 @@
 #!/usr/bin/env bash
 # The PETSc / MPI backend (petsc/, docs/petsc.md), suite 'petsc':
 #  1. parity: `mpirun -n 2` runs of the cantilever, twist and inverted scenes with
-#     solver.backend=petsc (Newton + clamp) match the serial engine to 1e-8 relative in
-#     positions after 10 steps, with MUMPS (direct) and with CG + GAMG; twist and inverted
-#     also with project_on_demand (MUMPS); a second GAMG run of the twist gives the same
-#     positions bit for bit (the partition does not change from run to run);
-#  2. one process holds Ipopt (sequential MUMPS) and petsc_newton (parallel MUMPS): a bench
-#     suite runs both and every configuration converges;
+#     solver.backend=petsc (the library's newton + clamp on the ranks' parts, linear solver
+#     petsc_ksp) match the serial engine to 1e-8 relative in positions after 10 steps, with
+#     MUMPS (direct) and with CG + GAMG; twist also with project_on_demand (MUMPS), the
+#     inverted scene with project_on_demand and petsc_ksp.pc = cholmod (its true Hessian is
+#     indefinite: CHOLMOD's Cholesky failure decides as in the serial engine); a second GAMG
+#     run of the twist gives the same positions bit for bit (the partition does not change
+#     from run to run); the method matrix (every Hessian fix, lbfgs; 1, 2, 4 ranks) is
+#     tests/test_petsc_parity.sh;
+#  2. one process holds Ipopt (sequential MUMPS) and the backend's petsc_ksp (parallel
+#     MUMPS): a bench suite runs both and every configuration converges;
 #  3. output under MPI: rank 0 alone writes (summary.json with the serial run's keys,
 #     iterations.csv), no scratch folder is left, a bad input ends every rank with exit 2
 #     and one message;
@@ -21,7 +25,7 @@ MODULE=$2
 here=$(cd "$(dirname "$0")" && pwd)
 [ -f "$MODULE" ] || { echo "skip: PETSc backend not built ($MODULE)"; exit 77; }
 command -v mpirun >/dev/null || { echo "skip: no mpirun"; exit 77; }
-"$ELASTOPT" list | grep -q "^  petsc_newton " || { echo "skip: the CLI does not load the backend (sanitizer build?)"; exit 77; }
+"$ELASTOPT" list | grep -q "^  petsc_ksp " || { echo "skip: the CLI does not load the backend (sanitizer build?)"; exit 77; }
 mpi=(mpirun -n 2 --oversubscribe --mca mpi_yield_when_idle 1)
 # Open MPI refuses to start as root unless told; CI runs as root
 [ "$(id -u)" -eq 0 ] && mpi+=(--allow-run-as-root)
@@ -37,8 +41,8 @@ for scene in cantilever twist inverted; do
     "$ELASTOPT" run --scene "$scene" -o time.steps=10 --out "$tmp/s-$scene" -q ||
         { echo "FAIL: serial $scene"; fail=1; continue; }
     for lin in mumps gamg; do
-        if [ $lin = mumps ]; then opts=(-o solver.petsc_newton.pc=mumps)
-        else opts=(-o solver.petsc_newton.ksp=cg -o solver.petsc_newton.pc=gamg); fi
+        if [ $lin = mumps ]; then opts=(-o solver.petsc_ksp.pc=mumps)
+        else opts=(-o solver.petsc_ksp.ksp=cg -o solver.petsc_ksp.pc=gamg); fi
         timeout 300 "${mpi[@]}" "$ELASTOPT" run --scene "$scene" -o time.steps=10 -o solver.backend=petsc \
             "${opts[@]}" --out "$tmp/p-$scene-$lin" -q
         rc=$?
@@ -47,21 +51,25 @@ for scene in cantilever twist inverted; do
     done
 done
 
-# project_on_demand (the library's default fix) on the indefinite scenes: the true Hessian
-# first, clamp where it fails, the same choice on 2 ranks as in the serial engine
+# project_on_demand (the library's default fix): the true Hessian first, clamp where it
+# fails, the same choice on 2 ranks as in the serial engine: the twist with MUMPS, the
+# inverted scene (indefinite true Hessians) with pc = cholmod, whose Cholesky fails where
+# the serial engine's does (MUMPS factors an indefinite matrix marked SPD without failing)
 for scene in twist inverted; do
     "$ELASTOPT" run --scene "$scene" -o time.steps=10 -o solver.hessian_fix=project_on_demand \
         --out "$tmp/s-$scene-pod" -q || { echo "FAIL: serial $scene pod"; fail=1; continue; }
+    pc=mumps; [ $scene = inverted ] && pc=cholmod
     timeout 300 "${mpi[@]}" "$ELASTOPT" run --scene "$scene" -o time.steps=10 -o solver.backend=petsc \
-        -o solver.hessian_fix=project_on_demand -o solver.petsc_newton.pc=mumps --out "$tmp/p-$scene-pod" -q
+        -o solver.hessian_fix=project_on_demand -o solver.petsc_ksp.pc=$pc --out "$tmp/p-$scene-pod" -q
     check [ $? -eq 0 ]
-    check python3 "$here/petsc_compare.py" "$tmp/s-$scene-pod" "$tmp/p-$scene-pod" 1e-8 "$scene 2 ranks mumps project_on_demand"
+    check python3 "$here/petsc_compare.py" "$tmp/s-$scene-pod" "$tmp/p-$scene-pod" 1e-8 "$scene 2 ranks $pc project_on_demand"
+    check python3 "$here/petsc_parity.py" "$tmp/s-$scene-pod" "$tmp/p-$scene-pod" 0 "$scene 2 ranks $pc project_on_demand"
 done
 
 # the partition is the same in every run (DMPlexDistribute with PT-Scotch, petsc/dmplex.c):
 # a second 2-rank GAMG run of the twist gives bit-identical positions
 timeout 300 "${mpi[@]}" "$ELASTOPT" run --scene twist -o time.steps=10 -o solver.backend=petsc \
-    -o solver.petsc_newton.ksp=cg -o solver.petsc_newton.pc=gamg --out "$tmp/p-twist-gamg-2" -q
+    -o solver.petsc_ksp.ksp=cg -o solver.petsc_ksp.pc=gamg --out "$tmp/p-twist-gamg-2" -q
 check [ $? -eq 0 ]
 check python3 "$here/petsc_compare.py" "$tmp/p-twist-gamg" "$tmp/p-twist-gamg-2" 0 "twist 2 ranks gamg, run twice"
 
@@ -119,7 +127,7 @@ check python3 "$here/petsc_parity.py" "$tmp/rel/s" "$tmp/rel/p" 2 "release at st
 bar=${EO_SHARED:-$here/../../shared}/meshes/ipc_bar-2523.msh
 if [ -f "$bar" ]; then
     mkdir -p "$tmp/b"
-    cat > "$tmp/b/bar.json" <<EOF
+    bash "$here/petsc_bar_scene.sh" "$bar" 4 clamp > "$tmp/b/bar.json"
 {"mesh": {"file": "$bar"},
  "material": {"model": "stable_neo_hookean", "E": 1e6, "nu": 0.4, "density": 1000},
  "gravity": [0, 0, -9.81],
@@ -190,11 +198,24 @@ for target in ranks mpirun; do
     check python3 -c "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if d['status'] == 'interrupted' and d['stop_reason'] == 'interrupted' else 1)" "$tmp/sig/summary.json"
     check [ "$(ls "$tmp/scratch" | wc -l)" -eq 0 ]
 done
-# a Hessian fix petsc_newton has no distributed form: refused at load, nothing written
-"$ELASTOPT" run --scene twist -o solver.backend=petsc -o solver.hessian_fix=progressive --out "$tmp/hp" -q 2> "$tmp/hp.err"
+# methods without a distributed form (no EO_METHOD_DISTRIBUTED): refused when the solver is
+# configured, naming the method and why, exit 2, nothing written (on one rank and under
+# mpirun)
+"$ELASTOPT" run --scene twist -o solver.backend=petsc -o solver.optimizer=projective_dynamics --out "$tmp/hp" -q \
+    2> "$tmp/hp.err"
 check [ $? -eq 2 ]
-check grep -q "progressive" "$tmp/hp.err"
+check grep -q "optimizer 'projective_dynamics' has no distributed form (solver.backend=petsc): it factors the constant matrix" "$tmp/hp.err"
 check [ ! -e "$tmp/hp" ]
+timeout 120 "${mpi[@]}" "$ELASTOPT" run --scene twist -o solver.backend=petsc -o solver.optimizer=vbd --out "$tmp/hv" -q \
+    2> "$tmp/hv.err"
+check [ $? -eq 2 ]
+check grep -q "optimizer 'vbd' has no distributed form (solver.backend=petsc): it sweeps over vertex blocks" "$tmp/hv.err"
+check [ "$(grep -c "elastopt: error" "$tmp/hv.err")" -eq 1 ]
+check [ ! -e "$tmp/hv" ]
+"$ELASTOPT" run --scene twist -o solver.backend=petsc -o solver.linear=cholmod --out "$tmp/hl" -q 2> "$tmp/hl.err"
+check [ $? -eq 2 ]
+check grep -q "linear solver 'cholmod' has no distributed form (solver.backend=petsc): it needs the whole matrix" "$tmp/hl.err"
+check [ ! -e "$tmp/hl" ]
 
 # 4. the mesh file read on rank 0 only and broadcast (petsc/mesh_bcast.c): a MEDIT bar with
 #    two regions (tet references 1 and 2, the second 3x stiffer through `materials`), so
@@ -291,15 +312,14 @@ check [ "$n" -eq 1 ]
 # -log_view through the options key (read after PetscInitialize): the log is printed and
 # every rank finalizes MPI (mpirun used to report an improper exit)
 timeout 120 "${mpi[@]}" "$ELASTOPT" run --scene twist -o time.steps=1 -o solver.backend=petsc \
-    -o 'solver.petsc_newton.options=-log_view' --out "$tmp/lv" -q > "$tmp/lv.log" 2>&1
+    -o 'solver.petsc_ksp.options=-log_view' --out "$tmp/lv" -q > "$tmp/lv.log" 2>&1
 check [ $? -eq 0 ]
 check grep -q "^MatCholFctrNum" "$tmp/lv.log"
 check [ "$(grep -c "exiting improperly" "$tmp/lv.log")" -eq 0 ]
-# an unknown PETSc-backend method name is refused with the valid ones
-"$ELASTOPT" run --scene cantilever -o solver.backend=petsc -o solver.optimizer=lbfgs -o time.steps=1 \
-    --out "$tmp/x" -q 2> "$tmp/lbfgs.err"
+# the old optimizer name petsc_newton is gone (newton with solver.backend=petsc)
+"$ELASTOPT" run --scene cantilever -o solver.optimizer=petsc_newton -o time.steps=1 --out "$tmp/x" -q 2> "$tmp/pn.err"
 check [ $? -eq 2 ]
-check grep -q "petsc_newton" "$tmp/lbfgs.err"
+check grep -q "unknown optimizer 'petsc_newton'" "$tmp/pn.err"
 
 # 2. Ipopt and PETSc-MUMPS in one process, beside SNES and TAO
 timeout 300 "$ELASTOPT" bench "$here/data/petsc_suite.json" --out "$tmp/bench" --repeats 1 > "$tmp/bench.log" 2>&1
@@ -307,7 +327,7 @@ check [ $? -eq 0 ]
 check python3 - "$tmp/bench/summary.csv" <<'EOF'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-need = {"newton-clamp", "ipopt-clamp", "petsc_newton-mumps", "snes_newtontr", "tao_nls"}
+need = {"newton-clamp", "ipopt-clamp", "newton-petsc-mumps", "snes_newtontr", "tao_nls"}
 ok = {r["config"] for r in rows if r["status"] == "converged"}
 print("converged:", sorted(ok))
 sys.exit(0 if need <= ok else 1)

@@ -11,7 +11,7 @@ SRC="${EO_SOURCE_ROOT:?}"
 PY=/usr/bin/python3
 [ -x "$PY" ] && "$PY" -c "import jsonschema" 2>/dev/null || { echo "SKIP: python3-jsonschema not installed"; exit 77; }
 # the committed schemas list the methods of every optional backend (PETSc's too)
-for b in nlopt ipopt petsc_newton; do
+for b in nlopt ipopt petsc_ksp; do
   if grep -q "^  $b " "$SRC/docs/methods.md" && ! "$EXE" list | grep -q "^  $b "; then
     echo "SKIP: backend $b not built"; exit 77
   fi

@@ -18,8 +18,8 @@ for p in ${ranks[@]}; do
     rm -f "$out"/rss-"$tag".*
     "${mpi[@]}" -n "$p" bash -c '/usr/bin/time -f %M -o "$0.${OMPI_COMM_WORLD_RANK:-0}" "$@"; exit 0' \
         "$out/rss-$tag" "$E" run --scene twist -o "mesh.generate.cells=[$cells]" -o time.steps=1 \
-        -o solver.max_iters=2 -o output.vtu=false -o solver.backend=petsc -o solver.petsc_newton.ksp=cg \
-        -o solver.petsc_newton.pc=$pc -o solver.petsc_newton.max_lin_iters=$([ "$pc" = jacobi ] && echo 20 || echo 10000) --out "$out/run-$tag" --force -q -v > "$out/log-$tag" 2>&1
+        -o solver.max_iters=2 -o output.vtu=false -o solver.backend=petsc -o solver.petsc_ksp.ksp=cg \
+        -o solver.petsc_ksp.pc=$pc -o solver.petsc_ksp.max_lin_iters=$([ "$pc" = jacobi ] && echo 20 || echo 10000) --out "$out/run-$tag" --force -q -v > "$out/log-$tag" 2>&1
     printf "cells [%s] %s ranks %d: peak RSS per rank (MB):" "$cells" "$pc" "$p"
     for r in $(seq 0 $((p - 1))); do printf " %.0f" "$(echo "$(tail -1 "$out/rss-$tag.$r" 2>/dev/null || echo 0) / 1024" | bc -l)"; done
     echo

@@ -125,6 +125,8 @@ EO_API int eo_ctx_get_quiet_warnings(const eo_ctx *ctx);
 /// mass-spring meshes) are refused at load with a message.
 typedef enum eo_reduce_op { EO_REDUCE_SUM = 0, EO_REDUCE_MIN = 1, EO_REDUCE_MAX = 2 } eo_reduce_op;
 struct eo_mesh;
+struct eo_objective;
+struct eo_vspace;
 typedef struct eo_dist_hooks {
     int nparts; ///< number of processes (> 1: distributed)
     int part;   ///< this process (0 .. nparts-1)
@@ -135,6 +137,12 @@ typedef struct eo_dist_hooks {
     /// message in ctx (then every part fails).
     int (*distribute_mesh)(eo_ctx *ctx, struct eo_mesh **mesh, void *user);
     void *user;
+    /// Optional (a backend that runs the library's optimizers distributed): the vector
+    /// space (objective.h, eo_vspace) of the free variables of the step objective `obj` on
+    /// this part, numbered over the parts (collective; rebuilt when a part's free set
+    /// changed). EO_OK with *out borrowed until the next call, or a negative status. Without
+    /// it the solvers refuse to run distributed (solvers/dist_objective.c).
+    int (*space)(eo_ctx *ctx, struct eo_objective *obj, const struct eo_vspace **out, void *user);
 } eo_dist_hooks;
 /// Install (h != NULL, copied) or remove (NULL) the distribution hooks.
 EO_API void eo_ctx_set_dist(eo_ctx *ctx, const eo_dist_hooks *h);

@@ -93,6 +93,11 @@ typedef struct eo_linsolve_type {
     /// Optional: what the method does, in words (e.g. the choice of a policy), into buf
     /// (snprintf semantics). Without it eo_linsolve_describe gives the method's name.
     int (*describe)(const void *st, char *buf, size_t size);
+    /// Optional (types with EO_METHOD_DISTRIBUTED): the vector space (objective.h) of the
+    /// next matrices and vectors: a distributed space means that A holds this part's
+    /// terms only (the parts' matrices add up to the whole) and b, x are complete at every
+    /// copy; NULL: the ordinary one. Appended last.
+    int (*set_space)(void *st, const struct eo_vspace *space, eo_ctx *ctx);
 } eo_linsolve_type;
 
 typedef struct eo_linsolve eo_linsolve;
@@ -147,6 +152,12 @@ EO_API int eo_linsolve_set_rtol(eo_linsolve *ls, double rtol);
 /// bench/bench_linsolve.c does).
 /// Returns EO_OK, EO_ERR_INVALID (nv < 0 or xyz NULL with nv > 0), EO_ERR_NOMEM.
 EO_API int eo_linsolve_set_coordinates(eo_linsolve *ls, int nv, const double *xyz);
+/// The vector space of the next analyze/factor/solve calls (objective.h, eo_vspace; NULL:
+/// the ordinary one). A distributed space needs a linear solver that takes a part's
+/// Hessian (flag EO_METHOD_DISTRIBUTED, e.g. the PETSc backend's petsc_ksp): others give
+/// EO_ERR_UNSUPPORTED. The space is borrowed until the next call.
+struct eo_vspace;
+EO_API int eo_linsolve_set_space(eo_linsolve *ls, const struct eo_vspace *space);
 EO_API const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls);
 /// 1 if the solves are iterative (an inexact Newton's forcing term applies: set_rtol), 0
 /// if they are direct (a policy such as `auto` answers for the method it chose at the

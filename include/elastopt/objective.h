@@ -36,6 +36,7 @@
 #include "proj.h"
 #include "sparse.h"
 #include "status.h"
+#include "ctx.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -61,7 +62,12 @@ struct eo_material_coef;
 /// split_assemble: one F per tet, the linear tet's), the vertex blocks (vertex_blocks,
 /// vertex_block), the partitioned evaluation of linear tets (eo_step_set_part: the
 /// distributed PETSc backend).
-enum { EO_OBJ_NEEDS_SPLIT = 1, EO_OBJ_NEEDS_VERTEX = 2, EO_OBJ_NEEDS_PARTS = 4 };
+/// What an optimizer needs for the distributed path (solver.backend=petsc; the solver
+/// names it when it refuses): the constant matrix and its factor of the whole problem
+/// (constant_hessian, constant_factor), the inertia split (inertia), the whole vector in
+/// one process (an external code).
+enum { EO_OBJ_NEEDS_SPLIT = 1, EO_OBJ_NEEDS_VERTEX = 2, EO_OBJ_NEEDS_PARTS = 4, EO_OBJ_NEEDS_CONSTANT = 8,
+       EO_OBJ_NEEDS_INERTIA = 16, EO_OBJ_NEEDS_WHOLE = 32 };
 
 
 /// The elastic elements of an objective (ops->split_info), borrowed.
@@ -226,12 +232,57 @@ typedef struct eo_objective_characteristic {
     double volume;        ///< total rest volume Σ V_t (m³)
 } eo_objective_characteristic;
 
+/// The vector space of an objective's vectors (x, ∇g, directions): eo_objective.space.
+/// NULL (every objective but a distributed one): the n entries are all this process's and
+/// a sum over the vector is a plain loop. A distributed objective (one part of a problem
+/// spread over processes, ctx.h eo_dist_hooks; solvers/dist_objective.c) has n LOCAL
+/// entries: the ones its part owns and copies of entries other parts own, every copy
+/// equal to its owner's value (a vector the objective hands out, ∇g or the metric, is
+/// complete at every copy; entry-wise updates such as x + αp keep that). Sums over the
+/// whole vector count the owned entries once and are reduced over the parts (eo_vdot,
+/// eo_vnorm2, eo_vnorm_inf, eo_vreduce), so every part takes the same decisions. The
+/// Hessian of a distributed objective holds only its part's terms (the parts' matrices
+/// add up to the whole one, over the copies): a quadratic form pᵀHp of it is a partial sum
+/// (eo_vreduce with EO_REDUCE_SUM), and only a linear solver that takes such matrices
+/// (eo_linsolve_set_space) solves with it. Borrowed from the objective.
+typedef struct eo_vspace {
+    int n;                        ///< local entries (the objective's n)
+    long nglobal;                 ///< entries of the whole vector
+    const unsigned char *own;     ///< n flags: 1 = this part owns the entry
+    const long *gid;              ///< n: the entry's index in the whole vector; the owned
+                                  ///< entries of part r are a contiguous range, after part r − 1's
+    /// Reduce v[0..k) over the parts in place (collective); 0 or a negative status.
+    int (*reduce)(double *v, int k, eo_reduce_op op, void *user);
+    /// v (n): this part's partial sums → the totals over the parts at every copy
+    /// (collective); 0 or a negative status.
+    int (*assemble)(double *v, void *user);
+    void *user;
+    int nparts, part;             ///< processes and this one (0-based)
+} eo_vspace;
+
 typedef struct eo_objective {
     int n;                          ///< number of free variables
     const eo_objective_ops *ops;
     void *data;
     long n_value, n_gradient, n_hessian;  ///< evaluation counters
+    /// The vector space (above); NULL: the ordinary, undistributed one. Appended last.
+    const eo_vspace *space;
 } eo_objective;
+
+/// Σ aᵢbᵢ over the whole vector (space NULL: the plain loop, bit for bit; else the owned
+/// entries, reduced over the parts: collective).
+EO_API double eo_vdot(const eo_vspace *space, int n, const double *a, const double *b);
+/// √eo_vdot(a, a).
+EO_API double eo_vnorm2(const eo_vspace *space, int n, const double *a);
+/// max |aᵢ| over the whole vector.
+EO_API double eo_vnorm_inf(const eo_vspace *space, int n, const double *a);
+/// Reduce k values over the parts in place (nothing with space NULL or one part); a
+/// failed reduction sets them NAN.
+EO_API void eo_vreduce(const eo_vspace *space, double *v, int k, eo_reduce_op op);
+/// Σ aᵢbᵢdᵢ over the whole vector (d may be NULL: eo_vdot).
+EO_API double eo_vdot_w(const eo_vspace *space, int n, const double *d, const double *a, const double *b);
+/// 1 if the space spreads over several processes.
+static inline int eo_vspace_distributed(const eo_vspace *s) { return s && s->nparts > 1; }
 
 static inline int eo_objective_value(eo_objective *o, const double *x, double *g)
 {

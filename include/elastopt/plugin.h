@@ -50,7 +50,7 @@ extern "C" {
 /// eo_objective_ops grew (split_assemble); the kind EO_KIND_TERM (eo_term_type, impl/term.h:
 /// the terms of the step problem, eo_sys, eo_term_ops, eo_term) and eo_scene grew
 /// (nterm_cfg, term_type, term_cfg). 10: eo_linsolve_type grew (is_iterative, describe).
-#define EO_ABI_VERSION 10
+#define EO_ABI_VERSION 11
 
 /// The library's EO_ABI_VERSION.
 EO_API int eo_abi_version(void);

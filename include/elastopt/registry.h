@@ -43,7 +43,17 @@ typedef struct eo_method_info {
     const char *summary;           ///< one line for `elastopt list`
     const eo_param_desc *params;   ///< method parameters (NULL if none)
     size_t params_size;            ///< sizeof the params struct (0 if none)
+    /// EO_METHOD_* flags (0 for most). Appended last.
+    unsigned flags;
 } eo_method_info;
+
+/// eo_method_info.flags. EO_METHOD_DISTRIBUTED: a solver method (optimizer, Hessian fix,
+/// line search, stopping rule) that runs on a distributed objective (objective.h,
+/// eo_vspace): every sum over a vector goes through the objective's space (eo_vdot, ...),
+/// every decision is taken on reduced values; a linear solver with it takes a part's
+/// Hessian (eo_linsolve_set_space). Methods without it are refused when the solver is
+/// configured for a distributed run (solver.backend=petsc).
+enum { EO_METHOD_DISTRIBUTED = 1 };
 
 /* X(enum, key, label) : key is the config word, label is for messages */
 #define EO_KIND_LIST(X)                                                          \

@@ -45,7 +45,7 @@ typedef struct eo_sim eo_sim;
 #define EO_SIM_MAX_ENTRIES 8
 
 /// The fallback chain a scene's solver gets when its config names no `solver.fallback`
-/// (an explicit `[]` turns it off; a solver with backend other than native gets none):
+/// (an explicit `[]` turns it off; solver.backend = petsc gets it too, its entries distributed):
 /// the same optimizer with the `abs` Hessian fix and 100 iterations, the scene's own
 /// solver again (`{}`), then trust-region Newton with the Jacobi preconditioner and 1000.
 /// Each entry is merged over the `solver` section and, with `solver.fallback_start` = best

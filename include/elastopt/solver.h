@@ -224,10 +224,13 @@ typedef struct eo_solver_opts {
     int max_iters;         ///< iteration cap → EO_DIVERGED_MAX_ITERS (default 100)
     double time_budget;    ///< seconds per minimization, 0 = none (default 0)
     /// "native" (default) or "petsc": run `optimizer` distributed with the PETSc / MPI
-    /// backend (its version petsc_<optimizer>, e.g. petsc_newton; the backend's own
-    /// snes_* and tao_* optimizers run as they are). The backend is a module the CLI
-    /// loads when built with -Dpetsc (README "PETSc / MPI backend"); without it
-    /// eo_solver_create fails with EO_ERR_UNKNOWN_NAME naming the option.
+    /// backend: under mpirun each rank minimizes its part of the step problem with the
+    /// library's optimizer on distributed vectors (objective.h eo_vspace; optimizers, Hessian
+    /// fixes, line searches and stopping rules with EO_METHOD_DISTRIBUTED, the others are
+    /// refused by eo_solver_create), `linear` = auto meaning the backend's petsc_ksp; the
+    /// backend's own snes_* and tao_* optimizers run as they are. The backend is a module
+    /// the CLI loads when built with -Dpetsc (docs/petsc.md); without it eo_solver_create
+    /// fails with EO_ERR_UNKNOWN_NAME naming petsc_ksp.
     char backend[16];
 } eo_solver_opts;
 EO_API extern const eo_param_desc eo_solver_opts_desc[];

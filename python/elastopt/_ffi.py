@@ -95,11 +95,13 @@ typedef struct eo_objective_ops {
 } eo_objective_ops;
 typedef struct eo_objective {
     int n; const eo_objective_ops *ops; void *data; long n_value, n_gradient, n_hessian;
+    const void *space;
 } eo_objective;
 
 /* ---- registry.h */
 typedef struct eo_method_info {
     const char *name; const char *summary; const eo_param_desc *params; size_t params_size;
+    unsigned flags;
 } eo_method_info;
 const void *const *eo_registry_list(int kind);
 const char *eo_kind_key(int kind);

@@ -147,25 +147,36 @@ static int prog_factor(void *vst, const void *params, const eo_hessfix_env *env,
                             "progressive: the objective's element count changed within a minimization");
         int rc = eo_objective_element_residual(env->obj, env->grad, st->r);
         if (rc < 0) return rc;
+        /* on a distributed space the counts and the largest residual are the whole
+         * problem's (every part's elements), so that every part decides alike */
+        const eo_vspace *vs = env->obj->space;
         double rmax = 0;
         for (int e = 0; e < st->ne; e++) rmax = st->r[e] > rmax ? st->r[e] : rmax;
-        grow(st);
+        eo_vreduce(vs, &rmax, 1, EO_REDUCE_MAX);
+        double cnt[2] = {st->ne, 0};
+        eo_vreduce(vs, cnt, 1, EO_REDUCE_SUM);
+        const double ne_all = cnt[0];
+        cnt[1] = grow(st);
+        double nproj_all = st->nproj;
+        eo_vreduce(vs, &nproj_all, 1, EO_REDUCE_SUM);
         for (int round = 0;; round++) {
-            out->projected = (double)st->nproj / st->ne;
+            out->projected = nproj_all / ne_all;
             ok = eo_shift_assemble_factor(&st->w, &pp->shift, 0, env, EO_PROJ_NONE, st->mask, p, out);
             if (ok < 0) return ok;
             if (ok || out->reason) return EO_OK;
             /* indefinite: lower the threshold until it selects more elements */
-            if (round >= pp->max_rounds || st->nproj >= st->ne || !(rmax > 0)) break;
-            int added = 0;
-            while (!added && st->nproj < st->ne) {
+            if (round >= pp->max_rounds || nproj_all >= ne_all || !(rmax > 0)) break;
+            double added = 0;
+            while (!added && nproj_all < ne_all) {
                 st->delta = isfinite(st->delta) ? pp->delta_shrink * st->delta : pp->delta_init * rmax;
                 added = grow(st);
+                eo_vreduce(vs, &added, 1, EO_REDUCE_SUM);
+                nproj_all += added;
                 if (!(st->delta > 1e-300 * rmax)) break;
             }
             if (!added) break;
-            eo_log(env->ctx, EO_LOG_DEBUG, "progressive: indefinite, %d of %d elements projected",
-                   st->nproj, st->ne);
+            eo_log(env->ctx, EO_LOG_DEBUG, "progressive: indefinite, %.0f of %.0f elements projected",
+                   nproj_all, ne_all);
         }
     }
     out->projected = 1;
@@ -178,7 +189,8 @@ const eo_hessfix_type eo_hessfix_progressive = {
              .summary = "clamp only the elements selected by the residual, growing the set on "
                         "indefiniteness (after Fernandez-Fernandez 2026)",
              .params = prog_desc,
-             .params_size = sizeof(eo_hessfix_progressive_params)},
+             .params_size = sizeof(eo_hessfix_progressive_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .state_size = sizeof(prog_state),
     .elem_proj = EO_PROJ_NONE,
     .setup = eo_shift_op_setup,

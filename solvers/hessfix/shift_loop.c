@@ -19,7 +19,8 @@ int eo_shift_ws_setup(eo_shift_ws *w, int n, eo_ctx *ctx)
 {
     eo_free(ctx, w->diag);
     memset(w, 0, sizeof *w);
-    w->diag = eo_calloc(ctx, (size_t)(n > 0 ? n : 1), sizeof(double));
+    w->diag = eo_calloc(ctx, 2 * (size_t)(n > 0 ? n : 1), sizeof(double));
+    if (w->diag) w->dsum = w->diag + (n > 0 ? n : 1);
     if (!w->diag) return eo_error(ctx, EO_ERR_NOMEM, "hessian fix: out of memory (n = %d)", n);
     w->n = n;
     return EO_OK;
@@ -37,16 +38,15 @@ void eo_shift_params_get(const eo_hessfix_shift_params *p, eo_hessfix_shift_para
     else eo_params_default(eo_hessfix_shift_params_desc, hp);
 }
 
-static void set_diag(eo_csc *A, const double *d, double c)
+/* A_jj = d_j + c; on a distributed space A is a part's matrix: c goes on the owned
+ * diagonal entries only, so that the parts' matrices add up to H + cI */
+static void set_diag(eo_csc *A, const double *d, double c, const eo_vspace *vs)
 {
+    if (vs) {
+        for (int j = 0; j < A->n; j++) A->val[A->colptr[j + 1] - 1] = d[j] + (vs->own[j] ? c : 0);
+        return;
+    }
     for (int j = 0; j < A->n; j++) A->val[A->colptr[j + 1] - 1] = d[j] + c;
-}
-
-static double dot(int n, const double *a, const double *b)
-{
-    double s = 0;
-    for (int i = 0; i < n; i++) s += a[i] * b[i];
-    return s;
 }
 
 int eo_shift_factor(eo_shift_ws *w, const eo_hessfix_shift_params *hp, int shifting,
@@ -59,23 +59,34 @@ int eo_shift_factor(eo_shift_ws *w, const eo_hessfix_shift_params *hp, int shift
     if (!A || A->n != n || n > w->n)
         return eo_error(env->ctx, EO_ERR_INVALID, "hessian fix: matrix has n = %d, objective has n = %d",
                         A ? A->n : -1, n);
+    const eo_vspace *vs = env->obj ? env->obj->space : NULL;
     double s = 0;
+    long nall = n;
     for (int j = 0; j < n; j++) {
         w->diag[j] = A->val[A->colptr[j + 1] - 1];
         s += fabs(w->diag[j]);
+    }
+    if (vs) { /* mean |H_jj| of the whole matrix: the parts' diagonals summed first */
+        memcpy(w->dsum, w->diag, (size_t)n * sizeof(double));
+        if (vs->assemble(w->dsum, vs->user) < 0) w->dsum[0] = NAN;
+        s = 0;
+        for (int j = 0; j < n; j++)
+            if (vs->own[j]) s += fabs(w->dsum[j]);
+        eo_vreduce(vs, &s, 1, EO_REDUCE_SUM);
+        nall = vs->nglobal;
     }
     if (!isfinite(s)) {
         out->reason = EO_DIVERGED_NONFINITE;
         return 0;
     }
-    s = n > 0 && s > 0 ? s / n : 1;
+    s = nall > 0 && s > 0 ? s / nall : 1;
     const double c_min = hp->shift_init * s, c_max = hp->shift_max * s;
-    const double gnorm = env->want_direction ? sqrt(dot(n, env->grad, env->grad)) : 0;
+    const double gnorm = env->want_direction ? sqrt(eo_vdot(vs, n, env->grad, env->grad)) : 0;
     double c = shifting ? w->c_next : 0;
 
     for (;;) {
         int good = 0;
-        if (c > 0) set_diag(A, w->diag, c);
+        if (c > 0) set_diag(A, w->diag, c, vs);
         int frc = eo_linsolve_factor(env->linear, A);
         res->n_factor++;
         if (frc >= 0 && frc != EO_WARN_NOT_PD) {
@@ -86,12 +97,12 @@ int eo_shift_factor(eo_shift_ws *w, const eo_hessfix_shift_params *hp, int shift
                 if (frc == EO_WARN_NOT_PD) out->neg_curvature = 1; /* cg/pcg: pᵀAp ≤ 0 */
                 if (frc >= 0 && frc != EO_WARN_NOT_PD) {
                     for (int i = 0; i < n; i++) p[i] = -p[i];
-                    double dg = dot(n, env->grad, p), pn = sqrt(dot(n, p, p));
+                    double dg = eo_vdot(vs, n, env->grad, p), pn = sqrt(eo_vdot(vs, n, p, p));
                     good = isfinite(dg) && isfinite(pn) && dg < -env->descent_eps * gnorm * pn;
                 }
             }
         }
-        if (c > 0) set_diag(A, w->diag, 0);
+        if (c > 0) set_diag(A, w->diag, 0, vs);
         if (frc < 0) {
             res->status = frc;
             out->reason = EO_DIVERGED_LINSOLVE;
@@ -148,6 +159,13 @@ void eo_shift_fallback(eo_shift_ws *w, const eo_hessfix_env *env, double *p, eo_
     w->c_next = 0;
     out->shift = 0;
     out->factored = 0;
+}
+
+double eo_csc_quad_space(const eo_csc *A, const double *p, const eo_vspace *vs)
+{
+    double q = eo_csc_quad_upper(A, p);
+    eo_vreduce(vs, &q, 1, EO_REDUCE_SUM); /* a part's matrix: the parts' forms add up */
+    return q;
 }
 
 double eo_csc_quad_upper(const eo_csc *A, const double *p)

@@ -11,6 +11,7 @@
 typedef struct eo_shift_ws {
     int n;
     double *diag;
+    double *dsum;   /* n: the whole matrix's diagonal (distributed space only) */
     double c_next;
 } eo_shift_ws;
 
@@ -50,6 +51,9 @@ void eo_shift_fallback(eo_shift_ws *w, const eo_hessfix_env *env, double *p, eo_
 
 /* pᵀAp for the upper-triangle CSC A (no workspace). */
 double eo_csc_quad_upper(const eo_csc *A, const double *p);
+/* The same of the whole matrix when A is a part's on a distributed space vs (collective;
+ * vs NULL: eo_csc_quad_upper). */
+double eo_csc_quad_space(const eo_csc *A, const double *p, const eo_vspace *vs);
 
 /* Generic ops for fixes whose state begins with an eo_shift_ws (setup for n, begin resets
  * the carried shift, destroy frees it). */

@@ -96,7 +96,7 @@ static int trf_factor(void *vst, const void *params, const eo_hessfix_env *env, 
         int reason = 0;
         int rc = env->assemble(env->user, EO_PROJ_NONE, NULL, &H0, &reason);
         if (rc < 0) return rc;
-        if (!reason && H0) st->pHp = eo_csc_quad_upper(H0, p);
+        if (!reason && H0) st->pHp = eo_csc_quad_space(H0, p, env->obj->space);
     }
     return EO_OK;
 }
@@ -115,7 +115,8 @@ const eo_hessfix_type eo_hessfix_trust_region_filter = {
     .info = {.name = "trust_region_filter",
              .summary = "clamp or abs per iteration from the trust-region ratio of the last step (Chen 2024)",
              .params = trf_desc,
-             .params_size = sizeof(eo_hessfix_trust_region_filter_params)},
+             .params_size = sizeof(eo_hessfix_trust_region_filter_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .state_size = sizeof(trf_state),
     .elem_proj = EO_PROJ_CLAMP,
     .setup = eo_shift_op_setup,

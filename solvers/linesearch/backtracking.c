@@ -74,7 +74,7 @@ static int bt_search(const void *params, eo_objective *obj, const double *x, con
             rc = eo_objective_gradient(obj, xnew, &f, extra->grad_new);
             if (rc < 0) return rc;
             double d = 0;
-            for (int i = 0; i < obj->n; i++) d += extra->grad_new[i] * p[i];
+            d = eo_vdot(obj->space, obj->n, extra->grad_new, p);
             if (isfinite(f) && isfinite(d) &&
                 (f <= g0 + noise || (d <= (1 - 2 * bp->c1) * -dg0 && f <= g0 + 100 * noise))) {
                 extra->have_grad = 1;
@@ -103,6 +103,7 @@ const eo_linesearch_type eo_linesearch_backtracking = {
     .info = {.name = "backtracking",
              .summary = "Armijo backtracking: shrink until g(x+ap) <= g + c1*a*grad'p",
              .params = bt_desc,
-             .params_size = sizeof(eo_backtracking_params)},
+             .params_size = sizeof(eo_backtracking_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .search = bt_search,
 };

@@ -88,6 +88,7 @@ const eo_linesearch_type eo_linesearch_barrier_filter = {
              .summary = "BCQN line-search filter: first trial at most safety*alpha_max (no element inverts), then "
                         "Armijo backtracking",
              .params = bf_desc,
-             .params_size = sizeof(eo_barrier_filter_params)},
+             .params_size = sizeof(eo_barrier_filter_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .search = bf_search,
 };

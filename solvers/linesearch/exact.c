@@ -67,7 +67,7 @@ static int eval(eo_objective *obj, const double *x, const double *p, double a, d
     out->d = NAN;
     if (isfinite(f)) {
         double d = 0;
-        for (int i = 0; i < n; i++) d += grad[i] * p[i];
+        d = eo_vdot(obj->space, n, grad, p);
         out->d = d;
     }
     return EO_OK;
@@ -201,6 +201,7 @@ const eo_linesearch_type eo_linesearch_exact = {
     .info = {.name = "exact",
              .summary = "1-D minimization of g(x+ap): bracket, then safeguarded interpolation on g'",
              .params = exact_desc,
-             .params_size = sizeof(eo_exact_params)},
+             .params_size = sizeof(eo_exact_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .search = exact_search,
 };

@@ -38,6 +38,7 @@ const eo_linesearch_type eo_linesearch_none = {
     .info = {.name = "none",
              .summary = "full step a = a0, halved only where g is not finite",
              .params = NULL,
-             .params_size = 0},
+             .params_size = 0,
+             .flags = EO_METHOD_DISTRIBUTED},
     .search = none_search,
 };

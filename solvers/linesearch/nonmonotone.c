@@ -111,6 +111,7 @@ const eo_linesearch_type eo_linesearch_nonmonotone = {
              .summary = "non-monotone Armijo backtracking: g(x+ap) <= R + c1*a*grad'p, R = max of recent values (GLL) "
                         "or Zhang-Hager average",
              .params = nm_desc,
-             .params_size = sizeof(eo_nonmonotone_params)},
+             .params_size = sizeof(eo_nonmonotone_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .search = nm_search,
 };

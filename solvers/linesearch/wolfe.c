@@ -84,7 +84,7 @@ static int eval(eo_objective *obj, const double *x, const double *p, double a, d
     out->d = NAN;
     if (isfinite(f)) {
         double d = 0;
-        for (int i = 0; i < n; i++) d += grad[i] * p[i];
+        d = eo_vdot(obj->space, n, grad, p);
         out->d = isfinite(d) ? d : NAN;
         if (!isfinite(d)) out->f = INFINITY;
     }
@@ -254,6 +254,7 @@ const eo_linesearch_type eo_linesearch_wolfe = {
              .summary = "strong Wolfe (bracket + safeguarded cubic zoom, approximate Wolfe at "
                         "rounding level); returns the gradient of the accepted point",
              .params = wolfe_desc,
-             .params_size = sizeof(eo_wolfe_params)},
+             .params_size = sizeof(eo_wolfe_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .search = wolfe_search,
 };

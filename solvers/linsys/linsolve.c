@@ -2,6 +2,7 @@
  * and the method's private state; forwards analyze/factor/solve with timing and
  * checks the phase order and that the pattern is the analyzed one. */
 #include "elastopt/linsolve.h"
+#include "elastopt/objective.h"
 #include "../solver_registry.h"
 
 #include <math.h>
@@ -193,6 +194,15 @@ int eo_linsolve_set_coordinates(eo_linsolve *ls, int nv, const double *xyz)
         return eo_error(ls->ctx, EO_ERR_INVALID, "linear solver %s: set_coordinates: nv %d, xyz %p",
                         ls->type->info.name, nv, (const void *)xyz);
     return ls->type->set_coordinates ? ls->type->set_coordinates(ls->state, nv, xyz, ls->ctx) : EO_OK;
+}
+
+int eo_linsolve_set_space(eo_linsolve *ls, const struct eo_vspace *space)
+{
+    if (ls->type->set_space) return ls->type->set_space(ls->state, space, ls->ctx);
+    if (eo_vspace_distributed(space))
+        return eo_error(ls->ctx, EO_ERR_UNSUPPORTED, "linear solver %s cannot solve a distributed system (it needs "
+                        "the whole matrix in one process); use petsc_ksp", ls->type->info.name);
+    return EO_OK;
 }
 
 const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls) { return &ls->stats; }

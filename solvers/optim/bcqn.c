@@ -228,7 +228,7 @@ static int bcqn_direction(void *vst, const void *params, const eo_solver_ctx *sc
     }
     eo_lbfgs_memory_second_loop(h, p);
     for (int i = 0; i < n; i++) p[i] = -p[i];
-    if (!eo_is_descent(n, grad, p)) {
+    if (!eo_is_descent(NULL, n, grad, p)) {
         eo_lbfgs_memory_clear(h);
         res->n_fallback++;
         out->reason = sobolev(st, sc, grad, p, res);

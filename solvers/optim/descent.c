@@ -89,6 +89,7 @@ int eo_descent_metric(const eo_solver_ctx *sc, double *d)
         ok = 1;
         for (int i = 0; i < n; i++)
             if (!(isfinite(d[i]) && d[i] > 0)) ok = 0;
+        ok = !eo_solver_agree(sc, !ok);
         if (!ok)
             eo_log(sc->ctx, EO_LOG_WARN,
                    "objective metric has a non-positive or non-finite entry; using identity");
@@ -103,6 +104,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
                         eo_solve_result *res)
 {
     eo_objective *obj = sc->obj;
+    const eo_vspace *vs = obj->space;
     const int n = obj->n;
     const double t0 = eo_wtime();
     const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
@@ -126,7 +128,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
     res->c_gradient += eo_cputime() - cg;
     res->n_gradient_outside++;
     if (rc < 0) goto done;
-    gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
+    gn = isfinite(g) ? eo_vnorm2(vs, n, grad) : NAN;
     gn0 = gn;
     ghist[nhist++] = g;
     if (ops->begin) {
@@ -140,11 +142,11 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         eo_stop_info si = {.iteration = k, .g = g, .g_prev = g_prev, .grad_norm = gn,
                            .grad_norm0 = gn0, .decrement = NAN, .decrement0 = dec0, .decrement_prev = dec_prev,
                            .step_norm = step_norm,
-                           .x_norm = eo_norm2(n, x), .tol = sc->tol};
+                           .x_norm = eo_vnorm2(vs, n, x), .tol = sc->tol};
         double dg = NAN, alpha0 = 1;
         if (!isfinite(g) || !isfinite(gn)) reason = EO_DIVERGED_NONFINITE;
         if (!reason) reason = eo_solver_stop_check(sc, &si, x, grad);
-        if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget)
+        if (!reason && sc->time_budget > 0 && eo_solver_agree(sc, eo_wtime() - t0 > sc->time_budget))
             reason = EO_DIVERGED_TIME_BUDGET;
         if (!reason && k > 0 && sc->stop->needs_direction && ops->decrement_estimate) {
             double est = NAN;
@@ -178,7 +180,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
             alpha0 = d.alpha0;
             reason = d.reason;
             if (!reason) {
-                dg = eo_dot(n, grad, p);
+                dg = eo_vdot(vs, n, grad, p);
                 if (!(dg < 0) || !isfinite(dg)) {
                     reason = EO_DIVERGED_NOT_DESCENT;
                 } else {
@@ -219,7 +221,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         rc = EO_OK;
         if (gn < gn_best) gn_best = gn;
         info.alpha = alpha;
-        if (eo_solver_report(sc, t0, &info)) {
+        if (eo_solver_agree(sc, eo_solver_report(sc, t0, &info) != 0)) {
             reason = EO_DIVERGED_EXTERNAL;
             break;
         }
@@ -238,9 +240,10 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         double s2 = 0;
         for (int i = 0; i < n; i++) {
             double s = w->x_new[i] - x[i];
-            s2 += s * s;
+            if (!vs || vs->own[i]) s2 += s * s;
             x[i] = w->x_new[i];
         }
+        eo_vreduce(vs, &s2, 1, EO_REDUCE_SUM);
         step_norm = sqrt(s2);
         double *t = grad;
         grad = grad_new;
@@ -249,7 +252,7 @@ int eo_descent_minimize(const eo_descent_ops *ops, void *st, const void *params,
         g = gchk;
         if (nhist == EO_LS_HISTORY) memmove(ghist, ghist + 1, (EO_LS_HISTORY - 1) * sizeof ghist[0]), nhist--;
         ghist[nhist++] = g;
-        gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
+        gn = isfinite(g) ? eo_vnorm2(vs, n, grad) : NAN;
         dec_prev = last_dec;
         last_dec = NAN;
         stalled = (g < g_prev || gn < gn_best) ? 0 : stalled + 1;

@@ -75,6 +75,16 @@ static inline double eo_norm_inf(int n, const double *a)
     return m;
 }
 
+/* A local yes/no made the same on every part of a distributed objective (1 if any part
+ * says 1; the flag itself on an ordinary one): clocks and callbacks. */
+static inline int eo_solver_agree(const eo_solver_ctx *sc, int yes)
+{
+    if (!sc->obj->space) return yes;
+    double v = yes != 0;
+    eo_vreduce(sc->obj->space, &v, 1, EO_REDUCE_MAX);
+    return v != 0;
+}
+
 /* Load the objective's diagonal metric into d (n) if available and usable (every entry
  * finite and > 0); else fill d with ones. Returns 1 if the metric is used. */
 int eo_descent_metric(const eo_solver_ctx *sc, double *d);

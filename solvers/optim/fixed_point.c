@@ -251,6 +251,7 @@ const eo_optimizer_type eo_optimizer_fixed_point = {
              .params = fp_desc,
              .params_size = sizeof(eo_fixed_point_params)},
     .state_size = sizeof(fp_state),
+    .needs_ops = EO_OBJ_NEEDS_INERTIA,
     .needs_linear = 1,
     .needs_hessian = 0,
     .setup = fp_setup,

@@ -451,6 +451,7 @@ const eo_optimizer_type eo_optimizer_ipopt = {
              .params = ip_desc,
              .params_size = sizeof(eo_ipopt_params)},
     .state_size = sizeof(ip_state),
+    .needs_ops = EO_OBJ_NEEDS_WHOLE,
     .needs_linear = 0,
     .needs_hessian = 1,
     .setup = ip_setup,

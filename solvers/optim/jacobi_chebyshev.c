@@ -283,6 +283,7 @@ const eo_optimizer_type eo_optimizer_jacobi_chebyshev = {
              .params = jc_desc,
              .params_size = sizeof(eo_jacobi_chebyshev_params)},
     .state_size = sizeof(jc_state),
+    .needs_ops = EO_OBJ_NEEDS_VERTEX,
     .needs_linear = 0,
     .needs_hessian = 1,
     .linesearch = "none",

@@ -59,6 +59,7 @@ typedef struct lbfgs_state {
     int pd;             /* h0 = pd */
     eo_pd_factor L;     /* h0 = pd: the factored matrix */
     eo_ctx *ctx;
+    const eo_vspace *vs; /* the objective's vector space of this minimization */
 } lbfgs_state;
 
 static const char *const h0_choices[] = {"auto", "scaled_identity", "lumped_mass", "pd", NULL};
@@ -126,13 +127,14 @@ static int lbfgs_begin(void *vst, const void *params, const eo_solver_ctx *sc, c
         for (int i = 0; i < st->n; i++) st->dinv[i] = 1;
     for (int i = 0; i < st->n; i++) st->dinv[i] = 1 / st->dinv[i];
     eo_lbfgs_memory_clear(&st->mem);
+    st->mem.vs = st->vs = sc->obj->space;
     return st->pd ? eo_pd_factor_prepare(&st->L, sc, x, res) : EO_OK;
 }
 
 static void scaled_gradient(const lbfgs_state *st, const double *grad, double *p)
 {
     for (int i = 0; i < st->n; i++) p[i] = -st->dinv[i] * grad[i];
-    double m = eo_norm_inf(st->n, p);
+    double m = eo_vnorm_inf(st->vs, st->n, p);
     if (m > 1)
         for (int i = 0; i < st->n; i++) p[i] /= m;
 }
@@ -184,13 +186,15 @@ static int lbfgs_direction(void *vst, const void *params, const eo_solver_ctx *s
         /* H⁰ = γ D⁻¹ with γ = sᵀy / yᵀD⁻¹y of the newest pair */
         const double *y = h->Y + (size_t)eo_lbfgs_memory_slot(h, 0) * n;
         double ydy = 0;
-        for (int i = 0; i < n; i++) ydy += y[i] * st->dinv[i] * y[i];
+        for (int i = 0; i < n; i++)
+            if (!st->vs || st->vs->own[i]) ydy += y[i] * st->dinv[i] * y[i];
+        eo_vreduce(st->vs, &ydy, 1, EO_REDUCE_SUM);
         double gamma = 1 / (h->rho[eo_lbfgs_memory_slot(h, 0)] * ydy);
         for (int i = 0; i < n; i++) p[i] = q[i] * gamma * st->dinv[i];
     }
     eo_lbfgs_memory_second_loop(h, p);
     for (int i = 0; i < n; i++) p[i] = -p[i];
-    if (!eo_is_descent(n, grad, p)) {
+    if (!eo_is_descent(st->vs, n, grad, p)) {
         eo_lbfgs_memory_clear(h);
         res->n_fallback++;
         out->reason = apply_h0(st, sc, grad, p, res);
@@ -229,7 +233,8 @@ const eo_optimizer_type eo_optimizer_lbfgs = {
              .summary = "limited-memory BFGS (two-loop recursion; initial matrix scaled identity, "
                         "lumped mass or the PD matrix); use with linesearch wolfe",
              .params = lbfgs_desc,
-             .params_size = sizeof(eo_lbfgs_params)},
+             .params_size = sizeof(eo_lbfgs_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .state_size = sizeof(lbfgs_state),
     .needs_linear = 1, /* only with h0 = pd */
     .needs_hessian = 0,

@@ -21,6 +21,7 @@ typedef struct eo_lbfgs_memory {
     int count, head;    /* pairs stored; slot of the next pair */
     double *S, *Y;      /* m×n each, circular */
     double *rho, *a;    /* m each */
+    const eo_vspace *vs; /* the objective's vector space (NULL: ordinary), for the sums */
 } eo_lbfgs_memory;
 
 /* doubles of storage for n variables and m pairs */
@@ -61,7 +62,8 @@ static inline void eo_lbfgs_memory_push_pair(eo_lbfgs_memory *h, const double *s
 {
     const int n = h->n;
     if (h->m == 0) return;
-    const double sy = eo_dot(n, s_in, y_in), ss = eo_dot(n, s_in, s_in), yy = eo_dot(n, y_in, y_in);
+    const double sy = eo_vdot(h->vs, n, s_in, y_in), ss = eo_vdot(h->vs, n, s_in, s_in),
+                 yy = eo_vdot(h->vs, n, y_in, y_in);
     if (!eo_lbfgs_pair_ok(sy, ss, yy)) return; /* skip the pair */
     double *s = h->S + (size_t)h->head * n, *y = h->Y + (size_t)h->head * n;
     for (int i = 0; i < n; i++) {
@@ -81,10 +83,16 @@ static inline void eo_lbfgs_memory_push(eo_lbfgs_memory *h, const double *x, con
     if (h->m == 0) return;
     double sy = 0, ss = 0, yy = 0;
     for (int i = 0; i < n; i++) {
+        if (h->vs && !h->vs->own[i]) continue;
         double si = x_new[i] - x[i], yi = grad_new[i] - grad[i];
         sy += si * yi;
         ss += si * si;
         yy += yi * yi;
+    }
+    if (h->vs) {
+        double v[3] = {sy, ss, yy};
+        eo_vreduce(h->vs, v, 3, EO_REDUCE_SUM);
+        sy = v[0], ss = v[1], yy = v[2];
     }
     if (!eo_lbfgs_pair_ok(sy, ss, yy)) return; /* skip the pair */
     double *s = h->S + (size_t)h->head * n, *y = h->Y + (size_t)h->head * n;
@@ -103,7 +111,7 @@ static inline void eo_lbfgs_memory_first_loop(eo_lbfgs_memory *h, double *q)
     for (int j = 0; j < h->count; j++) {
         int slot = eo_lbfgs_memory_slot(h, j);
         const double *s = h->S + (size_t)slot * n, *y = h->Y + (size_t)slot * n;
-        h->a[slot] = h->rho[slot] * eo_dot(n, s, q);
+        h->a[slot] = h->rho[slot] * eo_vdot(h->vs, n, s, q);
         for (int i = 0; i < n; i++) q[i] -= h->a[slot] * y[i];
     }
 }
@@ -114,15 +122,15 @@ static inline void eo_lbfgs_memory_second_loop(const eo_lbfgs_memory *h, double 
     for (int j = h->count - 1; j >= 0; j--) {
         int slot = eo_lbfgs_memory_slot(h, j);
         const double *s = h->S + (size_t)slot * n, *y = h->Y + (size_t)slot * n;
-        double b = h->rho[slot] * eo_dot(n, y, r);
+        double b = h->rho[slot] * eo_vdot(h->vs, n, y, r);
         for (int i = 0; i < n; i++) r[i] += s[i] * (h->a[slot] - b);
     }
 }
 
 /* 1 if p is a descent direction for grad beyond rounding */
-static inline int eo_is_descent(int n, const double *grad, const double *p)
+static inline int eo_is_descent(const eo_vspace *vs, int n, const double *grad, const double *p)
 {
-    double dg = eo_dot(n, grad, p), pn = eo_norm2(n, p), gn = eo_norm2(n, grad);
+    double dg = eo_vdot(vs, n, grad, p), pn = eo_vnorm2(vs, n, p), gn = eo_vnorm2(vs, n, grad);
     return isfinite(dg) && isfinite(pn) && dg < -1e-14 * gn * pn;
 }
 

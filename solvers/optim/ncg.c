@@ -176,23 +176,26 @@ static int ncg_direction(void *vst, const void *params, const eo_solver_ctx *sc,
         return EO_OK;
     }
     const double *z = st->z;
-    const double zg = eo_dot(n, z, grad);
-    const int every = pp->restart > 0 ? pp->restart : (n > 0 ? n : 1);
+    const eo_vspace *vs = sc->obj->space;
+    const double zg = eo_vdot(vs, n, z, grad);
+    const long nall = vs ? vs->nglobal : n;
+    const int every = pp->restart > 0 ? pp->restart : (nall > 0 ? (int)nall : 1);
     int restart = !st->have_prev || st->since_restart >= every;
     double beta = 0;
-    if (!restart && pp->powell > 0 && fabs(eo_dot(n, z, st->g_prev)) >= pp->powell * zg) restart = 1;
+    if (!restart && pp->powell > 0 && fabs(eo_vdot(vs, n, z, st->g_prev)) >= pp->powell * zg) restart = 1;
     if (!restart) {
         const double *gp = st->g_prev, *d = st->p_prev;
         switch (st->beta) {
         case BETA_FR: beta = zg / st->zg_prev; break;
         case BETA_PR_PLUS: {
-            double zy = zg - eo_dot(n, z, gp);
+            double zy = zg - eo_vdot(vs, n, z, gp);
             beta = fmax(0, zy / st->zg_prev);
             break;
         }
         default: { /* hz; P⁻¹y = z − z_prev */
             double dy = 0, yz = 0, yPy = 0, dgn = 0, dd = 0, gpn = 0;
             for (int i = 0; i < n; i++) {
+                if (vs && !vs->own[i]) continue;
                 double yi = grad[i] - gp[i], pyi = z[i] - st->z_prev[i];
                 dy += d[i] * yi;
                 yz += yi * z[i];
@@ -200,6 +203,11 @@ static int ncg_direction(void *vst, const void *params, const eo_solver_ctx *sc,
                 dgn += d[i] * grad[i];
                 dd += d[i] * d[i];
                 gpn += gp[i] * gp[i];
+            }
+            if (vs) {
+                double v[6] = {dy, yz, yPy, dgn, dd, gpn};
+                eo_vreduce(vs, v, 6, EO_REDUCE_SUM);
+                dy = v[0], yz = v[1], yPy = v[2], dgn = v[3], dd = v[4], gpn = v[5];
             }
             if (!(dy > 0)) {
                 restart = 1;
@@ -215,20 +223,20 @@ static int ncg_direction(void *vst, const void *params, const eo_solver_ctx *sc,
     }
     if (restart) beta = 0;
     for (int i = 0; i < n; i++) p[i] = -z[i] + beta * st->p_prev[i];
-    if (beta != 0 && !eo_is_descent(n, grad, p)) {
+    if (beta != 0 && !eo_is_descent(vs, n, grad, p)) {
         res->n_fallback++;
         restart = 1;
         for (int i = 0; i < n; i++) p[i] = -z[i];
     }
     st->since_restart = restart ? 0 : st->since_restart + 1;
     /* first trial step */
-    double dg = eo_dot(n, grad, p);
+    double dg = eo_vdot(vs, n, grad, p);
     if (st->pre == PRE_PD) {
         out->alpha0 = 1; /* z = L⁻¹g is a Newton-like step: its natural length */
     } else if (st->have_prev && st->dg_prev < 0 && dg < 0) {
         out->alpha0 = st->alpha_prev * st->dg_prev / dg;
     } else {
-        double m = eo_norm_inf(n, p);
+        double m = eo_vnorm_inf(vs, n, p);
         out->alpha0 = m > 1 ? 1 / m : 1;
     }
     if (!(out->alpha0 >= 1e-30)) out->alpha0 = 1e-30;
@@ -275,7 +283,8 @@ const eo_optimizer_type eo_optimizer_ncg = {
              .summary = "nonlinear conjugate gradients (PR+, FR, Hager-Zhang; restarts; lumped-mass "
                         "or PD preconditioner); use with linesearch wolfe",
              .params = ncg_desc,
-             .params_size = sizeof(eo_ncg_params)},
+             .params_size = sizeof(eo_ncg_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .state_size = sizeof(ncg_state),
     .needs_linear = 1, /* only with precond = pd */
     .needs_hessian = 0,

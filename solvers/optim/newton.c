@@ -319,7 +319,7 @@ static int newton_decrement_estimate(void *vst, const void *params, const eo_sol
     int rc = eo_linsolve_solve(sc->linear, grad, st->est);
     if (rc < 0) return rc;
     if (rc != EO_OK) return EO_OK; /* e.g. an iterative solve that did not converge */
-    const double d = eo_dot(sc->obj->n, grad, st->est);
+    const double d = eo_vdot(sc->obj->space, sc->obj->n, grad, st->est);
     if (d >= 0 && isfinite(d)) *est = d / 2;
     if (d >= 0 && isfinite(d) && st->dec_last > 0 && !(st->dec_prev > 0)) st->first_ratio = d / 2 / st->dec_last;
     return EO_OK;
@@ -335,7 +335,7 @@ static int newton_direction(void *vst, const void *params, const eo_solver_ctx *
     st->est_ok = 0;
     eo_hessfix_env env = newton_env(st, params, sc, x, g, grad, res);
     eo_hessfix_out fo = {.shift = 0, .projected = 0, .factored = 0, .reason = 0};
-    out->eta = eo_inexact_before(&st->inexact, sc->linear, eo_norm2(sc->obj->n, grad));
+    out->eta = eo_inexact_before(&st->inexact, sc->linear, eo_vnorm2(sc->obj->space, sc->obj->n, grad));
     int rc = hf->factor(sc->hessfix_state, sc->hessfix_params, &env, p, &fo);
     if (rc < 0) return rc;
     const eo_linsolve_stats *ls = eo_linsolve_get_stats(sc->linear);
@@ -355,7 +355,7 @@ static int newton_direction(void *vst, const void *params, const eo_solver_ctx *
         return EO_OK;
     }
     st->g_old = g;
-    st->dg = eo_dot(sc->obj->n, grad, p);
+    st->dg = eo_vdot(sc->obj->space, sc->obj->n, grad, p);
     st->dec_prev2 = st->dec_prev;
     st->dec_prev = st->dec_last;
     st->dec_last = -st->dg / 2;
@@ -376,16 +376,20 @@ static void newton_accepted(void *vst, const void *params, const double *x, cons
     if (st->inexact.kind == EO_FORCING_NONE) return;
     const int n = st->sc->obj->n;
     double linres = NAN;
+    const eo_vspace *vs = st->sc->obj->space;
     if (st->inexact.kind == EO_FORCING_EW1 && st->H) { /* ‖∇g + α(H + cI)p‖ */
         eo_csc_symv(st->H, p, st->Hp);
+        if (vs && vs->assemble(st->Hp, vs->user) < 0) /* a part's H: the parts' products summed */
+            for (int i = 0; i < n; i++) st->Hp[i] = NAN;
         double r2 = 0;
         for (int i = 0; i < n; i++) {
             double r = grad[i] + alpha * (st->Hp[i] + st->shift_last * p[i]);
-            r2 += r * r;
+            if (!vs || vs->own[i]) r2 += r * r;
         }
+        eo_vreduce(vs, &r2, 1, EO_REDUCE_SUM);
         linres = sqrt(r2);
     }
-    eo_inexact_after(&st->inexact, eo_norm2(n, grad), linres);
+    eo_inexact_after(&st->inexact, eo_vnorm2(vs, n, grad), linres);
 }
 
 static const eo_descent_ops newton_ops = {
@@ -411,7 +415,8 @@ const eo_optimizer_type eo_optimizer_newton = {
     .info = {.name = "newton",
              .summary = "Newton's method: p = -(H + cI)^-1 grad, line search, Hessian fix",
              .params = newton_desc,
-             .params_size = sizeof(eo_newton_params)},
+             .params_size = sizeof(eo_newton_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .state_size = sizeof(newton_state),
     .needs_linear = 1,
     .needs_hessian = 1,

@@ -169,14 +169,22 @@ static int tr_setup(void *vst, const void *params, int n, eo_ctx *ctx)
 static void tr_destroy(void *vst, eo_ctx *ctx) { tr_free(vst, ctx); }
 
 /* M-norm products (M = diag(1/minv)). */
-static double mdot(int n, const double *a, const double *b, const double *minv, int pre)
+static double mdot(const eo_vspace *vs, int n, const double *a, const double *b, const double *minv, int pre)
 {
+    if (pre == PRE_NONE) return eo_vdot(vs, n, a, b);
     double s = 0;
-    if (pre == PRE_NONE)
-        for (int i = 0; i < n; i++) s += a[i] * b[i];
-    else
-        for (int i = 0; i < n; i++) s += a[i] * b[i] / minv[i];
+    for (int i = 0; i < n; i++)
+        if (!vs || vs->own[i]) s += a[i] * b[i] / minv[i];
+    eo_vreduce(vs, &s, 1, EO_REDUCE_SUM);
     return s;
+}
+
+/* hd = H d, H a part's matrix on a distributed space: the parts' products summed */
+static void hmul(const eo_vspace *vs, const eo_csc *H, const double *d, double *hd)
+{
+    eo_csc_symv(H, d, hd);
+    if (vs && vs->assemble(hd, vs->user) < 0)
+        for (int i = 0; i < vs->n; i++) hd[i] = NAN;
 }
 
 /* Roots τ₋ ≤ τ₊ of ‖p + τd‖²_M = Δ² (pMp ≤ Δ², so τ₋ ≤ 0 ≤ τ₊). */
@@ -205,7 +213,7 @@ typedef struct cg_out {
 
 /* Steihaug–Toint CG for min m(p), ‖p‖_M ≤ delta (delta may be +∞). Writes st->p and
  * leaves r = ∇g + Hp in st->r. Returns EO_OK, or EO_ERR_RANGE for a non-finite κ. */
-static int steihaug(tr_state *st, const eo_csc *H, const double *grad, double gnorm, double delta, double rtol,
+static int steihaug(tr_state *st, const eo_vspace *vs, const eo_csc *H, const double *grad, double gnorm, double delta, double rtol,
                     int maxit, int pre, cg_out *o)
 {
     const int n = st->n;
@@ -219,20 +227,20 @@ static int steihaug(tr_state *st, const eo_csc *H, const double *grad, double gn
         z[i] = pre == PRE_NONE ? r[i] : r[i] * minv[i];
         d[i] = -z[i];
     }
-    double rz = eo_dot(n, r, z), pmp = 0, pmd = 0, dmd = rz;
+    double rz = eo_vdot(vs, n, r, z), pmp = 0, pmd = 0, dmd = rz;
     const double rstop = rtol * gnorm;
     if (gnorm == 0) {
         o->how = CG_INTERIOR;
         return EO_OK;
     }
     for (int j = 0; j < maxit; j++) {
-        eo_csc_symv(H, d, hd);
-        double kappa = eo_dot(n, d, hd);
+        hmul(vs, H, d, hd);
+        double kappa = eo_vdot(vs, n, d, hd);
         if (!isfinite(kappa)) return EO_ERR_RANGE;
         o->iters = j + 1;
         if (kappa <= 0) {
             o->how = CG_NEGCURV;
-            double rd = eo_dot(n, r, d), tau;
+            double rd = eo_vdot(vs, n, r, d), tau;
             if (!isfinite(delta)) { /* no radius yet: propose one (see the file comment) */
                 double tstar = rz / fmax(fabs(kappa), DBL_MIN);
                 delta = fmax(2 * sqrt(pmp), tstar * sqrt(dmd));
@@ -266,20 +274,20 @@ static int steihaug(tr_state *st, const eo_csc *H, const double *grad, double gn
             r[i] += alpha * hd[i];
         }
         pmp = pmp_new;
-        if (eo_norm2(n, r) <= rstop) {
+        if (eo_vnorm2(vs, n, r) <= rstop) {
             o->how = CG_INTERIOR;
             break;
         }
         for (int i = 0; i < n; i++) z[i] = pre == PRE_NONE ? r[i] : r[i] * minv[i];
-        double rz_new = eo_dot(n, r, z);
+        double rz_new = eo_vdot(vs, n, r, z);
         double beta = rz_new / rz;
         for (int i = 0; i < n; i++) d[i] = -z[i] + beta * d[i];
         pmd = beta * (pmd + alpha * dmd);
         dmd = rz_new + beta * beta * dmd;
         rz = rz_new;
     }
-    o->pred = -0.5 * (eo_dot(n, grad, p) + eo_dot(n, r, p));
-    o->pnorm = sqrt(mdot(n, p, p, minv, pre));
+    o->pred = -0.5 * (eo_vdot(vs, n, grad, p) + eo_vdot(vs, n, r, p));
+    o->pnorm = sqrt(mdot(vs, n, p, p, minv, pre));
     return EO_OK;
 }
 
@@ -293,6 +301,7 @@ static int tr_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
         tp = &def;
     }
     eo_objective *obj = sc->obj;
+    const eo_vspace *vs = obj->space;
     const int n = obj->n;
     const double t0 = eo_wtime();
     const long nv0 = obj->n_value, ng0 = obj->n_gradient, nh0 = obj->n_hessian;
@@ -300,7 +309,8 @@ static int tr_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
     const int pre = strcmp(tp->precond, "jacobi") == 0 ? PRE_JACOBI : PRE_NONE;
     const int force = strcmp(tp->forcing, "superlinear") == 0 ? FORCE_SUPERLINEAR : FORCE_QUADRATIC;
     const eo_proj proj = hess == HESS_FIX && sc->hessfix ? sc->hessfix->elem_proj : EO_PROJ_NONE;
-    const int maxit = tp->cg_max_iters > 0 ? tp->cg_max_iters : (n > 0 ? n : 1);
+    const long nall = vs ? vs->nglobal : n;
+    const int maxit = tp->cg_max_iters > 0 ? tp->cg_max_iters : (nall > 0 ? (int)nall : 1);
     const double delta_max = tp->delta_max > 0 ? tp->delta_max : INFINITY;
     double *grad = st->grad, *grad_new = st->grad_new;
     double g = NAN, gn = NAN, gn0 = NAN, g_prev = NAN, step_norm = NAN, last_dec = NAN;
@@ -315,17 +325,18 @@ static int tr_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
         goto done;
     }
     if ((rc = eo_objective_gradient(obj, x, &g, grad)) < 0) goto done;
-    gn = isfinite(g) ? eo_norm2(n, grad) : NAN;
+    gn = isfinite(g) ? eo_vnorm2(vs, n, grad) : NAN;
     gn0 = gn;
     for (k = 0;; k++) {
         eo_iter_info info = {.iteration = k, .g = g, .grad_norm = gn, .decrement = NAN, .alpha = NAN,
                              .ls_evals = 0, .shift = 0, .projected = proj != EO_PROJ_NONE,
                              .inverted = eo_external_inverted(sc, x), .reason = 0, .x = x};
         eo_stop_info si = {.iteration = k, .g = g, .g_prev = g_prev, .grad_norm = gn, .grad_norm0 = gn0,
-                           .decrement = NAN, .step_norm = step_norm, .x_norm = eo_norm2(n, x), .tol = sc->tol};
+                           .decrement = NAN, .step_norm = step_norm, .x_norm = eo_vnorm2(vs, n, x), .tol = sc->tol};
         if (!isfinite(g) || !isfinite(gn)) reason = EO_DIVERGED_NONFINITE;
         if (!reason) reason = eo_solver_stop_check(sc, &si, x, grad);
-        if (!reason && sc->time_budget > 0 && eo_wtime() - t0 > sc->time_budget) reason = EO_DIVERGED_TIME_BUDGET;
+        if (!reason && sc->time_budget > 0 && eo_solver_agree(sc, eo_wtime() - t0 > sc->time_budget))
+            reason = EO_DIVERGED_TIME_BUDGET;
         eo_csc *H = NULL;
         if (!reason) {
             if ((rc = eo_objective_hessian(obj, x, proj, &H)) < 0) goto done;
@@ -335,14 +346,18 @@ static int tr_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
                 goto done;
             }
             eo_csc_diag(H, st->minv);
+            if (vs && vs->assemble(st->minv, vs->user) < 0) st->minv[0] = NAN;
             double mean = 0;
             int finite = 1;
             for (int i = 0; i < n; i++) {
                 finite &= isfinite(st->minv[i]);
-                mean += fabs(st->minv[i]);
+                if (!vs || vs->own[i]) mean += fabs(st->minv[i]);
             }
-            if (!finite) reason = EO_DIVERGED_NONFINITE;
-            mean = n > 0 && mean > 0 ? mean / n : 1;
+            double fm[2] = {mean, !finite};
+            eo_vreduce(vs, fm, 2, EO_REDUCE_SUM);
+            mean = fm[0];
+            if (fm[1] != 0) reason = EO_DIVERGED_NONFINITE;
+            mean = nall > 0 && mean > 0 ? mean / (double)nall : 1;
             for (int i = 0; i < n; i++) {
                 double a = fabs(st->minv[i]);
                 st->minv[i] = 1 / (a > 0 ? a : mean);
@@ -352,7 +367,7 @@ static int tr_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
         double rtol = fmin(tp->cg_rtol_max, force == FORCE_SUPERLINEAR ? sqrt(rel) : rel);
         cg_out co = {0};
         if (!reason) {
-            if (steihaug(st, H, grad, gn, delta, rtol, maxit, pre, &co) < 0) {
+            if (steihaug(st, vs, H, grad, gn, delta, rtol, maxit, pre, &co) < 0) {
                 reason = EO_DIVERGED_NONFINITE;
             } else {
                 res->n_inner += co.iters;
@@ -376,7 +391,7 @@ static int tr_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
         /* trial steps from x_k until one is accepted */
         double gnew = NAN;
         int accepted = 0, trials = 0;
-        const double xm = sqrt(mdot(n, x, x, st->minv, pre));
+        const double xm = sqrt(mdot(vs, n, x, x, st->minv, pre));
         for (;;) {
             if (!isfinite(delta) && co.how == CG_NEGCURV) delta = co.delta_nc;
             for (int i = 0; i < n; i++) st->x_new[i] = x[i] + st->p[i];
@@ -387,7 +402,9 @@ static int tr_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
                 double actual = g - gnew;
                 if (fabs(actual) <= tp->noise * fabs(g)) {
                     double s = 0;
-                    for (int i = 0; i < n; i++) s += (grad[i] + grad_new[i]) * st->p[i];
+                    for (int i = 0; i < n; i++)
+                        if (!vs || vs->own[i]) s += (grad[i] + grad_new[i]) * st->p[i];
+                    eo_vreduce(vs, &s, 1, EO_REDUCE_SUM);
                     actual = isfinite(s) ? -0.5 * s : -INFINITY;
                 }
                 rho = actual / co.pred;
@@ -400,7 +417,7 @@ static int tr_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
                 break;
             }
             if (trials >= tp->max_rejects || !(delta > 1e-15 * fmax(xm, 1))) break;
-            if (steihaug(st, H, grad, gn, delta, rtol, maxit, pre, &co) < 0) {
+            if (steihaug(st, vs, H, grad, gn, delta, rtol, maxit, pre, &co) < 0) {
                 reason = EO_DIVERGED_NONFINITE;
                 break;
             }
@@ -414,23 +431,24 @@ static int tr_minimize(void *vst, const void *params, const eo_solver_ctx *sc, d
             break;
         }
         info.alpha = 1;
-        if (eo_solver_report(sc, t0, &info)) {
+        if (eo_solver_agree(sc, eo_solver_report(sc, t0, &info) != 0)) {
             reason = EO_DIVERGED_EXTERNAL;
             break;
         }
         double s2 = 0;
         for (int i = 0; i < n; i++) {
             double s = st->x_new[i] - x[i];
-            s2 += s * s;
+            if (!vs || vs->own[i]) s2 += s * s;
             x[i] = st->x_new[i];
         }
+        eo_vreduce(vs, &s2, 1, EO_REDUCE_SUM);
         step_norm = sqrt(s2);
         double *t = grad;
         grad = grad_new;
         grad_new = t;
         g_prev = g;
         g = gnew;
-        gn = eo_norm2(n, grad);
+        gn = eo_vnorm2(vs, n, grad);
         last_dec = NAN;
         if (g < g_prev - 1e-15 * fabs(g_prev) || gn < 0.9 * gn_sig) {
             weak = 0;
@@ -455,7 +473,8 @@ const eo_optimizer_type eo_optimizer_newton_tr = {
              .summary = "trust-region Newton, Steihaug-Toint truncated CG (negative curvature to the "
                         "boundary), optional Jacobi preconditioner",
              .params = tr_desc,
-             .params_size = sizeof(eo_newton_tr_params)},
+             .params_size = sizeof(eo_newton_tr_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .state_size = sizeof(tr_state),
     .needs_linear = 0,
     .needs_hessian = 1,

@@ -329,6 +329,7 @@ const eo_optimizer_type eo_optimizer_nlopt = {
              .params = nl_desc,
              .params_size = sizeof(eo_nlopt_params)},
     .state_size = sizeof(nl_state),
+    .needs_ops = EO_OBJ_NEEDS_WHOLE,
     .needs_linear = 0,
     .needs_hessian = 0,
     .setup = nl_setup,

@@ -95,7 +95,7 @@ static int load_and_factor(eo_pd_factor *f, const eo_solver_ctx *sc, const eo_cs
                         f->who, src ? src->n : -1, f->n);
     eo_csc *L1 = NULL;
     f->scalar = 0;
-    if (try_scalar && f->bs && !eo_linsolve_get_type(sc->linear)->set_coordinates) {
+    if (try_scalar && f->bs && !sc->obj->space && !eo_linsolve_get_type(sc->linear)->set_coordinates) {
         rc = eo_csc_kron_i3(sc->ctx, src, 1e-13, &L1);
         if (rc < 0) return rc;
         if (rc == 1) {
@@ -132,9 +132,14 @@ int eo_pd_factor_prepare(eo_pd_factor *f, const eo_solver_ctx *sc, const double 
     unsigned long ver = 0;
     rc = eo_objective_constant_hessian(sc->obj, &L, &ver);
     if (rc == EO_OK) {
-        if (f->factored && f->obj == sc->obj && f->src == L && f->version == ver &&
-            f->ls == sc->linear && f->A && f->A->n == (f->scalar ? f->n / 3 : f->n))
-            return EO_OK; /* the factors of the previous minimization are still L's */
+        int reuse = f->factored && f->obj == sc->obj && f->src == L && f->version == ver &&
+                    f->ls == sc->linear && f->A && f->A->n == (f->scalar ? f->n / 3 : f->n);
+        if (sc->obj->space) { /* a distributed objective: every part refactors with the others */
+            double r = reuse;
+            eo_vreduce(sc->obj->space, &r, 1, EO_REDUCE_MIN);
+            reuse = r == 1;
+        }
+        if (reuse) return EO_OK; /* the factors of the previous minimization are still L's */
         f->obj = NULL;
         rc = load_and_factor(f, sc, L, 1, res);
         if (rc < 0) return rc;

@@ -425,6 +425,7 @@ const eo_optimizer_type eo_optimizer_pd_local_global = {
              .params = pdlg_desc,
              .params_size = sizeof(eo_pd_local_global_params)},
     .state_size = sizeof(pdlg_state),
+    .needs_ops = EO_OBJ_NEEDS_CONSTANT,
     .needs_linear = 1,
     .needs_hessian = 0,
     .setup = pdlg_setup,

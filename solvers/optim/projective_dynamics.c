@@ -276,7 +276,7 @@ static int pd_direction(void *vst, const void *params, const eo_solver_ctx *sc, 
         }
         eo_lbfgs_memory_second_loop(h, p);
         for (int i = 0; i < n; i++) p[i] = -p[i];
-        if (eo_is_descent(n, grad, p)) return EO_OK;
+        if (eo_is_descent(NULL, n, grad, p)) return EO_OK;
         eo_lbfgs_memory_clear(h); /* not a descent direction: plain PD step */
         res->n_fallback++;
     }
@@ -322,6 +322,7 @@ const eo_optimizer_type eo_optimizer_projective_dynamics = {
              .params = pd_desc,
              .params_size = sizeof(eo_projective_dynamics_params)},
     .state_size = sizeof(pd_state),
+    .needs_ops = EO_OBJ_NEEDS_CONSTANT,
     .needs_linear = 1,
     .needs_hessian = 1,
     .setup = pd_setup,

@@ -55,7 +55,8 @@ const eo_stop_type eo_stop_characteristic_gradient = {
              .summary = "converged when |grad g| <= tol * g_c, g_c the characteristic gradient norm of the mesh and "
                         "energy (BCQN; tol = 1e-3 in the paper)",
              .params = cg_desc,
-             .params_size = sizeof(eo_stop_characteristic_gradient_params)},
+             .params_size = sizeof(eo_stop_characteristic_gradient_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .check = cg_check,
     .needs_direction = 0,
 };

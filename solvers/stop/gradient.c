@@ -38,7 +38,8 @@ const eo_stop_type eo_stop_gradient = {
     .info = {.name = "gradient",
              .summary = "converged when |grad g| <= tol * max(|grad g(x0)|, floor)",
              .params = grad_desc,
-             .params_size = sizeof(eo_stop_gradient_params)},
+             .params_size = sizeof(eo_stop_gradient_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .check = grad_check,
     .needs_direction = 0,
 };

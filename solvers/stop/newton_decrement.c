@@ -28,7 +28,8 @@ const eo_stop_type eo_stop_newton_decrement = {
     .info = {.name = "newton_decrement",
              .summary = "converged when lambda^2/2 = -grad'p/2 <= tol (estimates g - g*)",
              .params = NULL,
-             .params_size = 0},
+             .params_size = 0,
+             .flags = EO_METHOD_DISTRIBUTED},
     .check = dec_check,
     .needs_direction = 1,
 };

@@ -106,7 +106,8 @@ const eo_stop_type eo_stop_relative_decrement = {
     .info = {.name = "relative_decrement",
              .summary = "converged when lambda <= tol*lambda_0 (within tol of x*, relative to the step's motion, H-norm)",
              .params = reldec_desc,
-             .params_size = sizeof(eo_stop_relative_decrement_params)},
+             .params_size = sizeof(eo_stop_relative_decrement_params),
+             .flags = EO_METHOD_DISTRIBUTED},
     .check = reldec_check,
     .needs_direction = 1,
 };
