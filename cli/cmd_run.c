@@ -809,7 +809,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             goto fail;
         }
         if (lo[0] != hi[0] || lo[1] != hi[1]) { /* a rank killed between its file and the others' */
-            rc = eo_error_at(ctx, EO_ERR_PARSE, EO_ERRLOC_FILE(rkpath, -1),
+            rc = eo_error_at(ctx, EO_ERR_PARSE, EO_ERRLOC_FILE(restart, -1),
                              "the per-rank restart files are at different steps (%g to %g): a rank was stopped "
                              "while they were written; the run cannot be continued exactly", lo[0], hi[0]);
             goto fail;
