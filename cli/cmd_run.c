@@ -13,6 +13,9 @@
  *   restart.dat                    the state after the last completed step (atomic;
  *                                  with time.adaptive also the substep level and
  *                                  streak of the adaptive controller)
+ *   restart.dat.R-of-P             under mpirun on P ranks: rank R's local state and the
+ *                                  identity of its part (run_output.h), what --restart
+ *                                  under mpirun continues from, on P ranks only
  *   summary.json                   build info, the config as given and as resolved, and
  *                                  per step: iterations, reason, converged, time, g,
  *                                  ‖∇g‖, centre of mass, max displacement, min J,
@@ -27,7 +30,8 @@
  * velocities, time and step index; the constrained sets follow from t; the summary and
  * the pvd are rebuilt from steps.csv and the frames on disk).
  *
- * SIGINT / SIGTERM: the handler only sets a flag; the iteration callback then returns
+ * SIGINT / SIGTERM (under mpirun: to any rank; the ranks agree on the step and share the
+ * signal's number): the handler only sets a flag; the iteration callback then returns
  * non-zero, the running step stops and is discarded (the state goes back to the last
  * completed step, its iteration rows are cut from iterations.csv), every file is
  * completed, summary.json says "stop_reason": "interrupted", and the exit status is
@@ -1129,7 +1133,9 @@ const eo_cli_command eo_cmd_run = {
              "them first); a folder another run is writing into (run.lock) is refused.\n"
              "--restart DIR continues the run in DIR (interrupted or finished; raise time.steps\n"
              "with -o to go further) from its last completed step; the trajectory is the same,\n"
-             "bit for bit, as that of an uninterrupted run.\n"
+             "bit for bit, as that of an uninterrupted run. A run under mpirun continues under\n"
+             "mpirun on the same number of ranks (each rank from its restart.dat.R-of-P; another\n"
+             "count is refused, exit 2).\n"
              "Ctrl-C (SIGINT) or SIGTERM stops the running step and ends the run cleanly: every\n"
              "file complete, summary.json \"stop_reason\": \"interrupted\", exit 130 / 143.\n"
              "On a terminal a progress line is redrawn on stderr (step, simulated time, time per\n"
