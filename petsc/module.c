@@ -266,6 +266,27 @@ __attribute__((visibility("default"))) unsigned long long eo_petsc_cli_layout_id
     return h ? h : 1;
 }
 
+/* A per-vertex value of the last distributed scene summed over the ranks that hold the
+ * vertex (e.g. its lumped mass, a sum over its tets), on the rank that owns it; 0 on the
+ * others (a sum over the ranks then counts every vertex once). Collective; 0 or -1 (not
+ * distributed, out of memory, an SF failure). */
+__attribute__((visibility("default"))) int eo_petsc_cli_owned_sum(const double *local, double *out)
+{
+    const eo_petsc_layout *L = eo_petsc_layout_get();
+    if (!L) return -1;
+    double *root = malloc(((size_t)L->nv + 1) * sizeof *root);
+    int bad = !root;
+    if (root) {
+        memcpy(root, local, (size_t)L->nv * sizeof *root);
+        /* the ghosts' values onto their owners' */
+        bad = PetscSFReduceBegin(L->vsf, MPI_DOUBLE, local, root, MPI_SUM) != 0;
+        bad |= PetscSFReduceEnd(L->vsf, MPI_DOUBLE, local, root, MPI_SUM) != 0;
+        for (int q = 0; q < L->nv; q++) out[q] = L->owned[q] ? root[q] : 0.0;
+    }
+    free(root);
+    return bad ? -1 : 0;
+}
+
 /* What the last mesh read did under MPI ("" if nothing was broadcast). */
 __attribute__((visibility("default"))) const char *eo_petsc_cli_mesh_note(void) { return eo_petsc_mesh_note(); }
 
