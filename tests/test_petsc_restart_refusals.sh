@@ -6,7 +6,8 @@
 #   a 2-rank run continued on 3 ranks, and on one process (the message names mpirun -n 2);
 #   a serial run continued under mpirun;
 #   a per-rank file missing, the two swapped (rank 0 would read rank 1's part), and one
-#   from an earlier step (the ranks' files at different steps).
+#   from an earlier step (the ranks' files at different steps); the folder locked by
+#   another live run.
 # Then the run still continues on 2 ranks (exit 0, 5 steps). Skipped (77) without the
 # backend or mpirun.
 . "$(dirname "$0")/petsc_common.sh"
@@ -64,6 +65,17 @@ rm -rf "$tmp/before" && cp -a "$d" "$tmp/before"
 check refused "different steps" "per-rank restart files are at different steps (2 to 3)" \
     "${mpi[@]}" "$ELASTOPT" run --restart "$d" -o time.steps=5 -q
 cp "$tmp/r1-step3" "$d/restart.dat.1-of-2"
+# the folder locked by another live run: rank 0 refuses, rank 1 (which reads its file
+# first) ends too
+sleep 60 &
+holder=$!
+echo $holder > "$d/run.lock"
+rm -rf "$tmp/before" && cp -a "$d" "$tmp/before"
+check refused "locked" "in use by another elastopt run (pid $holder" \
+    "${mpi[@]}" "$ELASTOPT" run --restart "$d" -o time.steps=5 -q
+kill $holder
+wait $holder 2> /dev/null
+rm -f "$d/run.lock"
 check [ "$(sfield "$d" status)" = finished ]
 check [ "$(sfield "$d" steps_run)" = 3 ]
 # and it continues
