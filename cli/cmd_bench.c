@@ -162,6 +162,10 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_bench_summary sum;
     const clock_t c0 = clock();
     rc = eo_bench_run(ctx, s, &o, &sum);
+    /* under mpirun: every rank waits for rank 0's report (mpirun aborts the ranks still
+     * running as soon as one exits with a non-zero status) */
+    if (eo_cli_size() > 1 && !eo_cli_agree(rc >= 0) && rc >= 0)
+        rc = eo_error(ctx, EO_ERR_IO, "another MPI rank's bench run failed");
     const double cpu = (double)(clock() - c0) / CLOCKS_PER_SEC;
     if (scratch[0]) nftw(scratch, remove_entry, 8, FTW_DEPTH | FTW_PHYS);
     if (!quiet && ps.tty) fprintf(stderr, "\n");

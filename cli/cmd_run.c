@@ -1073,7 +1073,14 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     si.error = errtext[0] ? errtext : NULL;
     si.stop_reason = diverged ? eo_reason_name(EO_DIVERGED_NONFINITE) : signo ? "interrupted" : NULL;
     si.status = signo ? "interrupted" : (diverged || errtext[0]) ? "stopped" : "finished";
-    if (writer) EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
+    rc = writer ? write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si,
+                                eo_sim_energy_warning(sim)) : EO_OK;
+    /* under MPI: no rank ends before rank 0 has completed the run's files (mpirun aborts the
+     * job, SIGCONT, then SIGTERM and SIGKILL to the ranks still running, as soon as one rank
+     * exits with a non-zero status: 1 after a step that did not converge, 130 / 143) */
+    if (eo_cli_size() > 1 && !eo_cli_agree(rc >= 0) && rc >= 0)
+        rc = eo_error(ctx, EO_ERR_IO, "rank 0 could not write the run's summary.json");
+    if (rc < 0) goto fail;
     if (errtext[0]) fprintf(stderr, "elastopt: error: %s\n", errtext);
     if (signo && verb != EO_CLI_QUIET)
         fprintf(stderr, "elastopt: interrupted (%s) after step %d of %d; every file is complete; continue with: "
@@ -1099,7 +1106,10 @@ done:
     if (csv) fclose(csv);
     if (scsv) fclose(scsv);
     eo_run_dir_close(&rd);
-    if (have_signals) signals_restore(&sig);
+    /* under MPI the flag-only handlers stay until the process exits: a SIGTERM from mpirun
+     * tearing the job down after the run ended (another rank exited first with a non-zero
+     * status) does not replace this rank's exit status */
+    if (have_signals && eo_cli_size() <= 1) signals_restore(&sig);
     eo_pvd_destroy(&pvd);
     eo_free(ctx, rec);
     eo_free(ctx, fbuf);
