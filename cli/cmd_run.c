@@ -537,8 +537,9 @@ static int restart_ranks_check(eo_ctx *ctx, const char *dir)
                            "cannot tell which one to continue");
     if (P > 1 && kinds == 0)
         return eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(dir, -1),
-                           "the run ran on one process (no per-rank restart files restart.dat.R-of-P): continue it "
-                           "without mpirun (this is mpirun with %d ranks)", P);
+                           "the run ran on one process (no per-rank restart files restart.dat.R-of-P; or under "
+                           "mpirun with a version that did not write them): continue it without mpirun (this is "
+                           "mpirun with %d ranks)", P);
     if (kinds == 1 && q != P)
         return eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(dir, -1),
                            "the run ran distributed over %d MPI ranks (restart.dat.R-of-%d), this is %s%.0d%s; its "
