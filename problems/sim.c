@@ -432,6 +432,42 @@ static int sim_coordinates(eo_sim *s, eo_solver *solver)
     return EO_OK;
 }
 
+/* A fallback entry that converged by the metric gradient measure (its optimizer has no
+ * Newton decrement: newton_tr, lbfgs, ...) while the scene's solver measures by the
+ * decrement: the two ratios are relative to different references, and at a tangled start
+ * a gradient ratio of 1e-10 was accepted with λ/λ₀ = 2.8e-7. The scene's solver then
+ * continues from x against the step's references (its own first decrement included) and
+ * decides: usually 1–3 Newton iterations; if it does not converge, neither does the step
+ * (the chain's reason is then the scene's solver's). r gets its cost; its iterations add to
+ * the kept run's (entry_iterations keep the entry's own). */
+static int confirm(eo_sim *s, eo_solver *entry, double *x, double ref_dec0, double ref_gm0, eo_sim_step_result *r)
+{
+    double d0, gm0, de, ge;
+    eo_solver_get_reference(s->solver, &d0, &gm0);
+    eo_solver_get_reference(entry, &de, &ge);
+    if (!eo_solver_measures_decrement(s->solver) || eo_solver_measures_decrement(entry) || !(isfinite(d0) && d0 > 0))
+        return EO_OK; /* the same measure, or no first decrement to compare with */
+    if (d0 > ref_dec0) ref_dec0 = d0;
+    if (isfinite(ge) && ge > ref_gm0) ref_gm0 = ge;
+    eo_solver_set_reference(s->solver, ref_dec0, ref_gm0);
+    int rc;
+    if ((rc = sim_coordinates(s, s->solver)) < 0) return rc;
+    eo_solve_result sr;
+    if ((rc = eo_solver_minimize(s->solver, s->obj, x, s->fn, s->user, &sr)) < 0) return rc;
+    r->iterations += sr.iterations;
+    r->reason = sr.reason;
+    r->time += sr.time;
+    r->cpu_time += sr.cpu_time;
+    r->g = sr.g;
+    r->grad_norm = sr.grad_norm;
+    r->n_value += sr.n_value;
+    r->n_gradient += sr.n_gradient;
+    r->n_hessian += sr.n_hessian;
+    r->n_factor += sr.n_factor;
+    r->n_not_pd += sr.n_not_pd;
+    return EO_OK;
+}
+
 /* Solve the prepared step from x (in place, obj->n values) with `solver`, then while it
  * has not converged with the fallback entries. With solver.fallback_start = guess each
  * entry starts from the step's starting guess; with best (the default) from the best
@@ -474,7 +510,11 @@ static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
         r->n_hessian += sr.n_hessian;
         r->n_factor += sr.n_factor;
         r->n_not_pd += sr.n_not_pd;
-        if (sr.reason >= 0 || sr.reason == EO_DIVERGED_EXTERNAL) break;
+        if (sr.reason == EO_DIVERGED_EXTERNAL) break;
+        if (sr.reason >= 0) {
+            if (e > 0 && s->fb_best && (rc = confirm(s, sv, x, ref_dec0, ref_gm0, r)) < 0) return rc;
+            break;
+        }
         if (s->fb_best && e < s->nfb) {
             double d0, gm0;
             eo_solver_get_reference(sv, &d0, &gm0);

@@ -14,8 +14,9 @@
                                                       (counts, quality, bounding box, sha256)
 
 The stored files (xz-compressed Gmsh tet meshes and OBJ surfaces, the source's licence
-text beside them) live in the data folder, default ../shared/meshes/corpus beside the
-repository (ELASTOPT_CORPUS_DATA or --data override it); the manifest is
+text beside them) live in the data folder, default bench/corpus/data in the repository
+(ELASTOPT_CORPUS_DATA or --data override it); the four meshes marked "shared" are the
+project's shared meshes, read from ../shared/meshes (EO_SHARED overrides); the manifest is
 bench/corpus/manifest.json. Preparing a mesh: a tet mesh is converted by `elastopt
 convert` to TetGen .node/.ele; a surface is normalized first, then tetrahedralized by
 `elastopt convert --quality Q --max-volume V` (TetGen "pzQ" + q/a switches: no randomness,
@@ -37,7 +38,8 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MANIFEST = os.path.join(ROOT, "bench", "corpus", "manifest.json")
 BUILD = os.path.join(ROOT, "build", "corpus")
-DEFAULT_DATA = os.path.join(ROOT, "..", "shared", "meshes", "corpus")
+DEFAULT_DATA = os.path.join(ROOT, "bench", "corpus", "data")
+SHARED_MESHES = os.path.join(os.environ.get("EO_SHARED") or os.path.join(ROOT, "..", "shared"), "meshes")
 SUITE_MESH_DIR = "../../build/corpus"  # relative to bench/corpus/base.json, the scenes' file
 
 IPC = {"repo": "ipc-sim/IPC", "commit": "573d2c7e04104d3f9baf526bdaee7745891a571a",
@@ -119,6 +121,14 @@ def elastopt():
 
 def data_dir(args):
     return os.path.abspath(args.data or os.environ.get("ELASTOPT_CORPUS_DATA") or DEFAULT_DATA)
+
+
+def stored_path(data, m):
+    """where a manifest entry's stored file is: the data folder, or for the project's shared
+    meshes ("shared": true) ../shared/meshes (EO_SHARED=DIR points at another shared folder)"""
+    if m.get("shared"):
+        return os.path.join(SHARED_MESHES, os.path.basename(m["stored"]))
+    return os.path.join(data, m["stored"])
 
 
 def sha256(path):
@@ -231,7 +241,7 @@ def run(cmd):
 
 def prepare_one(exe, src, data, quality=False):
     """build/corpus/NAME.node/.ele, normalized; returns the measured fields"""
-    stored = os.path.join(data, src["stored"])
+    stored = stored_path(data, src)
     if not os.path.isfile(stored):
         raise FileNotFoundError(stored)
     os.makedirs(BUILD, exist_ok=True)
@@ -292,7 +302,7 @@ def cmd_manifest(args):
             src["name"], m["vertices"], m["tets"], m["worst_radius_ratio"], m["min_dihedral_deg"],
             m["max_dihedral_deg"]))
     doc = {"description": "The benchmark's mesh corpus (docs/corpus.md): source, licence and measured counts of "
-                          "every mesh. 'stored' is relative to the data folder (default ../shared/meshes/corpus); "
+                          "every mesh. 'stored' is relative to the data folder (default bench/corpus/data; 'shared' files: ../shared/meshes); "
                           "counts are those of the prepared mesh (scripts/corpus.py prepare); bbox_source is the "
                           "stored file's bounding box [xmin, ymin, zmin, xmax, ymax, zmax] before normalization "
                           "(scale: the factor to a longest side of 1 m; axis_to_x: the source axis that becomes x).",
@@ -367,7 +377,7 @@ def cmd_check(args):
                                                                    m["max_dihedral_deg"]))
         if not m["tets"] >= m["vertices"] / 2 or m["vertices"] < 4:
             errors.append("%s: implausible counts %d vertices, %d tets" % (m["name"], m["vertices"], m["tets"]))
-        path = os.path.join(data, m["stored"])
+        path = stored_path(data, m)
         if os.path.isfile(path):
             checked += 1
             if sha256(path) != m["sha256"]:
@@ -378,7 +388,9 @@ def cmd_check(args):
                     errors.append("%s: the stored file has %d nodes, %d tets; the manifest says %d, %d" % (
                         (m["name"],) + counts + (m["vertices"], m["tets"])))
             lic = os.path.join(data, m.get("licence_file", ""))
-            if not m.get("licence_file") or not os.path.isfile(lic):
+            if m.get("shared") and not os.path.isfile(lic):
+                pass  # a shared mesh: its licence is in ../shared/meshes/README.md
+            elif not m.get("licence_file") or not os.path.isfile(lic):
                 errors.append("%s: licence text %s absent" % (m["name"], m.get("licence_file")))
             elif m["licence"].split()[0].lower() not in open(lic).read().lower():
                 errors.append("%s: licence text %s does not name %s" % (m["name"], m["licence_file"], m["licence"]))
@@ -634,7 +646,7 @@ def cmd_table(args):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("command", choices=["prepare", "check", "suites", "manifest", "table"])
-    ap.add_argument("--data", help="folder of the stored files (default ../shared/meshes/corpus)")
+    ap.add_argument("--data", help="folder of the stored files (default bench/corpus/data)")
     ap.add_argument("--only", help="prepare: these meshes only (comma-separated names)")
     ap.add_argument("--suite", help="prepare: the meshes this suite names only")
     args = ap.parse_args()

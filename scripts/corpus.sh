@@ -8,7 +8,8 @@
 # Builds ./build if needed (scripts/setup.sh), prepares the suite's meshes into build/corpus
 # (decompressed, tetrahedralized by TetGen, normalized; counts checked against
 # bench/corpus/manifest.json), then runs `elastopt bench`. The stored files are read from
-# ../shared/meshes/corpus (ELASTOPT_CORPUS_DATA=DIR overrides); scenes whose mesh is absent
+# bench/corpus/data (ELASTOPT_CORPUS_DATA=DIR overrides; the four shared IPC meshes from
+# ../shared/meshes); scenes whose mesh is absent
 # are dropped with a note. Default output: bench/results/corpus-<suite>.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -430,6 +430,12 @@ void eo_solver_set_reference(eo_solver *s, double decrement0, double grad_metric
     s->ref_gm0 = grad_metric0;
 }
 
+int eo_solver_measures_decrement(const eo_solver *s)
+{
+    const eo_optimizer_type *t = s->type[SLOT_OPT];
+    return t && t->newton_decrement;
+}
+
 void eo_solver_get_reference(const eo_solver *s, double *decrement0, double *grad_metric0)
 {
     *decrement0 = s->stop ? s->stop->dec0_used : NAN;

@@ -628,6 +628,36 @@ static void test_adaptive_scene(const char *dir)
 
 /* An optional scene whose file cannot be read is dropped at load with a note; the same
  * scene not optional is an error. */
+/* A start whose g is at rounding level: the static cantilever centred on the x axis has
+ * g(x₀) = potential of gravity at the centre of mass ≈ 7e-17 (rounding), far below the
+ * step's scale (g* = -0.68). The reference is judged at the rounding floor of ∇g and at
+ * the scale of the terms g sums, not at ref_tol·|g(x₀)| ≈ 1e-30: it stops at the floor
+ * within 7 iterations (10 with the tolerance scaled by |g(x₀)|) at the same g*. */
+static void test_reference_g0_zero(const char *dir)
+{
+    const char *text = "{\"repeats\": 1, \"steps\": 1, \"plots\": false, \"trajectory\": false, \"ipopt_check\": false,"
+                       " \"scenes\": [{\"name\": \"c\", \"scene\": \"cantilever\", \"set\": {\"mesh.generate.cells\": [6, 2, 2],"
+                       "   \"mesh.generate.origin\": [0, -0.05, -0.05], \"time.integrator\": \"static\"}}],"
+                       " \"configs\": [{\"name\": \"n\", \"set\": {\"solver.optimizer\": \"newton\"}}]}";
+    eo_ctx *ctx = eo_test_ctx();
+    char out[4200];
+    eo_bench_suite *s = run_text(ctx, dir, "g0zero", text, out, sizeof out);
+    csv_tab *t = malloc(sizeof *t);
+    if (s && t && csv_read(out, "reference.csv", t) == 0 && t->nrow == 1) {
+        double g0 = atof(csv_get(t, 0, "g0")), gs = atof(csv_get(t, 0, "gstar"));
+        int it = atoi(csv_get(t, 0, "iterations"));
+        CHECK(fabs(g0) < 1e-12 && gs < -0.5, "g0 %g at rounding level, g* %g", g0, gs);
+        CHECK(!strcmp(csv_get(t, 0, "converged"), "1") && !strcmp(csv_get(t, 0, "rounding_floor"), "1"),
+              "reference converged at the rounding floor");
+        CHECK(it >= 3 && it <= 7, "reference iterations %d (expected 3..7)", it);
+    } else {
+        CHECK(0, "reference.csv of the g0 = 0 run");
+    }
+    free(t);
+    eo_bench_suite_destroy(&s);
+    eo_test_ctx_done(&ctx);
+}
+
 static void test_optional(const char *dir)
 {
     eo_ctx *ctx = eo_test_ctx();
@@ -711,6 +741,7 @@ int main(void)
     test_expansion(dir);
     test_run(dir);
     test_first_iterate(dir);
+    test_reference_g0_zero(dir);
     test_select_motion(dir);
     test_select_correction(dir);
     test_fixed_budget(dir);

@@ -3,7 +3,7 @@
 # manifest is complete (source, 40-digit commit, licence, counts, quality, TetGen switches
 # of every surface; at least 20 distinct stored meshes), every mesh a corpus suite names
 # is in it, and the suites are the ones the script writes. Where the stored files are
-# present (../shared/meshes/corpus, or ELASTOPT_CORPUS_DATA) their sha256, node and tet
+# present (bench/corpus/data, or ELASTOPT_CORPUS_DATA) their sha256, node and tet
 # counts and licence texts are checked too, and two meshes are prepared (a Gmsh tet mesh
 # and a TetGen'd surface) to the manifest's counts. The checker refuses what it must, on a
 # scratch copy: a missing licence, a wrong count, a suite naming an unknown mesh, a stale
@@ -13,7 +13,7 @@ src=${EO_SOURCE_ROOT:?}
 exe=${1:-}
 py=/usr/bin/python3
 [ -x "$py" ] || py=$(command -v python3) || { echo "no python3: skip"; exit 77; }
-data=${ELASTOPT_CORPUS_DATA:-${EO_SHARED:-$src/../shared}/meshes/corpus}
+data=${ELASTOPT_CORPUS_DATA:-$src/bench/corpus/data}
 pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*"; }

@@ -517,6 +517,46 @@ static void test_fallback(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* A fallback entry measuring by the gradient (lbfgs, loose tol 1e-3 in its section) after
+ * a Newton that ran out of iterations (3 on the twist's first step, which needs 6): lbfgs
+ * accepts Newton's third iterate at once by its gradient ratio; the scene's Newton then
+ * continues from it and decides, so the step ends at Newton's accuracy (within 1e-9 of
+ * the motion of the Newton-only answer) with Newton's reason, not at the third iterate. */
+static void test_fallback_confirm(void)
+{
+    eo_ctx *ctx = eo_test_ctx();
+    const char *ov[] = {"solver.max_iters=3", "time.steps=1",
+                        "solver.fallback=[{\"optimizer\": \"lbfgs\", \"tol\": 1e-3, \"max_iters\": 2000}]", NULL};
+    const char *ref[] = {"time.steps=1", "solver.fallback=[]", NULL};
+    eo_sim *s = NULL, *sr = NULL;
+    CHECK(eo_test_sim_open(&s, ctx, "twist", NULL, ov) == 0, "open with fallback");
+    CHECK(eo_test_sim_open(&sr, ctx, "twist", NULL, ref) == 0, "open newton");
+    if (s && sr) {
+        const int nv = eo_sim_scene(s)->mesh->nv;
+        double *x0 = malloc((size_t)nv * 3 * sizeof(double)), *x = malloc((size_t)nv * 3 * sizeof(double)),
+               *xr = malloc((size_t)nv * 3 * sizeof(double));
+        eo_sim_get_state(s, x0, NULL, NULL, NULL);
+        eo_sim_step_result r, rr;
+        CHECK(eo_test_sim_step(s, NULL, NULL, &r) == 0, "step: %s", eo_ctx_message(ctx));
+        CHECK(eo_test_sim_step(sr, NULL, NULL, &rr) == 0, "step: %s", eo_ctx_message(ctx));
+        eo_sim_get_state(s, x, NULL, NULL, NULL);
+        eo_sim_get_state(sr, xr, NULL, NULL, NULL);
+        double d = 0, m = 0;
+        for (int i = 0; i < 3 * nv; i++) d = fmax(d, fabs(x[i] - xr[i])), m = fmax(m, fabs(xr[i] - x0[i]));
+        printf("fallback confirm: entry %d (%s after %d it.), step %s after %d it.; |x - x_newton| %.3g of motion %.3g\n",
+               r.entry, eo_reason_name(r.entry_reason[1]), r.entry_iterations[1], eo_reason_name(r.reason),
+               r.iterations, d, m);
+        CHECK(r.entry == 1 && r.entry_reason[1] == EO_CONVERGED_GRADIENT, "lbfgs entry converged by the gradient");
+        CHECK(r.reason == EO_CONVERGED_DECREMENT && r.iterations > r.entry_iterations[1],
+              "Newton decided after the entry: %s, %d iterations", eo_reason_name(r.reason), r.iterations);
+        CHECK(d <= 1e-9 * m, "step answer %.3g from Newton's (motion %.3g)", d, m);
+        free(x0), free(x), free(xr);
+    }
+    eo_sim_destroy(&s);
+    eo_sim_destroy(&sr);
+    eo_test_ctx_done(&ctx);
+}
+
 int main(void)
 {
     test_sim_api();
@@ -530,5 +570,6 @@ int main(void)
     test_inverted();
     test_regions_and_release();
     test_fallback();
+    test_fallback_confirm();
     return eo_test_finish("test_engine");
 }

@@ -218,8 +218,10 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
             mach.revision);
     fprintf(f, "## Protocol\n\n"
                "For every scene a reference trajectory is advanced step by step; each step's reference minimizer "
-               "x* is Newton + clamp + backtracking stopped at λ²/2 ≤ %g·|g(x₀)| (or at the rounding floor: a step that "
-               "no longer lowers g with λ²/2 ≤ 1e-9·|g(x₀)|). Each configuration then solves "
+               "x* is Newton + clamp + backtracking stopped at λ²/2 ≤ %g·|g(x₀)| (|g(x₀)| at least ε times the terms "
+               "g sums; or at the rounding floor: λ²/2 at the level the rounding of ∇g produces, 1e4·ε²·s₀ of the "
+               "objective's rounding scale, or a step that no longer lowers g with λ²/2 ≤ 1e-9·|g(x₀)|). Each "
+               "configuration then solves "
                "the same step problems from the same state and starting guess x₀ (the curve runs stop when the "
                "relative energy error (g − g*)/|g₀ − g*| ≤ %g, after %d iterations, after %s s per step "
                "unless the scene says otherwise, or when g has not decreased for 20 iterations: `stagnated`). Time to a threshold is the time of the first "

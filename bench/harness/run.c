@@ -39,6 +39,7 @@
  * curve solver per configuration exists at a time (created per scene; it re-sizes
  * itself when a release changes the number of free coordinates). */
 #define _DEFAULT_SOURCE /* getloadavg */
+#include <float.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdarg.h>
@@ -127,9 +128,14 @@ static int curve_iter(const eo_iter_info *it, void *user)
 /* Reference stop: the Newton decrement below tol = ref_tol·|g(x₀)|, or the rounding
  * floor: the last step did not lower g although its decrement was already below
  * 1e-9·|g(x₀)| (then no tighter solution exists in floating point: the line search
- * only accepts steps that leave g unchanged). */
+ * only accepts steps that leave g unchanged), or the decrement at the level the rounding
+ * of ∇g alone produces (the stopping rules' floor, EO_STOP_FLOOR·ε²·s[0] of the
+ * objective's rounding scales). The scale of g is |g(x₀)|, at least the rounding of the
+ * terms g sums (ε·s[2]): a start with g(x₀) ≈ 0 (x₀ = ỹ, no elastic energy, a potential
+ * that vanishes at the body's centre) would otherwise make the tolerance 0 and run the
+ * reference to its iteration cap. */
 typedef struct ref_state {
-    double tol, gscale, dec, prev_g, prev_dec;
+    double tol, gscale, floor, dec, prev_g, prev_dec;
     int stopped, rounding;
 } ref_state;
 
@@ -137,6 +143,7 @@ static int ref_iter(const eo_iter_info *it, void *user)
 {
     ref_state *r = user;
     if (!isnan(it->decrement)) r->dec = it->decrement;
+    if (!isnan(it->decrement) && it->decrement <= r->floor && !it->reason) return r->stopped = r->rounding = 1;
     if (it->iteration > 0 && !(it->g < r->prev_g) && r->prev_dec <= 1e-9 * r->gscale) {
         r->dec = r->prev_dec;
         return r->stopped = r->rounding = 1;
@@ -515,7 +522,11 @@ static int run_scene(run_ctx *r, int si)
         EO_TRY(rc = eo_objective_value(obj, guess, &g0));
         eo_ctx_reduce(ctx, &g0, 1, EO_REDUCE_SUM); /* distributed: the parts' shares */
         memcpy(x0, guess, (size_t)n * sizeof(double));
-        rs = (ref_state){.tol = s->o.ref_tol * fmax(fabs(g0), 1e-300), .gscale = fmax(fabs(g0), 1e-300),
+        double rsc[3] = {0, 0, 0};
+        if (eo_objective_rounding_scale(obj, guess, rsc) < 0 || !isfinite(rsc[0]) || !isfinite(rsc[2]))
+            rsc[0] = rsc[2] = 0;
+        const double gs = fmax(fmax(fabs(g0), DBL_EPSILON * rsc[2]), 1e-300);
+        rs = (ref_state){.tol = s->o.ref_tol * gs, .gscale = gs, .floor = EO_STOP_FLOOR * DBL_EPSILON * DBL_EPSILON * rsc[0],
                          .dec = NAN, .prev_g = INFINITY, .prev_dec = INFINITY};
         eo_sim_step_result res;
         EO_TRY(rc = eo_sim_step(sim, &res));

@@ -46,6 +46,25 @@ extern "C" int eo_tetgen_run(const double *X, int np, const int *tri, int nt, co
             fc->polygonlist[0].vertexlist = new int[3];
             for (int a = 0; a < 3; a++) fc->polygonlist[0].vertexlist[a] = tri[3 * f + a];
         }
+        // TetGen 1.5 meshing a self-intersecting surface ('p') fails in its own clean-up
+        // (a segmentation fault inside tetgenmesh::freememory, not a thrown error), so the
+        // surface is checked first with 'd' (detect intersections only; its output lists the
+        // triangles that intersect others, nothing is meshed). About 0.1 s per 10k triangles.
+        {
+            tetgenio dout;
+            char dsw[] = "dzQ";
+            tetrahedralize(dsw, &in, &dout);
+            if (dout.numberoftrifaces > 0) {
+                const int *t = dout.trifacelist;
+                const int f0 = dout.firstnumber;
+                double c[3] = {0, 0, 0};
+                for (int a = 0; a < 3; a++)
+                    for (int k = 0; k < 3; k++) c[k] += dout.pointlist[3 * (size_t)(t[a] - f0) + k] / 3;
+                std::snprintf(msg, msgn, "%d triangles intersect others, the first near (%.6g, %.6g, %.6g)",
+                              dout.numberoftrifaces, c[0], c[1], c[2]);
+                return 3;
+            }
+        }
         char sw[128];
         std::snprintf(sw, sizeof sw, "%s", switches);
         tetrahedralize(sw, &in, &out);

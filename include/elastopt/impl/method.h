@@ -258,6 +258,10 @@ typedef struct eo_solver_ctx {
 /// same iterate), then applies
 /// the rounding floor and sc->stop. Returns the rule's positive eo_reason or 0.
 EO_API int eo_solver_stop_check(const eo_solver_ctx *sc, eo_stop_info *si, const double *x, const double *grad);
+/// 1 if the solver's optimizer measures convergence by the Newton decrement
+/// (eo_optimizer_type.newton_decrement), 0 if by the metric gradient norm.
+struct eo_solver;
+EO_API int eo_solver_measures_decrement(const struct eo_solver *s);
 
 typedef struct eo_optimizer_type {
     eo_method_info info;
