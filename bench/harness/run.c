@@ -523,8 +523,14 @@ static int run_scene(run_ctx *r, int si)
         eo_ctx_reduce(ctx, &g0, 1, EO_REDUCE_SUM); /* distributed: the parts' shares */
         memcpy(x0, guess, (size_t)n * sizeof(double));
         double rsc[3] = {0, 0, 0};
-        if (eo_objective_rounding_scale(obj, guess, rsc) < 0 || !isfinite(rsc[0]) || !isfinite(rsc[2]))
-            rsc[0] = rsc[2] = 0;
+        int rok = eo_objective_rounding_scale(obj, guess, rsc) >= 0 && isfinite(rsc[0]) && isfinite(rsc[2]);
+        if (dist) { /* the parts' scales summed (as petsc_newton does), if every part has them */
+            double ok = rok;
+            eo_ctx_reduce(ctx, &ok, 1, EO_REDUCE_MIN);
+            rok = ok > 0;
+            if (rok) eo_ctx_reduce(ctx, rsc, 3, EO_REDUCE_SUM);
+        }
+        if (!rok) rsc[0] = rsc[2] = 0;
         const double gs = fmax(fmax(fabs(g0), DBL_EPSILON * rsc[2]), 1e-300);
         rs = (ref_state){.tol = s->o.ref_tol * gs, .gscale = gs, .floor = EO_STOP_FLOOR * DBL_EPSILON * DBL_EPSILON * rsc[0],
                          .dec = NAN, .prev_g = INFINITY, .prev_dec = INFINITY};
