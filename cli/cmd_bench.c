@@ -5,7 +5,14 @@
  * an estimate of the time left), and writes curves.csv, summary.csv, reference.csv,
  * trajectory.csv, report.md and plots/ into DIR. Exit 0 if every reference converged,
  * no NaN was produced and every configuration named in `require_converged`
- * converged everywhere; 1 otherwise; 2 on bad input or an I/O error. */
+ * converged everywhere; 1 otherwise; 2 on bad input or an I/O error.
+ *
+ * Under mpirun (several ranks) every rank loads the suite and runs it on its part of each
+ * scene's mesh (bench.h, distributed); every configuration must be a distributed one
+ * (refused with exit 2 before anything is written otherwise). Rank 0 writes DIR and
+ * prints; the other ranks write into a scratch folder in $TMPDIR, removed at the end. */
+#define _XOPEN_SOURCE 700
+#include <ftw.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -76,6 +83,12 @@ static void on_profile(const char *scene, const char *config, const eo_profile *
     eo_cli_profile_print(stdout, title, p);
 }
 
+static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
+{
+    (void)sb, (void)flag, (void)ftw;
+    return remove(path);
+}
+
 static int run(eo_ctx *ctx, int argc, char **argv)
 {
     const char *suite_path = NULL, *out = NULL;
@@ -101,9 +114,6 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         else suite_path = argv[i];
     }
     if (!suite_path) return eo_cli_usage_error(&eo_cmd_bench, "missing SUITE.json");
-    if (eo_cli_size() > 1) /* every rank would write the same report; PETSc methods run on one rank */
-        return eo_cli_usage_error(&eo_cmd_bench, "runs on one MPI rank (the PETSc optimizers run there too): "
-                                                 "start it without mpirun");
     char dir[1200];
     if (out) {
         snprintf(dir, sizeof dir, "%s", out);
@@ -117,12 +127,26 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_bench_suite *s = NULL;
     int rc = eo_bench_suite_load(ctx, suite_path, &s);
     if (rc < 0) return eo_cli_fail(ctx, rc);
+    char scratch[1100] = ""; /* under mpirun, the ranks other than 0 write here (removed at the end) */
+    if (eo_cli_rank() != 0) {
+        const char *tmpdir = getenv("TMPDIR");
+        snprintf(scratch, sizeof scratch, "%s/elastopt-bench-rank%d-XXXXXX", tmpdir && *tmpdir ? tmpdir : "/tmp",
+                 eo_cli_rank());
+        if (!mkdtemp(scratch)) {
+            eo_bench_suite_destroy(&s);
+            return eo_cli_fail(ctx, eo_error(ctx, EO_ERR_IO, "rank %d: cannot make a scratch folder in $TMPDIR",
+                                             eo_cli_rank()));
+        }
+        snprintf(dir, sizeof dir, "%s", scratch);
+        plots = 0;
+    }
     progress_state ps = {.tty = isatty(2), .last_scene = -1, .last_config = -2, .last_phase = NULL};
     eo_bench_run_opts o = eo_bench_run_opts_default();
     o.out_dir = dir;
     o.repeats = repeats;
     o.plots = plots;
     o.clock = clock_name;
+    o.owned_sum = eo_cli_dist_owned_sum; /* a distributed run: per-vertex sums over the parts */
     o.progress = quiet ? NULL : on_progress;
     o.user = &ps;
     if (profile) {
@@ -138,7 +162,12 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     eo_bench_summary sum;
     const clock_t c0 = clock();
     rc = eo_bench_run(ctx, s, &o, &sum);
+    /* under mpirun: every rank waits for rank 0's report (mpirun aborts the ranks still
+     * running as soon as one exits with a non-zero status) */
+    if (eo_cli_size() > 1 && !eo_cli_agree(rc >= 0) && rc >= 0)
+        rc = eo_error(ctx, EO_ERR_IO, "another MPI rank's bench run failed");
     const double cpu = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    if (scratch[0]) nftw(scratch, remove_entry, 8, FTW_DEPTH | FTW_PHYS);
     if (!quiet && ps.tty) fprintf(stderr, "\n");
     eo_bench_suite_destroy(&s);
     if (rc < 0) return eo_cli_fail(ctx, rc);
@@ -165,6 +194,9 @@ const eo_cli_command eo_cmd_bench = {
              "trajectory.csv, report.md and plots/*.png (gnuplot). Progress goes to stderr.\n"
              "--profile: per scene and configuration, the solver's time by phase over its curve\n"
              "runs (as `run --profile`, in the run's clock), on stdout.\n"
+             "Under mpirun every rank runs its part of each scene (every configuration must be\n"
+             "distributed: solver.backend=petsc or a petsc_/snes_/tao_ optimizer; the reference is\n"
+             "newton on the PETSc backend; no Ipopt check); rank 0 writes DIR (bench/petsc-mpi.json).\n"
              "Exit status: 0 all references converged, no NaN produced and every required\n"
              "configuration converged; 1 otherwise; 2 bad input or I/O error.\n",
     .run = run,

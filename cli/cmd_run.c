@@ -13,6 +13,9 @@
  *   restart.dat                    the state after the last completed step (atomic;
  *                                  with time.adaptive also the substep level and
  *                                  streak of the adaptive controller)
+ *   restart.dat.R-of-P             under mpirun on P ranks: rank R's local state and the
+ *                                  identity of its part (run_output.h), what --restart
+ *                                  under mpirun continues from, on P ranks only
  *   summary.json                   build info, the config as given and as resolved, and
  *                                  per step: iterations, reason, converged, time, g,
  *                                  ‖∇g‖, centre of mass, max displacement, min J,
@@ -27,7 +30,8 @@
  * velocities, time and step index; the constrained sets follow from t; the summary and
  * the pvd are rebuilt from steps.csv and the frames on disk).
  *
- * SIGINT / SIGTERM: the handler only sets a flag; the iteration callback then returns
+ * SIGINT / SIGTERM (under mpirun: to any rank; the ranks agree on the step and share the
+ * signal's number): the handler only sets a flag; the iteration callback then returns
  * non-zero, the running step stops and is discarded (the state goes back to the last
  * completed step, its iteration rows are cut from iterations.csv), every file is
  * completed, summary.json says "stop_reason": "interrupted", and the exit status is
@@ -93,6 +97,21 @@ static void signals_install(signals *s)
     g_signal = 0;
     sigaction(SIGINT, &sa, &s->old_int);
     sigaction(SIGTERM, &sa, &s->old_term);
+}
+
+/* The signal seen by any rank (the largest number: SIGTERM over SIGINT), and with any
+ * (may be NULL) whether `flag` was set on some rank; collective under MPI, g_signal
+ * alone on one process. */
+static int shared_signal(eo_ctx *ctx, int flag, int *any)
+{
+    if (eo_cli_size() <= 1) {
+        if (any) *any = flag;
+        return g_signal;
+    }
+    double v[2] = {g_signal, flag};
+    if (eo_ctx_reduce(ctx, v, 2, EO_REDUCE_MAX) < 0) v[0] = g_signal ? g_signal : SIGTERM, v[1] = 1;
+    if (any) *any = v[1] != 0;
+    return (int)v[0];
 }
 
 static void signals_restore(const signals *s)
@@ -478,6 +497,77 @@ static int set_adaptive(eo_ctx *ctx, eo_sim *sim, const char *path, const double
     return eo_sim_set_adaptive_state(sim, (int)as[0], (int)as[1]);
 }
 
+/* ---------------------------------------------------------------- distributed restart */
+
+/* The identity of this rank's part: the backend's hash of its vertices' input numbers and
+ * ownership (eo_cli_dist_layout_id) extended over the local mesh itself (tets and rest
+ * positions, in their local order: the order of every local sum). */
+static unsigned long long part_id(const eo_mesh *m)
+{
+    unsigned long long h = eo_cli_dist_layout_id();
+    const unsigned char *p[2] = {(const unsigned char *)m->tets, (const unsigned char *)m->X};
+    const size_t n[2] = {(size_t)4 * m->nt * sizeof(int), (size_t)3 * m->nv * sizeof(double)};
+    for (int a = 0; a < 2; a++)
+        for (size_t i = 0; i < n[a]; i++) h = (h ^ p[a][i]) * 1099511628211ULL;
+    return h;
+}
+
+/* The "partition" array of a per-rank restart file (run_output.h). */
+static void part_fill(double part[7], const eo_mesh *m, int dnv)
+{
+    const unsigned long long h = part_id(m);
+    part[0] = eo_cli_size();
+    part[1] = eo_cli_rank();
+    part[2] = m->nv;
+    part[3] = m->nt;
+    part[4] = dnv;
+    part[5] = (double)(h >> 32);
+    part[6] = (double)(h & 0xffffffffULL);
+}
+
+/* Under mpirun on P ranks, is the run in dir one this process can continue? Every rank
+ * looks at the same folder and takes the same decision (before anything is written). */
+static int restart_ranks_check(eo_ctx *ctx, const char *dir)
+{
+    int q, nq;
+    const int P = eo_cli_size(), kinds = eo_run_restart_ranks(dir, &q, &nq);
+    if (kinds > 1)
+        return eo_error_at(ctx, EO_ERR_INVALID, EO_ERRLOC_FILE(dir, -1),
+                           "holds per-rank restart files (restart.dat.R-of-P) of runs on different rank counts; "
+                           "cannot tell which one to continue");
+    if (P > 1 && kinds == 0)
+        return eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(dir, -1),
+                           "the run ran on one process (no per-rank restart files restart.dat.R-of-P; or under "
+                           "mpirun with a version that did not write them): continue it without mpirun (this is "
+                           "mpirun with %d ranks)", P);
+    if (kinds == 1 && q != P)
+        return eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(dir, -1),
+                           "the run ran distributed over %d MPI ranks (restart.dat.R-of-%d), this is %s%.0d%s; its "
+                           "state is kept per rank and continues on the same rank count only: "
+                           "mpirun -n %d elastopt run --restart %s",
+                           q, q, P > 1 ? "mpirun with " : "one process", P > 1 ? P : 0, P > 1 ? " ranks" : "", q, dir);
+    if (kinds == 1 && nq != q)
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(dir, -1),
+                           "holds %d of the %d per-rank restart files restart.dat.R-of-%d; cannot continue the run",
+                           nq, q, q);
+    return EO_OK;
+}
+
+/* The partition recorded in a per-rank restart file against this run's. */
+static int restart_part_check(eo_ctx *ctx, const char *path, const double rec[7], const double now[7])
+{
+    if (rec[0] != now[0] || rec[1] != now[1])
+        return eo_error_at(ctx, EO_ERR_INVALID, EO_ERRLOC_FILE(path, -1),
+                           "written by rank %g of %g; this is rank %g of %g", rec[1], rec[0], now[1], now[0]);
+    if (rec[4] != now[4] || rec[2] != now[2] || rec[3] != now[3] || rec[5] != now[5] || rec[6] != now[6])
+        return eo_error_at(ctx, EO_ERR_INVALID, EO_ERRLOC_FILE(path, -1),
+                           "rank %g's part of the mesh differs from the one the run had (%g of %g vertices and %g "
+                           "tets then, %g of %g and %g now, or the same counts in another distribution): the mesh "
+                           "or its partitioning changed; continuing would not be the same simulation",
+                           now[1], rec[2], rec[4], rec[3], now[2], now[4], now[3]);
+    return EO_OK;
+}
+
 /* ---------------------------------------------------------------- the command */
 
 static int remove_entry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
@@ -528,13 +618,11 @@ static int run(eo_ctx *ctx, int argc, char **argv)
 
     /* ---- validate everything before writing anything (eo_sim_create: scene, solver
      * section, every method's section, unknown keys) */
-    if (restart && eo_cli_size() > 1) { /* every rank, before reading or writing anything */
-        rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "--restart is not supported under mpirun yet (continue the run on "
-                      "one process, or start it again)");
-        goto fail;
-    }
     if (restart) {
         EO_TRY(rc = read_run_json(ctx, restart, &org, &run_doc, &cfg));
+        /* the rank count the run had (per-rank restart files) against this one: every
+         * rank, before anything is written */
+        EO_TRY(rc = restart_ranks_check(ctx, restart));
     } else {
         eo_cli_scene_name(&a, org.name, sizeof org.name);
         if (a.file) {
@@ -583,6 +671,10 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     else if (out_dir) snprintf(dir, sizeof dir, "%s", out_dir);
     else if (sc->output.dir[0]) snprintf(dir, sizeof dir, "%s", sc->output.dir);
     else snprintf(dir, sizeof dir, "out/%s", org.name);
+    /* the handlers first: from here on a signal only sets the flag, so that a rank's scratch
+     * folder made below is always removed */
+    signals_install(&sig);
+    have_signals = 1;
     if (eo_cli_rank() != 0) { /* under MPI, rank 0 writes the run; the others a private scratch folder */
         const char *tmpdir = getenv("TMPDIR");
         snprintf(rank_tmp, sizeof rank_tmp, "%s/elastopt-rank%d-XXXXXX", tmpdir && *tmpdir ? tmpdir : "/tmp",
@@ -642,8 +734,6 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         printf("%s\n", eo_cli_mesh_note());
 
     /* ---- the folder: lock, earlier runs */
-    signals_install(&sig);
-    have_signals = 1;
     EO_TRY(rc = eo_run_dir_open(ctx, dir, &rd));
     /* frames: rank 0 writes them; in a distributed run every rank writes its piece and rank
      * 0 the .pvtu that lists them */
@@ -666,13 +756,90 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         {.name = "history", .data = hs, .count = hlen, .required = 0},
         {.name = "adaptive", .data = as, .count = 2, .required = 0},
     };
-    int narrays = hlen && dnv < 0 ? 4 : 3; /* a distributed run: no multistep history (no restart) */
+    /* restart.dat of a distributed run: the whole state for readers, without the history
+     * (local to each rank: in the per-rank files) */
+    int narrays = hlen && dnv < 0 ? 4 : 3;
     if (eo_sim_adaptive(sim)) { /* the table without the history, if none */
         arrays[narrays] = arrays[4];
         narrays++;
     }
     eo_run_array *aarr = eo_sim_adaptive(sim) ? arrays + narrays - 1 : NULL;
-    if (restart) {
+    /* a distributed run's per-rank restart file (run_output.h): this rank's local state,
+     * what --restart under mpirun continues from */
+    double part[7] = {0}, part_rec[7] = {0}, work_local = 0;
+    char rkpath[1400] = "";
+    eo_run_array rarrays[6];
+    int nrarrays = 0;
+    if (dnv >= 0) {
+        char rkname[64];
+        eo_run_restart_rank_name(eo_cli_rank(), eo_cli_size(), rkname, sizeof rkname);
+        snprintf(rkpath, sizeof rkpath, "%s/%s", piece_dir, rkname);
+        part_fill(part, m, dnv);
+        rarrays[nrarrays++] = (eo_run_array){.name = "x", .data = xs, .count = 3 * (size_t)m->nv, .required = 1};
+        rarrays[nrarrays++] = (eo_run_array){.name = "v", .data = vs, .count = 3 * (size_t)m->nv, .required = 1};
+        rarrays[nrarrays++] = (eo_run_array){.name = "work_prescribed", .data = &work_local, .count = 1,
+                                             .required = 1};
+        if (hlen) rarrays[nrarrays++] = (eo_run_array){.name = "history", .data = hs, .count = hlen, .required = 1};
+        if (eo_sim_adaptive(sim))
+            rarrays[nrarrays++] = (eo_run_array){.name = "adaptive", .data = as, .count = 2, .required = 1};
+        rarrays[nrarrays++] = (eo_run_array){.name = "partition", .data = part_rec, .count = 7, .required = 1};
+    }
+    if (restart && dnv < 0 && eo_cli_size() > 1) {
+        rc = eo_error(ctx, EO_ERR_UNSUPPORTED, "--restart under mpirun: the scene is not distributed over the ranks");
+        goto fail;
+    }
+    if (restart && dnv >= 0) { /* every rank its own file, checked on every rank before anything is written */
+        double t = 0;
+        rc = eo_run_restart_read(ctx, rkpath, &first, &t, m->nv, rarrays, nrarrays);
+        if (rc >= 0) rc = restart_part_check(ctx, rkpath, part_rec, part);
+        if (!eo_cli_agree(rc >= 0)) {
+            agreed = 1; /* every rank took part in this agreement: no other one in fail */
+            if (rc >= 0) rc = eo_error(ctx, EO_ERR_IO, "another MPI rank could not continue from its restart file");
+            goto fail;
+        }
+        double lo[2] = {first, t}, hi[2] = {first, t};
+        if (eo_ctx_reduce(ctx, lo, 2, EO_REDUCE_MIN) < 0 || eo_ctx_reduce(ctx, hi, 2, EO_REDUCE_MAX) < 0) {
+            rc = eo_error(ctx, EO_ERR_IO, "the ranks could not compare their restart steps");
+            goto fail;
+        }
+        if (lo[0] != hi[0] || lo[1] != hi[1]) { /* a rank killed between its file and the others' */
+            rc = eo_error_at(ctx, EO_ERR_PARSE, EO_ERRLOC_FILE(restart, -1),
+                             "the per-rank restart files are at different steps (%g to %g): a rank was stopped "
+                             "while they were written; the run cannot be continued exactly", lo[0], hi[0]);
+            goto fail;
+        }
+        if (first > nsteps) {
+            rc = eo_error_at(ctx, EO_ERR_RANGE, EO_ERRLOC_FILE(rkpath, -1),
+                             "the run is at step %d, beyond time.steps = %d; raise it (-o time.steps=N)", first,
+                             nsteps);
+            goto fail;
+        }
+        if (eo_cli_rank() == 0) { /* the logs (rank 0's): cut after the restart step, the records */
+            EO_TRY(rc = eo_run_logs_resume(ctx, &rd, first, rec));
+            eo_run_dir_remove_frames_after(&rd, first);
+        }
+        nrec = first;
+        EO_TRY(rc = eo_sim_set_state(sim, xs, vs, t, first));
+        if (eo_sim_adaptive(sim)) EO_TRY(rc = set_adaptive(ctx, sim, rkpath, as));
+        if (hlen) EO_TRY(rc = eo_sim_set_history(sim, hs));
+        eo_step_set_work_prescribed(st, work_local);
+        for (int s = 0; pvd && s <= first; s++) { /* the series so far, from rank 0's .pvtu files */
+            char file[64];
+            struct stat fst;
+            snprintf(file, sizeof file, "frame_%06d.pvtu", s);
+            snprintf(path, sizeof path, "%s/%s", dir, file);
+            if (stat(path, &fst) != 0) continue;
+            EO_TRY(rc = eo_pvd_add(ctx, pvd, s ? rec[s - 1].t : 0.0, file));
+            nframes++;
+        }
+        EO_TRY(rc = write_run_json(ctx, dir, &org, eo_sim_cfg(sim)));
+        if (!(csv = fopen(itpath, "a")) || !(scsv = fopen(stpath, "a"))) {
+            rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(csv ? stpath : itpath, -1), "cannot append");
+            goto fail;
+        }
+        fseek(csv, 0, SEEK_END);
+        fseek(scsv, 0, SEEK_END);
+    } else if (restart) {
         double t;
         EO_TRY(rc = eo_run_restart_read(ctx, rspath, &first, &t, m->nv, arrays, narrays));
         if (first > nsteps) {
@@ -733,7 +900,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         }
         eo_sim_get_state(sim, xs, vs, NULL, NULL);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
-        work = eo_step_work_prescribed(st);
+        work = work_local = eo_step_work_prescribed(st);
         get_adaptive(sim, as);
         /* a distributed run's gather (collective) waits until every rank is set up */
         if (dnv < 0) EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), nv_out, arrays, narrays));
@@ -742,6 +909,7 @@ static int run(eo_ctx *ctx, int argc, char **argv)
                        .restarted_at = first};
     EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
 
+    memcpy(part_rec, part, sizeof part); /* what this run's per-rank restart files record */
     /* ---- every rank ready (under MPI: one rank's failure ends all of them, with exit 2) */
     agreed = 1;
     if (!eo_cli_agree(1)) {
@@ -757,9 +925,14 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         rd.locked = 0;
     }
     const int writer = eo_cli_rank() == 0;
-    if (dnv >= 0 && first == 0) { /* the initial state's restart.dat (gathered on rank 0) */
+    if (dnv >= 0 && first == 0) { /* the initial state's restart.dat (gathered on rank 0), per-rank files */
         EO_TRY(rc = gather_state(ctx, dnv, xs, vs, xg, vg, &work));
-        if (writer) EO_TRY(rc = eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), nv_out, arrays, narrays));
+        rc = writer ? eo_run_restart_write(ctx, rspath, 0, eo_sim_time(sim), nv_out, arrays, narrays) : EO_OK;
+        if (rc >= 0) rc = eo_run_restart_write(ctx, rkpath, 0, eo_sim_time(sim), m->nv, rarrays, nrarrays);
+        if (!eo_cli_agree(rc >= 0)) {
+            if (rc >= 0) rc = eo_error(ctx, EO_ERR_IO, "another MPI rank could not write its restart file");
+            goto fail;
+        }
     }
     if (frames && dnv >= 0 && first == 0) { /* rank 0 has made (or cleared) the folder by now */
         rc = write_piece(ctx, st, piece_dir, 0, pvd, &fb);
@@ -776,16 +949,15 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     const int expl = eo_sim_is_explicit(sim);
     int all_converged = 1, diverged = 0;
     for (int k = 0; k < nrec; k++) all_converged &= eo_reason_is_converged(rec[k].reason);
+    if (dnv >= 0 && first > 0) /* a continued distributed run: rank 0 read the records of the steps so far */
+        all_converged = eo_cli_agree(eo_cli_rank() == 0 ? all_converged : 1);
     eo_cli_progress_init(&pg, verb, nsteps, first);
     double t_start = eo_wtime();
     eo_cli_profile prof;
     eo_cli_profile_begin(&prof, profile, sim);
     int stop_sig = 0; /* a signal seen by any rank (all ranks stop at the same step) */
     for (int k = first; k < nsteps; k++) {
-        if (eo_cli_size() > 1 ? !eo_cli_agree(!g_signal) : g_signal != 0) {
-            stop_sig = g_signal ? g_signal : SIGTERM;
-            break;
-        }
+        if ((stop_sig = shared_signal(ctx, 0, NULL))) break;
         rs.step = k + 1;
         double tb;
         eo_sim_get_state(sim, xs, vs, &tb, NULL);
@@ -797,9 +969,13 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         double w0 = eo_wtime();
         rc = eo_sim_step(sim, &r);
         double wall = eo_wtime() - w0;
-        if (eo_cli_size() > 1 && !eo_cli_agree(!rs.interrupted)) { /* stopped on some rank: on all */
-            rs.interrupted = 1;
-            if (!g_signal) g_signal = SIGTERM;
+        if (eo_cli_size() > 1) { /* stopped on some rank: on all, with the signal it saw */
+            int any = rs.interrupted;
+            const int sg = shared_signal(ctx, rs.interrupted, &any);
+            if (any) {
+                rs.interrupted = 1;
+                g_signal = sg ? sg : SIGTERM;
+            }
         }
         if (rs.interrupted) { /* the step was stopped half-way: back to the last completed one */
             EO_TRY(rc = eo_sim_set_state(sim, xs, vs, tb, k));
@@ -845,27 +1021,34 @@ static int run(eo_ctx *ctx, int argc, char **argv)
             diverged = 1;
             break;
         }
+        int io = EO_OK; /* this step's files; in a distributed run agreed over the ranks below */
         if (frames && (k + 1) % sc->output.every == 0) {
-            if (dnv >= 0) EO_TRY(rc = write_piece(ctx, st, piece_dir, k + 1, pvd, &fb));
-            else EO_TRY(rc = write_frame(ctx, st, dir, k + 1, pvd, &fb));
-            nframes++;
+            io = dnv >= 0 ? write_piece(ctx, st, piece_dir, k + 1, pvd, &fb) : write_frame(ctx, st, dir, k + 1, pvd, &fb);
+            if (io >= 0) nframes++;
         }
         eo_sim_get_state(sim, xs, vs, NULL, NULL);
         if (hlen) EO_TRY(rc = eo_sim_get_history(sim, hs));
-        work = eo_step_work_prescribed(st);
+        work = work_local = eo_step_work_prescribed(st);
         get_adaptive(sim, as);
         EO_TRY(rc = gather_state(ctx, dnv, xs, vs, xg, vg, &work));
-        if (writer) EO_TRY(rc = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), nv_out, arrays, narrays));
-        if (writer && sc->output.summary_every > 0 && (k + 1) % sc->output.summary_every == 0 && k + 1 < nsteps) {
+        if (io >= 0 && writer) io = eo_run_restart_write(ctx, rspath, k + 1, eo_sim_time(sim), nv_out, arrays, narrays);
+        if (io >= 0 && dnv >= 0) io = eo_run_restart_write(ctx, rkpath, k + 1, eo_sim_time(sim), m->nv, rarrays, nrarrays);
+        if (io >= 0 && writer && sc->output.summary_every > 0 && (k + 1) % sc->output.summary_every == 0 &&
+            k + 1 < nsteps) {
             si.nframes = nframes;
             si.wall = eo_wtime() - t_start;
-            EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
+            io = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim));
+        }
+        if (dnv >= 0 ? !eo_cli_agree(io >= 0) : io < 0) {
+            rc = io < 0 ? io : eo_error(ctx, EO_ERR_IO, "another MPI rank could not write its files of step %d", k + 1);
+            goto fail;
         }
         eo_cli_progress_step(&pg, e);
         eo_cli_profile_step(&prof, sim, k + 1);
     }
     eo_cli_profile_total(&prof, sim, org.name);
-    const int signo = g_signal ? g_signal : stop_sig;
+    /* a signal that came after the last step's checks: under MPI seen the same on every rank */
+    const int signo = stop_sig ? stop_sig : shared_signal(ctx, 0, NULL);
     double wall = eo_wtime() - t_start;
     eo_cli_progress_done(&pg);
     int bad_close = fclose(csv) != 0;
@@ -880,7 +1063,14 @@ static int run(eo_ctx *ctx, int argc, char **argv)
     si.error = errtext[0] ? errtext : NULL;
     si.stop_reason = diverged ? eo_reason_name(EO_DIVERGED_NONFINITE) : signo ? "interrupted" : NULL;
     si.status = signo ? "interrupted" : (diverged || errtext[0]) ? "stopped" : "finished";
-    if (writer) EO_TRY(rc = write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si, eo_sim_energy_warning(sim)));
+    rc = writer ? write_summary(ctx, eo_sim_cfg(sim), sc, eo_sim_solver(sim), rec, nrec, &s0, &si,
+                                eo_sim_energy_warning(sim)) : EO_OK;
+    /* under MPI: no rank ends before rank 0 has completed the run's files (mpirun aborts the
+     * job, SIGCONT, then SIGTERM and SIGKILL to the ranks still running, as soon as one rank
+     * exits with a non-zero status: 1 after a step that did not converge, 130 / 143) */
+    if (eo_cli_size() > 1 && !eo_cli_agree(rc >= 0) && rc >= 0)
+        rc = eo_error(ctx, EO_ERR_IO, "rank 0 could not write the run's summary.json");
+    if (rc < 0) goto fail;
     if (errtext[0]) fprintf(stderr, "elastopt: error: %s\n", errtext);
     if (signo && verb != EO_CLI_QUIET)
         fprintf(stderr, "elastopt: interrupted (%s) after step %d of %d; every file is complete; continue with: "
@@ -906,7 +1096,10 @@ done:
     if (csv) fclose(csv);
     if (scsv) fclose(scsv);
     eo_run_dir_close(&rd);
-    if (have_signals) signals_restore(&sig);
+    /* under MPI the flag-only handlers stay until the process exits: a SIGTERM from mpirun
+     * tearing the job down after the run ended (another rank exited first with a non-zero
+     * status) does not replace this rank's exit status */
+    if (have_signals && eo_cli_size() <= 1) signals_restore(&sig);
     eo_pvd_destroy(&pvd);
     eo_free(ctx, rec);
     eo_free(ctx, fbuf);
@@ -940,7 +1133,9 @@ const eo_cli_command eo_cmd_run = {
              "them first); a folder another run is writing into (run.lock) is refused.\n"
              "--restart DIR continues the run in DIR (interrupted or finished; raise time.steps\n"
              "with -o to go further) from its last completed step; the trajectory is the same,\n"
-             "bit for bit, as that of an uninterrupted run.\n"
+             "bit for bit, as that of an uninterrupted run. A run under mpirun continues under\n"
+             "mpirun on the same number of ranks (each rank from its restart.dat.R-of-P; another\n"
+             "count is refused, exit 2).\n"
              "Ctrl-C (SIGINT) or SIGTERM stops the running step and ends the run cleanly: every\n"
              "file complete, summary.json \"stop_reason\": \"interrupted\", exit 130 / 143.\n"
              "On a terminal a progress line is redrawn on stderr (step, simulated time, time per\n"

@@ -41,6 +41,8 @@ static void (*g_attach)(eo_ctx *);
 static const char *(*g_mesh_note)(void);
 static int (*g_nv_global)(void);
 static int (*g_gather)(const double *, int, double *);
+static unsigned long long (*g_layout_id)(void);
+static int (*g_owned_sum)(const double *, double *);
 
 int eo_cli_rank(void) { return g_rank; }
 void eo_cli_petsc_attach(eo_ctx *ctx)
@@ -59,6 +61,11 @@ int eo_cli_dist_gather(const double *local, int width, double *out)
     return g_gather ? g_gather(local, width, out) : -1;
 }
 int eo_cli_agree(int ok) { return g_agree ? g_agree(ok) : ok; }
+unsigned long long eo_cli_dist_layout_id(void) { return g_layout_id && g_size > 1 ? g_layout_id() : 0; }
+int eo_cli_dist_owned_sum(const double *local, double *out)
+{
+    return g_owned_sum && g_size > 1 ? g_owned_sum(local, out) : -1;
+}
 
 #if EO_HAVE_PETSC && !defined(EO_NO_DEEPBIND)
 
@@ -154,7 +161,10 @@ int eo_cli_petsc_load(eo_ctx *ctx, int *argc, char **argv)
     *(void **)(&g_mesh_note) = dlsym(h, "eo_petsc_cli_mesh_note");
     *(void **)(&g_nv_global) = dlsym(h, "eo_petsc_cli_nv_global");
     *(void **)(&g_gather) = dlsym(h, "eo_petsc_cli_gather");
-    if (!init || !start || !g_agree || !g_attach || !g_mesh_note || !g_nv_global || !g_gather) {
+    *(void **)(&g_layout_id) = dlsym(h, "eo_petsc_cli_layout_id");
+    *(void **)(&g_owned_sum) = dlsym(h, "eo_petsc_cli_owned_sum");
+    if (!init || !start || !g_agree || !g_attach || !g_mesh_note || !g_nv_global || !g_gather || !g_layout_id ||
+        !g_owned_sum) {
         fprintf(stderr, "elastopt: error: %s is not the PETSc backend module\n", path);
         g_agree = NULL;
         g_attach = NULL;

@@ -26,6 +26,13 @@ int eo_cli_dist_nv(void);
 /* Collective: a per-vertex array of `width` doubles per local vertex gathered to rank 0
  * in the input vertex order (out: nv·width doubles there). Returns 0 or -1. */
 int eo_cli_dist_gather(const double *local, int width, double *out);
+/* A distributed run: an identity (hash, never 0) of this rank's part of the mesh: rank
+ * count, rank, the input numbers and ownership of its vertices; 0 when not distributed. */
+unsigned long long eo_cli_dist_layout_id(void);
+/* A distributed scene (the last one loaded), collective: a per-vertex value (local
+ * vertices) summed over the ranks that hold the vertex, on its owner; 0 on the ranks that
+ * do not own it. Returns 0, or -1 when not distributed. */
+int eo_cli_dist_owned_sum(const double *local, double *out);
 /* 1 if ok is 1 on every rank (collective over all ranks when there are several). */
 int eo_cli_agree(int ok);
 

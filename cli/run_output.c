@@ -142,6 +142,51 @@ static long frame_step(const char *name)
     return e2 != e + 2 && r >= 0 && strcmp(e2, ".vtu") == 0 ? k : -1;
 }
 
+/* restart.dat.R-of-P (a distributed run's per-rank restart file): 1 and R, P; else 0 */
+static int rank_restart(const char *name, int *r, int *p)
+{
+    if (strncmp(name, "restart.dat.", 12) != 0) return 0;
+    const char *s = name + 12;
+    char *e;
+    long rr = strtol(s, &e, 10);
+    if (e == s || *s == '-' || *s == '+' || strncmp(e, "-of-", 4) != 0) return 0;
+    s = e + 4;
+    long pp = strtol(s, &e, 10);
+    if (e == s || *s == '-' || *s == '+' || *e || rr < 0 || pp < 2 || rr >= pp || pp > 1 << 24) return 0;
+    if (r) *r = (int)rr;
+    if (p) *p = (int)pp;
+    return 1;
+}
+
+void eo_run_restart_rank_name(int rank, int size, char *buf, size_t n)
+{
+    snprintf(buf, n, "restart.dat.%d-of-%d", rank, size);
+}
+
+int eo_run_restart_ranks(const char *dir, int *nranks, int *nfiles)
+{
+    *nranks = 0;
+    *nfiles = 0;
+    DIR *d = opendir(dir);
+    if (!d) return 0;
+    int kinds = 0;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        int r, p;
+        if (!rank_restart(e->d_name, &r, &p)) continue;
+        if (p != *nranks) {
+            kinds++;
+            if (p > *nranks) {
+                *nranks = p;
+                *nfiles = 0;
+            } else continue;
+        }
+        (*nfiles)++;
+    }
+    closedir(d);
+    return kinds;
+}
+
 static int is_run_file(const char *name)
 {
     static const char *const fixed[] = {"run.json", "summary.json", "iterations.csv", "steps.csv", "restart.dat",
@@ -152,7 +197,7 @@ static int is_run_file(const char *name)
     if (tmp) *tmp = 0; /* a temporary of one of ours */
     for (const char *const *f = fixed; *f; f++)
         if (strcmp(base, *f) == 0) return 1;
-    return ends_with(base, ".pvd") || frame_step(base) >= 0;
+    return ends_with(base, ".pvd") || frame_step(base) >= 0 || rank_restart(base, NULL, NULL);
 }
 
 int eo_run_dir_count_earlier(const eo_run_dir *d, char *names, size_t n)

@@ -60,7 +60,7 @@ int eo_run_dir_open(eo_ctx *ctx, const char *path, eo_run_dir *d);
 /* Remove the lock (if held). */
 void eo_run_dir_close(eo_run_dir *d);
 /* Number of files of an earlier run in the folder (run.json, summary.json, the CSVs,
- * restart.dat, *.pvd, frame_*.vtu and their temporaries); the first few names into
+ * restart.dat and restart.dat.R-of-P, *.pvd, frame_*.vtu and their temporaries); the first few names into
  * names (may be NULL). */
 int eo_run_dir_count_earlier(const eo_run_dir *d, char *names, size_t n);
 /* Remove those files. */
@@ -108,5 +108,20 @@ typedef struct eo_run_array {
 int eo_run_restart_write(eo_ctx *ctx, const char *path, int step, double t, int nv, const eo_run_array *a,
                          int na);
 int eo_run_restart_read(eo_ctx *ctx, const char *path, int *step, double *t, int nv, eo_run_array *a, int na);
+
+/* A distributed run (under mpirun, each rank simulating its part of the mesh) also keeps
+ * one restart file per rank, restart.dat.R-of-P (R = the rank, P = the rank count), in
+ * the same format: the rank's LOCAL state (x, v, the rank's share of the prescribed work,
+ * the multistep history, the adaptive controller) in its local vertex order, and the
+ * array "partition" = P, R, local vertices, local tets, global vertices, then the
+ * identity of the rank's part (a 64-bit hash of its vertices' input numbers and
+ * ownership, its local tets and rest positions) as two 32-bit halves. `--restart` under
+ * mpirun on P ranks continues from them bit for bit; restart.dat (gathered on rank 0)
+ * stays for readers of the whole state. */
+void eo_run_restart_rank_name(int rank, int size, char *buf, size_t n);
+/* The per-rank restart files in dir: *nranks = the largest P among restart.dat.R-of-P,
+ * *nfiles = how many files with that P; returns the number of distinct P (0: none, > 1:
+ * files of runs on different rank counts). */
+int eo_run_restart_ranks(const char *dir, int *nranks, int *nfiles);
 
 #endif

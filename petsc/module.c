@@ -234,6 +234,59 @@ __attribute__((visibility("default"))) int eo_petsc_cli_gather(const double *loc
     return eo_petsc_gather_vertices(local, width, out);
 }
 
+/* An identity of this rank's part of the distributed mesh (0 when the last scene was not
+ * distributed): FNV-1a 64 over the rank count, this rank, the global and local vertex and
+ * tet counts, and each local vertex's input number and ownership. A restart of a
+ * distributed run compares it with the one recorded in its per-rank restart file. */
+__attribute__((visibility("default"))) unsigned long long eo_petsc_cli_layout_id(void)
+{
+    const eo_petsc_layout *L = eo_petsc_layout_get();
+    if (!L) return 0;
+    int rank = 0, size = 1;
+    MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+    MPI_Comm_size(PETSC_COMM_WORLD, &size);
+    unsigned long long h = 1469598103934665603ULL;
+#define MIX(v)                                                                   \
+    do {                                                                         \
+        unsigned long long w_ = (unsigned long long)(v);                         \
+        for (int b_ = 0; b_ < 8; b_++, w_ >>= 8) h = (h ^ (w_ & 0xff)) * 1099511628211ULL; \
+    } while (0)
+    MIX(size);
+    MIX(rank);
+    MIX(L->nv_global);
+    MIX(L->nt_global);
+    MIX(L->nv);
+    MIX(L->nt);
+    MIX(L->nown);
+    for (int q = 0; q < L->nv; q++) {
+        MIX(L->gid[q]);
+        MIX(L->owned[q]);
+    }
+#undef MIX
+    return h ? h : 1;
+}
+
+/* A per-vertex value of the last distributed scene summed over the ranks that hold the
+ * vertex (e.g. its lumped mass, a sum over its tets), on the rank that owns it; 0 on the
+ * others (a sum over the ranks then counts every vertex once). Collective; 0 or -1 (not
+ * distributed, out of memory, an SF failure). */
+__attribute__((visibility("default"))) int eo_petsc_cli_owned_sum(const double *local, double *out)
+{
+    const eo_petsc_layout *L = eo_petsc_layout_get();
+    if (!L) return -1;
+    double *root = malloc(((size_t)L->nv + 1) * sizeof *root);
+    int bad = !root;
+    if (root) {
+        memcpy(root, local, (size_t)L->nv * sizeof *root);
+        /* the ghosts' values onto their owners' */
+        bad = PetscSFReduceBegin(L->vsf, MPI_DOUBLE, local, root, MPI_SUM) != 0;
+        bad |= PetscSFReduceEnd(L->vsf, MPI_DOUBLE, local, root, MPI_SUM) != 0;
+        for (int q = 0; q < L->nv; q++) out[q] = L->owned[q] ? root[q] : 0.0;
+    }
+    free(root);
+    return bad ? -1 : 0;
+}
+
 /* What the last mesh read did under MPI ("" if nothing was broadcast). */
 __attribute__((visibility("default"))) const char *eo_petsc_cli_mesh_note(void) { return eo_petsc_mesh_note(); }
 

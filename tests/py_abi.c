@@ -62,6 +62,7 @@ int main(void)
     F(eo_bench_progress, elapsed) F(eo_bench_progress, eta)
     S(eo_bench_run_opts) F(eo_bench_run_opts, repeats) F(eo_bench_run_opts, plots)
     F(eo_bench_run_opts, progress) F(eo_bench_run_opts, user) F(eo_bench_run_opts, clock)
+    F(eo_bench_run_opts, owned_sum)
     S(eo_bench_summary) F(eo_bench_summary, plots_made) F(eo_bench_summary, seconds)
     return 0;
 }

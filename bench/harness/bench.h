@@ -228,6 +228,14 @@ typedef struct eo_bench_run_opts {
     /// "cpu" or "wall": overrides the suite's `clock` (NULL: the suite's). The profile
     /// callback receives the CPU view of the profile (eo_profile_cpu_view) under "cpu".
     const char *clock;
+    /// A distributed run (the context carries distribution hooks, ctx.h eo_dist_hooks:
+    /// `elastopt bench` under mpirun): for the scene loaded last, a per-vertex value of this
+    /// part's local vertices summed over every part holding the vertex, on the part that
+    /// owns it, 0 on the others (collective; returns 0 or a negative status). The harness
+    /// sums the parts' lumped vertex masses with it, so that the mass-weighted distances
+    /// count a shared vertex once with its whole mass. Required when distributed
+    /// (EO_ERR_INVALID otherwise); NULL by default.
+    int (*owned_sum)(const double *local, double *out);
 } eo_bench_run_opts;
 EO_API eo_bench_run_opts eo_bench_run_opts_default(void);
 

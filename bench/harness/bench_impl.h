@@ -126,6 +126,7 @@ typedef struct bench_ref {
 } bench_ref;
 
 typedef struct bench_scene_res {
+    int nv;               /* vertices of the whole mesh (a distributed run: summed over the owners) */
     bench_ref *ref;       /* steps: the measured ones (with the Ipopt check) */
     bench_ref *allref;    /* nref: every reference step (Ipopt check not filled in) */
     int *meas;            /* steps: scene step (0-based) of each measured step, increasing */

@@ -359,7 +359,7 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
         fprintf(f, ". %d tets, %d vertices; time budget %g %s s per solve and iteration cap %d (unless a configuration "
                    "sets its own: the same in the curve and the trajectory runs); every time below is the median of "
                    "%d timed repeat(s) (min–max in parentheses when there are more than one).\n\n",
-                bs->nt, bs->nv, bs->time_budget, b->wall ? "wall" : "CPU", bs->max_iters, sr->repeats);
+                bs->nt, sr->nv ? sr->nv : bs->nv, bs->time_budget, b->wall ? "wall" : "CPU", bs->max_iters, sr->repeats);
         describe_steps(f, bs, sr);
         if (sr->plotted) fprintf(f, "![%s](plots/%s.png)\n\n", bs->name, fname);
         fprintf(f, "Reference: ");

@@ -27,6 +27,14 @@
  * next step's problem solved from one state, without advancing). A scene with an
  * explicit integrator has no step problem to minimize and is rejected at load.
  *
+ * Distributed (the context carries distribution hooks: `elastopt bench` under mpirun): each
+ * rank holds its part of every scene's mesh and runs the whole protocol on it; every
+ * configuration must be a distributed one (solver.backend = petsc, or a petsc_, snes_ or
+ * tao_ optimizer: checked before anything is written), the reference is newton on the backend with
+ * the same settings, the Ipopt check is skipped, g(x₀) and every mass-weighted sum are
+ * reduced over the parts (a shared vertex counted by its owner only, eo_bench_run_opts.owned),
+ * and the times are this rank's.
+ *
  * All recording buffers are sized before the runs; the callbacks do not allocate. One
  * curve solver per configuration exists at a time (created per scene; it re-sizes
  * itself when a release changes the number of free coordinates). */
@@ -54,6 +62,7 @@ typedef struct rec_buf {
     int wall;                 /* t is wall time (else CPU time of the solving thread) */
     double *e;                /* relative energy error, filled after the run */
     const double *xstar, *wM;
+    eo_ctx *ctx;              /* distributed: the position error's sums are reduced over the parts */
     double pe0;               /* ‖x₀ − x*‖_M */
     int nfree;
     double gstar, de, target, budget;
@@ -69,13 +78,15 @@ typedef struct rec_buf {
  * α‖p‖ too small to change g, and the run would otherwise go on to its cap). */
 enum { STAGNATION_ITERS = 20 };
 
-static double mnorm_diff(int n, const double *w, const double *a, const double *b)
+/* ‖a − b‖_w; distributed: summed over the parts (w is 0 on the vertices a part does not own) */
+static double mnorm_diff(eo_ctx *ctx, int n, const double *w, const double *a, const double *b)
 {
     double s = 0;
     for (int i = 0; i < n; i++) {
         double d = a[i] - b[i];
         s += w[i] * d * d;
     }
+    eo_ctx_reduce(ctx, &s, 1, EO_REDUCE_SUM);
     return sqrt(s);
 }
 
@@ -92,7 +103,7 @@ static int curve_iter(const eo_iter_info *it, void *user)
         b->g[k] = it->g;
         b->gn[k] = it->grad_norm;
         if (b->pe) {
-            double d = mnorm_diff(b->nfree, b->wM, it->x, b->xstar);
+            double d = mnorm_diff(b->ctx, b->nfree, b->wM, it->x, b->xstar);
             b->pe[k] = b->pe0 > 0 ? d / b->pe0 : (d == 0 ? 0 : INFINITY);
         }
     }
@@ -150,8 +161,9 @@ static int all_finite(int n, const double *x)
     return 1;
 }
 
-/* Mass-weighted RMS distance of two full position vectors. */
-static double rms_dist(int nv, const double *m, const double *a, const double *b)
+/* Mass-weighted RMS distance of two full position vectors (distributed: over the parts;
+ * m is 0 on the vertices a part does not own). */
+static double rms_dist(eo_ctx *ctx, int nv, const double *m, const double *a, const double *b)
 {
     double s = 0, mt = 0;
     for (int v = 0; v < nv; v++) {
@@ -163,6 +175,9 @@ static double rms_dist(int nv, const double *m, const double *a, const double *b
         s += m[v] * d2;
         mt += m[v];
     }
+    double sm[2] = {s, mt};
+    eo_ctx_reduce(ctx, sm, 2, EO_REDUCE_SUM);
+    s = sm[0], mt = sm[1];
     return mt > 0 ? sqrt(s / mt) : NAN;
 }
 
@@ -270,7 +285,7 @@ static int run_curves(run_ctx *r, eo_sim *sim, eo_solver *sv, int n, const doubl
     eo_ctx *ctx = r->ctx;
     double de = fabs(ref->g0 - ref->gstar);
     if (!(de > 0)) de = fmax(fabs(ref->gstar), 1e-300);
-    double pe0 = mnorm_diff(n, wM, x0, xstar);
+    double pe0 = mnorm_diff(ctx, n, wM, x0, xstar);
     eo_solve_result sr;
     int rc;
     const int q0 = r->s->o.warmup_iters > 0 ? -1 : 0;
@@ -279,6 +294,7 @@ static int run_curves(run_ctx *r, eo_sim *sim, eo_solver *sv, int n, const doubl
         b->max_records = q < 0 ? r->s->o.warmup_iters + 1 : 0;
         b->n = 0;
         b->nfree = n;
+        b->ctx = ctx;
         b->xstar = xstar;
         b->wM = wM;
         b->pe0 = pe0;
@@ -393,6 +409,7 @@ static void ref_xstar(eo_step *st, int n, const double *frame_next, double *xsta
 static int run_scene(run_ctx *r, int si)
 {
     eo_ctx *ctx = r->ctx;
+    const int dist = eo_ctx_dist(ctx) != NULL; /* this process runs one part of each scene */
     const eo_bench_suite *s = r->s;
     const bench_scene *b = s->sc + si;
     bench_scene_res *sr = r->out->res + si;
@@ -422,7 +439,7 @@ static int run_scene(run_ctx *r, int si)
      * times, motion and correction per reference step, recording buffers; the reference
      * step k starts from frame k and ends in frame k + 1 */
     size_t need = (size_t)(NR + 1) * 2 * nf + 4 * (size_t)nf + 64 + (size_t)(NR + 1) + (size_t)NR +
-                  (size_t)(R + 1) * 6 * (size_t)cap;
+                  (size_t)(R + 1) * 6 * (size_t)cap + (size_t)nv + 1;
     mem = eo_malloc(ctx, need * sizeof(double));
     sr->ref = eo_calloc(ctx, (size_t)S, sizeof *sr->ref);
     sr->meas = eo_calloc(ctx, (size_t)S, sizeof *sr->meas);
@@ -448,9 +465,29 @@ static int run_scene(run_ctx *r, int si)
         b2->pe = q == 0 ? p + 4 * (size_t)cap : NULL; /* position error: first timed repeat */
         b2->t2 = p + 5 * (size_t)cap;
     }
-    const double *vmass = eo_step_vertex_mass(st);
+    /* vertex masses as weights; distributed: a part's lumped masses are its tets' shares,
+     * summed over the parts onto each vertex's owner (0 elsewhere), so that every sum over
+     * the parts counts each vertex once with its whole mass */
+    double *vw = recmem + (size_t)(R + 1) * 6 * (size_t)cap;
+    const double *vmass = vw;
+    sr->nv = nv;
+    if (dist) {
+        int ok = r->ro->owned_sum(eo_step_vertex_mass(st), vw) == 0;
+        double nown = 0;
+        for (int v = 0; v < nv; v++) nown += vw[v] > 0;
+        eo_ctx_reduce(ctx, &nown, 1, EO_REDUCE_SUM);
+        sr->nv = (int)nown;
+        if (!ok) {
+            rc = eo_error(ctx, EO_ERR_INVALID, "bench: scene %s: the vertex masses could not be summed over the "
+                                               "ranks", b->name);
+            goto fail;
+        }
+    } else {
+        memcpy(vw, eo_step_vertex_mass(st), (size_t)nv * sizeof *vw);
+    }
     double mtot = 0;
     for (int v = 0; v < nv; v++) mtot += vmass[v];
+    eo_ctx_reduce(ctx, &mtot, 1, EO_REDUCE_SUM);
 
     /* ---- reference */
     eo_solver_opts rso;
@@ -459,6 +496,7 @@ static int run_scene(run_ctx *r, int si)
     snprintf(rso.hessian_fix, sizeof rso.hessian_fix, "clamp");
     snprintf(rso.linesearch, sizeof rso.linesearch, "backtracking");
     snprintf(rso.stop, sizeof rso.stop, "newton_decrement");
+    if (dist) snprintf(rso.backend, sizeof rso.backend, "petsc"); /* newton on the PETSc backend (petsc_ksp), the same settings */
     rso.tol = 1e-300;
     rso.max_iters = s->o.ref_max_iters;
     rso.time_budget = 0;
@@ -482,10 +520,17 @@ static int run_scene(run_ctx *r, int si)
         const int n = obj->n;
         double g0;
         EO_TRY(rc = eo_objective_value(obj, guess, &g0));
+        eo_ctx_reduce(ctx, &g0, 1, EO_REDUCE_SUM); /* distributed: the parts' shares */
         memcpy(x0, guess, (size_t)n * sizeof(double));
         double rsc[3] = {0, 0, 0};
-        if (eo_objective_rounding_scale(obj, guess, rsc) < 0 || !isfinite(rsc[0]) || !isfinite(rsc[2]))
-            rsc[0] = rsc[2] = 0;
+        int rok = eo_objective_rounding_scale(obj, guess, rsc) >= 0 && isfinite(rsc[0]) && isfinite(rsc[2]);
+        if (dist) { /* the parts' scales summed (as the distributed solver does), if every part has them */
+            double ok = rok;
+            eo_ctx_reduce(ctx, &ok, 1, EO_REDUCE_MIN);
+            rok = ok > 0;
+            if (rok) eo_ctx_reduce(ctx, rsc, 3, EO_REDUCE_SUM);
+        }
+        if (!rok) rsc[0] = rsc[2] = 0;
         const double gs = fmax(fmax(fabs(g0), DBL_EPSILON * rsc[2]), 1e-300);
         rs = (ref_state){.tol = s->o.ref_tol * gs, .gscale = gs, .floor = EO_STOP_FLOOR * DBL_EPSILON * DBL_EPSILON * rsc[0],
                          .dec = NAN, .prev_g = INFINITY, .prev_dec = INFINITY};
@@ -508,13 +553,14 @@ static int run_scene(run_ctx *r, int si)
         /* per-step scores: the motion of the step and the distance from its start guess
          * to x* (free coordinates; constrained vertices contribute 0), both m RMS */
         const double *xa = eo_step_x(st);
-        sr->motion[k] = rms_dist(nv, vmass, xa, fx + (size_t)k * nf);
+        sr->motion[k] = rms_dist(ctx, nv, vmass, xa, fx + (size_t)k * nf);
         double c2 = 0;
         for (int i = 0; i < n; i++) {
             int fi = eo_step_free_to_full(st, i);
             double d = xa[fi] - x0[i];
             c2 += vmass[fi / 3] * d * d;
         }
+        eo_ctx_reduce(ctx, &c2, 1, EO_REDUCE_SUM);
         sr->correction[k] = mtot > 0 ? sqrt(c2 / mtot) : NAN;
         if (!q->converged || eo_sim_index(sim) == k) sr->motion[k] = sr->correction[k] = NAN;
     }
@@ -545,7 +591,7 @@ static int run_scene(run_ctx *r, int si)
     const int t0 = b->traj_window ? sr->win0 : 0, NT = sr->win1 + 1 - t0, NW = sr->win1 + 1 - sr->win0;
     r->units_total += scene_units(s, b, R, NT) - scene_units(s, b, R, traj_steps_estimate(b)); /* now known */
     const void *ipopt_type = NULL;
-    if (s->o.ipopt_check && eo_registry_find(ctx, EO_KIND_OPTIMIZER, "ipopt", &ipopt_type) == EO_OK) {
+    if (s->o.ipopt_check && !dist && eo_registry_find(ctx, EO_KIND_OPTIMIZER, "ipopt", &ipopt_type) == EO_OK) {
         eo_solver_opts io;
         eo_solver_opts_default(&io);
         snprintf(io.optimizer, sizeof io.optimizer, "ipopt");
@@ -565,17 +611,17 @@ static int run_scene(run_ctx *r, int si)
             eo_solve_result ir;
             EO_TRY(rc = eo_sim_trial(sim, sv, x0, x, NULL, NULL, NULL, &ir));
             bench_ref *q = sr->ref + m;
-            double de = fabs(q->g0 - q->gstar), pe0 = mnorm_diff(n, wM, x0, xsm);
+            double de = fabs(q->g0 - q->gstar), pe0 = mnorm_diff(ctx, n, wM, x0, xsm);
             q->ip_reason = ir.reason;
             q->ip_iters = ir.iterations;
             q->ip_time = r->wall ? ir.time : ir.cpu_time;
             q->ip_de = (ir.g - q->gstar) / (de > 0 ? de : fmax(fabs(q->gstar), 1e-300));
-            q->ip_pe = all_finite(n, x) ? mnorm_diff(n, wM, x, xsm) / (pe0 > 0 ? pe0 : 1) : NAN;
+            q->ip_pe = all_finite(n, x) ? mnorm_diff(ctx, n, wM, x, xsm) / (pe0 > 0 ? pe0 : 1) : NAN;
         }
         eo_solver_destroy(&sv);
     }
-    sr->ref_disp = rms_dist(nv, vmass, fx + (size_t)(sr->win1 + 1) * nf, fx + (size_t)t0 * nf);
-    sr->win_disp = rms_dist(nv, vmass, fx + (size_t)(sr->win1 + 1) * nf, fx + (size_t)sr->win0 * nf);
+    sr->ref_disp = rms_dist(ctx, nv, vmass, fx + (size_t)(sr->win1 + 1) * nf, fx + (size_t)t0 * nf);
+    sr->win_disp = rms_dist(ctx, nv, vmass, fx + (size_t)(sr->win1 + 1) * nf, fx + (size_t)sr->win0 * nf);
     EO_TRY(rc = eo_sim_set_state(sim, fx + (size_t)(sr->win1 + 1) * nf, fv + (size_t)(sr->win1 + 1) * nf,
                                  ft[sr->win1 + 1], sr->win1 + 1));
     EO_TRY(rc = eo_step_stats_compute(st, &stats));
@@ -680,7 +726,7 @@ static int run_scene(run_ctx *r, int si)
                     t->dist = NAN;
                     break;
                 }
-                t->dist = rms_dist(nv, vmass, eo_step_x(st), fx + (size_t)(k + 1) * nf);
+                t->dist = rms_dist(ctx, nv, vmass, eo_step_x(st), fx + (size_t)(k + 1) * nf);
                 fprintf(r->traj, "%s,%s,%d,%.6g,%d,%s", b->name, c->name, k + 1, ft[k + 1], t->iters,
                         eo_reason_name(t->reason));
                 eo_bench_csv_num(r->traj, t->time);
@@ -688,7 +734,7 @@ static int run_scene(run_ctx *r, int si)
                 eo_bench_csv_num(r->traj, res.cpu_time);
                 eo_bench_csv_num(r->traj, t->g);
                 eo_bench_csv_num(r->traj, t->dist);
-                eo_bench_csv_num(r->traj, rms_dist(nv, vmass, fx + (size_t)(k + 1) * nf, fx + (size_t)t0 * nf));
+                eo_bench_csv_num(r->traj, rms_dist(ctx, nv, vmass, fx + (size_t)(k + 1) * nf, fx + (size_t)t0 * nf));
                 fputc('\n', r->traj);
                 if (!(t->reason > 0)) break;
             }
@@ -739,7 +785,7 @@ static int run_scene(run_ctx *r, int si)
                     if (res.iterations < limit && !fz->short_frames++) fz->first_short_reason = res.reason;
                     if (rejected || isnan(res.g)) fz->nan = 1;
                     if (fz->nan || res.reason == EO_DIVERGED_NONFINITE) fz->nonfinite = 1;
-                    double d = rejected ? NAN : rms_dist(nv, vmass, eo_step_x(st), fx + (size_t)(k + 1) * nf);
+                    double d = rejected ? NAN : rms_dist(ctx, nv, vmass, eo_step_x(st), fx + (size_t)(k + 1) * nf);
                     if (!rejected) {
                         fz->max_dist = fmax(fz->max_dist, d);
                         fz->final_dist = d;
@@ -750,7 +796,7 @@ static int run_scene(run_ctx *r, int si)
                     eo_bench_csv_num(r->fixed, res.time);
                     eo_bench_csv_num(r->fixed, res.cpu_time);
                     eo_bench_csv_num(r->fixed, d);
-                    eo_bench_csv_num(r->fixed, rms_dist(nv, vmass, fx + (size_t)(k + 1) * nf, fx + fr));
+                    eo_bench_csv_num(r->fixed, rms_dist(ctx, nv, vmass, fx + (size_t)(k + 1) * nf, fx + fr));
                     fputc('\n', r->fixed);
                     if (rejected) break;
                 }
@@ -807,6 +853,31 @@ int eo_bench_run(eo_ctx *ctx, const eo_bench_suite *s, const eo_bench_run_opts *
     if (strcmp(clk, "cpu") && strcmp(clk, "wall"))
         return eo_error(ctx, EO_ERR_INVALID, "bench: clock '%s': expected cpu or wall", clk);
     r.wall = out.wall = strcmp(clk, "wall") == 0;
+    if (eo_ctx_dist(ctx)) { /* every configuration distributed, before anything is written */
+        if (!opts->owned_sum) return eo_error(ctx, EO_ERR_INVALID, "bench: a distributed run needs opts->owned_sum");
+        char bad[400] = "";
+        size_t k = 0;
+        int nbad = 0;
+        for (int c = 0; c < s->ncf; c++) {
+            eo_cfg *cc = NULL;
+            eo_solver_opts so;
+            int rc2 = bench_config_cfg(ctx, s->cf + c, &cc, &so);
+            eo_cfg_destroy(&cc);
+            if (rc2 < 0) return rc2;
+            const char *on = so.optimizer;
+            if (strcmp(so.backend, "petsc") == 0 || strncmp(on, "petsc_", 6) == 0 || strncmp(on, "snes_", 5) == 0 ||
+                strncmp(on, "tao_", 4) == 0)
+                continue;
+            if (k + strlen(s->cf[c].name) + 8 < sizeof bad)
+                k += (size_t)snprintf(bad + k, sizeof bad - k, "%s%s (%s)", nbad ? ", " : "", s->cf[c].name, on);
+            nbad++;
+        }
+        if (nbad)
+            return eo_error_at(ctx, EO_ERR_UNSUPPORTED, EO_ERRLOC_FILE(s->path, -1),
+                               "under mpirun (%d ranks) every configuration must run distributed (solver.backend = "
+                               "petsc, or a petsc_, snes_ or tao_ optimizer); %d would run on each rank's part of the "
+                               "mesh alone: %s", eo_ctx_dist(ctx)->nparts, nbad, bad);
+    }
     out.plots = opts->plots >= 0 ? opts->plots : s->o.plots;
     eo_afile *cf = NULL, *tf = NULL, *xf = NULL;
     int rc;

@@ -256,7 +256,7 @@ typedef void (*eo_bench_progress_fn)(const eo_bench_progress *p, void *user);
 typedef struct eo_bench_run_opts {
     const char *out_dir; int repeats; int plots; eo_bench_progress_fn progress; void *user;
     void (*profile)(const char *scene, const char *config, const void *p, void *user);
-    void *profile_user; const char *clock;
+    void *profile_user; const char *clock; int (*owned_sum)(const double *local, double *out);
 } eo_bench_run_opts;
 typedef struct eo_bench_summary {
     int runs; int ref_failures; int nonfinite; int nan; int required_failures;
