@@ -424,6 +424,33 @@ static int write_run_json(eo_ctx *ctx, const char *dir, const run_origin *o, eo_
     return rc;
 }
 
+/* A continued run's outputs: the frame series so far (the frames of steps 0..first on disk,
+ * .pvtu files with pvtu, else .vtu; pvd NULL: none) into pvd, run.json rewritten, the logs
+ * opened for appending at their ends (so that ftell is the end from the start). */
+static int resume_outputs(eo_ctx *ctx, const char *dir, int first, const eo_run_record *rec, int pvtu, eo_pvd *pvd,
+                          int *nframes, const run_origin *org, eo_cfg *cfg, const char *itpath, const char *stpath,
+                          FILE **csv, FILE **scsv)
+{
+    int rc;
+    char path[4352];
+    for (int s = 0; pvd && s <= first; s++) {
+        char file[64];
+        struct stat fst;
+        if (pvtu) snprintf(file, sizeof file, "frame_%06d.pvtu", s);
+        else eo_run_frame_name(s, file, sizeof file);
+        snprintf(path, sizeof path, "%s/%s", dir, file);
+        if (stat(path, &fst) != 0) continue;
+        if ((rc = eo_pvd_add(ctx, pvd, s ? rec[s - 1].t : 0.0, file)) < 0) return rc;
+        (*nframes)++;
+    }
+    if ((rc = write_run_json(ctx, dir, org, cfg)) < 0) return rc;
+    if (!(*csv = fopen(itpath, "a")) || !(*scsv = fopen(stpath, "a")))
+        return eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(*csv ? stpath : itpath, -1), "cannot append");
+    fseek(*csv, 0, SEEK_END);
+    fseek(*scsv, 0, SEEK_END);
+    return EO_OK;
+}
+
 /* Read DIR/run.json into o (override strings point into *doc: keep it until the end),
  * and load the scene's config document as the run had it, checked against the recorded
  * one. */
@@ -823,22 +850,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
         if (eo_sim_adaptive(sim)) EO_TRY(rc = set_adaptive(ctx, sim, rkpath, as));
         if (hlen) EO_TRY(rc = eo_sim_set_history(sim, hs));
         eo_step_set_work_prescribed(st, work_local);
-        for (int s = 0; pvd && s <= first; s++) { /* the series so far, from rank 0's .pvtu files */
-            char file[64];
-            struct stat fst;
-            snprintf(file, sizeof file, "frame_%06d.pvtu", s);
-            snprintf(path, sizeof path, "%s/%s", dir, file);
-            if (stat(path, &fst) != 0) continue;
-            EO_TRY(rc = eo_pvd_add(ctx, pvd, s ? rec[s - 1].t : 0.0, file));
-            nframes++;
-        }
-        EO_TRY(rc = write_run_json(ctx, dir, &org, eo_sim_cfg(sim)));
-        if (!(csv = fopen(itpath, "a")) || !(scsv = fopen(stpath, "a"))) {
-            rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(csv ? stpath : itpath, -1), "cannot append");
-            goto fail;
-        }
-        fseek(csv, 0, SEEK_END);
-        fseek(scsv, 0, SEEK_END);
+        EO_TRY(rc = resume_outputs(ctx, dir, first, rec, 1, pvd, &nframes, &org, eo_sim_cfg(sim), itpath, stpath,
+                                   &csv, &scsv)); /* the series from rank 0's .pvtu files */
     } else if (restart) {
         double t;
         EO_TRY(rc = eo_run_restart_read(ctx, rspath, &first, &t, m->nv, arrays, narrays));
@@ -858,22 +871,8 @@ static int run(eo_ctx *ctx, int argc, char **argv)
                                         : first > 0 && isfinite(rec[first - 1].stats.work_prescribed)
                                             ? rec[first - 1].stats.work_prescribed : 0);
         eo_run_dir_remove_frames_after(&rd, first);
-        for (int s = 0; frames && s <= first; s++) { /* the series so far, from the frames on disk */
-            char file[64];
-            struct stat fst;
-            eo_run_frame_name(s, file, sizeof file);
-            snprintf(path, sizeof path, "%s/%s", dir, file);
-            if (stat(path, &fst) != 0) continue;
-            EO_TRY(rc = eo_pvd_add(ctx, pvd, s ? rec[s - 1].t : 0.0, file));
-            nframes++;
-        }
-        EO_TRY(rc = write_run_json(ctx, dir, &org, eo_sim_cfg(sim)));
-        if (!(csv = fopen(itpath, "a")) || !(scsv = fopen(stpath, "a"))) {
-            rc = eo_error_at(ctx, EO_ERR_IO, EO_ERRLOC_FILE(csv ? stpath : itpath, -1), "cannot append");
-            goto fail;
-        }
-        fseek(csv, 0, SEEK_END); /* so that ftell is the end from the start */
-        fseek(scsv, 0, SEEK_END);
+        EO_TRY(rc = resume_outputs(ctx, dir, first, rec, 0, frames ? pvd : NULL, &nframes, &org, eo_sim_cfg(sim),
+                                   itpath, stpath, &csv, &scsv)); /* the series from the frames on disk */
     } else {
         char names[200];
         int n = eo_run_dir_count_earlier(&rd, names, sizeof names);

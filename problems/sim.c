@@ -430,6 +430,22 @@ static int sim_coordinates(eo_sim *s, eo_solver *solver)
     return EO_OK;
 }
 
+/* One run of a solver within a step: its reason, g and ‖∇g‖ become the step's, its time
+ * and evaluations add up (the caller sets the iterations). */
+static void add_run(eo_sim_step_result *r, const eo_solve_result *sr)
+{
+    r->reason = sr->reason;
+    r->time += sr->time;
+    r->cpu_time += sr->cpu_time;
+    r->g = sr->g;
+    r->grad_norm = sr->grad_norm;
+    r->n_value += sr->n_value;
+    r->n_gradient += sr->n_gradient;
+    r->n_hessian += sr->n_hessian;
+    r->n_factor += sr->n_factor;
+    r->n_not_pd += sr->n_not_pd;
+}
+
 /* A fallback entry that converged by the metric gradient measure (its optimizer has no
  * Newton decrement: newton_tr, lbfgs, ...) while the scene's solver measures by the
  * decrement: the two ratios are relative to different references, and at a tangled start
@@ -453,16 +469,7 @@ static int confirm(eo_sim *s, eo_solver *entry, double *x, double ref_dec0, doub
     eo_solve_result sr;
     if ((rc = eo_solver_minimize(s->solver, s->obj, x, s->fn, s->user, &sr)) < 0) return rc;
     r->iterations += sr.iterations;
-    r->reason = sr.reason;
-    r->time += sr.time;
-    r->cpu_time += sr.cpu_time;
-    r->g = sr.g;
-    r->grad_norm = sr.grad_norm;
-    r->n_value += sr.n_value;
-    r->n_gradient += sr.n_gradient;
-    r->n_hessian += sr.n_hessian;
-    r->n_factor += sr.n_factor;
-    r->n_not_pd += sr.n_not_pd;
+    add_run(r, &sr);
     return EO_OK;
 }
 
@@ -498,16 +505,7 @@ static int solve_chain(eo_sim *s, double *x, eo_sim_step_result *r)
         r->entry_reason[e] = sr.reason;
         r->entry_iterations[e] = sr.iterations;
         r->iterations = sr.iterations;
-        r->reason = sr.reason;
-        r->time += sr.time;
-        r->cpu_time += sr.cpu_time;
-        r->g = sr.g;
-        r->grad_norm = sr.grad_norm;
-        r->n_value += sr.n_value;
-        r->n_gradient += sr.n_gradient;
-        r->n_hessian += sr.n_hessian;
-        r->n_factor += sr.n_factor;
-        r->n_not_pd += sr.n_not_pd;
+        add_run(r, &sr);
         if (sr.reason == EO_DIVERGED_EXTERNAL) break;
         if (sr.reason >= 0) {
             if (e > 0 && s->fb_best && (rc = confirm(s, sv, x, ref_dec0, ref_gm0, r)) < 0) return rc;

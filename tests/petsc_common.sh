@@ -2,13 +2,7 @@
 # module): skip (77) without the module or mpirun, the mpirun command line (root needs
 # --allow-run-as-root), a temp folder with $TMPDIR inside it (where the ranks other than 0
 # keep their scratch folders), check().
-set -u
-ELASTOPT=$1
-MODULE=$2
-here=$(cd "$(dirname "$0")" && pwd)
-[ -f "$MODULE" ] || { echo "skip: PETSc backend not built ($MODULE)"; exit 77; }
-command -v mpirun >/dev/null || { echo "skip: no mpirun"; exit 77; }
-"$ELASTOPT" list | grep -q "^  petsc_ksp " || { echo "skip: the CLI does not load the backend (sanitizer build?)"; exit 77; }
+. "$(dirname "$0")/petsc_require.sh"
 mpi_n() { # mpi_n N: the mpirun command line for N ranks, into the array mpi
     mpi=(mpirun -n "$1" --oversubscribe --mca mpi_yield_when_idle 1)
     [ "$(id -u)" -eq 0 ] && mpi+=(--allow-run-as-root)

@@ -19,13 +19,7 @@
 #     one message.
 # Skipped (77) when the module was not built (-Dpetsc=disabled or no petsc-dev) or mpirun
 # is missing.
-set -u
-ELASTOPT=$1
-MODULE=$2
-here=$(cd "$(dirname "$0")" && pwd)
-[ -f "$MODULE" ] || { echo "skip: PETSc backend not built ($MODULE)"; exit 77; }
-command -v mpirun >/dev/null || { echo "skip: no mpirun"; exit 77; }
-"$ELASTOPT" list | grep -q "^  petsc_ksp " || { echo "skip: the CLI does not load the backend (sanitizer build?)"; exit 77; }
+. "$(dirname "$0")/petsc_require.sh"
 mpi=(mpirun -n 2 --oversubscribe --mca mpi_yield_when_idle 1)
 # Open MPI refuses to start as root unless told; CI runs as root
 [ "$(id -u)" -eq 0 ] && mpi+=(--allow-run-as-root)

@@ -8,13 +8,7 @@
 # one end fixed, the other rotating; skipped with a note when absent). Every step of
 # every run converges. Prints the table scene × method × ranks → max |Δx|.
 # Skipped (77) when the module was not built or mpirun is missing.
-set -u
-ELASTOPT=$1
-MODULE=$2
-here=$(cd "$(dirname "$0")" && pwd)
-[ -f "$MODULE" ] || { echo "skip: PETSc backend not built ($MODULE)"; exit 77; }
-command -v mpirun >/dev/null || { echo "skip: no mpirun"; exit 77; }
-"$ELASTOPT" list | grep -q "^  petsc_ksp " || { echo "skip: the CLI does not load the backend (sanitizer build?)"; exit 77; }
+. "$(dirname "$0")/petsc_require.sh"
 mpi=(--oversubscribe --mca mpi_yield_when_idle 1)
 [ "$(id -u)" -eq 0 ] && mpi+=(--allow-run-as-root)
 tmp=$(mktemp -d)
