@@ -7,8 +7,8 @@
                                                       check its counts against the manifest
     corpus.py check   [--data DIR]                    manifest against the stored files (sha256,
                                                       licences, every suite mesh listed); fast
-    corpus.py suites                                  write bench/corpus-quick.json, corpus-full.json
-                                                      and corpus-full-smoke.json
+    corpus.py suites                                  write bench/corpus-quick.json, corpus-full.json,
+                                                      corpus-full-smoke.json and corpus-methods.json
     corpus.py table                                   the manifest as a Markdown table
     corpus.py manifest [--data DIR]                   recompute the measured manifest fields
                                                       (counts, quality, bounding box, sha256)
@@ -520,11 +520,25 @@ FULL_CONFIGS = QUICK_CONFIGS + [
     {"name": "vbd-accelerated", "set": dict(FIRST, **{"solver.optimizer": "vbd", "solver.vbd.accelerated": True})},
     {"name": "admm_pd", "set": dict(FIRST, **{"solver.optimizer": "admm_pd"})},
     {"name": "bcqn", "set": dict(FIRST, **{"solver.optimizer": "bcqn"})},
+    {"name": "pd_local_global-chebyshev", "set": dict(FIRST, **{"solver.optimizer": "pd_local_global",
+                                                                "solver.pd_local_global.chebyshev": True})},
+    {"name": "jacobi_chebyshev", "set": dict(FIRST, **{"solver.optimizer": "jacobi_chebyshev"})},
+    {"name": "aqp", "set": dict(FIRST, **{"solver.optimizer": "aqp"})},
+    {"name": "newton-pcg-gmg", "set": {"solver.optimizer": "newton", "solver.linear": "pcg",
+                                       "solver.pcg.preconditioner": "gmg"}},
 ]
+# The methods suite: Newton as the library runs it by default (project_on_demand, backtracking,
+# linear = auto), the best and the Anderson-accelerated methods of the quick results, and the
+# newer methods (each as the full suite runs it).
+METHODS_CONFIGS = [{"name": "newton", "set": {"solver.optimizer": "newton"}}] + [
+    c for n in ("lbfgs-wolfe", "pd_local_global-anderson", "vbd", "vbd-accelerated", "admm_pd",
+                "pd_local_global-chebyshev", "jacobi_chebyshev", "bcqn", "aqp", "newton-pcg-gmg")
+    for c in FULL_CONFIGS if c["name"] == n]
 
 QUICK_MESHES = [("ipc-bar-651", "twist"), ("spot", "gravity"), ("fish", "drop"), ("ipc-torus", "inverted"),
                 ("ipc-torus", "random"), ("ipc-cow-head", "twist"), ("sphere", "gravity"), ("torus", "drop"),
                 ("ipc-hammer", "gravity"), ("goathead", "twist"), ("ipc-sphere1k", "drop"), ("ipc-mat20", "inverted")]
+METHODS_BUDGET = 4.0  # s per solve of the methods suite (3 repeats: about 30 min of processor time)
 SMALL = 8000  # tets: random starts and the nu x element sweep run on meshes up to this size
 
 
@@ -591,6 +605,40 @@ def full_suite(man):
     return s
 
 
+# real-mesh stratum: shapes unlike each other (bars and rods, animals, a hammer, a torus), each
+# under one of the three loads of a simulation (gravity, twist, drop)
+METHODS_REAL = [("ipc-bar-651", "twist"), ("ipc-rod", "gravity"), ("sphere", "drop"), ("spot", "gravity"),
+                ("ipc-cow-head", "twist"), ("fish", "drop"), ("torus", "twist"), ("ipc-hammer", "gravity"),
+                ("ipc-mat40", "drop"), ("koala", "twist"), ("ipc-bunny", "gravity")]
+# stiff stratum: E over three decades up to 1e8 Pa, nu from 0.45 to 0.4999
+METHODS_STIFF = ["spot", "ipc-hammer"]
+METHODS_E = (1e5, 1e6, 1e7, 1e8)
+METHODS_NU = (0.45, 0.4999)
+
+
+def methods_suite():
+    s = suite_common(
+        "corpus-methods (docs/corpus.md): the newer methods (vbd plain and accelerated, ADMM-PD, Chebyshev on PD "
+        "local/global and on damped block Jacobi, BCQN, AQP, Newton with Galerkin-multigrid PCG) against Newton as "
+        "the library runs it by default, L-BFGS (Wolfe) and PD local/global + Anderson on two strata: real meshes "
+        "(%d corpus meshes of different shapes under gravity, twist or drop) and stiff materials (E = %g to %g Pa "
+        "x nu = %s on %s, gravity); %d configurations, 3 repeats, %g s per solve, curve runs stop at 5e-7. "
+        "Run: bash scripts/corpus.sh methods." % (
+            len(METHODS_REAL), METHODS_E[0], METHODS_E[-1], " and ".join("%g" % v for v in METHODS_NU),
+            " and ".join(METHODS_STIFF), len(METHODS_CONFIGS), METHODS_BUDGET), 3, METHODS_BUDGET)
+    s["baseline"] = "newton"
+    s["require_converged"] = ["newton"]
+    s["target"] = 5e-7  # just past the last threshold: nothing beyond it is reported
+    sc = [scene("%s-%s" % (m, ld), m, ld, stratum="real") for m, ld in METHODS_REAL]
+    E = {"E1e%d" % round(math.log10(e)): {"material.E": e} for e in METHODS_E}
+    nu = {"nu%g" % v: {"material.nu": v} for v in METHODS_NU}
+    for m in METHODS_STIFF:
+        sc.append(dict(scene("stiff-%s" % m, m, "gravity"), stratum="stiff", vary=[E, nu]))
+    s["scenes"] = sc
+    s["configs"] = METHODS_CONFIGS
+    return s
+
+
 def smoke_suite(man):
     """the full suite's scene kinds on its smallest mesh: every load, each sweep's keys, 2 configurations"""
     full = full_suite(man)
@@ -616,7 +664,7 @@ def smoke_suite(man):
 
 def all_suites(man):
     return (("corpus-quick.json", quick_suite()), ("corpus-full.json", full_suite(man)),
-            ("corpus-full-smoke.json", smoke_suite(man)))
+            ("corpus-full-smoke.json", smoke_suite(man)), ("corpus-methods.json", methods_suite()))
 
 
 def cmd_suites(args):
