@@ -200,8 +200,8 @@ int eo_linsolve_set_space(eo_linsolve *ls, const struct eo_vspace *space)
 {
     if (ls->type->set_space) return ls->type->set_space(ls->state, space, ls->ctx);
     if (eo_vspace_distributed(space))
-        return eo_error(ls->ctx, EO_ERR_UNSUPPORTED, "linear solver %s cannot solve a distributed system (it needs "
-                        "the whole matrix in one process); use petsc_ksp", ls->type->info.name);
+        return eo_error(ls->ctx, EO_ERR_UNSUPPORTED, "linear solver %s cannot solve distributed equations: it needs "
+                        "the whole matrix in one process; use petsc_ksp", ls->type->info.name);
     return EO_OK;
 }
 
