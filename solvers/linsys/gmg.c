@@ -66,7 +66,9 @@
  * Without node coordinates (or 3 nv != n, or n <= coarse_size) there is one level:
  *   CHOLMOD on A, and the iteration converges in one cycle.
  * A diagonal block (or the coarsest matrix) that is not positive definite proves A is not
- *   (W_l has full column rank): factor returns EO_WARN_NOT_PD, with the column on level 0.
+ *   (a nonzero column of W_l gives a positive block; the composite prolongation to the
+ *   coarsest level is made of full column rank in create: coarsest_rank): factor returns
+ *   EO_WARN_NOT_PD, with the column on level 0.
  *
  * Parameters (solver.gmg.<key>):
  *   tol           relative residual ‖b − Ax‖/‖b‖ to reach              default 1e-10
@@ -83,6 +85,9 @@
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include <lapacke.h> /* after complex.h's I is defined by it: undone below, the code names nodes I */
+#undef I
 
 #include "cholmod_util.h"
 #include "gmg.h"
@@ -126,6 +131,7 @@ struct eo_gmg {
     int *mark;
     double *buf;
     double t_gal, t_coarse;
+    int ndropped; /* coarsest nodes dropped as dependent (coarsest_rank) */
 };
 
 static void bsr_free(eo_ctx *ctx, bsr *B)
@@ -653,6 +659,121 @@ static void galerkin_numeric(eo_gmg *g, int l)
     }
 }
 
+/* ------------------------------------------------------------ coarsest rank ---------- */
+
+/* The composite prolongation U_c = W_0 W_1 ... W_{L-2} to the coarsest level can lose
+ * column rank: trilinear interpolation from a grid whose cubes hold a thin or flat part of
+ * the mesh (a sheet, a leg, an ear one or two elements thick) gives columns that agree on
+ * every fine node they reach (e.g. two grid nodes on either side of a flat layer:
+ * proportional columns), and then A_c = U_cᵀ A U_c is singular however positive definite
+ * A is, so the coarsest Cholesky fails on a good matrix. The rank is a property of the
+ * geometry: the scalar Gram matrix G = U_cᵀ U_c is factored once (LAPACK's pivoted
+ * Cholesky, dpstrf, on G scaled to unit diagonal) and the coarsest nodes whose column's
+ * squared residual, relative to its own squared length, is below EO_GMG_RANK_TOL
+ * (numerically in the span of the others) are dropped from
+ * W_{L-2}; the coarse space loses nothing it could represent. Intermediate levels may stay
+ * rank deficient: their smoother needs only the diagonal blocks (positive for any
+ * nonzero column), and the coarsest level's full rank keeps "A_c not positive definite ⇒ A
+ * not positive definite" true. Skipped above EO_GMG_RANK_MAX coarsest nodes (dense G). */
+#define EO_GMG_RANK_MAX 3000
+#define EO_GMG_RANK_TOL 1e-8
+
+static int coarsest_rank(eo_gmg *g, eo_ctx *ctx)
+{
+    const int L = g->nlev - 1, m = g->lev[L].A.n;
+    if (L < 1 || m > EO_GMG_RANK_MAX || m == 0) return EO_OK;
+    int cap = 1;
+    for (int l = 1; l <= L; l++)
+        if (g->lev[l].A.n > cap) cap = g->lev[l].A.n;
+    double *G = eo_calloc(ctx, (size_t)m * (size_t)m, sizeof(double));
+    double *acc = eo_calloc(ctx, (size_t)cap, sizeof(double));
+    int *lst[2] = {eo_malloc(ctx, (size_t)cap * sizeof(int)), eo_malloc(ctx, (size_t)cap * sizeof(int))};
+    double *lv[2] = {eo_malloc(ctx, (size_t)cap * sizeof(double)), eo_malloc(ctx, (size_t)cap * sizeof(double))};
+    lapack_int *piv = eo_malloc(ctx, (size_t)m * sizeof(lapack_int));
+    int *seen = eo_malloc(ctx, (size_t)cap * sizeof(int));
+    trip *t = NULL;
+    int rc = EO_ERR_NOMEM;
+    if (!G || !acc || !lst[0] || !lst[1] || !lv[0] || !lv[1] || !piv || !seen) goto done;
+    for (int j = 0; j < cap; j++) seen[j] = -1;
+    /* G += u_i u_iᵀ for the composite row u_i of every finest node */
+    for (int i = 0; i < g->lev[0].A.n; i++) {
+        const spm *W0 = &g->lev[0].W;
+        int n = 0, cur = 0;
+        for (int p = W0->ptr[i]; p < W0->ptr[i + 1]; p++) lst[0][n] = W0->col[p], lv[0][n++] = W0->val[p];
+        for (int l = 1; l < L; l++) {
+            const spm *W = &g->lev[l].W;
+            int k = 0;
+            const int stamp = i * EO_GMG_MAX_LEVELS + l;
+            for (int a = 0; a < n; a++) {
+                const int I = lst[cur][a];
+                for (int p = W->ptr[I]; p < W->ptr[I + 1]; p++) {
+                    const int J = W->col[p];
+                    if (seen[J] != stamp) seen[J] = stamp, acc[J] = 0, lst[!cur][k++] = J;
+                    acc[J] += lv[cur][a] * W->val[p];
+                }
+            }
+            for (int a = 0; a < k; a++) lv[!cur][a] = acc[lst[!cur][a]];
+            cur = !cur;
+            n = k;
+        }
+        for (int a = 0; a < n; a++)
+            for (int b = 0; b < n; b++) G[(size_t)lst[cur][a] * m + lst[cur][b]] += lv[cur][a] * lv[cur][b];
+    }
+    /* unit diagonal: a pivot is then a column's residual relative to its own length, so a
+     * short column (a grid node reached with small weights) is kept, a dependent one not */
+    for (int j = 0; j < m; j++) acc[j] = G[(size_t)j * m + j] > 0 ? 1 / sqrt(G[(size_t)j * m + j]) : 0;
+    for (int j = 0; j < m; j++)
+        for (int i = 0; i < m; i++) G[(size_t)j * m + i] *= acc[i] * acc[j];
+    lapack_int rank = m;
+    const lapack_int info = LAPACKE_dpstrf(LAPACK_COL_MAJOR, 'L', m, G, m, piv, &rank, EO_GMG_RANK_TOL);
+    if (info < 0) {
+        rc = eo_error(ctx, EO_ERR_INTERNAL, "%s: dpstrf failed (info %d)", g->o.name, (int)info);
+        goto done;
+    }
+    g->ndropped = m - (int)rank;
+    if (rank == m) {
+        rc = EO_OK;
+        goto done;
+    }
+    /* keep the first `rank` pivots, in their old order */
+    int *newid = seen;
+    for (int j = 0; j < m; j++) newid[j] = -1;
+    for (int a = 0; a < rank; a++) newid[piv[a] - 1] = 0;
+    int k = 0;
+    for (int j = 0; j < m; j++)
+        if (newid[j] == 0) newid[j] = k++;
+    level *F = &g->lev[L - 1];
+    t = eo_malloc(ctx, (size_t)(F->W.nnz ? F->W.nnz : 1) * sizeof(trip));
+    if (!t) goto done;
+    int nt = 0;
+    for (int I = 0; I < F->W.n; I++)
+        for (int p = F->W.ptr[I]; p < F->W.ptr[I + 1]; p++)
+            if (newid[F->W.col[p]] >= 0) t[nt++] = (trip){I, newid[F->W.col[p]], F->W.val[p]};
+    const int nf = F->W.n;
+    spm_free(ctx, &F->W);
+    spm_free(ctx, &F->WT);
+    eo_free(ctx, F->apptr);
+    eo_free(ctx, F->apcol);
+    F->apptr = F->apcol = NULL;
+    bsr_free(ctx, &g->lev[L].A);
+    if ((rc = spm_from_trips(ctx, t, nt, nf, k, &F->W, &F->WT)) < 0) goto done;
+    rc = galerkin_pattern(g, L - 1, ctx);
+    if (rc >= 0)
+        eo_log(ctx, EO_LOG_DEBUG, "%s: %d of %d coarsest nodes dropped (dependent columns of the prolongation)",
+               g->o.name, m - k, m);
+done:
+    eo_free(ctx, G);
+    eo_free(ctx, acc);
+    eo_free(ctx, lst[0]);
+    eo_free(ctx, lst[1]);
+    eo_free(ctx, lv[0]);
+    eo_free(ctx, lv[1]);
+    eo_free(ctx, piv);
+    eo_free(ctx, seen);
+    eo_free(ctx, t);
+    return rc;
+}
+
 /* ------------------------------------------------------------ coarsest (CHOLMOD) ------- */
 
 static int coarsest_pattern(eo_gmg *g, eo_ctx *ctx)
@@ -789,6 +910,7 @@ int eo_gmg_create(eo_ctx *ctx, const eo_csc *A, const eo_gmg_opts *o, int nv, co
     }
     eo_free(ctx, fine);
     fine = NULL;
+    if (g->nlev > 1 && (rc = coarsest_rank(g, ctx)) < 0) goto fail;
     for (int l = 0; l < g->nlev; l++)
         if ((rc = level_vectors(g, l, ctx)) < 0) goto fail;
     g->buf = eo_malloc(ctx, (size_t)(maxbuf ? maxbuf : 1) * 9 * sizeof(double));
@@ -990,6 +1112,7 @@ void eo_gmg_apply(const void *pc, const double *r, double *z)
 /* ------------------------------------------------------------ inspection --------------- */
 
 int eo_gmg_levels(const eo_gmg *g) { return g->nlev; }
+int eo_gmg_dropped(const eo_gmg *g) { return g->ndropped; }
 int eo_gmg_level_n(const eo_gmg *g, int l) { return g->nlev == 1 ? g->n : 3 * g->lev[l].A.n; }
 long eo_gmg_level_nnz(const eo_gmg *g, int l)
 {

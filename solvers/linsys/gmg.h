@@ -44,6 +44,8 @@ void eo_gmg_apply(const void *g, const double *r, double *z);
 
 /* Inspection (tests, benchmarks). */
 int eo_gmg_levels(const eo_gmg *g);
+/* coarsest nodes dropped at create as dependent columns of the composite prolongation */
+int eo_gmg_dropped(const eo_gmg *g);
 /* unknowns of level l (3 per node) */
 int eo_gmg_level_n(const eo_gmg *g, int l);
 /* nonzeros of level l's full matrix (both triangles, scalar count) */
