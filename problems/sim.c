@@ -236,13 +236,20 @@ static int mass_solver(eo_ctx *ctx, eo_cfg *cfg, const char *name, eo_linsolve *
 }
 
 /* An optimizer that needs per-tet operations of the linear tet (needs_ops: the split
- * F = D x, the vertex blocks) on a scene whose element has none: refused before anything
- * is built or written. `what` names the entry (solver, solver.fallback.N). */
+ * F = D x, the vertex blocks) on a scene whose element has none, or a scene without
+ * contact (EO_OBJ_NEEDS_NO_CONTACT) on one with collisions: refused before anything is
+ * built or written. `what` names the entry (solver, solver.fallback.N). */
 static int check_element(eo_ctx *ctx, const eo_scene *sc, const eo_solver *sv, const char *what)
 {
     const eo_optimizer_type *t = NULL;
+    if (eo_registry_find(ctx, EO_KIND_OPTIMIZER, eo_solver_get_opts(sv)->optimizer, (const void **)&t) < 0)
+        return EO_OK;
+    if ((t->needs_ops & EO_OBJ_NEEDS_NO_CONTACT) && sc->ncollision > 0)
+        return eo_error(ctx, EO_ERR_INVALID,
+                        "%s: optimizer %s refuses the scene's collisions: contact is outside its split "
+                        "(pd_local_global, lbfgs or newton take it)",
+                        what, t->info.name);
     if (!sc->element || (sc->element->flags & EO_ELEMENT_LINEAR) ||
-        eo_registry_find(ctx, EO_KIND_OPTIMIZER, eo_solver_get_opts(sv)->optimizer, (const void **)&t) < 0 ||
         !(t->needs_ops & (EO_OBJ_NEEDS_SPLIT | EO_OBJ_NEEDS_VERTEX | EO_OBJ_NEEDS_PARTS)))
         return EO_OK;
     return eo_error(ctx, EO_ERR_INVALID,
@@ -358,6 +365,8 @@ void eo_sim_set_iter_callback(eo_sim *s, eo_iter_fn fn, void *user)
     s->fn = fn;
     s->user = user;
 }
+
+int eo_sim_check_solver(eo_sim *s, const eo_solver *sv) { return check_element(s->ctx, s->sc, sv, "solver"); }
 
 int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solver_cfg)
 {

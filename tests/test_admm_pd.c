@@ -14,7 +14,8 @@
  *  - admm_pd converges to Newton's minimizer: first steps of cantilever and twist with
  *    stable_neo_hookean, solver.tol = 1e-10 (the default), within
  *    1e-8 of the step's motion ‖x* − x₀‖; one factorization for the whole run;
- *  - an objective without the split ops is refused with a message. */
+ *  - an objective without the split ops is refused with a message; a scene with
+ *    collisions is refused at configuration (as the solver and as a fallback entry). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -293,12 +294,39 @@ static void check_refuses(eo_ctx *ctx)
     eo_cfg_destroy(&cfg);
 }
 
+/* a scene with collisions is refused at configuration (its penalty contact would enter
+ * the global step explicitly): as the scene's solver and as a fallback entry; the same
+ * scene without collisions, and admm_pd on a scene without them, are accepted */
+static void check_refuses_contact(eo_ctx *ctx)
+{
+    const char *ov[] = {"solver.optimizer=admm_pd", "solver.fallback=[]", NULL};
+    eo_sim *s = NULL;
+    int rc = eo_sim_create_from(ctx, NULL, "drop", ov, &s);
+    printf("drop with admm_pd: %d, %s\n", rc, eo_ctx_message(ctx));
+    CHECK(rc == EO_ERR_INVALID && strstr(eo_ctx_message(ctx), "admm_pd") && strstr(eo_ctx_message(ctx), "collisions"),
+          "refused with a message: %d", rc);
+    eo_sim_destroy(&s);
+    const char *ovf[] = {"solver.fallback=[{\"optimizer\": \"admm_pd\"}]", NULL};
+    rc = eo_sim_create_from(ctx, NULL, "drop", ovf, &s);
+    CHECK(rc == EO_ERR_INVALID && strstr(eo_ctx_message(ctx), "solver.fallback.0"), "as a fallback entry: %d %s", rc,
+          eo_ctx_message(ctx));
+    eo_sim_destroy(&s);
+    const char *ovn[] = {"solver.optimizer=admm_pd", "solver.fallback=[]", "collisions=[]", NULL};
+    rc = eo_sim_create_from(ctx, NULL, "drop", ovn, &s);
+    CHECK(rc == EO_OK, "drop without collisions: %d %s", rc, eo_ctx_message(ctx));
+    eo_sim_destroy(&s);
+    rc = eo_sim_create_from(ctx, NULL, "cantilever", ov, &s);
+    CHECK(rc == EO_OK, "cantilever: %d %s", rc, eo_ctx_message(ctx));
+    eo_sim_destroy(&s);
+}
+
 int main(void)
 {
     eo_ctx *ctx = eo_test_ctx();
     check_prox(ctx);
     check_split(ctx);
     check_refuses(ctx);
+    check_refuses_contact(ctx);
     check_converges(ctx, "cantilever", "stable_neo_hookean", "1e-10");
     check_converges(ctx, "twist", "stable_neo_hookean", "1e-10");
     eo_test_ctx_done(&ctx);

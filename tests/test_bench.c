@@ -264,7 +264,15 @@ static int csv_read(const char *dir, const char *name, csv_tab *t)
         int c = 0;
         char *p = line;
         for (;;) {
-            char *comma = strchr(p, ',');
+            char *comma;
+            if (*p == '"') { /* a quoted cell (commas inside): up to the closing quote */
+                char *q = strchr(p + 1, '"');
+                comma = q ? strchr(q, ',') : NULL;
+                if (q) *q = 0;
+                p++;
+            } else {
+                comma = strchr(p, ',');
+            }
             if (comma) *comma = 0;
             if (c < 64) { /* cells are cut at 39 characters */
                 char *d = r < 0 ? t->head[c] : t->cell[r][c];
@@ -658,6 +666,32 @@ static void test_reference_g0_zero(const char *dir)
     eo_test_ctx_done(&ctx);
 }
 
+/* A configuration the scene refuses (admm_pd on a scene with collisions): the suite still
+ * runs, the pair's status is "refused" with the reason, nothing of it is timed (every
+ * threshold unreached), the other configuration's results stand. */
+static void test_refused_pair(const char *dir)
+{
+    const char *text = "{\"repeats\": 1, \"steps\": 1, \"plots\": true, \"trajectory\": false, \"ipopt_check\": false,"
+                       " \"scenes\": [{\"name\": \"d\", \"scene\": \"drop\", \"set\": {\"mesh.generate.cells\": [4, 2, 2]}}],"
+                       " \"configs\": [{\"name\": \"n\", \"set\": {\"solver.optimizer\": \"newton\"}},"
+                       "  {\"name\": \"a\", \"set\": {\"solver.optimizer\": \"admm_pd\"}}]}";
+    eo_ctx *ctx = eo_test_ctx();
+    char out[4200];
+    eo_bench_suite *s = run_text(ctx, dir, "refused", text, out, sizeof out);
+    csv_tab *t = malloc(sizeof *t);
+    if (s && t && csv_read(out, "summary.csv", t) == 0 && t->nrow == 2) {
+        CHECK(!strcmp(csv_get(t, 0, "status"), "converged"), "newton: %s", csv_get(t, 0, "status"));
+        CHECK(!strcmp(csv_get(t, 1, "status"), "refused") && strstr(csv_get(t, 1, "reason"), "admm_pd refuses"),
+              "admm_pd: %s (%s)", csv_get(t, 1, "status"), csv_get(t, 1, "reason"));
+        CHECK(!strcmp(csv_get(t, 1, "steps_reached"), "0"), "admm_pd reached no step: %s", csv_get(t, 1, "steps_reached"));
+    } else {
+        CHECK(0, "summary.csv of the refused run");
+    }
+    free(t);
+    eo_bench_suite_destroy(&s);
+    eo_test_ctx_done(&ctx);
+}
+
 static void test_optional(const char *dir)
 {
     eo_ctx *ctx = eo_test_ctx();
@@ -742,6 +776,7 @@ int main(void)
     test_run(dir);
     test_first_iterate(dir);
     test_reference_g0_zero(dir);
+    test_refused_pair(dir);
     test_select_motion(dir);
     test_select_correction(dir);
     test_fixed_budget(dir);

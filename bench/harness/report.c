@@ -458,7 +458,7 @@ int eo_bench_write_report(eo_ctx *ctx, bench_out *b)
                 for (int q = 0; q < p->nsteps; q++)
                     if (b->res[si].meas[q] == k) m = q;
             }
-            if (p->first_bad_step >= 0 && m >= 0 && m < p->nsteps) {
+            if (p->first_bad_step >= 0 && m >= 0 && m < p->nsteps && strcmp(p->status, "refused") != 0) {
                 const bench_step_res *q = p->st + m;
                 fprintf(f, " (curve run of that step: %s after %d iterations, rel. error %.1e)",
                         q->reached ? "reached target" : q->stagnated ? "stagnated" : eo_reason_name(q->reason),

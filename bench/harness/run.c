@@ -277,6 +277,26 @@ static void write_curve(run_ctx *r, FILE *dat, const bench_scene *b, const bench
     fprintf(dat, "\n\n");
 }
 
+/* A configuration the scene refuses (eo_sim_check_solver: e.g. admm_pd with collisions):
+ * nothing is run; every threshold unreached, every budget's error infinite, an empty
+ * plot block per step (the data file's block index stays c·S + k), status "refused". */
+static void refuse_pair(FILE *dat, const eo_bench_suite *s, const bench_config *c, bench_pair *p, int R,
+                        const int *meas, const char *why)
+{
+    for (int k = 0; k < p->nsteps; k++) {
+        bench_step_res *st = p->st + k;
+        st->nrep = R;
+        st->reason = EO_DIVERGED_EXTERNAL;
+        st->final_err = INFINITY;
+        for (int j = 0; j < BENCH_MAX_LIST; j++)
+            for (int q = 0; q < BENCH_MAX_REPEATS; q++) st->ttt[j][q] = st->eab[j][q] = INFINITY;
+        fprintf(dat, "# %s step %d (refused)\n\n\n", c->name, k + 1);
+    }
+    bench_aggregate(s, R, p, 0, 0, meas);
+    snprintf(p->status, sizeof p->status, "refused");
+    snprintf(p->reason, sizeof p->reason, "%s", why);
+}
+
 /* Run the curves of one configuration on one step from the current guess. */
 static int run_curves(run_ctx *r, eo_sim *sim, eo_solver *sv, int n, const double *x0, double *x,
                       const bench_ref *ref, const double *xstar, const double *wM, rec_buf *w, rec_buf *rep,
@@ -669,6 +689,17 @@ static int run_scene(run_ctx *r, int si)
         cso.time_budget = 0; /* the harness enforces the budget, excluding its own time */
         progress(r, si, ci, "curves");
         EO_TRY(rc = eo_solver_create(ctx, &cso, ccfg, &sv));
+        if (eo_sim_check_solver(sim, sv) < 0) { /* the configuration cannot take this scene */
+            refuse_pair(eo_afile_fp(datf), s, c, p, R, sr->meas, eo_ctx_message(ctx));
+            eo_ctx_clear_error(ctx);
+            eo_solver_destroy(&sv);
+            eo_cfg_destroy(&ccfg);
+            r->out->sum->runs++;
+            for (int q = 0; q < s->nreq; q++)
+                if (s->req[q] == ci) r->out->sum->required_failures++;
+            r->units_done += (double)b->nt * (S * (R + 1) + S * 0.3 * b->nibud_on + (s->o.trajectory ? NT : 0));
+            continue;
+        }
         for (int k = 0; k < S; k++) {
             const int ks = sr->meas[k];
             const size_t fr = (size_t)ks * nf;

@@ -66,8 +66,11 @@ struct eo_material_coef;
 /// names it when it refuses): the constant matrix and its factor of the whole problem
 /// (constant_hessian, constant_factor), the inertia split (inertia), the whole vector in
 /// one process (an external code).
+/// EO_OBJ_NEEDS_NO_CONTACT: the terms outside the optimizer's split enter it explicitly
+/// (admm_pd's global step), which a stiff penalty contact term makes diverge: a scene with
+/// `collisions` is refused at configuration (eo_sim_check_solver).
 enum { EO_OBJ_NEEDS_SPLIT = 1, EO_OBJ_NEEDS_VERTEX = 2, EO_OBJ_NEEDS_PARTS = 4, EO_OBJ_NEEDS_CONSTANT = 8,
-       EO_OBJ_NEEDS_INERTIA = 16, EO_OBJ_NEEDS_WHOLE = 32 };
+       EO_OBJ_NEEDS_INERTIA = 16, EO_OBJ_NEEDS_WHOLE = 32, EO_OBJ_NEEDS_NO_CONTACT = 64 };
 
 
 /// The elastic elements of an objective (ops->split_info), borrowed.

@@ -126,6 +126,12 @@ EO_API int eo_sim_n_fallback(const eo_sim *s);
 /// its fallback chain by solver_cfg's `solver.fallback` (none if absent or solver_cfg
 /// NULL). On error the old solver and chain stay.
 EO_API int eo_sim_set_solver(eo_sim *s, const eo_solver_opts *opts, eo_cfg *solver_cfg);
+/// Whether sv can solve this scene's steps (what eo_sim_set_solver and eo_sim_create
+/// check for every entry): EO_OK, or EO_ERR_INVALID with the reason in the context's
+/// message (an optimizer that needs the linear tet's split on another element; one that
+/// cannot take contact on a scene with collisions). For callers that run a solver of
+/// their own through eo_sim_trial (the benchmark).
+EO_API int eo_sim_check_solver(eo_sim *s, const eo_solver *sv);
 
 /// Fallback chain: `solver.fallback` is a list of solver sections; each entry is the
 /// `solver` section with the keys the entry names replaced (merged recursively, so

@@ -48,7 +48,12 @@
  *             ψ(σ) 7%), ~50x an SVD-free gradient evaluation (F_psi_grad).
  * Differs     the paper runs a fixed iteration count per frame; here the
  *             shared convergence test. Dynamic constraints (the paper's collisions via
- *             a changing D) are not split: contact stays a penalty term in R.
+ *             a changing D) are not split: a penalty contact term would stay in R and
+ *             enter the global step explicitly, with nothing of its stiffness in L; on the
+ *             corpus drop scenes (penalty 1e5 N/m per vertex) that diverged (non-finite on
+ *             fish, g = 8e29 on mat40). So a scene with `collisions` is refused at
+ *             configuration (needs_ops EO_OBJ_NEEDS_NO_CONTACT, exit 2 in the CLI, status
+ *             "refused" in the benchmark).
  * Memory      4 vectors of n and 4 of 9E (F, z, u, stresses) in setup/at the first
  *             minimize of a pattern size; nothing inside the iterations. */
 #include <stddef.h>
@@ -298,7 +303,7 @@ const eo_optimizer_type eo_optimizer_admm_pd = {
     .state_size = sizeof(admm_state),
     .needs_linear = 1,
     .needs_hessian = 0,
-    .needs_ops = EO_OBJ_NEEDS_SPLIT,
+    .needs_ops = EO_OBJ_NEEDS_SPLIT | EO_OBJ_NEEDS_NO_CONTACT,
     .setup = admm_setup,
     .minimize = admm_minimize,
     .destroy = admm_destroy,
