@@ -56,6 +56,35 @@ static inline int eo_test_sim_step(eo_sim *s, eo_iter_fn cb, void *user, eo_sim_
     return rc;
 }
 
+/* Per-iteration counts of a run (eo_test_count_iter as the iteration callback): Newton
+ * iterations, linear-solver iterations, the forcing terms used (eta_min starts at
+ * +INFINITY: eo_test_counts_reset), directions of negative curvature and those of them
+ * not met by a projection. */
+typedef struct eo_test_counts {
+    long iters, lin_iters, negcurv, negcurv_unprojected;
+    double eta_min, eta_max;
+} eo_test_counts;
+
+static inline void eo_test_counts_reset(eo_test_counts *c)
+{
+    memset(c, 0, sizeof *c);
+    c->eta_min = INFINITY;
+}
+
+static inline int eo_test_count_iter(const eo_iter_info *info, void *user)
+{
+    eo_test_counts *c = user;
+    c->negcurv += info->neg_curvature;
+    if (info->neg_curvature && info->projected != 1) c->negcurv_unprojected++;
+    c->lin_iters += info->lin_iters;
+    if (info->reason == 0) c->iters++;
+    if (info->eta > 0) {
+        if (info->eta < c->eta_min) c->eta_min = info->eta;
+        if (info->eta > c->eta_max) c->eta_max = info->eta;
+    }
+    return 0;
+}
+
 /* Mean z displacement of the vertices with rest x >= xmin (the tip of a bar). */
 static inline double eo_test_tip_dz(const eo_sim *s, double xmin)
 {

@@ -16,38 +16,19 @@
 
 #include "engine_util.h"
 
-typedef struct counts {
-    long negcurv, lin_iters, iters, negcurv_unprojected;
-    double eta_min, eta_max;
-} counts;
-
-static int count(const eo_iter_info *info, void *user)
-{
-    counts *c = user;
-    c->negcurv += info->neg_curvature;
-    if (info->neg_curvature && info->projected != 1) c->negcurv_unprojected++;
-    c->lin_iters += info->lin_iters;
-    if (info->reason == 0) c->iters++;
-    if (info->eta > 0) {
-        if (info->eta < c->eta_min) c->eta_min = info->eta;
-        if (info->eta > c->eta_max) c->eta_max = info->eta;
-    }
-    return 0;
-}
 
 /* Run `steps` steps of scene with overrides; final free+fixed state in x (3 nv, malloc'd). */
 static int run(eo_ctx *ctx, const char *scene, const char *const *ov, int steps, double **x, int *nv,
-               counts *c, int *all_converged)
+               eo_test_counts *c, int *all_converged)
 {
     eo_sim *s = NULL;
     int rc = eo_test_sim_open(&s, ctx, scene, NULL, ov);
     if (rc < 0) return rc;
-    memset(c, 0, sizeof *c);
-    c->eta_min = INFINITY;
+    eo_test_counts_reset(c);
     *all_converged = 1;
     for (int k = 0; k < steps && rc >= 0; k++) {
         eo_sim_step_result r;
-        rc = eo_test_sim_step(s, count, c, &r);
+        rc = eo_test_sim_step(s, eo_test_count_iter, c, &r);
         if (rc >= 0 && r.reason <= 0) *all_converged = 0;
     }
     const eo_mesh *m = eo_step_mesh(eo_sim_step_problem(s));
@@ -89,7 +70,7 @@ static void same_minimizer(eo_ctx *ctx, const char *scene, int steps)
     const char *ref[] = {"solver.linear=cholmod", "solver.stop=gradient", "solver.tol=1e-10", NULL};
     double *xr = NULL, *X = NULL;
     int nv = 0, conv = 0;
-    counts c;
+    eo_test_counts c;
     int rc = run(ctx, scene, ref, steps, &xr, &nv, &c, &conv);
     CHECK(rc >= 0 && conv, "%s: cholmod reference rc %d converged %d: %s", scene, rc, conv, eo_ctx_message(ctx));
     rc = run(ctx, scene, ref, 0, &X, &nv, &c, &conv);
@@ -134,7 +115,7 @@ static void negative_curvature(eo_ctx *ctx)
     const char *ref[] = {"solver.linear=cholmod", "solver.stop=gradient", "solver.tol=1e-10", NULL};
     double *xr = NULL, *X = NULL, *x = NULL;
     int nv = 0, conv = 0;
-    counts c;
+    eo_test_counts c;
     int rc = run(ctx, "inverted", ref, steps, &xr, &nv, &c, &conv);
     CHECK(rc >= 0 && conv, "inverted clamp cholmod: rc %d converged %d", rc, conv);
     run(ctx, "inverted", ref, 0, &X, &nv, &c, &conv);

@@ -19,28 +19,12 @@
 #include "elastopt/solver.h"
 #include "engine_util.h"
 
-typedef struct counts {
-    long iters, lin_iters;
-    double eta_min, eta_max;
-} counts;
-
-static int count(const eo_iter_info *info, void *user)
-{
-    counts *c = user;
-    c->lin_iters += info->lin_iters;
-    if (info->reason == 0) c->iters++;
-    if (info->eta > 0) {
-        if (info->eta < c->eta_min) c->eta_min = info->eta;
-        if (info->eta > c->eta_max) c->eta_max = info->eta;
-    }
-    return 0;
-}
 
 typedef struct outcome {
     double *x;   /* final positions (3 nv) */
     double *X;   /* rest positions */
     int nv, all_converged;
-    counts c;
+    eo_test_counts c;
     char choice[256];
     long n_factor_calls, n_refactor;
 } outcome;
@@ -51,7 +35,7 @@ static int run(eo_ctx *ctx, const char *scene, const char *const *ov, int steps,
     eo_sim *s = NULL;
     int rc = eo_test_sim_open(&s, ctx, scene, NULL, ov);
     if (rc < 0) return rc;
-    o->c.eta_min = INFINITY;
+    eo_test_counts_reset(&o->c);
     o->all_converged = 1;
     const eo_mesh *m = eo_step_mesh(eo_sim_step_problem(s));
     o->nv = m->nv;
@@ -59,7 +43,7 @@ static int run(eo_ctx *ctx, const char *scene, const char *const *ov, int steps,
     memcpy(o->X, m->X, (size_t)3 * m->nv * sizeof(double));
     for (int k = 0; k < steps && rc >= 0; k++) {
         eo_sim_step_result r;
-        rc = eo_test_sim_step(s, count, &o->c, &r);
+        rc = eo_test_sim_step(s, eo_test_count_iter, &o->c, &r);
         if (rc >= 0 && r.reason <= 0) o->all_converged = 0;
     }
     o->x = malloc((size_t)3 * m->nv * sizeof(double));
