@@ -457,6 +457,12 @@ done:
 
 static eo_dist_hooks g_hooks;
 
+static const unsigned char *owned_vertices(void *user)
+{
+    (void)user;
+    return g_layout.active ? g_layout.owned : NULL;
+}
+
 void eo_petsc_dist_install(eo_ctx *ctx)
 {
     PetscBool on = PETSC_FALSE;
@@ -469,7 +475,7 @@ void eo_petsc_dist_install(eo_ctx *ctx)
     if (size < 2) return;
     eo_ctx_set_mesh_source(ctx, mesh_source, NULL);
     g_hooks = (eo_dist_hooks){.nparts = size, .part = rank, .reduce = reduce, .distribute_mesh = distribute,
-                              .space = eo_petsc_space_hook};
+                              .space = eo_petsc_space_hook, .owned_vertices = owned_vertices};
     eo_ctx_set_dist(ctx, &g_hooks);
 }
 

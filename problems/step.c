@@ -253,6 +253,10 @@ int eo_step_create(eo_ctx *ctx, const eo_scene *sc, eo_step **out)
     s->nv = st->nv;
     s->nt = st->nt;
     s->n_full = st->n_full;
+    {
+        const eo_dist_hooks *dh = eo_ctx_dist(ctx);
+        s->vonce = dh && dh->owned_vertices ? dh->owned_vertices(dh->user) : NULL;
+    }
     s->Dminv = st->Dminv;
     s->vol = st->vol;
     s->rho = st->rho;

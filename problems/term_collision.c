@@ -35,7 +35,7 @@ static double energy(eo_term *t, const eo_sys *s, const double *x)
     for (int o = 0; o < d->nob; o++) {
         const eo_scene_obstacle *ob = d->ob + o;
         for (int v = 0; v < s->nv; v++) {
-            if (!eo_sys_vertex_on(s, v)) continue;
+            if (!eo_sys_vertex_once(s, v)) continue;
             double dd = ob->type->depth(ob->shape, x + 3 * v, n, &kap);
             if (dd > 0) e += 0.5 * ob->opts.stiffness * dd * dd;
         }
@@ -51,7 +51,7 @@ static double gradient(eo_term *t, const eo_sys *s, const double *x, double *g)
         const eo_scene_obstacle *ob = d->ob + o;
         const double k = ob->opts.stiffness;
         for (int v = 0; v < s->nv; v++) {
-            if (!eo_sys_vertex_on(s, v)) continue;
+            if (!eo_sys_vertex_once(s, v)) continue;
             double dd = ob->type->depth(ob->shape, x + 3 * v, n, &kap);
             if (!(dd > 0)) continue;
             e += 0.5 * k * dd * dd;
@@ -69,7 +69,7 @@ static int hessian(eo_term *t, const eo_sys *s, const double *x, eo_proj proj)
         const eo_scene_obstacle *ob = d->ob + o;
         const double k = t->weight * ob->opts.stiffness;
         for (int v = 0; v < s->nv; v++) {
-            if (!eo_sys_vertex_on(s, v)) continue;
+            if (!eo_sys_vertex_once(s, v)) continue;
             double dd = ob->type->depth(ob->shape, x + 3 * v, n, &kap);
             if (!(dd > 0)) continue;
             /* eigenvalues k (n) and lt = −k d κ (tangent plane) */

@@ -143,6 +143,11 @@ typedef struct eo_dist_hooks {
     /// changed). EO_OK with *out borrowed until the next call, or a negative status. Without
     /// it the solvers refuse to run distributed (solvers/dist_objective.c).
     int (*space)(eo_ctx *ctx, struct eo_objective *obj, const struct eo_vspace **out, void *user);
+    /// Optional: after distribute_mesh, nv flags of this part's local mesh, 1 = this part
+    /// owns the vertex (borrowed, valid while the mesh is). Terms of one vertex's position
+    /// alone (penalty contact) are counted by the owner only; without it such terms are
+    /// refused in a distributed run.
+    const unsigned char *(*owned_vertices)(void *user);
 } eo_dist_hooks;
 /// Install (h != NULL, copied) or remove (NULL) the distribution hooks.
 EO_API void eo_ctx_set_dist(eo_ctx *ctx, const eo_dist_hooks *h);

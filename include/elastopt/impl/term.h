@@ -102,6 +102,12 @@ typedef struct eo_sys {
      * increasing), for the terms' `vertex` op; NULL until the step objective's op
      * vertex_blocks first builds them (they depend on the mesh only) */
     const int *vt_ptr, *vt_tet;
+    /* a distributed run's local mesh (eo_dist_hooks.owned_vertices): nv flags, 1 = this
+     * part owns the vertex. The local mesh's per-vertex data (lumped masses, loads) are
+     * the part's shares and add up over the parts, but a term that is a function of one
+     * vertex's position alone (penalty contact) must be counted once: by the owner
+     * (eo_sys_vertex_once). NULL = every vertex (one process) */
+    const unsigned char *vonce;
 } eo_sys;
 
 /* Tets of the current part (all tets without one): i-th tet and their count. */
@@ -112,6 +118,12 @@ static inline int eo_sys_tet(const eo_sys *s, int i)
 }
 /* 1 if this part evaluates the nodal terms of vertex v. */
 static inline int eo_sys_vertex_on(const eo_sys *s, int v) { return !s->vown || s->vown[v]; }
+/* 1 if this part evaluates the terms that depend on vertex v's position alone (penalty
+ * contact): vertex_on, and in a distributed run only on the vertex's owner. */
+static inline int eo_sys_vertex_once(const eo_sys *s, int v)
+{
+    return eo_sys_vertex_on(s, v) && (!s->vonce || s->vonce[v]);
+}
 
 typedef struct eo_term eo_term;
 
