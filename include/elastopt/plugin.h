@@ -50,7 +50,9 @@ extern "C" {
 /// eo_objective_ops grew (split_assemble); the kind EO_KIND_TERM (eo_term_type, impl/term.h:
 /// the terms of the step problem, eo_sys, eo_term_ops, eo_term) and eo_scene grew
 /// (nterm_cfg, term_type, term_cfg). 10: eo_linsolve_type grew (is_iterative, describe).
-#define EO_ABI_VERSION 11
+/// 11: the distributed solver core (eo_vspace, eo_objective.space, eo_method_info.flags,
+/// eo_dist_hooks.space). 12: eo_dist_hooks grew (owned_vertices), eo_sys grew (vonce).
+#define EO_ABI_VERSION 12
 
 /// The library's EO_ABI_VERSION.
 EO_API int eo_abi_version(void);
