@@ -474,14 +474,8 @@ static int check_distributed(eo_ctx *ctx, eo_cfg *cfg, eo_scene *sc)
     if (sc->pmass) return cfg_err(ctx, cfg, "point_masses", EO_ERR_UNSUPPORTED, "point masses: %s", why);
     if (sc->nspring) return cfg_err(ctx, cfg, "springs", EO_ERR_UNSUPPORTED, "springs: %s", why);
     const eo_dist_hooks *dh = eo_ctx_dist(ctx);
-    if (sc->ncollision && !(dh && dh->owned_vertices))
+    if (sc->ncollision && !(dh && dh->owned_vertices)) /* contact and friction: each vertex on its owner */
         return cfg_err(ctx, cfg, "collisions", EO_ERR_UNSUPPORTED, "collisions: %s", why);
-    for (int o = 0; o < sc->ncollision; o++) /* penalty contact: each vertex on its owner; friction's lag: not yet */
-        if (sc->collision[o].opts.friction > 0) {
-            char path[48];
-            snprintf(path, sizeof path, "collisions.%d.friction", o);
-            return cfg_err(ctx, cfg, path, EO_ERR_UNSUPPORTED, "friction %s", why);
-        }
     if (sc->damping.viscous > 0 || sc->damping.rayleigh_alpha > 0 || sc->damping.rayleigh_beta > 0)
         return cfg_err(ctx, cfg, "damping", EO_ERR_UNSUPPORTED, "damping: %s", why);
     for (int i = 0; i < sc->nterm_cfg; i++)

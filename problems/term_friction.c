@@ -180,6 +180,7 @@ void eo_term_friction_lag(eo_term *t, const eo_sys *s, const double *xn, double 
         const eo_scene_obstacle *ob = d->ob + o;
         if (!(ob->opts.friction > 0)) continue;
         for (int v = 0; v < s->nv && d->nc < d->cap; v++) {
+            if (!eo_sys_vertex_once(s, v)) continue; /* a distributed run: on the vertex's owner */
             contact *c = d->c + d->nc;
             double kap, dd = ob->type->depth(ob->shape, xn + 3 * v, c->n, &kap);
             if (!(dd > 0)) continue;
