@@ -342,6 +342,7 @@ int eo_bench_plot_scene(eo_ctx *ctx, bench_out *b, int si)
             for (int pass = 0; pass < 2; pass++)
                 for (int c = 0; c < s->ncf; c++) {
                     if (hl[c] != pass) continue;
+                    if (!strcmp(sr->pair[c].status, "refused")) continue; /* nothing run: an empty block */
                     const char *colr = colour[c];
                     const char *dt = dashes[sty[c].ls % NDASH];
                     const int pt = points[sty[c].fix % NPT];
