@@ -958,6 +958,37 @@ static void test_cholmod_reuse(void)
     CHECK(rc == EO_OK && st->n_refactor == 2 && st->iterations <= 2, "refactored after %d > 10 its: %ld, its %d",
           its_far, st->n_refactor, st->iterations);
     eo_linsolve_destroy(&ls);
+    /* 3': the far matrix with refactor_iters 2: a solve with the old factor stops at
+     * reuse_max_iters = 4 x 2 = 8 (< its_far) and refactors at once: direct, exact */
+    set_param(ctx, &c, "refactor_iters", "2");
+    CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_OK, "create");
+    st = eo_linsolve_get_stats(ls);
+    testmat_fill(&T, 1.0, 1.0, 2);
+    rc = run(ctx, ls, A, b, x, 1, &frc);
+    testmat_fill(&T, 0.3, 1.0, 7);
+    dense_solve(A, b, ref, 1);
+    rc = run(ctx, ls, A, b, x, 0, &frc);
+    CHECK(its_far > 8 && rc == EO_OK && st->n_refactor == 2 && st->iterations == 0 && rel_err(n, x, ref) < 1e-8,
+          "reuse_max_iters 4 x 2 < %d: refactor inside the solve (rc %d, refactors %ld, its %d, err %g)", its_far, rc,
+          st->n_refactor, st->iterations, rel_err(n, x, ref));
+    rc = run(ctx, ls, A, b, x, 0, &frc); /* the same matrix again: the new factor is kept */
+    CHECK(rc == EO_OK && st->n_refactor == 2 && st->iterations <= 2 && rel_err(n, x, ref) < 1e-8,
+          "after the cap: factor kept (refactors %ld, its %d)", st->n_refactor, st->iterations);
+    eo_linsolve_destroy(&ls);
+    /* the cap given explicitly, above its_far: the old factor's CG runs to the end */
+    set_param(ctx, &c, "reuse_max_iters", "1000");
+    CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_OK, "create");
+    st = eo_linsolve_get_stats(ls);
+    testmat_fill(&T, 1.0, 1.0, 2);
+    rc = run(ctx, ls, A, b, x, 1, &frc);
+    testmat_fill(&T, 0.3, 1.0, 7);
+    rc = run(ctx, ls, A, b, x, 0, &frc);
+    CHECK(rc == EO_OK && st->n_refactor == 1 && st->iterations == its_far && rel_err(n, x, ref) < 1e-8,
+          "reuse_max_iters 1000: %d its with the old factor (%d before), refactors %ld", st->iterations, its_far,
+          st->n_refactor);
+    eo_linsolve_destroy(&ls);
+    set_param(ctx, &c, "reuse_max_iters", "0");
+    set_param(ctx, &c, "refactor_iters", "10");
     /* 3: a solve that hits max_iters with a reused factor refactors at once */
     set_param(ctx, &c, "max_iters", "3");
     CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_OK, "create");
