@@ -7,14 +7,41 @@
  * shared vertices summed (MatSetPreallocationCOO once per pattern, MatSetValuesCOO per
  * factorization). b and x are complete at every copy: b's owned entries go in, x comes
  * back to every copy. Without a distributed space (one process) the matrix is the whole
- * one on PETSC_COMM_SELF.
+ * one on PETSC_COMM_SELF, with GAMG's rigid-body modes from eo_linsolve_set_coordinates
+ * (the distributed path takes them from the space), so that one rank and P ranks build
+ * the same kind of hierarchy.
  *
- * Positive definiteness (the shift loop and project_on_demand need to know, like CHOLMOD's
- * LLᵀ tells the serial engine): the matrix is marked SPD, so that MUMPS factors it as LLᵀ
- * (SYM = 1) and a non-positive pivot fails the factorization (PC failed: EO_WARN_NOT_PD
- * from factor); CG reports an indefinite matrix (KSP_DIVERGED_INDEFINITE_MAT: EO_WARN_NOT_PD
- * from solve); an AMG preconditioner that lost definiteness (DIVERGED_INDEFINITE_PC) is
- * retried with GMRES, whose answer the optimizer's descent test judges.
+ * Positive definiteness (the shift loop, none's fallback, project_on_demand's and
+ * progressive's retries need to know, as CHOLMOD's failing LLᵀ tells the serial engine).
+ * MUMPS: the matrix is *not* marked SPD, so MUMPS factors it as LDLᵀ with threshold and
+ * 2×2 pivoting (SYM = 2), which succeeds on an indefinite matrix, and with ICNTL(13) = 1
+ * (module.c: the root front factored without ScaLAPACK, which counts no negative pivots)
+ * its negative-pivot count INFOG(12) (MatGetInertia) is the global inertia on any rank
+ * count. (SYM = 1, LDLᵀ without pivoting, the former setting, fails only on a zero pivot:
+ * it reported success with 53 negative pivots on the inverted scene's first Hessian.)
+ * The decision does not rest on that count alone:
+ *  - count > 0 must be confirmed by a negative-curvature witness: a few Lanczos steps on
+ *    A⁻¹ (the factor's solves) from a fixed start vector; the first negative pivot of the
+ *    Lanczos tridiagonal T gives v in the Krylov space with vᵀA⁻¹v < 0, and w = A⁻¹v must
+ *    show wᵀ(Aw) < 0 with Aw by MatMult, i.e. from the matrix itself, not the factor
+ *    (a certificate that A is not PD). Confirmed: EO_WARN_NOT_PD from factor. Not
+ *    confirmed within WITNESS_STEPS: the matrix is used as PD and the disagreement is
+ *    logged (a wrong count would otherwise reject a PD matrix at every attempt: the shift
+ *    loop would grow to shift_max);
+ *  - count = 0 is checked on every solve: the solved direction d must have dᵀ(Ad) > 0
+ *    (MatMult again), which every PD matrix satisfies; if not, EO_WARN_NOT_PD from solve
+ *    (as the serial cg's negative curvature), so an undercount cannot pass an indefinite
+ *    matrix whose direction shows it.
+ * A factorization MUMPS could not do for lack of workspace (INFOG(1) = -9,
+ * FACTOR_OUTMEMORY: its estimate is not an upper bound in parallel) says nothing about
+ * definiteness: it is redone with ICNTL(14) (the workspace relaxation, percent) doubled,
+ * up to 4 times, and the larger value kept for the next factorizations. (Measured: the
+ * 7,200-tet twist on 4 ranks failed every factorization that way with the default 20 %,
+ * which the former code took for "not PD": 63 factorizations in a 6-iteration step.)
+ * Iterative: the matrix is marked SPD; CG reports an indefinite matrix
+ * (KSP_DIVERGED_INDEFINITE_MAT: EO_WARN_NOT_PD from solve); an AMG preconditioner that
+ * lost definiteness (DIVERGED_INDEFINITE_PC) is retried with GMRES, whose answer the
+ * optimizer's descent test judges.
  *
  * Collectives: analyze only records the pattern; factor agrees over the ranks whether any
  * rank's pattern or numbering changed (a released vertex on one rank) and rebuilds the
@@ -25,6 +52,12 @@
 #include <string.h>
 
 #include "petsc_backend.h"
+
+/* Lanczos steps on A⁻¹ looking for a negative-curvature witness when MUMPS counts
+ * negative pivots */
+#define WITNESS_STEPS 12
+/* ICNTL(14) doublings after FACTOR_OUTMEMORY */
+#define OUTMEM_RETRIES 4
 
 typedef struct ksp_state {
     eo_petsc_params p;
@@ -46,6 +79,14 @@ typedef struct ksp_state {
     KSP ksp;
     double rtol;                 /* set_rtol (0: p.rtol) */
     int built;
+    int direct;                  /* pc = mumps */
+    int check_curv;              /* the last factor was taken as PD: check dᵀAd at solve */
+    PetscInt icntl14;            /* > 0: the workspace relaxation grown after FACTOR_OUTMEMORY */
+    Vec W, AW;                   /* work: curvature check, witness */
+    Vec wv[WITNESS_STEPS + 1];   /* Lanczos basis */
+    /* rest coordinates of the nodes (set_coordinates; the one-process path's GAMG) */
+    int nxyz;
+    double *xyz;
     /* pc = cholmod: the whole matrix on rank 0, the library's CHOLMOD LLᵀ */
     int root, rank;
     eo_linsolve *rls;            /* rank 0 */
@@ -80,6 +121,9 @@ static void sys_free(ksp_state *s)
     VecDestroy(&s->B);
     VecDestroy(&s->X);
     VecDestroy(&s->coords);
+    VecDestroy(&s->W);
+    VecDestroy(&s->AW);
+    for (int i = 0; i <= WITNESS_STEPS; i++) VecDestroy(&s->wv[i]);
     MatNullSpaceDestroy(&s->rbm);
     PetscFree(s->coo_v);
     PetscFree(s->glob);
@@ -103,8 +147,44 @@ static int ks_setup(void *st, const void *params, eo_ctx *ctx)
 
 static void ks_destroy(void *st, eo_ctx *ctx)
 {
-    (void)ctx;
-    sys_free(st);
+    ksp_state *s = st;
+    sys_free(s);
+    eo_free(ctx, s->xyz);
+    s->xyz = NULL;
+}
+
+static int ks_set_coordinates(void *st, int nv, const double *xyz, eo_ctx *ctx)
+{
+    ksp_state *s = st;
+    eo_free(ctx, s->xyz);
+    s->xyz = NULL, s->nxyz = 0;
+    if (nv <= 0) return EO_OK;
+    s->xyz = eo_malloc(ctx, 3 * (size_t)nv * sizeof(double));
+    if (!s->xyz) return eo_error(ctx, EO_ERR_NOMEM, "petsc_ksp: out of memory (coordinates)");
+    memcpy(s->xyz, xyz, 3 * (size_t)nv * sizeof(double));
+    s->nxyz = nv;
+    if (!s->vs && strcmp(s->p.pc, "gamg") == 0) s->dirty = 1; /* the near-null space comes with the matrix */
+    return EO_OK;
+}
+
+/* GAMG's rigid-body modes on one process (no space): from set_coordinates' positions */
+static int seq_rigid_modes(ksp_state *s)
+{
+    eo_ctx *ctx = s->ctx;
+    int rc = EO_OK;
+    PetscInt bs = 1;
+    EO_PC(MatGetBlockSize(s->A, &bs));
+    if (bs != 3 || !s->xyz || 3 * s->nxyz != s->nglobal) return EO_OK;
+    EO_PC(MatCreateVecs(s->A, &s->coords, NULL));
+    EO_PC(VecSetBlockSize(s->coords, 3));
+    PetscScalar *a;
+    EO_PC(VecGetArray(s->coords, &a));
+    memcpy(a, s->xyz, 3 * (size_t)s->nxyz * sizeof(double));
+    EO_PC(VecRestoreArray(s->coords, &a));
+    EO_PC(MatNullSpaceCreateRigidBody(s->coords, &s->rbm));
+    EO_PC(MatSetNearNullSpace(s->A, s->rbm));
+fail:
+    return rc;
 }
 
 static int ks_set_space(void *st, const eo_vspace *vs, eo_ctx *ctx)
@@ -259,13 +339,33 @@ static int build(ksp_state *s, const eo_csc *A)
     }
     if ((rc = eo_petsc_coo_mat(ctx, s->comm, A, s->glob, s->nown, s->nglobal, &s->A, &s->ncoo)) < 0) goto fail;
     EO_PC(PetscMalloc1(s->ncoo + 1, &s->coo_v));
-    /* SPD: MUMPS factors LLᵀ (SYM = 1; it fails on a zero pivot, not on a negative one) */
-    EO_PC(MatSetOption(s->A, MAT_SPD, PETSC_TRUE));
-    EO_PC(MatSetOption(s->A, MAT_SPD_ETERNAL, PETSC_TRUE));
     EO_PC(MatCreateVecs(s->A, &s->X, &s->B));
+    EO_PC(VecDuplicate(s->X, &s->W));
+    EO_PC(VecDuplicate(s->X, &s->AW));
     if (strcmp(s->p.pc, "gamg") == 0 && d && (rc = eo_petsc_rigid_modes(d, s->A, &s->coords, &s->rbm)) < 0) goto fail;
+    if (strcmp(s->p.pc, "gamg") == 0 && !d && (rc = seq_rigid_modes(s)) < 0) goto fail;
     EO_PC(KSPCreate(s->comm, &s->ksp));
     if ((rc = eo_petsc_ksp_configure(ctx, s->ksp, &s->p, NULL, NULL)) < 0) goto fail;
+    {
+        PC pc;
+        PCType pct;
+        EO_PC(KSPGetPC(s->ksp, &pc));
+        EO_PC(PCGetType(pc, &pct));
+        s->direct = pct && strcmp(pct, PCCHOLESKY) == 0; /* MUMPS (or an expert's -pc_type cholesky) */
+    }
+    if (!s->direct) { /* SPD for the iterative solvers; MUMPS: LDLᵀ with pivoting and its inertia (header) */
+        EO_PC(MatSetOption(s->A, MAT_SPD, PETSC_TRUE));
+        EO_PC(MatSetOption(s->A, MAT_SPD_ETERNAL, PETSC_TRUE));
+    }
+    if (s->direct && s->icntl14 > 0) { /* a relaxation grown on an earlier pattern */
+        PC pc;
+        Mat F;
+        EO_PC(KSPSetOperators(s->ksp, s->A, s->A));
+        EO_PC(KSPGetPC(s->ksp, &pc));
+        EO_PC(PCFactorSetUpMatSolverType(pc));
+        EO_PC(PCFactorGetMatrix(pc, &F));
+        EO_PC(MatMumpsSetIcntl(F, 14, s->icntl14));
+    }
     if (s->rtol > 0) EO_PC(KSPSetTolerances(s->ksp, s->rtol, 1e-300, 1e10, s->p.max_lin_iters));
     s->gen = d ? d->gen : 0;
     s->built = 1;
@@ -277,6 +377,72 @@ static int any(ksp_state *s, int v)
 {
     MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_INT, MPI_MAX, s->comm);
     return v;
+}
+
+/* A negative-curvature witness for a factored A with negative pivots (header): Lanczos on
+ * A⁻¹ (PCApply: the factor's solve) from a fixed start vector, with full
+ * reorthogonalization; T_k's LDLᵀ (the tridiagonal's Sturm sequence at 0) gives, at its
+ * first negative pivot d_m, y = L⁻ᵀe_m with yᵀT_k y = d_m < 0, so v = V_k y has vᵀA⁻¹v < 0;
+ * w = A⁻¹v is a witness when wᵀ(Aw) < 0 by MatMult beyond rounding. found = 1 then, curv
+ * = wᵀAw/wᵀw. Collective (every decision on reduced values). */
+static int witness(ksp_state *s, PC pc, int *found, double *curv)
+{
+    eo_ctx *ctx = s->ctx;
+    int rc = EO_OK;
+    double alpha[WITNESS_STEPS], beta[WITNESS_STEPS], dpiv[WITNESS_STEPS], y[WITNESS_STEPS];
+    *found = 0;
+    *curv = 0;
+    for (int i = 0; i <= WITNESS_STEPS; i++)
+        if (!s->wv[i]) EO_PC(VecDuplicate(s->X, &s->wv[i]));
+    PetscReal anorm = 0;
+    EO_PC(MatNorm(s->A, NORM_INFINITY, &anorm));
+    /* start: a fixed vector of the global row numbers (no symmetry of the mesh in it) */
+    PetscScalar *a;
+    PetscInt lo, hi;
+    EO_PC(VecGetOwnershipRange(s->wv[0], &lo, &hi));
+    EO_PC(VecGetArray(s->wv[0], &a));
+    for (PetscInt i = lo; i < hi; i++) a[i - lo] = 1.0 + 0.5 * sin(0.7548776662 * (double)i + 0.3);
+    EO_PC(VecRestoreArray(s->wv[0], &a));
+    PetscReal nrm;
+    EO_PC(VecNormalize(s->wv[0], &nrm));
+    for (int k = 0; k < WITNESS_STEPS; k++) {
+        EO_PC(PCApply(pc, s->wv[k], s->W)); /* W = A⁻¹ v_k */
+        PetscScalar ak;
+        EO_PC(VecDot(s->W, s->wv[k], &ak));
+        alpha[k] = ak;
+        for (int pass = 0; pass < 2; pass++) /* full reorthogonalization, twice */
+            for (int j = 0; j <= k; j++) {
+                PetscScalar h;
+                EO_PC(VecDot(s->W, s->wv[j], &h));
+                EO_PC(VecAXPY(s->W, -h, s->wv[j]));
+            }
+        /* the tridiagonal's LDLᵀ, pivot k */
+        dpiv[k] = k == 0 ? alpha[0] : alpha[k] - beta[k - 1] * beta[k - 1] / dpiv[k - 1];
+        if (dpiv[k] < 0) {
+            /* y = L⁻ᵀ e_k: y_k = 1, y_i = −(β_i/d_i) y_{i+1} */
+            y[k] = 1;
+            for (int i = k - 1; i >= 0; i--) y[i] = -(beta[i] / dpiv[i]) * y[i + 1];
+            EO_PC(VecSet(s->AW, 0));
+            for (int i = 0; i <= k; i++) EO_PC(VecAXPY(s->AW, y[i], s->wv[i]));
+            EO_PC(PCApply(pc, s->AW, s->W)); /* w = A⁻¹ v */
+            EO_PC(MatMult(s->A, s->W, s->AW));
+            PetscScalar c, ww;
+            EO_PC(VecDot(s->W, s->AW, &c));
+            EO_PC(VecDot(s->W, s->W, &ww));
+            *curv = ww > 0 ? c / ww : 0;
+            /* beyond rounding: |wᵀAw − exact| ≲ nnz-row · eps · ‖A‖∞ ‖w‖² */
+            if (c < -1e-12 * anorm * ww) *found = 1;
+            break;
+        }
+        if (k + 1 == WITNESS_STEPS) break;
+        EO_PC(VecNorm(s->W, NORM_2, &nrm));
+        beta[k] = nrm;
+        if (!(nrm > 1e-14 * fabs(alpha[0]))) break; /* an invariant subspace without a negative direction */
+        EO_PC(VecCopy(s->W, s->wv[k + 1]));
+        EO_PC(VecScale(s->wv[k + 1], 1.0 / nrm));
+    }
+fail:
+    return rc;
 }
 
 static int ks_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ctx *ctx)
@@ -317,16 +483,62 @@ static int ks_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ctx
     if (eo_petsc_coo_fill(A, s->coo_v) != s->ncoo) return eo_error(ctx, EO_ERR_LINSOLVE, "petsc_ksp: the pattern changed without analyze");
     EO_PC(MatSetValuesCOO(s->A, s->coo_v, INSERT_VALUES));
     EO_PC(KSPSetOperators(s->ksp, s->A, s->A));
-    PetscErrorCode e = KSPSetUp(s->ksp);
+    s->check_curv = 0;
+    stats->n_negative = stats->n_zero = -1;
     PC pc;
-    PCFailedReason why = PC_NOERROR;
     EO_PC(KSPGetPC(s->ksp, &pc));
-    if (!e) EO_PC(PCGetFailedReasonRank(pc, &why));
+    PetscErrorCode e = 0;
+    PCFailedReason why = PC_NOERROR;
+    for (int attempt = 0;; attempt++) {
+        e = KSPSetUp(s->ksp);
+        why = PC_NOERROR;
+        if (!e) EO_PC(PCGetFailedReasonRank(pc, &why));
+        const int outmem = any(s, !e && why == PC_FACTOR_OUTMEMORY);
+        if (!outmem || !s->direct || attempt == OUTMEM_RETRIES) break;
+        /* MUMPS' workspace estimate was short (INFOG(1) = -9): not a statement about the
+         * matrix; grow ICNTL(14) and factor again (a fresh analysis and factorization) */
+        Mat F;
+        PetscInt cur = 20;
+        EO_PC(PCFactorGetMatrix(pc, &F));
+        EO_PC(MatMumpsGetIcntl(F, 14, &cur));
+        s->icntl14 = 2 * (cur > 20 ? cur : 20);
+        eo_log(ctx, EO_LOG_INFO, "petsc_ksp: MUMPS ran out of its workspace estimate (ICNTL(14) = %d %%); "
+               "factoring again with ICNTL(14) = %d %%", (int)cur, (int)s->icntl14);
+        EO_PC(KSPReset(s->ksp));
+        EO_PC(KSPSetOperators(s->ksp, s->A, s->A));
+        EO_PC(PCFactorSetUpMatSolverType(pc));
+        EO_PC(PCFactorGetMatrix(pc, &F));
+        EO_PC(MatMumpsSetIcntl(F, 14, s->icntl14));
+    }
     int failed = e != 0 || why != PC_NOERROR;
     if (any(s, failed)) {
         stats->not_pd_column = -1;
         return eo_error(ctx, EO_WARN_NOT_PD, "petsc_ksp: the factorization failed (%s): the matrix is not positive "
                         "definite", e ? "PETSc error" : PCFailedReasons[why]);
+    }
+    if (s->direct) {
+        Mat F;
+        PetscInt nneg = 0;
+        EO_PC(PCFactorGetMatrix(pc, &F));
+        EO_PC(MatGetInertia(F, &nneg, NULL, NULL));
+        int nn = (int)nneg; /* INFOG is global; the same value on every rank made sure of */
+        MPI_Allreduce(MPI_IN_PLACE, &nn, 1, MPI_INT, MPI_MAX, s->comm);
+        nneg = nn;
+        stats->n_negative = (int)nneg;
+        if (nneg > 0) {
+            double curv = 0;
+            int found = 0;
+            if ((rc = witness(s, pc, &found, &curv)) < 0) return rc;
+            if (found) {
+                stats->not_pd_column = -1;
+                return eo_error(ctx, EO_WARN_NOT_PD, "petsc_ksp: the matrix is not positive definite (MUMPS LDLᵀ: %d "
+                                "negative pivots; a direction of curvature %.3g found)", (int)nneg, curv);
+            }
+            eo_log(ctx, EO_LOG_WARN, "petsc_ksp: MUMPS counted %d negative pivots, but %d Lanczos steps on the "
+                   "inverse found no direction of negative curvature: the matrix is used as positive definite",
+                   (int)nneg, WITNESS_STEPS);
+        }
+        s->check_curv = 1;
     }
 fail:
     return rc;
@@ -403,6 +615,18 @@ back:
     }
     if (kr == KSP_DIVERGED_INDEFINITE_MAT)
         return eo_error(ctx, EO_WARN_NOT_PD, "petsc_ksp: CG met an indefinite matrix (pᵀAp ≤ 0)");
+    if (s->check_curv && !e && kr >= 0) {
+        /* the count said PD: the solved direction's curvature, by MatMult (header) */
+        PetscScalar c, bb;
+        EO_PC(MatMult(s->A, s->X, s->AW));
+        EO_PC(VecDot(s->X, s->AW, &c));
+        EO_PC(VecDot(s->B, s->B, &bb));
+        if (bb > 0 && !(c > 0)) {
+            stats->curvature = c;
+            return eo_error(ctx, EO_WARN_NOT_PD, "petsc_ksp: MUMPS counted no negative pivot, but the solved "
+                            "direction has curvature dᵀAd = %.3g ≤ 0: the matrix is not positive definite", c);
+        }
+    }
     if (e || kr < 0)
         return eo_error(ctx, EO_WARN_NOT_CONVERGED, "petsc_ksp: the solve did not converge (%s)",
                         e ? "PETSc error" : KSPConvergedReasons[kr]);
@@ -451,4 +675,5 @@ const eo_linsolve_type eo_linsolve_petsc_ksp = {
     .is_iterative = ks_is_iterative,
     .describe = ks_describe,
     .set_space = ks_set_space,
+    .set_coordinates = ks_set_coordinates,
 };
