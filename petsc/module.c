@@ -27,7 +27,7 @@ const eo_param_desc eo_petsc_params_desc[] = {
              "minres, gmres"},
     {.key = "pc", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_petsc_params, pc), PP_STR(pc), .def.s = "mumps",
      .choices = pc_names,
-     .help = "preconditioner: mumps (MUMPS Cholesky/LDL^T, direct), gamg (smoothed aggregation AMG with the "
+     .help = "preconditioner: mumps (MUMPS Cholesky/LDL^T, direct), gamg (aggregation AMG, unsmoothed, with the "
              "rigid-body modes), hypre (BoomerAMG), bjacobi_icc (block Jacobi, ICC(0) per rank), jacobi"},
     {.key = "rtol", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_petsc_params, rtol), .def.d = 1e-10, .min = 0,
      .max = 1, .range = EO_RANGE_OPEN, .help = "relative residual tolerance of an iterative Newton solve"},
@@ -132,8 +132,14 @@ int eo_petsc_ksp_configure(eo_ctx *ctx, KSP ksp, const eo_petsc_params *p, eo_di
         EO_PC(PCGAMGSetReuseInterpolation(pc, PETSC_TRUE));
         /* Chebyshev smoothing with a 1.3 safety factor on the eigenvalue estimate
          * (PETSc's 1.1 made the preconditioner indefinite on the inverted scene; CG then
-         * stops with DIVERGED_INDEFINITE_PC and the solve is redone with GMRES) */
-        static const char *const def[][2] = {{"mg_levels_ksp_chebyshev_esteig", "0,0.1,0,1.3"}};
+         * stops with DIVERGED_INDEFINITE_PC and the solve is redone with GMRES).
+         * Unsmoothed aggregation (agg_nsmooths 0): with the six rigid-body modes the
+         * smoothed prolongator made the Galerkin products the largest memory of a rank,
+         * and more per rank on 2 ranks than the whole on one (108k-tet twist: 944 MB on 1
+         * rank, 1072-1092 MB per rank on 2; unsmoothed: 428-430 MB per rank on 2, the
+         * step's CPU 18.8 -> 7.9 s; docs/petsc.md, memory per rank) */
+        static const char *const def[][2] = {{"mg_levels_ksp_chebyshev_esteig", "0,0.1,0,1.3"},
+                                             {"pc_gamg_agg_nsmooths", "0"}};
         for (size_t i = 0; i < sizeof def / sizeof def[0]; i++) {
             char key[96];
             PetscBool set = PETSC_FALSE;
@@ -141,6 +147,15 @@ int eo_petsc_ksp_configure(eo_ctx *ctx, KSP ksp, const eo_petsc_params *p, eo_di
             EO_PC(PetscOptionsHasName(NULL, NULL, key, &set));
             if (!set) EO_PC(PetscOptionsSetValue(NULL, key, def[i][1]));
         }
+        /* on several ranks the Galerkin products P^T A P of the MPIAIJ levels "all at
+         * once" (no explicit transpose of P, no A·P kept beside the product): 400k-tet
+         * twist, 4 ranks, 473 -> 343 MB per rank, CPU +14 %. Global (MatPtAP reads no
+         * prefix here); not on one rank, where the sequential PtAP has no such algorithm. */
+        PetscMPIInt size = 1;
+        MPI_Comm_size(PetscObjectComm((PetscObject)ksp), &size);
+        PetscBool set = PETSC_FALSE;
+        EO_PC(PetscOptionsHasName(NULL, NULL, "-matptap_via", &set));
+        if (size > 1 && !set) EO_PC(PetscOptionsSetValue(NULL, "-matptap_via", "allatonce"));
     } else if (strcmp(p->pc, "hypre") == 0) {
         EO_PC(PCSetType(pc, PCHYPRE));
         EO_PC(PCHYPRESetType(pc, "boomeramg"));

@@ -9,7 +9,8 @@
 static inline int eo_petsc_option_word(const char *a)
 {
     static const char *const pre[] = {"-ksp_", "-pc_", "-mat_", "-snes_", "-tao_", "-log_", "-info", "-options_",
-                                      "-malloc", "-on_error", "-sub_", "-mg_", "-memory_view", "-petscpartitioner_", NULL};
+                                      "-malloc", "-on_error", "-sub_", "-mg_", "-memory_view", "-petscpartitioner_",
+                                      "-matptap_", NULL};
     for (int i = 0; pre[i]; i++)
         if (strncmp(a, pre[i], strlen(pre[i])) == 0) return 1;
     return 0;
