@@ -502,8 +502,13 @@ static int ks_factor(void *st, const eo_csc *A, eo_linsolve_stats *stats, eo_ctx
         EO_PC(PCFactorGetMatrix(pc, &F));
         EO_PC(MatMumpsGetIcntl(F, 14, &cur));
         s->icntl14 = 2 * (cur > 20 ? cur : 20);
-        eo_log(ctx, EO_LOG_INFO, "petsc_ksp: MUMPS ran out of its workspace estimate (ICNTL(14) = %d %%); "
+        eo_log(ctx, EO_LOG_WARN, "petsc_ksp: MUMPS ran out of its workspace estimate (ICNTL(14) = %d %%); "
                "factoring again with ICNTL(14) = %d %%", (int)cur, (int)s->icntl14);
+        /* the options database too: a -mat_mumps_icntl_14 given there (or set by an
+         * earlier retry) would otherwise be read again at the analysis and win */
+        char v[32];
+        snprintf(v, sizeof v, "%d", (int)s->icntl14);
+        EO_PC(PetscOptionsSetValue(NULL, "-mat_mumps_icntl_14", v));
         EO_PC(KSPReset(s->ksp));
         EO_PC(KSPSetOperators(s->ksp, s->A, s->A));
         EO_PC(PCFactorSetUpMatSolverType(pc));
