@@ -408,6 +408,10 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
         s->stop->n = obj->n;
         s->n = obj->n;
     }
+    /* every minimization starts from what it is given, not from what the linear solver
+     * learnt in the ones before (a kept factor or interpolation): a time step's result is
+     * then a function of its start, and a restarted run goes on bit for bit */
+    if (s->linear) eo_linsolve_forget(s->linear);
     s->stop->begun = 0;
     s->stop->ref_dec0 = s->ref_dec0 > 0 && isfinite(s->ref_dec0) ? s->ref_dec0 : 0;
     s->stop->ref_gm0 = s->ref_gm0 > 0 && isfinite(s->ref_gm0) ? s->ref_gm0 : 0;

@@ -13,9 +13,10 @@
  *     more factorization at the same x (no iteration), so over all steps the
  *     factorizations may grow by at most one per ten steps (measured: none);
  *  2. the solves drop (the solver profile's n_solve; each direction is one solve, each
- *     tried estimate one more): by at least 30% over the scenes (measured 414 -> 304; with a gate of 1, 301, and
- *     still no extra factorization; 410 -> 269 since the k = 1 estimate is gated too, by
- *     the previous step's first ratio, factorizations still 207 -> 207), and
+ *     tried estimate one more): by at least 25% over the scenes (measured 374 -> 277,
+ *     factorizations 189 -> 189; the k = 1 estimate is always tried: gating it by the
+ *     previous step's first ratio dropped 34%, but made a step depend on the steps
+ *     before it, and a restarted run differ from an uninterrupted one), and
  *     on the linearly converging `inverted` scene (about 26 iterations per step) to at
  *     most 3 estimates per step (measured 157 solves for 79 directions -> 85); no scene
  *     gets more solves. */
@@ -114,8 +115,8 @@ int main(void)
     }
     printf("total: solves %ld -> %ld, factorizations %ld -> %ld over %d steps\n", solve_off, solve_on, fac_off, fac_on,
            total_steps);
-    /* at least 30%: the k >= 2 gate alone gave 26% (414 -> 304), with the k = 1 gate 34% */
-    CHECK(10 * (solve_off - solve_on) >= 3 * solve_off, "solves %ld -> %ld: less than 30%% dropped", solve_off,
+    /* at least 25% (measured 26%: 374 -> 277) */
+    CHECK(4 * (solve_off - solve_on) >= solve_off, "solves %ld -> %ld: less than 25%% dropped", solve_off,
           solve_on);
     CHECK(10 * (fac_on - fac_off) <= total_steps, "factorizations %ld -> %ld over %d steps", fac_off, fac_on,
           total_steps);

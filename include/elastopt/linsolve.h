@@ -98,6 +98,10 @@ typedef struct eo_linsolve_type {
     /// terms only (the parts' matrices add up to the whole) and b, x are complete at every
     /// copy; NULL: the ordinary one. Appended last.
     int (*set_space)(void *st, const struct eo_vspace *space, eo_ctx *ctx);
+    /// Optional: forget what was learnt from earlier matrices (a factor kept for reuse,
+    /// multigrid interpolation kept between set-ups); keep the symbolic analysis. The
+    /// next factor call is then as the first after analyze. Appended last.
+    void (*forget)(void *st);
 } eo_linsolve_type;
 
 typedef struct eo_linsolve eo_linsolve;
@@ -159,6 +163,14 @@ EO_API int eo_linsolve_set_coordinates(eo_linsolve *ls, int nv, const double *xy
 struct eo_vspace;
 EO_API int eo_linsolve_set_space(eo_linsolve *ls, const struct eo_vspace *space);
 EO_API const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls);
+/// A new problem begins: the next factor and solves must not depend on the matrices
+/// factored before this call (pcg's cholmod_reuse factor, the `auto` policy's, the PETSc
+/// backend's kept GAMG interpolation are rebuilt from the next matrix); the symbolic
+/// analysis is kept. eo_solver_minimize calls it at the start of every minimization, so
+/// that a time step's result depends on the state it starts from and nothing else (what
+/// makes `elastopt run --restart` continue bit for bit). Methods that keep nothing from
+/// one factor call to the next ignore it.
+EO_API void eo_linsolve_forget(eo_linsolve *ls);
 /// 1 if the solves are iterative (an inexact Newton's forcing term applies: set_rtol), 0
 /// if they are direct (a policy such as `auto` answers for the method it chose at the
 /// last analyze; 0 before any).

@@ -52,7 +52,8 @@ extern "C" {
 /// (nterm_cfg, term_type, term_cfg). 10: eo_linsolve_type grew (is_iterative, describe).
 /// 11: the distributed solver core (eo_vspace, eo_objective.space, eo_method_info.flags,
 /// eo_dist_hooks.space). 12: eo_dist_hooks grew (owned_vertices), eo_sys grew (vonce).
-#define EO_ABI_VERSION 12
+/// 13: eo_linsolve_type grew (forget).
+#define EO_ABI_VERSION 13
 
 /// The library's EO_ABI_VERSION.
 EO_API int eo_abi_version(void);

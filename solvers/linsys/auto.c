@@ -5,7 +5,7 @@
  *
  *   n <  reuse_min                 cholmod: a fresh supernodal LLᵀ factor per factor call
  *   reuse_min <= n < iterative_min pcg with cholmod_reuse: a CHOLMOD factor of an earlier
- *                                  matrix of the pattern preconditions CG, refactored when
+ *                                  matrix of the same step (eo_linsolve_forget) preconditions CG, refactored when
  *                                  a solve needs more than refactor_iters iterations (or a
  *                                  fresh factor's own solve: exact, no iteration)
  *   n >= iterative_min             pcg with `preconditioner` (gmg: one Galerkin multigrid
@@ -60,7 +60,7 @@ static const char *const auto_orderings[] = {"auto", "amd", "metis", "nesdis", N
 static const eo_param_desc auto_desc[] = {
     {.key = "reuse_min", .kind = EO_PARAM_INT, .offset = offsetof(auto_params, reuse_min), .def.i = 10000,
      .min = 0, .range = EO_RANGE_MIN,
-     .help = "unknowns from which a CHOLMOD factor is reused across iterations and steps as the preconditioner "
+     .help = "unknowns from which a CHOLMOD factor is reused across the Newton iterations of a step as the preconditioner "
              "of CG (pcg cholmod_reuse); below, cholmod factors every matrix"},
     {.key = "iterative_min", .kind = EO_PARAM_INT, .offset = offsetof(auto_params, iterative_min),
      .def.i = 1500000, .min = 0, .range = EO_RANGE_MIN,
@@ -202,6 +202,12 @@ static void auto_destroy(void *st, eo_ctx *ctx)
     s->xyz = NULL;
 }
 
+static void auto_forget(void *st)
+{
+    auto_state *s = st;
+    eo_linsolve_forget(s->inner);
+}
+
 static void auto_set_rtol(void *st, double rtol)
 {
     auto_state *s = st;
@@ -262,4 +268,5 @@ const eo_linsolve_type eo_linsolve_auto = {
     .set_coordinates = auto_set_coordinates,
     .is_iterative = auto_is_iterative,
     .describe = auto_describe,
+    .forget = auto_forget,
 };

@@ -207,6 +207,11 @@ int eo_linsolve_set_space(eo_linsolve *ls, const struct eo_vspace *space)
 
 const eo_linsolve_stats *eo_linsolve_get_stats(const eo_linsolve *ls) { return &ls->stats; }
 
+void eo_linsolve_forget(eo_linsolve *ls)
+{
+    if (ls && ls->type->forget) ls->type->forget(ls->state);
+}
+
 int eo_linsolve_is_iterative(const eo_linsolve *ls)
 {
     return ls->type->is_iterative ? ls->type->is_iterative(ls->state) != 0 : ls->type->set_rtol != NULL;

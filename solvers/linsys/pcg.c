@@ -12,7 +12,7 @@
  *                  (Meijerink & van der Vorst 1977) with Manteuffel's shift on
  *                  breakdown, Jacobi if every shift fails (ic0.h).
  *   cholmod_reuse  M = L Lᵀ, a CHOLMOD supernodal Cholesky factor of an EARLIER matrix
- *                  of the same pattern, kept across Newton iterations and time steps.
+ *                  of the same pattern, kept across the Newton iterations of a problem.
  *                  Exactly when it refactors (numeric cholmod_factorize of the matrix
  *                  passed to that factor call):
  *                    1. at the first factor after an analyze of a new pattern (an
@@ -30,7 +30,11 @@
  *                       orders of magnitude: stale-factor solves took up to 3 973
  *                       iterations (20 s of CPU for one direction, ~5 ms per iteration
  *                       against ~30 ms for a factorization);
- *                    4. after the previous refactorization failed (not PD).
+ *                    4. after the previous refactorization failed (not PD);
+ *                    5. at the first factor call of a new problem (eo_linsolve_forget:
+ *                       eo_solver_minimize at the start of every minimization, so the
+ *                       factor is kept across the Newton iterations of a time step, not
+ *                       across steps, and a restarted run takes the same path).
  *                  A refactorization of a matrix that is not positive definite returns
  *                  EO_WARN_NOT_PD with the column, as cholmod does. stats.n_refactor
  *                  counts the refactorizations; with a fresh factor PCG converges in one
@@ -423,6 +427,14 @@ static int pcg_set_coordinates(void *st, int nv, const double *xyz, eo_ctx *ctx)
     return EO_OK;
 }
 
+/* a new problem: cholmod_reuse refactors at the next factor call (rule 5 of the file
+ * comment); the other preconditioners are built from every matrix anyway */
+static void pcg_forget(void *st)
+{
+    pcg_state *s = st;
+    if (s->pc == PC_REUSE && s->have_factor) s->need_refactor = 1;
+}
+
 const eo_linsolve_type eo_linsolve_pcg = {
     .info = {.name = "pcg",
              .summary = "preconditioned conjugate gradients (Jacobi, IC(0), reused CHOLMOD factor, "
@@ -437,4 +449,5 @@ const eo_linsolve_type eo_linsolve_pcg = {
     .destroy = pcg_destroy,
     .set_rtol = pcg_set_rtol,
     .set_coordinates = pcg_set_coordinates,
+    .forget = pcg_forget,
 };
