@@ -84,6 +84,10 @@ const eo_param_desc eo_solver_opts_desc[] = {
      .help = "native, or petsc: the optimizer distributed over MPI ranks by the PETSc backend (the library's "
              "optimizer on the ranks' parts, linear solver auto = petsc_ksp; snes_* and tao_* as they are); needs a "
              "build with -Dpetsc"},
+    {.key = "carry_linear", .kind = EO_PARAM_BOOL, .offset = offsetof(eo_solver_opts, carry_linear), .def.i = 0,
+     .help = "keep the linear solver's reused factor / AMG interpolation from one time step to the next: fewer "
+             "factorizations, but a step depends on the steps before it and --restart is no longer bit for bit "
+             "(false: forgotten at every minimization)"},
     {0},
 };
 
@@ -411,7 +415,7 @@ int eo_solver_minimize(eo_solver *s, eo_objective *obj, double *x, eo_iter_fn on
     /* every minimization starts from what it is given, not from what the linear solver
      * learnt in the ones before (a kept factor or interpolation): a time step's result is
      * then a function of its start, and a restarted run goes on bit for bit */
-    if (s->linear) eo_linsolve_forget(s->linear);
+    if (s->linear && !s->opts.carry_linear) eo_linsolve_forget(s->linear);
     s->stop->begun = 0;
     s->stop->ref_dec0 = s->ref_dec0 > 0 && isfinite(s->ref_dec0) ? s->ref_dec0 : 0;
     s->stop->ref_gm0 = s->ref_gm0 > 0 && isfinite(s->ref_gm0) ? s->ref_gm0 : 0;

@@ -159,7 +159,7 @@ typedef struct eo_solve_result {
 } eo_solve_result;
 typedef struct eo_solver_opts {
     char optimizer[32]; char hessian_fix[32]; char linesearch[32]; char stop[32];
-    char linear[32]; double tol; int max_iters; double time_budget; char backend[16];
+    char linear[32]; double tol; int max_iters; double time_budget; char backend[16]; int carry_linear;
 } eo_solver_opts;
 int eo_solver_report(const eo_solver_ctx *sc, double t0, eo_iter_info *info);
 void eo_solver_opts_default(eo_solver_opts *o);
