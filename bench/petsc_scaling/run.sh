@@ -10,8 +10,8 @@
 # Processor time includes Open MPI's polling while a rank waits (mpi_yield_when_idle 1
 # lowers it); on a machine with fewer cores than ranks the runs are oversubscribed, which
 # leaves memory, message counts and bytes meaningful, and processor time an upper bound.
-# usage: [PC=gamg|mumps] bench/petsc_scaling/run.sh ELASTOPT OUTDIR strong|weak
-#   strong: 108k, 400k tets on 1, 2, 4, 8 ranks; 980k tets on 1 and 8 ranks
+# usage: [PC=gamg|mumps] bench/petsc_scaling/run.sh ELASTOPT OUTDIR strong|strong-1m|weak
+#   strong: 108k, 400k and 980k tets on 1, 2, 4, 8 ranks (strong-1m: the 980k rows alone)
 #   weak:   51.2k tets per rank (cells [40 P, 16, 16]) on 1, 2, 4, 8 ranks
 # Writes OUTDIR/scaling-<pc>.csv (one row per run) and prints it.
 set -u
@@ -71,8 +71,10 @@ PY
 case "$what" in
   strong)
     for cells in 128,13,13 200,20,20; do for p in 1 2 4 8; do run $cells $p; done; done
-    for p in 1 8; do run 250,28,28 $p; done ;;
+    for p in 1 2 4 8; do run 250,28,28 $p; done ;;
+  strong-1m) # the 980k rows alone
+    for p in 1 2 4 8; do run 250,28,28 $p; done ;;
   weak)
     for p in 1 2 4 8; do run $((40 * p)),16,16 $p; done ;;
-  *) echo "usage: [PC=gamg|mumps] $0 ELASTOPT OUTDIR strong|weak" >&2; exit 2 ;;
+  *) echo "usage: [PC=gamg|mumps] $0 ELASTOPT OUTDIR strong|strong-1m|weak" >&2; exit 2 ;;
 esac
