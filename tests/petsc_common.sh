@@ -3,10 +3,11 @@
 # --allow-run-as-root), a temp folder with $TMPDIR inside it (where the ranks other than 0
 # keep their scratch folders), check().
 . "$(dirname "$0")/petsc_require.sh"
+# mpirun's options (root needs --allow-run-as-root: CI runs as root)
+mpi_opts=(--oversubscribe --mca mpi_yield_when_idle 1)
+[ "$(id -u)" -eq 0 ] && mpi_opts+=(--allow-run-as-root)
 mpi_n() { # mpi_n N: the mpirun command line for N ranks, into the array mpi
-    mpi=(mpirun -n "$1" --oversubscribe --mca mpi_yield_when_idle 1)
-    [ "$(id -u)" -eq 0 ] && mpi+=(--allow-run-as-root)
-    return 0
+    mpi=(mpirun -n "$1" "${mpi_opts[@]}")
 }
 mpi_n 2
 tmp=$(mktemp -d)

@@ -19,16 +19,7 @@
 #     one message.
 # Skipped (77) when the module was not built (-Dpetsc=disabled or no petsc-dev) or mpirun
 # is missing.
-. "$(dirname "$0")/petsc_require.sh"
-mpi=(mpirun -n 2 --oversubscribe --mca mpi_yield_when_idle 1)
-# Open MPI refuses to start as root unless told; CI runs as root
-[ "$(id -u)" -eq 0 ] && mpi+=(--allow-run-as-root)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-mkdir -p "$tmp/scratch"
-export TMPDIR=$tmp/scratch   # where the ranks other than 0 keep their scratch folders
-fail=0
-check() { if "$@"; then :; else echo "FAIL: $*"; fail=1; fi; }
+. "$(dirname "$0")/petsc_common.sh"   # mpi = 2 ranks, tmp, TMPDIR, check
 
 # 1. parity
 for scene in cantilever twist inverted; do
@@ -132,7 +123,7 @@ if [ -f "$bar" ]; then
  "solver": {"optimizer": "newton", "hessian_fix": "clamp"}}
 EOF
     "$ELASTOPT" run "$tmp/b/bar.json" --out "$tmp/b/s" -q || { echo "FAIL: serial bar"; fail=1; }
-    mpi3=(mpirun -n 3 "${mpi[@]:3}")
+    mpi3=(mpirun -n 3 "${mpi_opts[@]}")
     timeout 300 "${mpi3[@]}" "$ELASTOPT" run "$tmp/b/bar.json" -o solver.backend=petsc --out "$tmp/b/p" -v \
         > "$tmp/b/p.log" 2>&1
     check [ $? -eq 0 ]

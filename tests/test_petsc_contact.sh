@@ -14,21 +14,14 @@
 # contact get it twice (1.4e-4 m off after 10 steps on 2 ranks, 7 iterations instead of 5).
 # Friction the same way (its lagged contacts built on the owners only): the box thrown
 # sideways with friction 0.3, 40 steps, 2 and 4 ranks.
-. "$(dirname "$0")/petsc_require.sh"
-mpi=(--oversubscribe --mca mpi_yield_when_idle 1)
-[ "$(id -u)" -eq 0 ] && mpi+=(--allow-run-as-root)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-mkdir -p "$tmp/scratch"
-export TMPDIR=$tmp/scratch
-fail=0
+. "$(dirname "$0")/petsc_common.sh"
 common=(--scene drop -o "mesh.generate.cells=[4,4,4]" -o time.steps=40)
 for m in "solver.hessian_fix=project_on_demand" "solver.hessian_fix=clamp" "solver.optimizer=lbfgs"; do
     slack=1
     [ "$m" = solver.optimizer=lbfgs ] && slack=100
     "$ELASTOPT" run "${common[@]}" -o "$m" --out "$tmp/s" -q --force || { echo "FAIL: serial $m"; fail=1; continue; }
     for k in 1 2 4; do
-        timeout 120 mpirun -n $k "${mpi[@]}" "$ELASTOPT" run "${common[@]}" -o "$m" -o solver.backend=petsc \
+        timeout 120 mpirun -n $k "${mpi_opts[@]}" "$ELASTOPT" run "${common[@]}" -o "$m" -o solver.backend=petsc \
             --out "$tmp/p" -q --force > "$tmp/p.log" 2>&1
         rc=$?
         out=$(python3 "$here/petsc_compare.py" "$tmp/s" "$tmp/p" 1e-8 "drop $m, $k ranks")
@@ -46,7 +39,7 @@ fr=(--scene drop -o "mesh.generate.cells=[4,4,4]" -o "initial.velocity=[1,0,-1]"
     -o time.steps=40)
 "$ELASTOPT" run "${fr[@]}" --out "$tmp/s" -q --force || { echo "FAIL: serial friction"; fail=1; }
 for k in 2 4; do
-    timeout 120 mpirun -n $k "${mpi[@]}" "$ELASTOPT" run "${fr[@]}" -o solver.backend=petsc --out "$tmp/p" -q --force \
+    timeout 120 mpirun -n $k "${mpi_opts[@]}" "$ELASTOPT" run "${fr[@]}" -o solver.backend=petsc --out "$tmp/p" -q --force \
         > "$tmp/p.log" 2>&1
     rc=$?
     out=$(python3 "$here/petsc_compare.py" "$tmp/s" "$tmp/p" 1e-8 "drop with friction, $k ranks")

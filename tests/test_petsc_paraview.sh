@@ -4,17 +4,11 @@
 # and compared with the serial run's output: same frames, cells and points (the pieces'
 # shared points merged), displacement ranges equal to 1e-8 (tests/petsc_paraview.py).
 # Skipped (77) without the PETSc module, mpirun or pvbatch.
-. "$(dirname "$0")/petsc_require.sh"
+. "$(dirname "$0")/petsc_common.sh"
 pvb=$(command -v pvbatch || command -v pvbatch3.11 || true)
 [ -n "$pvb" ] || { echo "skip: no pvbatch (apt-get install paraview python3-paraview)"; exit 77; }
-mpi=(--oversubscribe --mca mpi_yield_when_idle 1)
-[ "$(id -u)" -eq 0 ] && mpi+=(--allow-run-as-root)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-mkdir -p "$tmp/scratch"
-export TMPDIR=$tmp/scratch
 "$ELASTOPT" run --scene twist -o time.steps=3 --out "$tmp/s" -q || { echo "FAIL: serial run"; exit 1; }
-timeout 120 mpirun -n 4 "${mpi[@]}" "$ELASTOPT" run --scene twist -o time.steps=3 -o solver.backend=petsc \
+timeout 120 mpirun -n 4 "${mpi_opts[@]}" "$ELASTOPT" run --scene twist -o time.steps=3 -o solver.backend=petsc \
     --out "$tmp/p" -q > "$tmp/p.log" 2>&1 || { echo "FAIL: 4-rank run"; cat "$tmp/p.log"; exit 1; }
 (cd "$tmp" && timeout 300 "$pvb" "$here/petsc_paraview.py" "$tmp/s" "$tmp/p" 2>&1) | grep -v "^$" | tail -5 > "$tmp/pv.log"
 cat "$tmp/pv.log"

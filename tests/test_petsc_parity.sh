@@ -9,14 +9,27 @@
 # scene (indefinite Hessians) with project_on_demand, shift and clamp. Every step of
 # every run converges. Prints the table scene × method × ranks → max |Δx|.
 # Skipped (77) when the module was not built or mpirun is missing.
-. "$(dirname "$0")/petsc_require.sh"
-mpi=(--oversubscribe --mca mpi_yield_when_idle 1)
-[ "$(id -u)" -eq 0 ] && mpi+=(--allow-run-as-root)
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-mkdir -p "$tmp/scratch"
-export TMPDIR=$tmp/scratch
-fail=0
+. "$(dirname "$0")/petsc_common.sh"
+
+# cell LABEL K RUN-ARGS...: the run on K ranks against the serial one in $tmp/s (positions
+# within 1e-8, every step converged, iterations within the parity rule); appends the
+# max |dx| (or FAIL) to $row
+cell() {
+    local label=$1 k=$2 rc out crc prc=0 dx
+    shift 2
+    timeout 300 mpirun -n "$k" "${mpi_opts[@]}" "$ELASTOPT" run "$@" -o solver.backend=petsc --out "$tmp/p" -q \
+        --force > "$tmp/p.log" 2>&1
+    rc=$?
+    out=$(python3 "$here/petsc_compare.py" "$tmp/s" "$tmp/p" 1e-8 x)
+    crc=$?
+    python3 "$here/petsc_parity.py" "$tmp/s" "$tmp/p" 100 x > "$tmp/par.log" || prc=1
+    dx=$(echo "$out" | sed -n 's/.*max |dx| = \([^ ]*\) m.*/\1/p')
+    if [ $rc -ne 0 ] || [ $crc -ne 0 ] || [ $prc -ne 0 ]; then
+        echo "FAIL: $label $k ranks: exit $rc, $out"; cat "$tmp/par.log"; tail -5 "$tmp/p.log"; fail=1
+        dx="FAIL"
+    fi
+    row="$row $(printf "%12s" "${dx:-?}")"
+}
 
 scenes=(cantilever twist)
 bar=${EO_SHARED:-$here/../../shared}/meshes/ipc_bar-2523.msh
@@ -38,19 +51,7 @@ for scene in "${scenes[@]}"; do
         row=""
         for k in 1 2 4; do
             # shellcheck disable=SC2046
-            timeout 300 mpirun -n $k "${mpi[@]}" "$ELASTOPT" run $(src "$scene") -o time.steps=10 $(mopt "$m") \
-                -o solver.backend=petsc --out "$tmp/p" -q --force > "$tmp/p.log" 2>&1
-            rc=$?
-            out=$(python3 "$here/petsc_compare.py" "$tmp/s" "$tmp/p" 1e-8 x)
-            crc=$?
-            prc=0
-            python3 "$here/petsc_parity.py" "$tmp/s" "$tmp/p" 100 x > "$tmp/par.log" || prc=1
-            dx=$(echo "$out" | sed -n 's/.*max |dx| = \([^ ]*\) m.*/\1/p')
-            if [ $rc -ne 0 ] || [ $crc -ne 0 ] || [ $prc -ne 0 ]; then
-                echo "FAIL: $scene $m $k ranks: exit $rc, $out"; cat "$tmp/par.log"; tail -5 "$tmp/p.log"; fail=1
-                dx="FAIL"
-            fi
-            row="$row $(printf "%12s" "${dx:-?}")"
+            cell "$scene $m" "$k" $(src "$scene") -o time.steps=10 $(mopt "$m")
         done
         printf "%-11s %-20s%s\n" "$scene" "$m" "$row"
     done
@@ -63,19 +64,7 @@ for m in project_on_demand shift clamp; do
         { echo "FAIL: serial inverted $m"; fail=1; continue; }
     row=""
     for k in 1 2 4; do
-        timeout 300 mpirun -n $k "${mpi[@]}" "$ELASTOPT" run --scene inverted -o time.steps=10 -o solver.hessian_fix=$m \
-            -o solver.backend=petsc -o solver.petsc_ksp.pc=mumps --out "$tmp/p" -q --force > "$tmp/p.log" 2>&1
-        rc=$?
-        out=$(python3 "$here/petsc_compare.py" "$tmp/s" "$tmp/p" 1e-8 x)
-        crc=$?
-        prc=0
-        python3 "$here/petsc_parity.py" "$tmp/s" "$tmp/p" 100 x > "$tmp/par.log" || prc=1
-        dx=$(echo "$out" | sed -n 's/.*max |dx| = \([^ ]*\) m.*/\1/p')
-        if [ $rc -ne 0 ] || [ $crc -ne 0 ] || [ $prc -ne 0 ]; then
-            echo "FAIL: inverted $m $k ranks: exit $rc, $out"; cat "$tmp/par.log"; tail -5 "$tmp/p.log"; fail=1
-            dx="FAIL"
-        fi
-        row="$row $(printf "%12s" "${dx:-?}")"
+        cell "inverted $m" "$k" --scene inverted -o time.steps=10 -o solver.hessian_fix=$m -o solver.petsc_ksp.pc=mumps
     done
     printf "%-11s %-20s%s\n" inverted "$m" "$row"
 done
@@ -85,7 +74,7 @@ done
 for m in "solver.optimizer=newton_tr" "solver.optimizer=ncg" "solver.linesearch=wolfe" "solver.linesearch=exact" \
     "solver.linesearch=barrier_filter" "solver.stop=newton_decrement" "solver.stop=characteristic_gradient"; do
     "$ELASTOPT" run --scene twist -o time.steps=10 -o "$m" --out "$tmp/s" -q --force || { echo "FAIL: serial $m"; fail=1; continue; }
-    timeout 300 mpirun -n 2 "${mpi[@]}" "$ELASTOPT" run --scene twist -o time.steps=10 -o "$m" -o solver.backend=petsc \
+    timeout 300 mpirun -n 2 "${mpi_opts[@]}" "$ELASTOPT" run --scene twist -o time.steps=10 -o "$m" -o solver.backend=petsc \
         --out "$tmp/p" -q --force > "$tmp/p.log" 2>&1
     rc=$?
     out=$(python3 "$here/petsc_compare.py" "$tmp/s" "$tmp/p" 1e-8 "twist $m, 2 ranks")
