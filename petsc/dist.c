@@ -285,6 +285,21 @@ fail:
     return rc;
 }
 
+int eo_dist_sum_rep(eo_dist *d, const double *v, Vec V)
+{
+    eo_ctx *ctx = d->ctx;
+    int rc = EO_OK;
+    PetscScalar *a;
+    EO_PC(VecGetArray(d->xl, &a));
+    memcpy(a, v, (size_t)d->n * sizeof(double));
+    EO_PC(VecRestoreArray(d->xl, &a));
+    EO_PC(VecSet(V, 0));
+    EO_PC(VecScatterBegin(d->to_local, d->xl, V, ADD_VALUES, SCATTER_REVERSE));
+    EO_PC(VecScatterEnd(d->to_local, d->xl, V, ADD_VALUES, SCATTER_REVERSE));
+fail:
+    return rc;
+}
+
 double eo_dist_sum(eo_dist *d, double v)
 {
     double s = 0;

@@ -106,6 +106,9 @@ int eo_dist_hessian(eo_dist *d, eo_objective *obj, Vec X, eo_proj proj);
 int eo_dist_inverted(eo_dist *d, eo_objective *obj, Vec X);
 /* Sum of v over the ranks. */
 double eo_dist_sum(eo_dist *d, double v);
+/* V <- the parts' values v (local free coordinates) summed onto their owners (as the
+ * gradient: a lumped mass diagonal becomes the whole body's). */
+int eo_dist_sum_rep(eo_dist *d, const double *v, Vec V);
 
 /* A MATAIJ (block size 3 where every rank's rows allow it, symmetric) preallocated for the
  * COO entries of both triangles of the part's upper-triangle CSC H in global numbering glob

@@ -10,14 +10,23 @@
  *   tao_lmvm        TAO limited-memory variable metric (no Hessian)
  *   tao_bqnls       TAO bound-constrained quasi-Newton line search (no bounds here)
  *
- * Stopping: SNES: ‖F‖ ≤ tol·‖F(x₀)‖ (snes rtol = solver.tol, step tolerance off); TAO:
- * ‖∇g‖ ≤ tol·‖∇g(x₀)‖ (gttol). solver.max_iters caps the iterations; the KSP is
+ * Stopping: the library's rule (solver.stop) on the common measure, as for every other
+ * optimizer (solver.h, "The convergence measure"): the metric gradient norm
+ * ‖∇g‖_{D⁻¹} (D = the objective's metric, a lumped mass summed onto the owners) against
+ * tol times its value at x₀, with the rounding floor EO_STOP_FLOOR·ε²·s[1] of the step's
+ * start (s summed over the ranks), so that a step at its minimizer is converged instead
+ * of a line search failing at the rounding level (snes_newtonls reported
+ * diverged_linesearch at ‖∇g‖ = 2e-12 on the cantilever). The values are global
+ * (PETSc vectors and reductions), so every rank takes the same decision. SNES's and TAO's
+ * own tests (iteration caps, NaN, function counts) still apply; their tolerances are
+ * off. solver.max_iters caps the iterations; the KSP is
  * configured from solver.<name> as for petsc_ksp (then -snes_* / -tao_* / -ksp_*
  * options). The callback gets one record per iteration from the solver's monitor
  * (g, ‖∇g‖). Reasons: PETSc's converged reasons → converged_gradient (converged_step for
  * a SNES step-length stop), iteration cap → diverged_max_iters, line search failure →
  * diverged_linesearch, a non-finite value → diverged_nonfinite, the rest →
  * diverged_external. */
+#include <float.h>
 #include <math.h>
 #include <petscsnes.h>
 #include <petsctao.h>
@@ -37,6 +46,12 @@ typedef struct pk_state {
     int stop;              /* the callback asked to stop */
     eo_solve_result *res;
     int err;               /* an eo status from inside a PETSc callback */
+    /* the common measure (stop_prepare, stop_check) */
+    Vec Dinv, W;           /* D⁻¹ of the metric on the owned rows; work */
+    Vec Fprev;             /* SNES: ∇g at the previous iterate, for its direction's decrement */
+    Vec Xb;                /* SNES: x before a full step at the rounding level */
+    double floor_grad, floor_dec, g_scale, g0, gn0, gm0, dec0, dec_last;
+    int begun;
 } pk_state;
 
 static int pk_setup(void *st, const void *params, int n, eo_ctx *ctx)
@@ -51,7 +66,83 @@ static void pk_destroy(void *st, eo_ctx *ctx)
     pk_state *s = st;
     VecDestroy(&s->X);
     VecDestroy(&s->G);
+    VecDestroy(&s->Dinv);
+    VecDestroy(&s->W);
+    VecDestroy(&s->Fprev);
+    VecDestroy(&s->Xb);
     eo_dist_destroy(&s->d);
+}
+
+/* ---- the common measure */
+
+/* D⁻¹ (the parts' metric diagonals summed onto the owners; the identity where an objective
+ * has none, on every rank alike) and the rounding floor at x₀ (x: the local coordinates) */
+static int stop_prepare(pk_state *s, eo_objective *obj, const double *x)
+{
+    eo_ctx *ctx = s->d.ctx;
+    int rc = EO_OK;
+    double *dm = s->d.grep; /* scratch: n doubles, free before the solve */
+    int ok = obj->ops->metric_diag && obj->ops->metric_diag(obj->data, dm) >= 0;
+    for (int i = 0; ok && i < s->d.n; i++) ok = isfinite(dm[i]) && dm[i] >= 0;
+    int all = ok;
+    MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, s->d.comm);
+    if (!all)
+        for (int i = 0; i < s->d.n; i++) dm[i] = 1;
+    if ((rc = eo_dist_sum_rep(&s->d, dm, s->Dinv)) < 0) return rc;
+    if (!all) EO_PC(VecSet(s->Dinv, 1));
+    EO_PC(VecReciprocal(s->Dinv));
+    double rs[3] = {0, 0, 0};
+    ok = eo_objective_rounding_scale(obj, x, rs) >= 0 && isfinite(rs[1]) && isfinite(rs[2]);
+    MPI_Allreduce(&ok, &all, 1, MPI_INT, MPI_MIN, s->d.comm);
+    const double e2 = DBL_EPSILON * DBL_EPSILON;
+    s->floor_grad = all ? EO_STOP_FLOOR * e2 * eo_dist_sum(&s->d, rs[1]) : 0;
+    s->floor_dec = all ? EO_STOP_FLOOR * e2 * eo_dist_sum(&s->d, rs[0]) : 0;
+    s->dec0 = s->dec_last = NAN;
+    s->g_scale = all ? eo_dist_sum(&s->d, rs[2]) : 0;
+    s->begun = 0;
+fail:
+    return rc;
+}
+
+/* solver.stop at an iterate with value g and gradient G (global): 0 or a converged reason */
+static int stop_check(pk_state *s, int it, double g, Vec G, double gn)
+{
+    double m2 = 0;
+    if (VecPointwiseMult(s->W, G, G) || VecDot(s->W, s->Dinv, &m2)) return 0;
+    const double gm = sqrt(m2);
+    if (!s->begun) {
+        s->g0 = g, s->gn0 = gn, s->gm0 = gm;
+        s->begun = 1;
+    }
+    const eo_solver_ctx *sc = s->sc;
+    eo_stop_info si = {.iteration = it, .g = g, .g_prev = NAN, .grad_norm = gn, .grad_norm0 = s->gn0,
+                       .decrement = NAN, .decrement0 = NAN, .decrement_prev = NAN, .step_norm = NAN,
+                       .x_norm = NAN, .tol = sc->tol, .measure = EO_MEASURE_GRADIENT, .g0 = s->g0,
+                       .grad_metric = gm, .grad_metric0 = s->gm0, .floor_dec = 0, .floor_grad = s->floor_grad,
+                       .g_scale = s->g_scale, .grad_char = 0};
+    const int r = sc->stop->check(sc->stop_params, &si);
+    return r > 0 ? r : 0;
+}
+
+/* snes_newtonls stopped by its line search: the Newton decrement λ²/2 = ½ FᵀY of the
+ * direction Y = J⁻¹F it could not follow from the final x, tested by solver.stop as the
+ * library's newton tests its own (relative to the first direction's, with the rounding
+ * floor of the step's start): a line search that fails at the minimizer, where g no longer
+ * resolves a decrease, is convergence, not failure. 0 or a converged reason. */
+static int stop_check_decrement(pk_state *s, SNES snes, int it, double g, Vec G, double gn)
+{
+    Vec Y;
+    double fy = NAN, m2 = 0;
+    if (SNESGetSolutionUpdate(snes, &Y) || !Y || VecDot(G, Y, &fy) || !(fy >= 0)) return 0;
+    if (VecPointwiseMult(s->W, G, G) || VecDot(s->W, s->Dinv, &m2)) return 0;
+    const eo_solver_ctx *sc = s->sc;
+    eo_stop_info si = {.iteration = it, .g = g, .g_prev = NAN, .grad_norm = gn, .grad_norm0 = s->gn0,
+                       .decrement = fy / 2, .decrement0 = s->dec0, .decrement_prev = s->dec_last, .step_norm = NAN,
+                       .x_norm = NAN, .tol = sc->tol, .measure = EO_MEASURE_DECREMENT, .g0 = s->g0,
+                       .grad_metric = sqrt(m2), .grad_metric0 = s->gm0, .floor_dec = s->floor_dec,
+                       .floor_grad = s->floor_grad, .g_scale = s->g_scale, .grad_char = 0};
+    const int r = sc->stop->check(sc->stop_params, &si);
+    return r > 0 ? r : 0;
 }
 
 /* ---- callbacks */
@@ -141,6 +232,32 @@ static int record(pk_state *s, int it, Vec X, double g, double gn)
     return all;
 }
 
+/* SNES's own test (caps, NaN, function counts; its tolerances off), then the common one */
+static PetscErrorCode snes_conv(SNES snes, PetscInt it, PetscReal xn, PetscReal sn, PetscReal fn,
+                                SNESConvergedReason *reason, void *u)
+{
+    pk_state *s = u;
+    PetscErrorCode e = SNESConvergedDefault(snes, it, xn, sn, fn, reason, NULL);
+    if (e || *reason != SNES_CONVERGED_ITERATING || !isfinite(fn)) return e;
+    Vec F, X;
+    PetscReal g = NAN;
+    SNESGetFunction(snes, &F, NULL, NULL);
+    SNESGetSolution(snes, &X);
+    if (cb_objective(s, X, &g)) return PETSC_ERR_LIB;
+    if (it > 0) { /* Y is the direction taken from the previous iterate: its decrement */
+        Vec Y;
+        double fy = NAN;
+        if (!SNESGetSolutionUpdate(snes, &Y) && Y && !VecDot(s->Fprev, Y, &fy) && fy >= 0) {
+            s->dec_last = fy / 2;
+            if (it == 1) s->dec0 = fy / 2;
+        }
+    }
+    if (!s->Fprev && VecDuplicate(F, &s->Fprev)) return PETSC_ERR_LIB;
+    VecCopy(F, s->Fprev);
+    if (stop_check(s, (int)it, g, F, fn)) *reason = SNES_CONVERGED_FNORM_RELATIVE;
+    return 0;
+}
+
 static PetscErrorCode snes_mon(SNES snes, PetscInt it, PetscReal fn, void *u)
 {
     pk_state *s = u;
@@ -168,6 +285,23 @@ static PetscErrorCode tao_mon(Tao tao, void *u)
         s->stop = 1;
         TaoSetConvergedReason(tao, TAO_DIVERGED_USER);
     }
+    return 0;
+}
+
+/* TAO's own test (caps, NaN, function counts; its tolerances off), then the common one */
+static PetscErrorCode tao_conv(Tao tao, void *u)
+{
+    pk_state *s = u;
+    PetscErrorCode e = TaoDefaultConvergenceTest(tao, NULL);
+    TaoConvergedReason r;
+    if (e || TaoGetConvergedReason(tao, &r) || r != TAO_CONTINUE_ITERATING) return e;
+    PetscInt it;
+    PetscReal f, gn, cn, xd;
+    TaoGetSolutionStatus(tao, &it, &f, &gn, &cn, &xd, &r);
+    if (!isfinite(f) || !isfinite(gn)) return 0;
+    Vec G;
+    if (TaoGetGradient(tao, &G, NULL, NULL) || !G) return 0;
+    if (stop_check(s, (int)it, f, G, gn)) TaoSetConvergedReason(tao, TAO_CONVERGED_GTTOL);
     return 0;
 }
 
@@ -199,9 +333,16 @@ static int run(kind kd, void *st, const void *params, const eo_solver_ctx *sc, d
     if (rebuilt || !s->X) {
         VecDestroy(&s->X);
         VecDestroy(&s->G);
-        if ((rc = eo_dist_vec(&s->d, &s->X)) < 0 || (rc = eo_dist_vec(&s->d, &s->G)) < 0) goto done;
+        VecDestroy(&s->Dinv);
+        VecDestroy(&s->W);
+        VecDestroy(&s->Fprev);
+        VecDestroy(&s->Xb);
+        if ((rc = eo_dist_vec(&s->d, &s->X)) < 0 || (rc = eo_dist_vec(&s->d, &s->G)) < 0 ||
+            (rc = eo_dist_vec(&s->d, &s->Dinv)) < 0 || (rc = eo_dist_vec(&s->d, &s->W)) < 0)
+            goto done;
     }
     if ((rc = eo_dist_from_rep(&s->d, x, s->X)) < 0) goto done;
+    if ((rc = stop_prepare(s, obj, x)) < 0) goto done;
     const int needs_h = kd == K_SNES_LS || kd == K_SNES_TR || kd == K_TAO_NLS || kd == K_TAO_NTR;
     if (needs_h && (rc = eo_dist_hessian(&s->d, obj, s->X, sc->hessfix ? sc->hessfix->elem_proj : EO_PROJ_CLAMP)) < 0)
         goto done; /* creates the matrix */
@@ -212,7 +353,8 @@ static int run(kind kd, void *st, const void *params, const eo_solver_ctx *sc, d
         EO_PC(SNESSetFunction(snes, s->G, snes_fun, s));
         EO_PC(SNESSetJacobian(snes, s->d.A, s->d.A, snes_jac, s));
         EO_PC(SNESSetObjective(snes, snes_obj, s));
-        EO_PC(SNESSetTolerances(snes, 1e-300, sc->tol, 0, maxit, -1));
+        EO_PC(SNESSetTolerances(snes, 0, 0, 0, maxit, -1));
+        EO_PC(SNESSetConvergenceTest(snes, snes_conv, s, NULL));
         EO_PC(SNESMonitorSet(snes, snes_mon, s, NULL));
         EO_PC(SNESGetKSP(snes, &ksp));
         if ((rc = eo_petsc_ksp_configure(ctx, ksp, p, &s->d, NULL)) < 0) goto done;
@@ -231,6 +373,34 @@ static int run(kind kd, void *st, const void *params, const eo_solver_ctx *sc, d
         EO_PC(SNESGetLinearSolveIterations(snes, &li));
         res->lin_iters = li;
         res->iterations = (int)it;
+        if (r == SNES_DIVERGED_LINE_SEARCH && !s->stop) {
+            double gl = NAN, gnl = NAN;
+            if ((rc = eo_dist_gradient(&s->d, obj, s->X, &gl, s->G)) < 0) goto done;
+            EO_PC(VecNorm(s->G, NORM_2, &gnl));
+            reason = stop_check_decrement(s, snes, (int)it, gl, s->G, gnl);
+            Vec Y;
+            double fy = NAN;
+            EO_PC(SNESGetSolutionUpdate(snes, &Y));
+            EO_PC(VecDot(s->G, Y, &fy));
+            double gs = fabs(gl) > fabs(s->g0) ? fabs(gl) : fabs(s->g0);
+            if (s->g_scale > gs) gs = s->g_scale;
+            if (!reason && fy >= 0 && fy / 2 <= DBL_EPSILON * gs) {
+                /* the direction's decrease is below what g resolves, so no line search on g
+                 * can judge it: take the full Newton step, as the library's newton does at the
+                 * rounding level, and keep it only if the measure then passes */
+                if (!s->Xb) EO_PC(VecDuplicate(s->X, &s->Xb));
+                EO_PC(VecCopy(s->X, s->Xb));
+                EO_PC(VecAXPY(s->X, -1, Y));
+                double g2 = NAN, gn2 = NAN;
+                if ((rc = eo_dist_gradient(&s->d, obj, s->X, &g2, s->G)) < 0) goto done;
+                EO_PC(VecNorm(s->G, NORM_2, &gn2));
+                if (isfinite(g2) && (reason = stop_check(s, (int)it + 1, g2, s->G, gn2)))
+                    res->iterations = (int)it + 1;
+                else
+                    EO_PC(VecCopy(s->Xb, s->X));
+            }
+        }
+        if (!reason)
         reason = s->stop                              ? EO_DIVERGED_EXTERNAL
                  : r == SNES_CONVERGED_SNORM_RELATIVE ? EO_CONVERGED_STEP
                  : r > 0                              ? EO_CONVERGED_GRADIENT
@@ -247,7 +417,8 @@ static int run(kind kd, void *st, const void *params, const eo_solver_ctx *sc, d
         EO_PC(TaoSetSolution(tao, s->X));
         EO_PC(TaoSetObjectiveAndGradient(tao, s->G, tao_fg, s));
         if (needs_h) EO_PC(TaoSetHessian(tao, s->d.A, s->d.A, tao_hess, s));
-        EO_PC(TaoSetTolerances(tao, 0, 0, sc->tol));
+        EO_PC(TaoSetTolerances(tao, 0, 0, 0));
+        EO_PC(TaoSetConvergenceTest(tao, tao_conv, s));
         EO_PC(TaoSetMaximumIterations(tao, maxit));
         EO_PC(TaoSetMaximumFunctionEvaluations(tao, 100 * maxit + 1000));
         EO_PC(TaoSetMonitor(tao, tao_mon, s, NULL));
