@@ -400,15 +400,15 @@ static int run(kind kd, void *st, const void *params, const eo_solver_ctx *sc, d
                     EO_PC(VecCopy(s->Xb, s->X));
             }
         }
-        if (!reason)
-        reason = s->stop                              ? EO_DIVERGED_EXTERNAL
-                 : r == SNES_CONVERGED_SNORM_RELATIVE ? EO_CONVERGED_STEP
-                 : r > 0                              ? EO_CONVERGED_GRADIENT
-                 : r == SNES_DIVERGED_MAX_IT          ? EO_DIVERGED_MAX_ITERS
-                 : r == SNES_DIVERGED_LINE_SEARCH     ? EO_DIVERGED_LINESEARCH
-                 : r == SNES_DIVERGED_FNORM_NAN || r == SNES_DIVERGED_FUNCTION_DOMAIN ? EO_DIVERGED_NONFINITE
-                 : r == SNES_DIVERGED_LINEAR_SOLVE    ? EO_DIVERGED_LINSOLVE
-                                                      : EO_DIVERGED_EXTERNAL;
+        if (!reason) /* not converged by the decrement test or the full step above */
+            reason = s->stop                              ? EO_DIVERGED_EXTERNAL
+                     : r == SNES_CONVERGED_SNORM_RELATIVE ? EO_CONVERGED_STEP
+                     : r > 0                              ? EO_CONVERGED_GRADIENT
+                     : r == SNES_DIVERGED_MAX_IT          ? EO_DIVERGED_MAX_ITERS
+                     : r == SNES_DIVERGED_LINE_SEARCH     ? EO_DIVERGED_LINESEARCH
+                     : r == SNES_DIVERGED_FNORM_NAN || r == SNES_DIVERGED_FUNCTION_DOMAIN ? EO_DIVERGED_NONFINITE
+                     : r == SNES_DIVERGED_LINEAR_SOLVE    ? EO_DIVERGED_LINSOLVE
+                                                          : EO_DIVERGED_EXTERNAL;
     } else {
         static const char *const types[] = {[K_TAO_NLS] = TAONLS, [K_TAO_NTR] = TAONTR, [K_TAO_LMVM] = TAOLMVM,
                                             [K_TAO_BQNLS] = TAOBQNLS};
