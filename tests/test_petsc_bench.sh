@@ -3,7 +3,7 @@
 # docs/petsc.md): every rank runs its part of each scene with distributed configurations
 # (tests/data/petsc_mpi_suite.json: newton on the PETSc backend (petsc_ksp) with MUMPS and with CG + Jacobi,
 # snes_newtonls (its line search failing at the rounding level of g is not a failure),
-# snes_newtontr, tao_nls; two scenes):
+# snes_newtontr, tao_nls, tao_lmvm (with the scalar initial scaling); two scenes):
 #  1. on 2 ranks: exit 0, every configuration converged on both scenes, rank 0's report
 #     counts the whole mesh (900 tets, 336 vertices), no scratch folder left;
 #  2. the same suite on one process: the reference's g(x0) and g(x*) agree to 1e-9 and
@@ -19,8 +19,8 @@ check [ $? -eq 0 ]
 check python3 - "$tmp/b2/summary.csv" <<'PY'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
-ok = len(rows) == 10 and all(r["status"] == "converged" and r["tets"] == "900" for r in rows)
-print([(r["scene"], r["config"], r["status"]) for r in rows if r["status"] != "converged"] or "all 10 converged")
+ok = len(rows) == 12 and all(r["status"] == "converged" and r["tets"] == "900" for r in rows)
+print([(r["scene"], r["config"], r["status"]) for r in rows if r["status"] != "converged"] or "all 12 converged")
 sys.exit(0 if ok else 1)
 PY
 check [ "$(grep -c "900 tets, 336 vertices" "$tmp/b2/report.md")" -eq 2 ]
