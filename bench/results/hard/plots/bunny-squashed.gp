@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7433, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-squashed: 19379 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-6: lbfgs-wolfe, 1.27x faster than the next, pd_local_global-anderson; 7.04x faster than the baseline" font ',12'
+set multiplot title "bunny-squashed: 19379 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.09x faster than the next, lbfgs-wolfe; 7.44x faster than the baseline" font ',12'
 
 # panel 1: measured step 1
 set lmargin at screen 0.0619
@@ -62,11 +62,11 @@ plot \
   'bunny-squashed.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
   'bunny-squashed.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'newton-project_on_demand-backtracking', \
   'bunny-squashed.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
-  'bunny-squashed.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
+  'bunny-squashed.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
   'bunny-squashed.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
   'bunny-squashed.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson', \
   'bunny-squashed.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 3 title 'aqp', \
-  'bunny-squashed.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
+  'bunny-squashed.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 3.0 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking (fastest)', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
@@ -104,7 +104,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7433, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-squashed: 19379 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-6: lbfgs-wolfe, 1.27x faster than the next, pd_local_global-anderson; 7.04x faster than the baseline" font ',12'
+set multiplot title "bunny-squashed: 19379 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.09x faster than the next, lbfgs-wolfe; 7.44x faster than the baseline" font ',12'
 
 # panel 1: measured step 1
 set lmargin at screen 0.0619
@@ -137,11 +137,11 @@ plot \
   'bunny-squashed.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
   'bunny-squashed.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'newton-project_on_demand-backtracking', \
   'bunny-squashed.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
-  'bunny-squashed.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
+  'bunny-squashed.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
   'bunny-squashed.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
   'bunny-squashed.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson', \
   'bunny-squashed.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 3 title 'aqp', \
-  'bunny-squashed.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
+  'bunny-squashed.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 3.0 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking (fastest)', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \

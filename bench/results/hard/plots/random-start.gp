@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.8249, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "random-start: 320 tets, stable_neo_hookean E=100000 nu=0.3; 3 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 3 steps): newton-clamp-nonmonotone, 1.05x faster than the next, newton-clamp-pcg-gmg-ew2; 1.37x faster than the baseline" font ',12'
+set multiplot title "random-start: 320 tets, stable_neo_hookean E=100000 nu=0.3; 3 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 3 steps): lbfgs-wolfe, 1.07x faster than the next, newton-clamp-none; 1.08x faster than the baseline" font ',12'
 
 # panel 1: measured step 1
 set lmargin at screen 0.0432
@@ -41,8 +41,7 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'random-start.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
-  'random-start.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'random-start.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -51,6 +50,7 @@ plot \
   'random-start.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 27 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 30 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 33 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 39 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 54 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -61,16 +61,15 @@ plot \
   'random-start.dat' index 72 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 78 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 3 title 'newton-clamp-backtracking (baseline)', \
-  'random-start.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 3 title 'newton-clamp-nonmonotone (fastest)', \
+  'random-start.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 3 title 'newton-clamp-none', \
   'random-start.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 2 title 'newton_tr', \
   'random-start.dat' index 42 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 3 title 'ipopt-clamp', \
-  'random-start.dat' index 45 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 9 title 'lbfgs-wolfe', \
+  'random-start.dat' index 45 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 9 title 'lbfgs-wolfe (fastest)', \
   'random-start.dat' index 51 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 8 title 'ncg-wolfe', \
   'random-start.dat' index 63 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 11 title 'aqp', \
   'random-start.dat' index 75 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 9 title 'pd-lbfgs5-backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  wolfe', \
@@ -90,8 +89,7 @@ set format y ''
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 unset key
 plot \
-  'random-start.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
-  'random-start.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'random-start.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -100,6 +98,7 @@ plot \
   'random-start.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 28 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 31 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 34 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 40 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 55 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -110,10 +109,10 @@ plot \
   'random-start.dat' index 73 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 79 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'random-start.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
+  'random-start.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-none', \
   'random-start.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'random-start.dat' index 43 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'random-start.dat' index 46 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'random-start.dat' index 46 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'random-start.dat' index 52 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
   'random-start.dat' index 64 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 9 title 'aqp', \
   'random-start.dat' index 76 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking'
@@ -128,8 +127,7 @@ set ylabel ''
 set format y ''
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'random-start.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
-  'random-start.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'random-start.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -138,6 +136,7 @@ plot \
   'random-start.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 29 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 32 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 35 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 41 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 50 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 56 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -148,10 +147,10 @@ plot \
   'random-start.dat' index 74 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 80 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'random-start.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
+  'random-start.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-none', \
   'random-start.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'random-start.dat' index 44 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'random-start.dat' index 47 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'random-start.dat' index 47 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'random-start.dat' index 53 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
   'random-start.dat' index 65 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 9 title 'aqp', \
   'random-start.dat' index 77 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking'
@@ -183,7 +182,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.8249, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "random-start: 320 tets, stable_neo_hookean E=100000 nu=0.3; 3 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 3 steps): newton-clamp-nonmonotone, 1.05x faster than the next, newton-clamp-pcg-gmg-ew2; 1.37x faster than the baseline" font ',12'
+set multiplot title "random-start: 320 tets, stable_neo_hookean E=100000 nu=0.3; 3 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 3 steps): lbfgs-wolfe, 1.07x faster than the next, newton-clamp-none; 1.08x faster than the baseline" font ',12'
 
 # panel 1: measured step 1
 set lmargin at screen 0.0432
@@ -195,8 +194,7 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'random-start.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
-  'random-start.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'random-start.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -205,6 +203,7 @@ plot \
   'random-start.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 27 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 30 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 33 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 39 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 54 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -215,16 +214,15 @@ plot \
   'random-start.dat' index 72 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 78 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 3 title 'newton-clamp-backtracking (baseline)', \
-  'random-start.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 3 title 'newton-clamp-nonmonotone (fastest)', \
+  'random-start.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 3 title 'newton-clamp-none', \
   'random-start.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 2 title 'newton_tr', \
   'random-start.dat' index 42 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 3 title 'ipopt-clamp', \
-  'random-start.dat' index 45 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 9 title 'lbfgs-wolfe', \
+  'random-start.dat' index 45 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 9 title 'lbfgs-wolfe (fastest)', \
   'random-start.dat' index 51 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 8 title 'ncg-wolfe', \
   'random-start.dat' index 63 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 11 title 'aqp', \
   'random-start.dat' index 75 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 9 title 'pd-lbfgs5-backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  wolfe', \
@@ -244,8 +242,7 @@ set format y ''
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 unset key
 plot \
-  'random-start.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
-  'random-start.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'random-start.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -254,6 +251,7 @@ plot \
   'random-start.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 28 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 31 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 34 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 40 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 55 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -264,10 +262,10 @@ plot \
   'random-start.dat' index 73 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 79 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'random-start.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
+  'random-start.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-none', \
   'random-start.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'random-start.dat' index 43 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'random-start.dat' index 46 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'random-start.dat' index 46 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'random-start.dat' index 52 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
   'random-start.dat' index 64 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 9 title 'aqp', \
   'random-start.dat' index 76 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking'
@@ -282,8 +280,7 @@ set ylabel ''
 set format y ''
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'random-start.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
-  'random-start.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'random-start.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -292,6 +289,7 @@ plot \
   'random-start.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 29 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 32 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'random-start.dat' index 35 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 41 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 50 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 56 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -302,10 +300,10 @@ plot \
   'random-start.dat' index 74 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 80 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'random-start.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'random-start.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
+  'random-start.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-none', \
   'random-start.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'random-start.dat' index 44 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'random-start.dat' index 47 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'random-start.dat' index 47 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'random-start.dat' index 53 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
   'random-start.dat' index 65 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6) lw 1.6 pt 4 ps 0.8 pi 9 title 'aqp', \
   'random-start.dat' index 77 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking'
