@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7872, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-twist: 19379 tets, stable_neo_hookean E=1e+06 nu=0.45; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): pd-lbfgs5-backtracking, 1.06x faster than the next, lbfgs-wolfe; 3.48x faster than the baseline" font ',12'
+set multiplot title "bunny-twist: 19379 tets, stable_neo_hookean E=1e+06 nu=0.45; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.04x faster than the next, pd-lbfgs5-backtracking; 3.89x faster than the baseline" font ',12'
 
 # panel 1: measured step 9
 set lmargin at screen 0.0513
@@ -47,12 +47,12 @@ plot \
   'bunny-twist.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-twist.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 30 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 34 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 36 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-twist.dat' index 38 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 40 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 42 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 44 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -60,17 +60,17 @@ plot \
   'bunny-twist.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
   'bunny-twist.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-project_on_demand-backtracking', \
-  'bunny-twist.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
-  'bunny-twist.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'bunny-twist.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 3.0 pt 6 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'bunny-twist.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 2 title 'bcqn', \
   'bunny-twist.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'ncg', \
-  'bunny-twist.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 3.0 pt 11 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking (fastest)', \
+  'bunny-twist.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
   'bunny-twist.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'pd_local_global-anderson', \
+  'bunny-twist.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6,3,6) lw 1.6 pt 6 ps 0.8 pi 3 title 'aqp', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  barrier_filter', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
   keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  project_on_demand', \
@@ -93,12 +93,12 @@ plot \
   'bunny-twist.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-twist.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 31 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 35 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 37 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-twist.dat' index 39 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 41 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 43 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 45 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -106,12 +106,12 @@ plot \
   'bunny-twist.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
   'bunny-twist.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-project_on_demand-backtracking', \
-  'bunny-twist.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
-  'bunny-twist.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'bunny-twist.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 3.0 pt 6 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'bunny-twist.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 3 title 'bcqn', \
   'bunny-twist.dat' index 27 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'ncg', \
-  'bunny-twist.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 3.0 pt 11 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking (fastest)', \
-  'bunny-twist.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'pd_local_global-anderson'
+  'bunny-twist.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
+  'bunny-twist.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'pd_local_global-anderson', \
+  'bunny-twist.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6,3,6) lw 1.6 pt 6 ps 0.8 pi 3 title 'aqp'
 unset multiplot
 
 # ---- the same figure as SVG
@@ -140,7 +140,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7872, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-twist: 19379 tets, stable_neo_hookean E=1e+06 nu=0.45; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): pd-lbfgs5-backtracking, 1.06x faster than the next, lbfgs-wolfe; 3.48x faster than the baseline" font ',12'
+set multiplot title "bunny-twist: 19379 tets, stable_neo_hookean E=1e+06 nu=0.45; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.04x faster than the next, pd-lbfgs5-backtracking; 3.89x faster than the baseline" font ',12'
 
 # panel 1: measured step 9
 set lmargin at screen 0.0513
@@ -158,12 +158,12 @@ plot \
   'bunny-twist.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-twist.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 30 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 34 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 36 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-twist.dat' index 38 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 40 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 42 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 44 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -171,17 +171,17 @@ plot \
   'bunny-twist.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
   'bunny-twist.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-project_on_demand-backtracking', \
-  'bunny-twist.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
-  'bunny-twist.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'bunny-twist.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 3.0 pt 6 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'bunny-twist.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 2 title 'bcqn', \
   'bunny-twist.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'ncg', \
-  'bunny-twist.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 3.0 pt 11 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking (fastest)', \
+  'bunny-twist.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
   'bunny-twist.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'pd_local_global-anderson', \
+  'bunny-twist.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6,3,6) lw 1.6 pt 6 ps 0.8 pi 3 title 'aqp', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  barrier_filter', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
   keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  project_on_demand', \
@@ -204,12 +204,12 @@ plot \
   'bunny-twist.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-twist.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 31 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 35 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 37 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-twist.dat' index 39 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 41 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 43 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 45 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -217,10 +217,10 @@ plot \
   'bunny-twist.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-twist.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
   'bunny-twist.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-project_on_demand-backtracking', \
-  'bunny-twist.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
-  'bunny-twist.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'lbfgs-wolfe', \
+  'bunny-twist.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 3.0 pt 6 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'bunny-twist.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 3 title 'bcqn', \
   'bunny-twist.dat' index 27 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'ncg', \
-  'bunny-twist.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 3.0 pt 11 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking (fastest)', \
-  'bunny-twist.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'pd_local_global-anderson'
+  'bunny-twist.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
+  'bunny-twist.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'pd_local_global-anderson', \
+  'bunny-twist.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6,3,6) lw 1.6 pt 6 ps 0.8 pi 3 title 'aqp'
 unset multiplot
