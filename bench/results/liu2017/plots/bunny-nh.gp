@@ -2,9 +2,9 @@
 # colour = optimizer family (baseline black), dash = line search, point = Hessian fix;
 # in colour: the baseline, the fastest and the best of each family (at most 8)
 if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {
-    set terminal pngcairo size 1827,740 font 'DejaVu Sans,10' noenhanced
+    set terminal pngcairo size 1745,740 font 'DejaVu Sans,10' noenhanced
 } else {
-    set terminal png size 1827,740 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
+    set terminal png size 1745,740 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
 }
 set output 'bunny-nh.png'
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
@@ -24,12 +24,12 @@ set arrow from graph 0, first 0.001 to graph 1, first 0.001 nohead lc rgb '#9999
 set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
-set key at screen 0.7553, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-nh: 19379 tets, neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 1 repeat\nfastest to 1e-4 (time summed over the 2 steps): newton-clamp-backtracking, 1.66x faster than the next, lbfgs-pd5" font ',12'
+set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "bunny-nh: 19379 tets, neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 1 repeat\nfastest to 1e-4 (time summed over the 2 steps): pd-local-global-aa5, 1.06x faster than the next, lbfgs-pd5; 1.08x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
-set lmargin at screen 0.0493
-set rmargin at screen 0.3777
+set lmargin at screen 0.0516
+set rmargin at screen 0.3954
 set tmargin at screen 0.8919
 set bmargin at screen 0.0811
 set title 'step 2 (t = 0.06667 s)' offset 0,-0.4
@@ -37,10 +37,10 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'bunny-nh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline) (fastest)', \
+  'bunny-nh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
   'bunny-nh.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5', \
   'bunny-nh.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 9 ps 0.8 pi 4 title 'pd-local-global', \
-  'bunny-nh.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5', \
+  'bunny-nh.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5 (fastest)', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
@@ -49,8 +49,8 @@ plot \
   keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  (no Hessian)'
 
 # panel 2: measured step 3
-set lmargin at screen 0.3996
-set rmargin at screen 0.7280
+set lmargin at screen 0.4183
+set rmargin at screen 0.7622
 set tmargin at screen 0.8919
 set bmargin at screen 0.0811
 set title 'step 3 (t = 0.1 s)' offset 0,-0.4
@@ -59,15 +59,15 @@ set format y ''
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 unset key
 plot \
-  'bunny-nh.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline) (fastest)', \
+  'bunny-nh.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
   'bunny-nh.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5', \
   'bunny-nh.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 9 ps 0.8 pi 8 title 'pd-local-global', \
-  'bunny-nh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5'
+  'bunny-nh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5 (fastest)'
 unset multiplot
 
 # ---- the same figure as SVG
 reset
-set terminal svg size 1827,740 font 'DejaVu Sans,10' noenhanced
+set terminal svg size 1745,740 font 'DejaVu Sans,10' noenhanced
 set output 'bunny-nh.svg'
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 stats 'bunny-nh.dat' using 1 nooutput
@@ -86,12 +86,12 @@ set arrow from graph 0, first 0.001 to graph 1, first 0.001 nohead lc rgb '#9999
 set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
-set key at screen 0.7553, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-nh: 19379 tets, neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 1 repeat\nfastest to 1e-4 (time summed over the 2 steps): newton-clamp-backtracking, 1.66x faster than the next, lbfgs-pd5" font ',12'
+set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "bunny-nh: 19379 tets, neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 1 repeat\nfastest to 1e-4 (time summed over the 2 steps): pd-local-global-aa5, 1.06x faster than the next, lbfgs-pd5; 1.08x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
-set lmargin at screen 0.0493
-set rmargin at screen 0.3777
+set lmargin at screen 0.0516
+set rmargin at screen 0.3954
 set tmargin at screen 0.8919
 set bmargin at screen 0.0811
 set title 'step 2 (t = 0.06667 s)' offset 0,-0.4
@@ -99,10 +99,10 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'bunny-nh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline) (fastest)', \
+  'bunny-nh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
   'bunny-nh.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5', \
   'bunny-nh.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 9 ps 0.8 pi 4 title 'pd-local-global', \
-  'bunny-nh.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5', \
+  'bunny-nh.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5 (fastest)', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
@@ -111,8 +111,8 @@ plot \
   keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  (no Hessian)'
 
 # panel 2: measured step 3
-set lmargin at screen 0.3996
-set rmargin at screen 0.7280
+set lmargin at screen 0.4183
+set rmargin at screen 0.7622
 set tmargin at screen 0.8919
 set bmargin at screen 0.0811
 set title 'step 3 (t = 0.1 s)' offset 0,-0.4
@@ -121,8 +121,8 @@ set format y ''
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 unset key
 plot \
-  'bunny-nh.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline) (fastest)', \
+  'bunny-nh.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
   'bunny-nh.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5', \
   'bunny-nh.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 9 ps 0.8 pi 8 title 'pd-local-global', \
-  'bunny-nh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5'
+  'bunny-nh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5 (fastest)'
 unset multiplot
