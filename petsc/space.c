@@ -26,13 +26,7 @@ static int space_assemble(double *v, void *user)
     eo_dist *d = &s->d;
     eo_ctx *ctx = d->ctx;
     int rc = EO_OK;
-    PetscScalar *a;
-    EO_PC(VecGetArray(d->xl, &a));
-    memcpy(a, v, (size_t)d->n * sizeof(double));
-    EO_PC(VecRestoreArray(d->xl, &a));
-    EO_PC(VecSet(s->G, 0));
-    EO_PC(VecScatterBegin(d->to_local, d->xl, s->G, ADD_VALUES, SCATTER_REVERSE));
-    EO_PC(VecScatterEnd(d->to_local, d->xl, s->G, ADD_VALUES, SCATTER_REVERSE));
+    if ((rc = eo_dist_sum_rep(d, v, s->G)) < 0) return rc;
     EO_PC(VecScatterBegin(d->to_local, s->G, d->xl, INSERT_VALUES, SCATTER_FORWARD));
     EO_PC(VecScatterEnd(d->to_local, s->G, d->xl, INSERT_VALUES, SCATTER_FORWARD));
     const PetscScalar *r;
