@@ -4,7 +4,8 @@
 usage: compare_configs.py ELASTOPT SCENE REPS NAME=key=value;key=value ... [--base=key=value;...]
 
 SCENE is a scene file (.json) or a built-in scene name; each NAME=... is a configuration
-(its -o overrides, ';'-separated; empty = the defaults), --base= overrides every run. The
+(its -o overrides, ';'-separated; empty = the defaults; an item exe=PATH runs that elastopt
+binary instead of ELASTOPT, e.g. a build of an earlier commit), --base= overrides every run. The
 configurations run interleaved REPS times (rep 0: all of them, rep 1: all, ...), each into
 $TMPDIR/compare_configs_<scene>_<NAME> (replaced). Per run: the solving thread's CPU seconds
 (summary.json total_solve_cpu_time) and the wall-clock solve time, Newton iterations,
@@ -32,8 +33,10 @@ tag = os.path.basename(scene).replace('.json', '')
 for r in range(reps):
     for name, ov in cfgs:
         out = os.path.join(tempfile.gettempdir(), f'compare_configs_{tag}_{name}')
-        cmd = [exe, 'run'] + (['--scene', scene] if not scene.endswith('.json') else [scene])
-        for o in base + ov: cmd += ['-o', o]
+        run_exe = next((o[4:] for o in ov if o.startswith('exe=')), exe)
+        cmd = [run_exe, 'run'] + (['--scene', scene] if not scene.endswith('.json') else [scene])
+        for o in base + ov:
+            if not o.startswith('exe='): cmd += ['-o', o]
         cmd += ['--out', out, '--force']
         p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         _, status, ru = os.wait4(p.pid, 0)

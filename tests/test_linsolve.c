@@ -971,6 +971,15 @@ static void test_cholmod_reuse(void)
     CHECK(its_far > 8 && rc == EO_OK && st->n_refactor == 2 && st->iterations == 0 && rel_err(n, x, ref) < 1e-8,
           "reuse_max_iters 4 x 2 < %d: refactor inside the solve (rc %d, refactors %ld, its %d, err %g)", its_far, rc,
           st->n_refactor, st->iterations, rel_err(n, x, ref));
+    /* ... and it stopped before the cap: from the second iteration on, the contraction so
+     * far projected more than 8 iterations (its_far of them were needed) */
+    int gave_up_at = -1;
+    const char *msg = strstr(eo_ctx_message(ctx), "given up (contraction too slow) after ");
+    if (msg) gave_up_at = atoi(msg + strlen("given up (contraction too slow) after "));
+    printf("far matrix, cap 8: the old factor's CG gave up after %d iterations (%d to converge)\n", gave_up_at,
+           its_far);
+    CHECK(gave_up_at >= 2 && gave_up_at < 8, "projected past the cap: gave up after %d iterations (%s)", gave_up_at,
+          eo_ctx_message(ctx));
     rc = run(ctx, ls, A, b, x, 0, &frc); /* the same matrix again: the new factor is kept */
     CHECK(rc == EO_OK && st->n_refactor == 2 && st->iterations <= 2 && rel_err(n, x, ref) < 1e-8,
           "after the cap: factor kept (refactors %ld, its %d)", st->n_refactor, st->iterations);

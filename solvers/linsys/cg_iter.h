@@ -8,7 +8,9 @@
  *   z_{k+1} = M⁻¹ r_{k+1},   β_k = r_{k+1}ᵀz_{k+1} / r_kᵀz_k,   p_{k+1} = z_{k+1} + β_k p_k
  *
  * (ERRATA: the notes' β = rᵀAp/(pᵀAp) with r = Ax − b has the wrong sign/index.)
- * Stops when ‖r‖ ≤ tol ‖b‖ (EO_OK), after max_iters (EO_WARN_NOT_CONVERGED), on
+ * Stops when ‖r‖ ≤ tol ‖b‖ (EO_OK), after max_iters (EO_WARN_NOT_CONVERGED), once the
+ * average contraction (‖r_k‖/‖r₀‖)^(1/k) projects more than project_max iterations (k ≥ 2,
+ * project_max > 0; EO_WARN_NOT_CONVERGED), on
  * non-finite values (EO_WARN_NOT_CONVERGED), or when a direction has non-positive
  * curvature p_kᵀA p_k ≤ 0 (EO_WARN_NOT_PD: A is not positive definite). In that case
  * x holds the last iterate, or z₀ = M⁻¹ b if it happens at k = 0 without warm start
@@ -41,6 +43,8 @@ typedef struct eo_cg {
     int n;
     const eo_csc *A; /* borrowed at factor */
     double rtol;     /* eo_linsolve_set_rtol: > 0 overrides o.tol */
+    int project_max; /* > 0: give up (EO_WARN_NOT_CONVERGED) from iteration 2 on once the
+                        average contraction so far projects more iterations than this */
     double *r, *d, *Ad;
     double *z;       /* M⁻¹ r; NULL without preconditioner (then z is r itself) */
 } eo_cg;
@@ -103,15 +107,23 @@ static inline int eo_cg_solve(eo_cg *s, eo_cg_precond_fn M, const void *pc, cons
     double rz = eo_cg_dot(n, r, z);
     double rnorm = M ? sqrt(eo_cg_dot(n, r, r)) : sqrt(rz);
     const double tol = s->rtol > 0 ? s->rtol : s->o.tol;
-    const double stop = tol * bnorm;
+    const double stop = tol * bnorm, rnorm0 = rnorm;
     int k = 0;
     while (rnorm > stop) {
-        if (k >= s->o.max_iters || !isfinite(rnorm) || !isfinite(rz)) {
+        int hopeless = 0;
+        if (s->project_max > 0 && k >= 2 && rnorm < rnorm0) {
+            double rate = pow(rnorm / rnorm0, 1.0 / k);
+            hopeless = k + log(stop / rnorm) / log(rate) > s->project_max;
+        }
+        if (hopeless || k >= s->o.max_iters || !isfinite(rnorm) || !isfinite(rz)) {
             stats->iterations = k;
             stats->residual = rnorm / bnorm;
             return eo_error(ctx, EO_WARN_NOT_CONVERGED,
                             "%s: %s after %d iterations, relative residual %.3g (tol %.3g)",
-                            s->o.name, isfinite(rnorm) ? "not converged" : "non-finite residual", k,
+                            s->o.name,
+                            !isfinite(rnorm) ? "non-finite residual" : hopeless ? "given up (contraction too slow)"
+                                                                              : "not converged",
+                            k,
                             stats->residual, tol);
         }
         eo_csc_symv(s->A, d, Ad);

@@ -91,7 +91,9 @@ void eo_inexact_begin(eo_inexact *s, int kind, double eta, double gamma, double 
     s->fp.alpha = alpha;
     s->fp.eta_min = eta_min;
     s->fp.eta_max = eta_max;
-    s->gnorm_prev = s->linres_prev = s->eta_prev = NAN;
+    s->local_ratio = 0.1;
+    s->eta_global = 1e-4;
+    s->gnorm_prev = s->linres_prev = s->eta_prev = s->alpha_prev = s->dec_prev = s->dec_prev2 = NAN;
 }
 
 double eo_inexact_before(eo_inexact *s, struct eo_linsolve *ls, double gnorm)
@@ -104,6 +106,14 @@ double eo_inexact_before(eo_inexact *s, struct eo_linsolve *ls, double gnorm)
         break;
     case EO_FORCING_AUTO: /* ew2 while the solves are iterative */
         if (!ls || !eo_linsolve_is_iterative(ls)) return 0;
+        if (s->alpha_prev < 1 || (s->dec_prev2 > 0 && s->dec_prev > s->local_ratio * s->dec_prev2)) {
+            /* not yet fast local convergence (forcing.h): η = eta_global */
+            eta = s->eta_global;
+            eo_linsolve_set_rtol(ls, eta);
+            s->eta_prev = eta;
+            s->k++;
+            return eta;
+        }
         eta = eo_forcing_eta(&s->fp, s->k, gnorm, s->gnorm_prev, s->eta_prev);
         break;
     case EO_FORCING_EW2: eta = eo_forcing_eta(&s->fp, s->k, gnorm, s->gnorm_prev, s->eta_prev); break;
@@ -116,8 +126,11 @@ double eo_inexact_before(eo_inexact *s, struct eo_linsolve *ls, double gnorm)
     return eta;
 }
 
-void eo_inexact_after(eo_inexact *s, double gnorm, double linres)
+void eo_inexact_after(eo_inexact *s, double gnorm, double linres, double alpha, double dec)
 {
+    s->alpha_prev = alpha;
+    s->dec_prev2 = s->dec_prev;
+    s->dec_prev = dec;
     s->gnorm_prev = gnorm;
     s->linres_prev = linres;
 }

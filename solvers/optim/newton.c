@@ -74,7 +74,11 @@
 /// Inexact Newton: with an iterative solver.linear (cg, pcg, gmres) the direction solve
 /// H̃p = −∇g stops at ‖H̃p + ∇g‖ ≤ η_k‖∇g‖, η_k set by `forcing` through
 /// eo_linsolve_set_rtol before each direction (direct solvers ignore it):
-///   none      the linear solver's own `tol` (default)
+///   auto      ew2 while the solves are iterative and Newton converges fast (the last
+///             step full, α = 1, and the last decrement at most local_ratio times the one
+///             before), else η_k = eta_global; none while the solves are direct
+///             (default; solvers/optim/forcing.h says why)
+///   none      the linear solver's own `tol`
 ///   constant  η_k = eta
 ///   ew1       Eisenstat–Walker choice 1: η_k = |‖∇g_k‖ − ‖∇g_{k−1} + αH̃_{k−1}p_{k−1}‖| / ‖∇g_{k−1}‖,
 ///             safeguard η_k ≥ η_{k−1}^φ (φ = (1+√5)/2) when that is > 0.1
@@ -89,6 +93,9 @@ typedef struct eo_newton_params {
     double ew_alpha;     ///< ew2: α ∈ (1, 2] (default 2)
     double eta_max;      ///< upper bound of η_k (default 0.9)
     double eta_min;      ///< lower bound of η_k (default 1e-12)
+    double local_ratio;  ///< auto: ew2 only after a full step whose decrement fell to at most
+                         ///< this times the previous one (default 0.1)
+    double eta_global;   ///< auto: η_k before that (default 1e-4)
     double estimate_gate; ///< decrement-estimate gate (solvers/optim/newton.c): at x_k (k ≥ 2)
                           ///< the estimate solve is skipped unless the stopping rule passes
                           ///< with a decrement between d_{k−1}³/d_{k−2}² / estimate_gate
@@ -132,9 +139,9 @@ static const eo_param_desc newton_desc[] = {
     {.key = "forcing", .kind = EO_PARAM_CHOICE, .offset = offsetof(eo_newton_params, forcing),
      .size = sizeof(((eo_newton_params *)0)->forcing), .def.s = "auto", .choices = forcing_names,
      .help = "inexact Newton with an iterative solver.linear: inner relative tolerance eta_k = auto (ew2 "
-             "while the linear solves are iterative, e.g. solver.linear = auto's reused factor or multigrid; "
-             "none while they are direct), none (the solver's own tol), constant (eta), ew1 / ew2 "
-             "(Eisenstat-Walker choice 1 / 2)"},
+             "while the linear solves are iterative, e.g. solver.linear = auto's reused factor or multigrid, "
+             "but eta_global until Newton converges fast (see local_ratio); none while they are direct), "
+             "none (the solver's own tol), constant (eta), ew1 / ew2 (Eisenstat-Walker choice 1 / 2)"},
     {.key = "eta", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, eta), .def.d = 0.5,
      .min = 0, .max = 1, .range = EO_RANGE_OPEN, .help = "forcing = constant: eta_k; ew1/ew2: eta_0"},
     {.key = "ew_gamma", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, ew_gamma), .def.d = 0.9,
@@ -146,6 +153,14 @@ static const eo_param_desc newton_desc[] = {
      .min = 0, .max = 1, .range = EO_RANGE_OPEN, .help = "upper bound of the forcing term"},
     {.key = "eta_min", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, eta_min), .def.d = 1e-12,
      .min = 0, .max = 1, .range = EO_RANGE_OPEN, .help = "lower bound of the forcing term"},
+    {.key = "local_ratio", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, local_ratio),
+     .def.d = 0.1, .min = 0, .max = 1, .range = EO_RANGE_MIN | EO_RANGE_MAX,
+     .help = "forcing = auto: Eisenstat-Walker terms only after a full step (alpha = 1) whose decrement fell to "
+             "at most local_ratio times the previous one (fast local convergence); else eta_global "
+             "(1 = only the full-step condition)"},
+    {.key = "eta_global", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, eta_global),
+     .def.d = 1e-4, .min = 0, .max = 1, .range = EO_RANGE_OPEN,
+     .help = "forcing = auto: the inner relative tolerance before fast local convergence (see local_ratio)"},
     {.key = "estimate_gate", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, estimate_gate),
      .def.d = 10, .min = 0, .range = EO_RANGE_MIN,
      .help = "decrement-estimate solve at x_k (k >= 2) only if the stopping rule passes with a decrement between "
@@ -255,6 +270,8 @@ static int newton_begin(void *vst, const void *params, const eo_solver_ctx *sc, 
     const eo_newton_params *np = params;
     eo_inexact_begin(&st->inexact, eo_forcing_kind(np->forcing), np->eta, np->ew_gamma, np->ew_alpha,
                      np->eta_min, np->eta_max);
+    st->inexact.local_ratio = np->local_ratio;
+    st->inexact.eta_global = np->eta_global;
     if (!sc->linear) return eo_error(sc->ctx, EO_ERR_INVALID, "newton needs a linear solver");
     if (!sc->hessfix) return eo_error(sc->ctx, EO_ERR_INVALID, "newton needs a Hessian fix");
     if (!sc->hessfix->begin) return EO_OK;
@@ -397,7 +414,7 @@ static void newton_accepted(void *vst, const void *params, const double *x, cons
         eo_vreduce(vs, &r2, 1, EO_REDUCE_SUM);
         linres = sqrt(r2);
     }
-    eo_inexact_after(&st->inexact, eo_vnorm2(vs, n, grad), linres);
+    eo_inexact_after(&st->inexact, eo_vnorm2(vs, n, grad), linres, alpha, st->dec_last);
 }
 
 static const eo_descent_ops newton_ops = {
