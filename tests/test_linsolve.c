@@ -908,6 +908,23 @@ static void test_rtol(void)
     eo_test_ctx_done(&ctx);
 }
 
+/* cholmod_reuse with the parameters c: a solver factoring the near matrix (shift 1.0),
+ * then solving the far one (other random blocks) with that old factor; rc of the far
+ * solve, its reference solution in ref */
+static eo_linsolve *stale_solve(eo_ctx *ctx, const eo_linsolve_type *t, const solver_cfg *c, testmat *T,
+                                const eo_csc *A, const double *b, double *x, double *ref, int *rc)
+{
+    eo_linsolve *ls = NULL;
+    int frc = 0;
+    CHECK(eo_linsolve_create(ctx, t, c->params, &ls) == EO_OK, "create");
+    testmat_fill(T, 1.0, 1.0, 2);
+    run(ctx, ls, A, b, x, 1, &frc);
+    testmat_fill(T, 0.3, 1.0, 7);
+    dense_solve(A, b, ref, 1);
+    *rc = run(ctx, ls, A, b, x, 0, &frc);
+    return ls;
+}
+
 /* pcg cholmod_reuse: when it refactors (pcg.c: rules 1-3) */
 static void test_cholmod_reuse(void)
 {
@@ -961,13 +978,8 @@ static void test_cholmod_reuse(void)
     /* 3': the far matrix with refactor_iters 2: a solve with the old factor stops at
      * reuse_max_iters = 4 x 2 = 8 (< its_far) and refactors at once: direct, exact */
     set_param(ctx, &c, "refactor_iters", "2");
-    CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_OK, "create");
+    ls = stale_solve(ctx, t, &c, &T, A, b, x, ref, &rc);
     st = eo_linsolve_get_stats(ls);
-    testmat_fill(&T, 1.0, 1.0, 2);
-    rc = run(ctx, ls, A, b, x, 1, &frc);
-    testmat_fill(&T, 0.3, 1.0, 7);
-    dense_solve(A, b, ref, 1);
-    rc = run(ctx, ls, A, b, x, 0, &frc);
     CHECK(its_far > 8 && rc == EO_OK && st->n_refactor == 2 && st->iterations == 0 && rel_err(n, x, ref) < 1e-8,
           "reuse_max_iters 4 x 2 < %d: refactor inside the solve (rc %d, refactors %ld, its %d, err %g)", its_far, rc,
           st->n_refactor, st->iterations, rel_err(n, x, ref));
@@ -986,12 +998,8 @@ static void test_cholmod_reuse(void)
     eo_linsolve_destroy(&ls);
     /* the cap given explicitly, above its_far: the old factor's CG runs to the end */
     set_param(ctx, &c, "reuse_max_iters", "1000");
-    CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_OK, "create");
+    ls = stale_solve(ctx, t, &c, &T, A, b, x, ref, &rc);
     st = eo_linsolve_get_stats(ls);
-    testmat_fill(&T, 1.0, 1.0, 2);
-    rc = run(ctx, ls, A, b, x, 1, &frc);
-    testmat_fill(&T, 0.3, 1.0, 7);
-    rc = run(ctx, ls, A, b, x, 0, &frc);
     CHECK(rc == EO_OK && st->n_refactor == 1 && st->iterations == its_far && rel_err(n, x, ref) < 1e-8,
           "reuse_max_iters 1000: %d its with the old factor (%d before), refactors %ld", st->iterations, its_far,
           st->n_refactor);
@@ -1000,13 +1008,8 @@ static void test_cholmod_reuse(void)
     set_param(ctx, &c, "refactor_iters", "10");
     /* 3: a solve that hits max_iters with a reused factor refactors at once */
     set_param(ctx, &c, "max_iters", "3");
-    CHECK(eo_linsolve_create(ctx, t, c.params, &ls) == EO_OK, "create");
+    ls = stale_solve(ctx, t, &c, &T, A, b, x, ref, &rc);
     st = eo_linsolve_get_stats(ls);
-    testmat_fill(&T, 1.0, 1.0, 2);
-    rc = run(ctx, ls, A, b, x, 1, &frc);
-    testmat_fill(&T, 0.3, 1.0, 7);
-    dense_solve(A, b, ref, 1);
-    rc = run(ctx, ls, A, b, x, 0, &frc);
     CHECK(rc == EO_OK && st->n_refactor == 2 && rel_err(n, x, ref) < 1e-8,
           "max_iters with the old factor: refactor inside solve (rc %d, refactors %ld, err %g)", rc, st->n_refactor,
           rel_err(n, x, ref));
