@@ -2,9 +2,9 @@
 # colour = optimizer family (baseline black), dash = line search, point = Hessian fix;
 # in colour: the baseline, the fastest and the best of each family (at most 8)
 if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {
-    set terminal pngcairo size 1428,800 font 'DejaVu Sans,10' noenhanced
+    set terminal pngcairo size 1420,800 font 'DejaVu Sans,10' noenhanced
 } else {
-    set terminal png size 1428,800 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
+    set terminal png size 1420,800 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
 }
 set output 'bar-twist-p1anp-nu0.3.png'
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
@@ -26,21 +26,21 @@ set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#9999
 set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
-set key at screen 0.7563, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bar-twist-p1anp-nu0.3: 2523 tets, stable_neo_hookean E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-project_on_demand, 1.02x faster than the next, newton-progressive; 1.07x faster than the baseline" font ',12'
+set key at screen 0.7606, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "bar-twist-p1anp-nu0.3: 2523 tets, stable_neo_hookean E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp, 1.03x faster than the next, newton-project_on_demand" font ',12'
 
 # panel 1: measured step 6
-set lmargin at screen 0.0630
-set rmargin at screen 0.7213
+set lmargin at screen 0.0634
+set rmargin at screen 0.7254
 set tmargin at screen 0.9000
 set bmargin at screen 0.0750
 set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'bar-twist-p1anp-nu0.3.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp (baseline)', \
+  'bar-twist-p1anp-nu0.3.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp (baseline) (fastest)', \
   'bar-twist-p1anp-nu0.3.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'newton-abs', \
-  'bar-twist-p1anp-nu0.3.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#114163' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-project_on_demand (fastest)', \
+  'bar-twist-p1anp-nu0.3.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#114163' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'newton-project_on_demand', \
   'bar-twist-p1anp-nu0.3.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#8fbbd9' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-progressive', \
   'bar-twist-p1anp-nu0.3.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'newton-trust_region_filter', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
@@ -55,7 +55,7 @@ unset multiplot
 
 # ---- the same figure as SVG
 reset
-set terminal svg size 1428,800 font 'DejaVu Sans,10' noenhanced
+set terminal svg size 1420,800 font 'DejaVu Sans,10' noenhanced
 set output 'bar-twist-p1anp-nu0.3.svg'
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 stats 'bar-twist-p1anp-nu0.3.dat' using 1 nooutput
@@ -76,21 +76,21 @@ set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#9999
 set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
-set key at screen 0.7563, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bar-twist-p1anp-nu0.3: 2523 tets, stable_neo_hookean E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-project_on_demand, 1.02x faster than the next, newton-progressive; 1.07x faster than the baseline" font ',12'
+set key at screen 0.7606, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "bar-twist-p1anp-nu0.3: 2523 tets, stable_neo_hookean E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp, 1.03x faster than the next, newton-project_on_demand" font ',12'
 
 # panel 1: measured step 6
-set lmargin at screen 0.0630
-set rmargin at screen 0.7213
+set lmargin at screen 0.0634
+set rmargin at screen 0.7254
 set tmargin at screen 0.9000
 set bmargin at screen 0.0750
 set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'bar-twist-p1anp-nu0.3.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp (baseline)', \
+  'bar-twist-p1anp-nu0.3.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp (baseline) (fastest)', \
   'bar-twist-p1anp-nu0.3.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'newton-abs', \
-  'bar-twist-p1anp-nu0.3.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#114163' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-project_on_demand (fastest)', \
+  'bar-twist-p1anp-nu0.3.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#114163' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'newton-project_on_demand', \
   'bar-twist-p1anp-nu0.3.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#8fbbd9' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-progressive', \
   'bar-twist-p1anp-nu0.3.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'newton-trust_region_filter', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \

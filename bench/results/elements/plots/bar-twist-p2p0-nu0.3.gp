@@ -27,7 +27,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7606, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bar-twist-p2p0-nu0.3: 2523 tets, stable_neo_hookean E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp, 1.04x faster than the next, newton-abs" font ',12'
+set multiplot title "bar-twist-p2p0-nu0.3: 2523 tets, stable_neo_hookean E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp, 1.02x faster than the next, newton-abs" font ',12'
 
 # panel 1: measured step 6
 set lmargin at screen 0.0634
@@ -77,7 +77,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7606, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bar-twist-p2p0-nu0.3: 2523 tets, stable_neo_hookean E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp, 1.04x faster than the next, newton-abs" font ',12'
+set multiplot title "bar-twist-p2p0-nu0.3: 2523 tets, stable_neo_hookean E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp, 1.02x faster than the next, newton-abs" font ',12'
 
 # panel 1: measured step 6
 set lmargin at screen 0.0634
