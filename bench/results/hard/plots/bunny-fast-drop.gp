@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-fast-drop: 19379 tets, stable_neo_hookean E=100000 nu=0.3; 1 measured step, median of 1 repeat\nfastest to 1e-6: newton-clamp-pcg-gmg-ew2, 1.33x faster than the next, newton-clamp-none; 2.21x faster than the baseline" font ',12'
+set multiplot title "bunny-fast-drop: 19379 tets, stable_neo_hookean E=100000 nu=0.3; 1 measured step, median of 1 repeat\nfastest to 1e-6: newton-clamp-pcg-gmg-ew2, 1.13x faster than the next, newton-clamp-none; 1.19x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
 set lmargin at screen 0.0623
@@ -59,7 +59,7 @@ plot \
   'bunny-fast-drop.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-fast-drop.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-fast-drop.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-fast-drop.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 2 title 'newton_tr', \
+  'bunny-fast-drop.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'bunny-fast-drop.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2 (fastest)', \
   'bunny-fast-drop.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
   'bunny-fast-drop.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 2 title 'lbfgs-wolfe', \
@@ -103,7 +103,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-fast-drop: 19379 tets, stable_neo_hookean E=100000 nu=0.3; 1 measured step, median of 1 repeat\nfastest to 1e-6: newton-clamp-pcg-gmg-ew2, 1.33x faster than the next, newton-clamp-none; 2.21x faster than the baseline" font ',12'
+set multiplot title "bunny-fast-drop: 19379 tets, stable_neo_hookean E=100000 nu=0.3; 1 measured step, median of 1 repeat\nfastest to 1e-6: newton-clamp-pcg-gmg-ew2, 1.13x faster than the next, newton-clamp-none; 1.19x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
 set lmargin at screen 0.0623
@@ -133,7 +133,7 @@ plot \
   'bunny-fast-drop.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-fast-drop.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-fast-drop.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-fast-drop.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 2 title 'newton_tr', \
+  'bunny-fast-drop.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'bunny-fast-drop.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2 (fastest)', \
   'bunny-fast-drop.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
   'bunny-fast-drop.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 2 title 'lbfgs-wolfe', \

@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-incompressible-0.4999: 19379 tets, stable_neo_hookean E=1e+07 nu=0.4999; 1 measured step, median of 1 repeat\nfastest to 1e-6: newton-clamp-none, 1.03x faster than the next, newton-project_on_demand-backtracking; 1.04x faster than the baseline" font ',12'
+set multiplot title "bunny-incompressible-0.4999: 19379 tets, stable_neo_hookean E=1e+07 nu=0.4999; 1 measured step, median of 1 repeat\nfastest to 1e-6: newton-shift-none, 1.01x faster than the next, newton-none-backtracking; 1.06x faster than the baseline" font ',12'
 
 # panel 1: measured step 4
 set lmargin at screen 0.0623
@@ -40,10 +40,10 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'bunny-incompressible-0.4999.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'bunny-incompressible-0.4999.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'bunny-incompressible-0.4999.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-incompressible-0.4999.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -60,10 +60,10 @@ plot \
   'bunny-incompressible-0.4999.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-incompressible-0.4999.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-none (fastest)', \
+  'bunny-incompressible-0.4999.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-shift-none (fastest)', \
   'bunny-incompressible-0.4999.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'bunny-incompressible-0.4999.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'bunny-incompressible-0.4999.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 7 title 'lbfgs-wolfe', \
+  'bunny-incompressible-0.4999.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 8 title 'lbfgs-wolfe', \
   'bunny-incompressible-0.4999.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 6 title 'bcqn', \
   'bunny-incompressible-0.4999.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.6 pt 4 ps 0.8 pi 1 title 'mixed_fem', \
   'bunny-incompressible-0.4999.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 8 title 'pd-lbfgs5-backtracking', \
@@ -75,6 +75,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  shift', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
 unset multiplot
@@ -105,7 +106,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-incompressible-0.4999: 19379 tets, stable_neo_hookean E=1e+07 nu=0.4999; 1 measured step, median of 1 repeat\nfastest to 1e-6: newton-clamp-none, 1.03x faster than the next, newton-project_on_demand-backtracking; 1.04x faster than the baseline" font ',12'
+set multiplot title "bunny-incompressible-0.4999: 19379 tets, stable_neo_hookean E=1e+07 nu=0.4999; 1 measured step, median of 1 repeat\nfastest to 1e-6: newton-shift-none, 1.01x faster than the next, newton-none-backtracking; 1.06x faster than the baseline" font ',12'
 
 # panel 1: measured step 4
 set lmargin at screen 0.0623
@@ -116,10 +117,10 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'bunny-incompressible-0.4999.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'bunny-incompressible-0.4999.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'bunny-incompressible-0.4999.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-incompressible-0.4999.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -136,10 +137,10 @@ plot \
   'bunny-incompressible-0.4999.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-incompressible-0.4999.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-incompressible-0.4999.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-none (fastest)', \
+  'bunny-incompressible-0.4999.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-shift-none (fastest)', \
   'bunny-incompressible-0.4999.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'bunny-incompressible-0.4999.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
-  'bunny-incompressible-0.4999.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 7 title 'lbfgs-wolfe', \
+  'bunny-incompressible-0.4999.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 8 title 'lbfgs-wolfe', \
   'bunny-incompressible-0.4999.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 6 title 'bcqn', \
   'bunny-incompressible-0.4999.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.6 pt 4 ps 0.8 pi 1 title 'mixed_fem', \
   'bunny-incompressible-0.4999.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 8 title 'pd-lbfgs5-backtracking', \
@@ -151,6 +152,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  shift', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
 unset multiplot

@@ -2,9 +2,9 @@
 # colour = optimizer family (baseline black), dash = line search, point = Hessian fix;
 # in colour: the baseline, the fastest and the best of each family (at most 8)
 if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {
-    set terminal pngcairo size 1453,800 font 'DejaVu Sans,10' noenhanced
+    set terminal pngcairo size 1445,800 font 'DejaVu Sans,10' noenhanced
 } else {
-    set terminal png size 1453,800 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
+    set terminal png size 1445,800 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
 }
 set output 'bunny-squashed.png'
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
@@ -28,12 +28,12 @@ set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#9999
 set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
-set key at screen 0.7433, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-squashed: 19379 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.09x faster than the next, lbfgs-wolfe; 7.44x faster than the baseline" font ',12'
+set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "bunny-squashed: 19379 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.02x faster than the next, lbfgs-wolfe; 10.52x faster than the baseline" font ',12'
 
 # panel 1: measured step 1
-set lmargin at screen 0.0619
-set rmargin at screen 0.7089
+set lmargin at screen 0.0623
+set rmargin at screen 0.7128
 set tmargin at screen 0.9000
 set bmargin at screen 0.0750
 set ylabel 'relative energy error (g - g*) / |g0 - g*|'
@@ -47,10 +47,10 @@ plot \
   'bunny-squashed.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-squashed.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-squashed.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -60,8 +60,8 @@ plot \
   'bunny-squashed.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-squashed.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'newton-project_on_demand-backtracking', \
   'bunny-squashed.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
+  'bunny-squashed.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2', \
   'bunny-squashed.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
   'bunny-squashed.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
   'bunny-squashed.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson', \
@@ -80,7 +80,7 @@ unset multiplot
 
 # ---- the same figure as SVG
 reset
-set terminal svg size 1453,800 font 'DejaVu Sans,10' noenhanced
+set terminal svg size 1445,800 font 'DejaVu Sans,10' noenhanced
 set output 'bunny-squashed.svg'
 left = 0.001  # the start point x0 (time 0) is drawn at the left edge
 stats 'bunny-squashed.dat' using 1 nooutput
@@ -103,12 +103,12 @@ set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#9999
 set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
-set key at screen 0.7433, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-squashed: 19379 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.09x faster than the next, lbfgs-wolfe; 7.44x faster than the baseline" font ',12'
+set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "bunny-squashed: 19379 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.02x faster than the next, lbfgs-wolfe; 10.52x faster than the baseline" font ',12'
 
 # panel 1: measured step 1
-set lmargin at screen 0.0619
-set rmargin at screen 0.7089
+set lmargin at screen 0.0623
+set rmargin at screen 0.7128
 set tmargin at screen 0.9000
 set bmargin at screen 0.0750
 set ylabel 'relative energy error (g - g*) / |g0 - g*|'
@@ -122,10 +122,10 @@ plot \
   'bunny-squashed.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-squashed.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-squashed.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -135,8 +135,8 @@ plot \
   'bunny-squashed.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-squashed.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-squashed.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'newton-project_on_demand-backtracking', \
   'bunny-squashed.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
+  'bunny-squashed.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2', \
   'bunny-squashed.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
   'bunny-squashed.dat' index 17 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
   'bunny-squashed.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 4 ps 0.8 pi 1 title 'pd_local_global-anderson', \

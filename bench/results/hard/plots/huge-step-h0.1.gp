@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "huge-step-h0.1: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): newton-none-none, 1.00x faster than the next, newton-shift-none; 1.54x faster than the baseline" font ',12'
+set multiplot title "huge-step-h0.1: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): newton-shift-none, 1.04x faster than the next, newton-none-none; 1.63x faster than the baseline" font ',12'
 
 # panel 1: measured step 1
 set lmargin at screen 0.0516
@@ -45,8 +45,8 @@ plot \
   'huge-step-h0.1.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'huge-step-h0.1.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'huge-step-h0.1.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -61,7 +61,7 @@ plot \
   'huge-step-h0.1.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 52 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'huge-step-h0.1.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 11 ps 0.8 pi 1 title 'newton-none-none (fastest)', \
+  'huge-step-h0.1.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-shift-none (fastest)', \
   'huge-step-h0.1.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 5 title 'lbfgs-wolfe', \
   'huge-step-h0.1.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'bcqn', \
   'huge-step-h0.1.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 3 title 'ncg-wolfe', \
@@ -75,7 +75,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  none', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  shift', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand'
 
@@ -94,8 +94,8 @@ plot \
   'huge-step-h0.1.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'huge-step-h0.1.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'huge-step-h0.1.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -110,7 +110,7 @@ plot \
   'huge-step-h0.1.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 53 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'huge-step-h0.1.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 11 ps 0.8 pi 1 title 'newton-none-none (fastest)', \
+  'huge-step-h0.1.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-shift-none (fastest)', \
   'huge-step-h0.1.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 5 title 'lbfgs-wolfe', \
   'huge-step-h0.1.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'bcqn', \
   'huge-step-h0.1.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 4 title 'ncg-wolfe', \
@@ -145,7 +145,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "huge-step-h0.1: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): newton-none-none, 1.00x faster than the next, newton-shift-none; 1.54x faster than the baseline" font ',12'
+set multiplot title "huge-step-h0.1: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): newton-shift-none, 1.04x faster than the next, newton-none-none; 1.63x faster than the baseline" font ',12'
 
 # panel 1: measured step 1
 set lmargin at screen 0.0516
@@ -161,8 +161,8 @@ plot \
   'huge-step-h0.1.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'huge-step-h0.1.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'huge-step-h0.1.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -177,7 +177,7 @@ plot \
   'huge-step-h0.1.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 52 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'huge-step-h0.1.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 11 ps 0.8 pi 1 title 'newton-none-none (fastest)', \
+  'huge-step-h0.1.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-shift-none (fastest)', \
   'huge-step-h0.1.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 5 title 'lbfgs-wolfe', \
   'huge-step-h0.1.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'bcqn', \
   'huge-step-h0.1.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 3 title 'ncg-wolfe', \
@@ -191,7 +191,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  none', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  shift', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand'
 
@@ -210,8 +210,8 @@ plot \
   'huge-step-h0.1.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'huge-step-h0.1.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'huge-step-h0.1.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -226,7 +226,7 @@ plot \
   'huge-step-h0.1.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 53 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'huge-step-h0.1.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'huge-step-h0.1.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 11 ps 0.8 pi 1 title 'newton-none-none (fastest)', \
+  'huge-step-h0.1.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-shift-none (fastest)', \
   'huge-step-h0.1.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 5 title 'lbfgs-wolfe', \
   'huge-step-h0.1.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 8 title 'bcqn', \
   'huge-step-h0.1.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 4 title 'ncg-wolfe', \

@@ -2,9 +2,9 @@
 # colour = optimizer family (baseline black), dash = line search, point = Hessian fix;
 # in colour: the baseline, the fastest and the best of each family (at most 8)
 if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {
-    set terminal pngcairo size 1486,800 font 'DejaVu Sans,10' noenhanced
+    set terminal pngcairo size 1445,800 font 'DejaVu Sans,10' noenhanced
 } else {
-    set terminal png size 1486,800 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
+    set terminal png size 1445,800 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
 }
 set output 'incompressible-0.495.png'
 left = 0.0001  # the start point x0 (time 0) is drawn at the left edge
@@ -28,12 +28,12 @@ set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#9999
 set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
-set key at screen 0.7268, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "incompressible-0.495: 5000 tets, stable_neo_hookean E=1e+07 nu=0.495; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-progressive-backtracking, 1.01x faster than the next, newton-shift-backtracking; 1.01x faster than the baseline" font ',12'
+set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "incompressible-0.495: 5000 tets, stable_neo_hookean E=1e+07 nu=0.495; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-shift-backtracking, 1.00x faster than the next, newton-none-backtracking; 1.01x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
-set lmargin at screen 0.0606
-set rmargin at screen 0.6931
+set lmargin at screen 0.0623
+set rmargin at screen 0.7128
 set tmargin at screen 0.9000
 set bmargin at screen 0.0750
 set ylabel 'relative energy error (g - g*) / |g0 - g*|'
@@ -43,11 +43,11 @@ plot \
   'incompressible-0.495.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'incompressible-0.495.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'incompressible-0.495.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'incompressible-0.495.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -60,7 +60,7 @@ plot \
   'incompressible-0.495.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'incompressible-0.495.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking (fastest)', \
+  'incompressible-0.495.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-shift-backtracking (fastest)', \
   'incompressible-0.495.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'incompressible-0.495.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
   'incompressible-0.495.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 8 title 'lbfgs-wolfe', \
@@ -75,14 +75,14 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 15 ps 1.0 title '  progressive', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  shift', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
 unset multiplot
 
 # ---- the same figure as SVG
 reset
-set terminal svg size 1486,800 font 'DejaVu Sans,10' noenhanced
+set terminal svg size 1445,800 font 'DejaVu Sans,10' noenhanced
 set output 'incompressible-0.495.svg'
 left = 0.0001  # the start point x0 (time 0) is drawn at the left edge
 stats 'incompressible-0.495.dat' using 1 nooutput
@@ -105,12 +105,12 @@ set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#9999
 set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
-set key at screen 0.7268, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "incompressible-0.495: 5000 tets, stable_neo_hookean E=1e+07 nu=0.495; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-progressive-backtracking, 1.01x faster than the next, newton-shift-backtracking; 1.01x faster than the baseline" font ',12'
+set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "incompressible-0.495: 5000 tets, stable_neo_hookean E=1e+07 nu=0.495; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-shift-backtracking, 1.00x faster than the next, newton-none-backtracking; 1.01x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
-set lmargin at screen 0.0606
-set rmargin at screen 0.6931
+set lmargin at screen 0.0623
+set rmargin at screen 0.7128
 set tmargin at screen 0.9000
 set bmargin at screen 0.0750
 set ylabel 'relative energy error (g - g*) / |g0 - g*|'
@@ -120,11 +120,11 @@ plot \
   'incompressible-0.495.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'incompressible-0.495.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'incompressible-0.495.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'incompressible-0.495.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -137,7 +137,7 @@ plot \
   'incompressible-0.495.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.495.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'incompressible-0.495.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking (fastest)', \
+  'incompressible-0.495.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-shift-backtracking (fastest)', \
   'incompressible-0.495.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'incompressible-0.495.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
   'incompressible-0.495.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 8 title 'lbfgs-wolfe', \
@@ -152,7 +152,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 15 ps 1.0 title '  progressive', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  shift', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
 unset multiplot

@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7073, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "incompressible-0.4999: 5000 tets, stable_neo_hookean E=1e+07 nu=0.4999; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-clamp-backtracking, 1.01x faster than the next, newton-none-none" font ',12'
+set multiplot title "incompressible-0.4999: 5000 tets, stable_neo_hookean E=1e+07 nu=0.4999; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-clamp-backtracking, 1.02x faster than the next, newton-progressive-backtracking" font ',12'
 
 # panel 1: measured step 3
 set lmargin at screen 0.0589
@@ -46,8 +46,8 @@ plot \
   'incompressible-0.4999.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'incompressible-0.4999.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'incompressible-0.4999.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -60,7 +60,7 @@ plot \
   'incompressible-0.4999.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline) (fastest)', \
-  'incompressible-0.4999.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-none', \
+  'incompressible-0.4999.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
   'incompressible-0.4999.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'incompressible-0.4999.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
   'incompressible-0.4999.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 9 title 'lbfgs-wolfe', \
@@ -75,7 +75,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  none', \
+  keyentry with points lc rgb '#555555' pt 15 ps 1.0 title '  progressive', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
 unset multiplot
@@ -106,7 +106,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7073, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "incompressible-0.4999: 5000 tets, stable_neo_hookean E=1e+07 nu=0.4999; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-clamp-backtracking, 1.01x faster than the next, newton-none-none" font ',12'
+set multiplot title "incompressible-0.4999: 5000 tets, stable_neo_hookean E=1e+07 nu=0.4999; 1 measured step, median of 2 repeats\nfastest to 1e-6: newton-clamp-backtracking, 1.02x faster than the next, newton-progressive-backtracking" font ',12'
 
 # panel 1: measured step 3
 set lmargin at screen 0.0589
@@ -123,8 +123,8 @@ plot \
   'incompressible-0.4999.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'incompressible-0.4999.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'incompressible-0.4999.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -137,7 +137,7 @@ plot \
   'incompressible-0.4999.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'incompressible-0.4999.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline) (fastest)', \
-  'incompressible-0.4999.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-none', \
+  'incompressible-0.4999.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
   'incompressible-0.4999.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'incompressible-0.4999.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
   'incompressible-0.4999.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 9 title 'lbfgs-wolfe', \
@@ -152,7 +152,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  none', \
+  keyentry with points lc rgb '#555555' pt 15 ps 1.0 title '  progressive', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
 unset multiplot

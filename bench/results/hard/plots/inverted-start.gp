@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "inverted-start: 320 tets, stable_neo_hookean E=100000 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.10x faster than the next, pd-lbfgs5-backtracking; 5.31x faster than the baseline" font ',12'
+set multiplot title "inverted-start: 320 tets, stable_neo_hookean E=100000 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.10x faster than the next, pd-lbfgs5-backtracking; 5.69x faster than the baseline" font ',12'
 
 # panel 1: measured step 1
 set lmargin at screen 0.0516
@@ -41,7 +41,8 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'inverted-start.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'inverted-start.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'inverted-start.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -50,7 +51,6 @@ plot \
   'inverted-start.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'inverted-start.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 32 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -61,7 +61,7 @@ plot \
   'inverted-start.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 52 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'inverted-start.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-none', \
+  'inverted-start.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone', \
   'inverted-start.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
   'inverted-start.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'inverted-start.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
@@ -70,7 +70,7 @@ plot \
   'inverted-start.dat' index 50 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  wolfe', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
@@ -89,7 +89,8 @@ set format y ''
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 unset key
 plot \
-  'inverted-start.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'inverted-start.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'inverted-start.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -98,7 +99,6 @@ plot \
   'inverted-start.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'inverted-start.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 27 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 33 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -109,7 +109,7 @@ plot \
   'inverted-start.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 53 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'inverted-start.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-none', \
+  'inverted-start.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone', \
   'inverted-start.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
   'inverted-start.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'inverted-start.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
@@ -144,7 +144,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "inverted-start: 320 tets, stable_neo_hookean E=100000 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.10x faster than the next, pd-lbfgs5-backtracking; 5.31x faster than the baseline" font ',12'
+set multiplot title "inverted-start: 320 tets, stable_neo_hookean E=100000 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.10x faster than the next, pd-lbfgs5-backtracking; 5.69x faster than the baseline" font ',12'
 
 # panel 1: measured step 1
 set lmargin at screen 0.0516
@@ -156,7 +156,8 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'inverted-start.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'inverted-start.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'inverted-start.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -165,7 +166,6 @@ plot \
   'inverted-start.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'inverted-start.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 26 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 32 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -176,7 +176,7 @@ plot \
   'inverted-start.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 52 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'inverted-start.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-none', \
+  'inverted-start.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone', \
   'inverted-start.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
   'inverted-start.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'inverted-start.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
@@ -185,7 +185,7 @@ plot \
   'inverted-start.dat' index 50 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 13 ps 0.8 pi 1 title 'pd-lbfgs5-backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  wolfe', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
@@ -204,7 +204,8 @@ set format y ''
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 unset key
 plot \
-  'inverted-start.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'inverted-start.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
+  'inverted-start.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -213,7 +214,6 @@ plot \
   'inverted-start.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'inverted-start.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 27 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 33 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -224,7 +224,7 @@ plot \
   'inverted-start.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 53 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'inverted-start.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'inverted-start.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-none', \
+  'inverted-start.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone', \
   'inverted-start.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'ipopt-clamp', \
   'inverted-start.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe (fastest)', \
   'inverted-start.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \

@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): pd_local_global-anderson, 1.09x faster than the next, pd-lbfgs5-backtracking; 2.29x faster than the baseline" font ',12'
+set multiplot title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): pd_local_global-anderson, 1.10x faster than the next, pd-lbfgs5-backtracking; 2.15x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
 set lmargin at screen 0.0516
@@ -44,11 +44,11 @@ plot \
   'mass-ratio-1e4.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'mass-ratio-1e4.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -61,7 +61,7 @@ plot \
   'mass-ratio-1e4.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 52 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'mass-ratio-1e4.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
+  'mass-ratio-1e4.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'newton-shift-backtracking', \
   'mass-ratio-1e4.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
   'mass-ratio-1e4.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'bcqn', \
   'mass-ratio-1e4.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
@@ -75,7 +75,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 15 ps 1.0 title '  progressive', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  shift', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand'
 
@@ -93,11 +93,11 @@ plot \
   'mass-ratio-1e4.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'mass-ratio-1e4.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -110,7 +110,7 @@ plot \
   'mass-ratio-1e4.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 53 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'mass-ratio-1e4.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
+  'mass-ratio-1e4.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'newton-shift-backtracking', \
   'mass-ratio-1e4.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
   'mass-ratio-1e4.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'bcqn', \
   'mass-ratio-1e4.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
@@ -145,7 +145,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): pd_local_global-anderson, 1.09x faster than the next, pd-lbfgs5-backtracking; 2.29x faster than the baseline" font ',12'
+set multiplot title "mass-ratio-1e4: 5000 tets, stable_neo_hookean E=1e+07 nu=0.3; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): pd_local_global-anderson, 1.10x faster than the next, pd-lbfgs5-backtracking; 2.15x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
 set lmargin at screen 0.0516
@@ -160,11 +160,11 @@ plot \
   'mass-ratio-1e4.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'mass-ratio-1e4.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -177,7 +177,7 @@ plot \
   'mass-ratio-1e4.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 52 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'mass-ratio-1e4.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
+  'mass-ratio-1e4.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'newton-shift-backtracking', \
   'mass-ratio-1e4.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
   'mass-ratio-1e4.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'bcqn', \
   'mass-ratio-1e4.dat' index 34 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \
@@ -191,7 +191,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 15 ps 1.0 title '  progressive', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  shift', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand'
 
@@ -209,11 +209,11 @@ plot \
   'mass-ratio-1e4.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'mass-ratio-1e4.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'mass-ratio-1e4.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'mass-ratio-1e4.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -226,7 +226,7 @@ plot \
   'mass-ratio-1e4.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 53 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'mass-ratio-1e4.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'mass-ratio-1e4.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 15 ps 0.8 pi 1 title 'newton-progressive-backtracking', \
+  'mass-ratio-1e4.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'newton-shift-backtracking', \
   'mass-ratio-1e4.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'lbfgs-wolfe', \
   'mass-ratio-1e4.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 1 title 'bcqn', \
   'mass-ratio-1e4.dat' index 35 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt (7,7) lw 1.6 pt 4 ps 0.8 pi 1 title 'ncg-wolfe', \

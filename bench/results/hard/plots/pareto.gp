@@ -35,7 +35,7 @@ set label 24 "24  vbd-accelerated" at screen 0.72, screen 0.2385 left font ',10'
 set label 25 "25  jacobi_chebyshev" at screen 0.72, screen 0.2089 left font ',10' tc rgb '#d62728'
 set label 26 "26  pd-lbfgs5-backtracking" at screen 0.72, screen 0.1793 left font ',10' tc rgb '#2ca02c'
 set label 27 "27  nlopt-lbfgs" at screen 0.72, screen 0.1496 left font ',10' tc rgb '#ff7f0e'
-set title "Own stopping rule over 11 scene(s) (the report's 'Own stopping rule' table): lower left is better\nfastest converged everywhere: newton-project_on_demand-backtracking (0.62x the baseline's time); closest: newton-abs-none (7.0e-08)"
+set title "Own stopping rule over 11 scene(s) (the report's 'Own stopping rule' table): lower left is better\nfastest converged everywhere: newton-project_on_demand-backtracking (0.58x the baseline's time); closest: newton-progressive-backtracking (7.3e-08)"
 set logscale xy
 set grid lc rgb '#dddddd'
 set format y '1e%L'

@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.18x faster than the next, pd-lbfgs5-backtracking; 6.51x faster than the baseline" font ',12'
+set multiplot title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.12x faster than the next, pd-lbfgs5-backtracking; 6.64x faster than the baseline" font ',12'
 
 # panel 1: measured step 9
 set lmargin at screen 0.0516
@@ -44,8 +44,8 @@ plot \
   'twist-2-turns.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'twist-2-turns.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'twist-2-turns.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -61,7 +61,7 @@ plot \
   'twist-2-turns.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 52 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'twist-2-turns.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'newton-shift-backtracking', \
   'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'twist-2-turns.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
   'twist-2-turns.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 4 title 'bcqn', \
@@ -75,7 +75,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  none', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  shift', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
 
@@ -93,8 +93,8 @@ plot \
   'twist-2-turns.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'twist-2-turns.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -110,7 +110,7 @@ plot \
   'twist-2-turns.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 53 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'newton-shift-backtracking', \
   'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'twist-2-turns.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
   'twist-2-turns.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 4 title 'bcqn', \
@@ -145,7 +145,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.18x faster than the next, pd-lbfgs5-backtracking; 6.51x faster than the baseline" font ',12'
+set multiplot title "twist-2-turns: 2400 tets, stable_neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): lbfgs-wolfe, 1.12x faster than the next, pd-lbfgs5-backtracking; 6.64x faster than the baseline" font ',12'
 
 # panel 1: measured step 9
 set lmargin at screen 0.0516
@@ -160,8 +160,8 @@ plot \
   'twist-2-turns.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'twist-2-turns.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'twist-2-turns.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -177,7 +177,7 @@ plot \
   'twist-2-turns.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 52 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'twist-2-turns.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'twist-2-turns.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'newton-shift-backtracking', \
   'twist-2-turns.dat' index 24 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'twist-2-turns.dat' index 30 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
   'twist-2-turns.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 4 title 'bcqn', \
@@ -191,7 +191,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  barrier_filter', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  none', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  shift', \
   keyentry with points lc rgb '#555555' pt 13 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 4 ps 1.0 title '  (no Hessian)'
 
@@ -209,8 +209,8 @@ plot \
   'twist-2-turns.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '19 other configurations (grey)', \
   'twist-2-turns.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -226,7 +226,7 @@ plot \
   'twist-2-turns.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 53 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-2-turns.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'twist-2-turns.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 11 ps 0.8 pi 1 title 'newton-none-backtracking', \
+  'twist-2-turns.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'newton-shift-backtracking', \
   'twist-2-turns.dat' index 25 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 13 ps 0.8 pi 1 title 'newton_tr', \
   'twist-2-turns.dat' index 31 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 3.0 pt 4 ps 0.8 pi 3 title 'lbfgs-wolfe (fastest)', \
   'twist-2-turns.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6,3,6) lw 1.6 pt 4 ps 0.8 pi 4 title 'bcqn', \

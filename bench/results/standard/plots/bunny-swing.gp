@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-swing: 19379 tets, stable_neo_hookean E=1e+07 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): newton-clamp-none, 1.01x faster than the next, newton-clamp-nonmonotone; 1.05x faster than the baseline" font ',12'
+set multiplot title "bunny-swing: 19379 tets, stable_neo_hookean E=1e+07 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): newton-clamp-nonmonotone, 1.03x faster than the next, newton-progressive-backtracking; 1.10x faster than the baseline" font ',12'
 
 # panel 1: measured step 10
 set lmargin at screen 0.0516
@@ -46,32 +46,31 @@ plot \
   'bunny-swing.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-swing.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-swing.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 30 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 34 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-swing.dat' index 36 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-swing.dat' index 38 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 40 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 42 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 44 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 46 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-swing.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-none (fastest)', \
+  'bunny-swing.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
   'bunny-swing.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
   'bunny-swing.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 2 title 'bcqn', \
   'bunny-swing.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'ncg', \
   'bunny-swing.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 11 ps 0.8 pi 2 title 'pd-lbfgs5-backtracking', \
   'bunny-swing.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 2 title 'pd_local_global-anderson', \
-  'bunny-swing.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6,3,6) lw 1.6 pt 6 ps 0.8 pi 3 title 'aqp', \
+  'bunny-swing.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'mixed_fem', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  barrier_filter', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
   keyentry with points lc rgb '#555555' pt 6 ps 1.0 title '  (no Hessian)', \
@@ -93,26 +92,26 @@ plot \
   'bunny-swing.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-swing.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-swing.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 31 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 35 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-swing.dat' index 37 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-swing.dat' index 39 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 41 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 43 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 45 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 47 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-swing.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-none (fastest)', \
+  'bunny-swing.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
   'bunny-swing.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
   'bunny-swing.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 3 title 'bcqn', \
   'bunny-swing.dat' index 27 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'ncg', \
   'bunny-swing.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 11 ps 0.8 pi 3 title 'pd-lbfgs5-backtracking', \
   'bunny-swing.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 2 title 'pd_local_global-anderson', \
-  'bunny-swing.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6,3,6) lw 1.6 pt 6 ps 0.8 pi 3 title 'aqp'
+  'bunny-swing.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'mixed_fem'
 unset multiplot
 
 # ---- the same figure as SVG
@@ -141,7 +140,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-swing: 19379 tets, stable_neo_hookean E=1e+07 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): newton-clamp-none, 1.01x faster than the next, newton-clamp-nonmonotone; 1.05x faster than the baseline" font ',12'
+set multiplot title "bunny-swing: 19379 tets, stable_neo_hookean E=1e+07 nu=0.4; 2 measured steps, median of 2 repeats\nfastest to 1e-6 (time summed over the 2 steps): newton-clamp-nonmonotone, 1.03x faster than the next, newton-progressive-backtracking; 1.10x faster than the baseline" font ',12'
 
 # panel 1: measured step 10
 set lmargin at screen 0.0516
@@ -158,32 +157,31 @@ plot \
   'bunny-swing.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 10 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-swing.dat' index 14 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-swing.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 16 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 30 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 34 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-swing.dat' index 36 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-swing.dat' index 38 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 40 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 42 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 44 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 46 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 48 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-swing.dat' index 12 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-none (fastest)', \
+  'bunny-swing.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
   'bunny-swing.dat' index 20 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
   'bunny-swing.dat' index 22 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 2 title 'bcqn', \
   'bunny-swing.dat' index 26 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'ncg', \
   'bunny-swing.dat' index 28 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 11 ps 0.8 pi 2 title 'pd-lbfgs5-backtracking', \
   'bunny-swing.dat' index 32 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 2 title 'pd_local_global-anderson', \
-  'bunny-swing.dat' index 38 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6,3,6) lw 1.6 pt 6 ps 0.8 pi 3 title 'aqp', \
+  'bunny-swing.dat' index 36 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'mixed_fem', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  barrier_filter', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
   keyentry with points lc rgb '#555555' pt 6 ps 1.0 title '  (no Hessian)', \
@@ -205,24 +203,24 @@ plot \
   'bunny-swing.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 11 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-swing.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-swing.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 25 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 31 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 35 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'bunny-swing.dat' index 37 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'bunny-swing.dat' index 39 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 41 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 43 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 45 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 47 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 49 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'bunny-swing.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-swing.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-none (fastest)', \
+  'bunny-swing.dat' index 15 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
   'bunny-swing.dat' index 21 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
   'bunny-swing.dat' index 23 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 3 title 'bcqn', \
   'bunny-swing.dat' index 27 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'ncg', \
   'bunny-swing.dat' index 29 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 11 ps 0.8 pi 3 title 'pd-lbfgs5-backtracking', \
   'bunny-swing.dat' index 33 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 2 title 'pd_local_global-anderson', \
-  'bunny-swing.dat' index 39 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6,3,6) lw 1.6 pt 6 ps 0.8 pi 3 title 'aqp'
+  'bunny-swing.dat' index 37 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'mixed_fem'
 unset multiplot

@@ -7,7 +7,7 @@ if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {
     set terminal png size 1445,800 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
 }
 set output 'cantilever-1e7-50k-snh.png'
-left = 0.001  # the start point x0 (time 0) is drawn at the left edge
+left = 0.01  # the start point x0 (time 0) is drawn at the left edge
 stats 'cantilever-1e7-50k-snh.dat' using 1 nooutput
 right = STATS_max > left ? 10**ceil(log10(STATS_max)) : 10*left
 set xrange [left:right]
@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "cantilever-1e7-50k-snh: 50000 tets, stable_neo_hookean E=1e+07 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.01x faster than the next, lbfgs-wolfe; 1.10x faster than the baseline" font ',12'
+set multiplot title "cantilever-1e7-50k-snh: 50000 tets, stable_neo_hookean E=1e+07 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.11x faster than the next, pd_local_global-anderson; 1.25x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
 set lmargin at screen 0.0623
@@ -47,40 +47,40 @@ plot \
   'cantilever-1e7-50k-snh.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'cantilever-1e7-50k-snh.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'cantilever-1e7-50k-snh.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'cantilever-1e7-50k-snh.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
   'cantilever-1e7-50k-snh.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2', \
   'cantilever-1e7-50k-snh.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
   'cantilever-1e7-50k-snh.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 2 title 'bcqn', \
   'cantilever-1e7-50k-snh.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'ncg', \
   'cantilever-1e7-50k-snh.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 3.0 pt 11 ps 0.8 pi 2 title 'pd-lbfgs5-backtracking (fastest)', \
   'cantilever-1e7-50k-snh.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 2 title 'pd_local_global-anderson', \
-  'cantilever-1e7-50k-snh.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'aqp', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  barrier_filter', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 6 ps 1.0 title '  (no Hessian)', \
-  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  project_on_demand'
+  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  project_on_demand', \
+  keyentry with points lc rgb '#555555' pt 6 ps 1.0 title '  (no Hessian)'
 unset multiplot
 
 # ---- the same figure as SVG
 reset
 set terminal svg size 1445,800 font 'DejaVu Sans,10' noenhanced
 set output 'cantilever-1e7-50k-snh.svg'
-left = 0.001  # the start point x0 (time 0) is drawn at the left edge
+left = 0.01  # the start point x0 (time 0) is drawn at the left edge
 stats 'cantilever-1e7-50k-snh.dat' using 1 nooutput
 right = STATS_max > left ? 10**ceil(log10(STATS_max)) : 10*left
 set xrange [left:right]
@@ -102,7 +102,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "cantilever-1e7-50k-snh: 50000 tets, stable_neo_hookean E=1e+07 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.01x faster than the next, lbfgs-wolfe; 1.10x faster than the baseline" font ',12'
+set multiplot title "cantilever-1e7-50k-snh: 50000 tets, stable_neo_hookean E=1e+07 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.11x faster than the next, pd_local_global-anderson; 1.25x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
 set lmargin at screen 0.0623
@@ -120,31 +120,31 @@ plot \
   'cantilever-1e7-50k-snh.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'cantilever-1e7-50k-snh.dat' index 8 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 18 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'cantilever-1e7-50k-snh.dat' index 19 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 20 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 21 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-50k-snh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'cantilever-1e7-50k-snh.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
   'cantilever-1e7-50k-snh.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2', \
   'cantilever-1e7-50k-snh.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
   'cantilever-1e7-50k-snh.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 2 title 'bcqn', \
   'cantilever-1e7-50k-snh.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'ncg', \
   'cantilever-1e7-50k-snh.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 3.0 pt 11 ps 0.8 pi 2 title 'pd-lbfgs5-backtracking (fastest)', \
   'cantilever-1e7-50k-snh.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 2 title 'pd_local_global-anderson', \
-  'cantilever-1e7-50k-snh.dat' index 19 using ($1>0?$1:left):2 with linespoints lc rgb '#7f7f7f' dt (16,6,3,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'aqp', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  barrier_filter', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 6 ps 1.0 title '  (no Hessian)', \
-  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  project_on_demand'
+  keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  project_on_demand', \
+  keyentry with points lc rgb '#555555' pt 6 ps 1.0 title '  (no Hessian)'
 unset multiplot

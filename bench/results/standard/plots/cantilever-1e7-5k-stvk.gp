@@ -2,9 +2,9 @@
 # colour = optimizer family (baseline black), dash = line search, point = Hessian fix;
 # in colour: the baseline, the fastest and the best of each family (at most 8)
 if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {
-    set terminal pngcairo size 1445,800 font 'DejaVu Sans,10' noenhanced
+    set terminal pngcairo size 1535,800 font 'DejaVu Sans,10' noenhanced
 } else {
-    set terminal png size 1445,800 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
+    set terminal png size 1535,800 font 'DejaVu Sans,11' noenhanced  # draws every dash type solid
 }
 set output 'cantilever-1e7-5k-stvk.png'
 left = 0.0001  # the start point x0 (time 0) is drawn at the left edge
@@ -28,12 +28,12 @@ set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#9999
 set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
-set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "cantilever-1e7-5k-stvk: 5000 tets, stvk E=1e+07 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp-pcg-gmg-ew2, 1.00x faster than the next, newton-clamp-none; 1.02x faster than the baseline" font ',12'
+set key at screen 0.7036, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "cantilever-1e7-5k-stvk: 5000 tets, stvk E=1e+07 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-project_on_demand-backtracking, 1.01x faster than the next, newton-clamp-nonmonotone; 1.03x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
-set lmargin at screen 0.0623
-set rmargin at screen 0.7128
+set lmargin at screen 0.0586
+set rmargin at screen 0.6710
 set tmargin at screen 0.9000
 set bmargin at screen 0.0750
 set ylabel 'relative energy error (g - g*) / |g0 - g*|'
@@ -42,11 +42,11 @@ set xlabel 'solve time of the step (s); median of the repeats; x0 at the left ed
 plot \
   'cantilever-1e7-5k-stvk.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '17 other configurations (grey)', \
   'cantilever-1e7-5k-stvk.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'cantilever-1e7-5k-stvk.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'cantilever-1e7-5k-stvk.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -58,8 +58,8 @@ plot \
   'cantilever-1e7-5k-stvk.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'cantilever-1e7-5k-stvk.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 11 ps 0.8 pi 1 title 'newton-project_on_demand-backtracking (fastest)', \
   'cantilever-1e7-5k-stvk.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
-  'cantilever-1e7-5k-stvk.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2 (fastest)', \
   'cantilever-1e7-5k-stvk.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
   'cantilever-1e7-5k-stvk.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 2 title 'bcqn', \
   'cantilever-1e7-5k-stvk.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'ncg', \
@@ -78,7 +78,7 @@ unset multiplot
 
 # ---- the same figure as SVG
 reset
-set terminal svg size 1445,800 font 'DejaVu Sans,10' noenhanced
+set terminal svg size 1535,800 font 'DejaVu Sans,10' noenhanced
 set output 'cantilever-1e7-5k-stvk.svg'
 left = 0.0001  # the start point x0 (time 0) is drawn at the left edge
 stats 'cantilever-1e7-5k-stvk.dat' using 1 nooutput
@@ -101,12 +101,12 @@ set arrow from graph 0, first 1e-06 to graph 1, first 1e-06 nohead lc rgb '#9999
 set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
-set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "cantilever-1e7-5k-stvk: 5000 tets, stvk E=1e+07 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp-pcg-gmg-ew2, 1.00x faster than the next, newton-clamp-none; 1.02x faster than the baseline" font ',12'
+set key at screen 0.7036, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
+set multiplot title "cantilever-1e7-5k-stvk: 5000 tets, stvk E=1e+07 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-project_on_demand-backtracking, 1.01x faster than the next, newton-clamp-nonmonotone; 1.03x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
-set lmargin at screen 0.0623
-set rmargin at screen 0.7128
+set lmargin at screen 0.0586
+set rmargin at screen 0.6710
 set tmargin at screen 0.9000
 set bmargin at screen 0.0750
 set ylabel 'relative energy error (g - g*) / |g0 - g*|'
@@ -115,11 +115,11 @@ set xlabel 'solve time of the step (s); median of the repeats; x0 at the left ed
 plot \
   'cantilever-1e7-5k-stvk.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '17 other configurations (grey)', \
   'cantilever-1e7-5k-stvk.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'cantilever-1e7-5k-stvk.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'cantilever-1e7-5k-stvk.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 17 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -131,8 +131,8 @@ plot \
   'cantilever-1e7-5k-stvk.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e7-5k-stvk.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'cantilever-1e7-5k-stvk.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 11 ps 0.8 pi 1 title 'newton-project_on_demand-backtracking (fastest)', \
   'cantilever-1e7-5k-stvk.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
-  'cantilever-1e7-5k-stvk.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2 (fastest)', \
   'cantilever-1e7-5k-stvk.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
   'cantilever-1e7-5k-stvk.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 2 title 'bcqn', \
   'cantilever-1e7-5k-stvk.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'ncg', \

@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "cantilever-1e9-5k-snh: 5000 tets, stable_neo_hookean E=1e+09 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-shift-backtracking, 1.01x faster than the next, newton-progressive-backtracking; 1.02x faster than the baseline" font ',12'
+set multiplot title "cantilever-1e9-5k-snh: 5000 tets, stable_neo_hookean E=1e+09 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-none-backtracking, 1.00x faster than the next, newton-project_on_demand-backtracking; 1.05x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
 set lmargin at screen 0.0623
@@ -40,7 +40,7 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'cantilever-1e9-5k-snh.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '17 other configurations (grey)', \
+  'cantilever-1e9-5k-snh.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '17 other configurations (grey)', \
   'cantilever-1e9-5k-snh.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e9-5k-snh.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e9-5k-snh.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -58,7 +58,7 @@ plot \
   'cantilever-1e9-5k-snh.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e9-5k-snh.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e9-5k-snh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'cantilever-1e9-5k-snh.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 5 ps 0.8 pi 1 title 'newton-shift-backtracking (fastest)', \
+  'cantilever-1e9-5k-snh.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-none-backtracking (fastest)', \
   'cantilever-1e9-5k-snh.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
   'cantilever-1e9-5k-snh.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 5 title 'lbfgs-wolfe', \
   'cantilever-1e9-5k-snh.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'ncg', \
@@ -72,7 +72,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 5 ps 1.0 title '  shift', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  none', \
   keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 6 ps 1.0 title '  (no Hessian)'
 unset multiplot
@@ -103,7 +103,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "cantilever-1e9-5k-snh: 5000 tets, stable_neo_hookean E=1e+09 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-shift-backtracking, 1.01x faster than the next, newton-progressive-backtracking; 1.02x faster than the baseline" font ',12'
+set multiplot title "cantilever-1e9-5k-snh: 5000 tets, stable_neo_hookean E=1e+09 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-none-backtracking, 1.00x faster than the next, newton-project_on_demand-backtracking; 1.05x faster than the baseline" font ',12'
 
 # panel 1: measured step 3
 set lmargin at screen 0.0623
@@ -114,7 +114,7 @@ set ylabel 'relative energy error (g - g*) / |g0 - g*|'
 set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
-  'cantilever-1e9-5k-snh.dat' index 2 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '17 other configurations (grey)', \
+  'cantilever-1e9-5k-snh.dat' index 1 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 title '17 other configurations (grey)', \
   'cantilever-1e9-5k-snh.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e9-5k-snh.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e9-5k-snh.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -132,7 +132,7 @@ plot \
   'cantilever-1e9-5k-snh.dat' index 22 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e9-5k-snh.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'cantilever-1e9-5k-snh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'cantilever-1e9-5k-snh.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 5 ps 0.8 pi 1 title 'newton-shift-backtracking (fastest)', \
+  'cantilever-1e9-5k-snh.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'newton-none-backtracking (fastest)', \
   'cantilever-1e9-5k-snh.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
   'cantilever-1e9-5k-snh.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 5 title 'lbfgs-wolfe', \
   'cantilever-1e9-5k-snh.dat' index 13 using ($1>0?$1:left):2 with linespoints lc rgb '#9467bd' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'ncg', \
@@ -146,7 +146,7 @@ plot \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6,3,6) title '  own', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
   keyentry with points lc rgb '#555555' pt 7 ps 1.0 title '  clamp', \
-  keyentry with points lc rgb '#555555' pt 5 ps 1.0 title '  shift', \
+  keyentry with points lc rgb '#555555' pt 9 ps 1.0 title '  none', \
   keyentry with points lc rgb '#555555' pt 11 ps 1.0 title '  project_on_demand', \
   keyentry with points lc rgb '#555555' pt 6 ps 1.0 title '  (no Hessian)'
 unset multiplot

@@ -33,7 +33,7 @@ set label 22 "22  vbd-accelerated" at screen 0.72, screen 0.2480 left font ',10'
 set label 23 "23  jacobi_chebyshev" at screen 0.72, screen 0.2160 left font ',10' tc rgb '#d62728'
 set label 24 "24  nlopt-lbfgs" at screen 0.72, screen 0.1840 left font ',10' tc rgb '#2ca02c'
 set label 25 "25  ipopt-clamp" at screen 0.72, screen 0.1520 left font ',10' tc rgb '#ff7f0e'
-set title "Own stopping rule over 19 scene(s) (the report's 'Own stopping rule' table): lower left is better\nfastest converged everywhere: newton-project_on_demand-backtracking (0.67x the baseline's time); closest: ipopt-clamp (1.7e-09)"
+set title "Own stopping rule over 19 scene(s) (the report's 'Own stopping rule' table): lower left is better\nfastest converged everywhere: newton-project_on_demand-backtracking (0.66x the baseline's time); closest: ipopt-clamp (1.8e-09)"
 set logscale xy
 set grid lc rgb '#dddddd'
 set format y '1e%L'

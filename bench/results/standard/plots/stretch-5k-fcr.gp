@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "stretch-5k-fcr: 5000 tets, fixed_corotated E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.00x faster than the next, lbfgs-wolfe; 1.13x faster than the baseline" font ',12'
+set multiplot title "stretch-5k-fcr: 5000 tets, fixed_corotated E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.02x faster than the next, lbfgs-wolfe; 1.15x faster than the baseline" font ',12'
 
 # panel 1: measured step 5
 set lmargin at screen 0.0623
@@ -45,7 +45,7 @@ plot \
   'stretch-5k-fcr.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'stretch-5k-fcr.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stretch-5k-fcr.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -58,7 +58,7 @@ plot \
   'stretch-5k-fcr.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'stretch-5k-fcr.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone', \
+  'stretch-5k-fcr.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-none', \
   'stretch-5k-fcr.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
   'stretch-5k-fcr.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'lbfgs-wolfe', \
   'stretch-5k-fcr.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 1 title 'bcqn', \
@@ -67,7 +67,6 @@ plot \
   'stretch-5k-fcr.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'pd_local_global-anderson', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  barrier_filter', \
@@ -103,7 +102,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "stretch-5k-fcr: 5000 tets, fixed_corotated E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.00x faster than the next, lbfgs-wolfe; 1.13x faster than the baseline" font ',12'
+set multiplot title "stretch-5k-fcr: 5000 tets, fixed_corotated E=1e+06 nu=0.3; 1 measured step, median of 3 repeats\nfastest to 1e-6: pd-lbfgs5-backtracking, 1.02x faster than the next, lbfgs-wolfe; 1.15x faster than the baseline" font ',12'
 
 # panel 1: measured step 5
 set lmargin at screen 0.0623
@@ -119,7 +118,7 @@ plot \
   'stretch-5k-fcr.dat' index 3 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'stretch-5k-fcr.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'stretch-5k-fcr.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -132,7 +131,7 @@ plot \
   'stretch-5k-fcr.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'stretch-5k-fcr.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'stretch-5k-fcr.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone', \
+  'stretch-5k-fcr.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (16,8) lw 1.6 pt 7 ps 0.8 pi 1 title 'newton-clamp-none', \
   'stretch-5k-fcr.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
   'stretch-5k-fcr.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 1 title 'lbfgs-wolfe', \
   'stretch-5k-fcr.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 1 title 'bcqn', \
@@ -141,7 +140,6 @@ plot \
   'stretch-5k-fcr.dat' index 16 using ($1>0?$1:left):2 with linespoints lc rgb '#e377c2' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'pd_local_global-anderson', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
-  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  barrier_filter', \

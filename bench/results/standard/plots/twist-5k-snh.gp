@@ -29,7 +29,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "twist-5k-snh: 5000 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp-pcg-gmg-ew2, 1.01x faster than the next, newton-clamp-backtracking" font ',12'
+set multiplot title "twist-5k-snh: 5000 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp-nonmonotone, 1.01x faster than the next, newton-shift-backtracking; 1.03x faster than the baseline" font ',12'
 
 # panel 1: measured step 4
 set lmargin at screen 0.0623
@@ -46,7 +46,7 @@ plot \
   'twist-5k-snh.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'twist-5k-snh.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-snh.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -58,8 +58,8 @@ plot \
   'twist-5k-snh.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'twist-5k-snh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
   'twist-5k-snh.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
-  'twist-5k-snh.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2 (fastest)', \
   'twist-5k-snh.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
   'twist-5k-snh.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 3 title 'bcqn', \
   'twist-5k-snh.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 11 ps 0.8 pi 3 title 'pd-lbfgs5-backtracking', \
@@ -67,6 +67,7 @@ plot \
   'twist-5k-snh.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'mixed_fem', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  barrier_filter', \
@@ -102,7 +103,7 @@ set label '1e-6' at graph 1, first 1e-06 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 1e-08 to graph 1, first 1e-08 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-8' at graph 1, first 1e-08 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "twist-5k-snh: 5000 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp-pcg-gmg-ew2, 1.01x faster than the next, newton-clamp-backtracking" font ',12'
+set multiplot title "twist-5k-snh: 5000 tets, stable_neo_hookean E=1e+06 nu=0.4; 1 measured step, median of 3 repeats\nfastest to 1e-6: newton-clamp-nonmonotone, 1.01x faster than the next, newton-shift-backtracking; 1.03x faster than the baseline" font ',12'
 
 # panel 1: measured step 4
 set lmargin at screen 0.0623
@@ -119,7 +120,7 @@ plot \
   'twist-5k-snh.dat' index 4 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 5 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 6 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
-  'twist-5k-snh.dat' index 7 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
+  'twist-5k-snh.dat' index 9 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 12 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 13 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 15 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
@@ -131,8 +132,8 @@ plot \
   'twist-5k-snh.dat' index 23 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 24 using ($1>0?$1:left):2 with lines lc rgb '#c8c8c8' lw 0.8 notitle, \
   'twist-5k-snh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
+  'twist-5k-snh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt (3,6) lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-nonmonotone (fastest)', \
   'twist-5k-snh.dat' index 8 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt (16,8) lw 1.6 pt 11 ps 0.8 pi 1 title 'newton_tr', \
-  'twist-5k-snh.dat' index 9 using ($1>0?$1:left):2 with linespoints lc rgb '#1f77b4' dt 1 lw 3.0 pt 7 ps 0.8 pi 1 title 'newton-clamp-pcg-gmg-ew2 (fastest)', \
   'twist-5k-snh.dat' index 10 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt (16,6,3,6) lw 1.6 pt 6 ps 0.8 pi 2 title 'lbfgs-wolfe', \
   'twist-5k-snh.dat' index 11 using ($1>0?$1:left):2 with linespoints lc rgb '#ff7f0e' dt (7,7) lw 1.6 pt 6 ps 0.8 pi 3 title 'bcqn', \
   'twist-5k-snh.dat' index 14 using ($1>0?$1:left):2 with linespoints lc rgb '#8c564b' dt 1 lw 1.6 pt 11 ps 0.8 pi 3 title 'pd-lbfgs5-backtracking', \
@@ -140,6 +141,7 @@ plot \
   'twist-5k-snh.dat' index 18 using ($1>0?$1:left):2 with linespoints lc rgb '#bcbd22' dt 1 lw 1.6 pt 6 ps 0.8 pi 1 title 'mixed_fem', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
+  keyentry with lines lc rgb '#555555' lw 1.8 dt (3,6) title '  nonmonotone', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,8) title '  none', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (16,6,3,6) title '  wolfe', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt (7,7) title '  barrier_filter', \
