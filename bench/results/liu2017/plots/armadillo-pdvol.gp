@@ -25,7 +25,7 @@ set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "armadillo-pdvol: 54985 tets, pd_volume E=5e+07 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-4: pd-local-global-aa5, 1.06x faster than the next, lbfgs-pd5; 1.15x faster than the baseline" font ',12'
+set multiplot title "armadillo-pdvol: 54985 tets, pd_volume E=5e+07 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-4: lbfgs-pd5, 1.01x faster than the next, pd-local-global-aa5; 1.13x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
 set lmargin at screen 0.0623
@@ -37,9 +37,9 @@ set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
   'armadillo-pdvol.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'armadillo-pdvol.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5', \
+  'armadillo-pdvol.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 3.0 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5 (fastest)', \
   'armadillo-pdvol.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global', \
-  'armadillo-pdvol.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5 (fastest)', \
+  'armadillo-pdvol.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
@@ -70,7 +70,7 @@ set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "armadillo-pdvol: 54985 tets, pd_volume E=5e+07 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-4: pd-local-global-aa5, 1.06x faster than the next, lbfgs-pd5; 1.15x faster than the baseline" font ',12'
+set multiplot title "armadillo-pdvol: 54985 tets, pd_volume E=5e+07 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-4: lbfgs-pd5, 1.01x faster than the next, pd-local-global-aa5; 1.13x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
 set lmargin at screen 0.0623
@@ -82,9 +82,9 @@ set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
   'armadillo-pdvol.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'armadillo-pdvol.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5', \
+  'armadillo-pdvol.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 3.0 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5 (fastest)', \
   'armadillo-pdvol.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global', \
-  'armadillo-pdvol.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5 (fastest)', \
+  'armadillo-pdvol.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \

@@ -25,7 +25,7 @@ set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "armadillo-stvk: 54985 tets, stvk E=5e+07 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-4: lbfgs-pd5, 1.08x faster than the next, pd-local-global-aa5; 4.96x faster than the baseline" font ',12'
+set multiplot title "armadillo-stvk: 54985 tets, stvk E=5e+07 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-4: lbfgs-pd5, 1.26x faster than the next, pd-local-global-aa5; 5.07x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
 set lmargin at screen 0.0623
@@ -70,7 +70,7 @@ set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7474, screen 0.9000 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "armadillo-stvk: 54985 tets, stvk E=5e+07 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-4: lbfgs-pd5, 1.08x faster than the next, pd-local-global-aa5; 4.96x faster than the baseline" font ',12'
+set multiplot title "armadillo-stvk: 54985 tets, stvk E=5e+07 nu=0.4; 1 measured step, median of 1 repeat\nfastest to 1e-4: lbfgs-pd5, 1.26x faster than the next, pd-local-global-aa5; 5.07x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
 set lmargin at screen 0.0623

@@ -25,7 +25,7 @@ set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-nh: 19379 tets, neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 1 repeat\nfastest to 1e-4 (time summed over the 2 steps): pd-local-global-aa5, 1.06x faster than the next, lbfgs-pd5; 1.08x faster than the baseline" font ',12'
+set multiplot title "bunny-nh: 19379 tets, neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 1 repeat\nfastest to 1e-4 (time summed over the 2 steps): lbfgs-pd5, 1.12x faster than the next, pd-local-global-aa5; 1.13x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
 set lmargin at screen 0.0516
@@ -38,9 +38,9 @@ set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
   'bunny-nh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-nh.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5', \
+  'bunny-nh.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 3.0 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5 (fastest)', \
   'bunny-nh.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 9 ps 0.8 pi 4 title 'pd-local-global', \
-  'bunny-nh.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5 (fastest)', \
+  'bunny-nh.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
@@ -60,9 +60,9 @@ set xlabel 'solve time of the step (s); median of the repeats; x0 at the left ed
 unset key
 plot \
   'bunny-nh.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-nh.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5', \
+  'bunny-nh.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 3.0 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5 (fastest)', \
   'bunny-nh.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 9 ps 0.8 pi 8 title 'pd-local-global', \
-  'bunny-nh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5 (fastest)'
+  'bunny-nh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5'
 unset multiplot
 
 # ---- the same figure as SVG
@@ -87,7 +87,7 @@ set label '1e-3' at graph 1, first 0.001 offset char 0.4,0 left font ',8' tc rgb
 set arrow from graph 0, first 0.0001 to graph 1, first 0.0001 nohead lc rgb '#999999' dt (4,4) front
 set label '1e-4' at graph 1, first 0.0001 offset char 0.4,0 left font ',8' tc rgb '#777777'
 set key at screen 0.7908, screen 0.8919 left top Left reverse box opaque samplen 4 spacing 1.1 font ',10'
-set multiplot title "bunny-nh: 19379 tets, neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 1 repeat\nfastest to 1e-4 (time summed over the 2 steps): pd-local-global-aa5, 1.06x faster than the next, lbfgs-pd5; 1.08x faster than the baseline" font ',12'
+set multiplot title "bunny-nh: 19379 tets, neo_hookean E=1e+06 nu=0.4; 2 measured steps, median of 1 repeat\nfastest to 1e-4 (time summed over the 2 steps): lbfgs-pd5, 1.12x faster than the next, pd-local-global-aa5; 1.13x faster than the baseline" font ',12'
 
 # panel 1: measured step 2
 set lmargin at screen 0.0516
@@ -100,9 +100,9 @@ set format y '1e%L'
 set xlabel 'solve time of the step (s); median of the repeats; x0 at the left edge'
 plot \
   'bunny-nh.dat' index 0 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-nh.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5', \
+  'bunny-nh.dat' index 2 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 3.0 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5 (fastest)', \
   'bunny-nh.dat' index 4 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 9 ps 0.8 pi 4 title 'pd-local-global', \
-  'bunny-nh.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5 (fastest)', \
+  'bunny-nh.dat' index 6 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5', \
   keyentry with lines lc rgb '#ffffff' title 'line style = line search:', \
   keyentry with lines lc rgb '#555555' lw 1.8 dt 1 title '  backtracking', \
   keyentry with lines lc rgb '#ffffff' title 'point = Hessian fix:', \
@@ -122,7 +122,7 @@ set xlabel 'solve time of the step (s); median of the repeats; x0 at the left ed
 unset key
 plot \
   'bunny-nh.dat' index 1 using ($1>0?$1:left):2 with linespoints lc rgb '#000000' dt 1 lw 2.2 pt 7 ps 0.8 pi 1 title 'newton-clamp-backtracking (baseline)', \
-  'bunny-nh.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 1.6 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5', \
+  'bunny-nh.dat' index 3 using ($1>0?$1:left):2 with linespoints lc rgb '#d62728' dt 1 lw 3.0 pt 5 ps 0.8 pi 1 title 'lbfgs-pd5 (fastest)', \
   'bunny-nh.dat' index 5 using ($1>0?$1:left):2 with linespoints lc rgb '#2ca02c' dt 1 lw 1.6 pt 9 ps 0.8 pi 8 title 'pd-local-global', \
-  'bunny-nh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 3.0 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5 (fastest)'
+  'bunny-nh.dat' index 7 using ($1>0?$1:left):2 with linespoints lc rgb '#185818' dt 1 lw 1.6 pt 9 ps 0.8 pi 1 title 'pd-local-global-aa5'
 unset multiplot

@@ -12,7 +12,7 @@ set label 1 " 1  newton-clamp-backtracking (baseline)" at screen 0.72, screen 0.
 set label 2 " 2  lbfgs-pd5" at screen 0.72, screen 0.8800 left font ',10' tc rgb '#d62728'
 set label 3 " 3  pd-local-global" at screen 0.72, screen 0.8400 left font ',10' tc rgb '#2ca02c'
 set label 4 " 4  pd-local-global-aa5" at screen 0.72, screen 0.8000 left font ',10' tc rgb '#2ca02c'
-set title "Own stopping rule over 8 scene(s) (the report's 'Own stopping rule' table): lower left is better\nfastest converged everywhere: pd-local-global-aa5 (0.73x the baseline's time); closest: newton-clamp-backtracking (1.5e-08)"
+set title "Own stopping rule over 8 scene(s) (the report's 'Own stopping rule' table): lower left is better\nfastest converged everywhere: pd-local-global-aa5 (0.75x the baseline's time); closest: newton-clamp-backtracking (1.5e-08)"
 set logscale xy
 set grid lc rgb '#dddddd'
 set format y '1e%L'
