@@ -93,6 +93,8 @@ void eo_inexact_begin(eo_inexact *s, int kind, double eta, double gamma, double 
     s->fp.eta_max = eta_max;
     s->local_ratio = 0.1;
     s->eta_global = 1e-4;
+    s->global_max_iters = 20;
+    s->guard_off = 0;
     s->gnorm_prev = s->linres_prev = s->eta_prev = s->alpha_prev = s->dec_prev = s->dec_prev2 = NAN;
 }
 
@@ -106,7 +108,12 @@ double eo_inexact_before(eo_inexact *s, struct eo_linsolve *ls, double gnorm)
         break;
     case EO_FORCING_AUTO: /* ew2 while the solves are iterative */
         if (!ls || !eo_linsolve_is_iterative(ls)) return 0;
-        if (s->alpha_prev < 1 || (s->dec_prev2 > 0 && s->dec_prev > s->local_ratio * s->dec_prev2)) {
+        /* a guarded solve that needed many iterations: this solver's tight solves are
+         * costly (multigrid on nearly incompressible problems), ew2 from here on */
+        if (s->eta_prev == s->eta_global && eo_linsolve_get_stats(ls)->iterations > s->global_max_iters)
+            s->guard_off = 1;
+        if (!s->guard_off &&
+            (s->alpha_prev < 1 || (s->dec_prev2 > 0 && s->dec_prev > s->local_ratio * s->dec_prev2))) {
             /* not yet fast local convergence (forcing.h): η = eta_global */
             eta = s->eta_global;
             eo_linsolve_set_rtol(ls, eta);

@@ -96,6 +96,8 @@ typedef struct eo_newton_params {
     double local_ratio;  ///< auto: ew2 only after a full step whose decrement fell to at most
                          ///< this times the previous one (default 0.1)
     double eta_global;   ///< auto: η_k before that (default 1e-4)
+    int global_max_iters; ///< auto: a solve at eta_global needing more linear iterations ends the
+                          ///< guard for the minimization (default 20)
     double estimate_gate; ///< decrement-estimate gate (solvers/optim/newton.c): at x_k (k ≥ 2)
                           ///< the estimate solve is skipped unless the stopping rule passes
                           ///< with a decrement between d_{k−1}³/d_{k−2}² / estimate_gate
@@ -161,6 +163,10 @@ static const eo_param_desc newton_desc[] = {
     {.key = "eta_global", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, eta_global),
      .def.d = 1e-4, .min = 0, .max = 1, .range = EO_RANGE_OPEN,
      .help = "forcing = auto: the inner relative tolerance before fast local convergence (see local_ratio)"},
+    {.key = "global_max_iters", .kind = EO_PARAM_INT, .offset = offsetof(eo_newton_params, global_max_iters),
+     .def.i = 20, .min = 0, .range = EO_RANGE_MIN,
+     .help = "forcing = auto: a solve at eta_global that needs more linear iterations than this ends the guard "
+             "for the rest of the minimization (ew2 from then on: tight solves are costly with this solver)"},
     {.key = "estimate_gate", .kind = EO_PARAM_DOUBLE, .offset = offsetof(eo_newton_params, estimate_gate),
      .def.d = 10, .min = 0, .range = EO_RANGE_MIN,
      .help = "decrement-estimate solve at x_k (k >= 2) only if the stopping rule passes with a decrement between "
@@ -272,6 +278,7 @@ static int newton_begin(void *vst, const void *params, const eo_solver_ctx *sc, 
                      np->eta_min, np->eta_max);
     st->inexact.local_ratio = np->local_ratio;
     st->inexact.eta_global = np->eta_global;
+    st->inexact.global_max_iters = np->global_max_iters;
     if (!sc->linear) return eo_error(sc->ctx, EO_ERR_INVALID, "newton needs a linear solver");
     if (!sc->hessfix) return eo_error(sc->ctx, EO_ERR_INVALID, "newton needs a Hessian fix");
     if (!sc->hessfix->begin) return EO_OK;
