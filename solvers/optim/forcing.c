@@ -94,7 +94,7 @@ void eo_inexact_begin(eo_inexact *s, int kind, double eta, double gamma, double 
     s->local_ratio = 0.1;
     s->eta_global = 1e-4;
     s->global_max_iters = 20;
-    s->guard_off = 0;
+    s->guard_off = s->guarded = 0;
     s->gnorm_prev = s->linres_prev = s->eta_prev = s->alpha_prev = s->dec_prev = s->dec_prev2 = NAN;
 }
 
@@ -110,18 +110,11 @@ double eo_inexact_before(eo_inexact *s, struct eo_linsolve *ls, double gnorm)
         if (!ls || !eo_linsolve_is_iterative(ls)) return 0;
         /* a guarded solve that needed many iterations: this solver's tight solves are
          * costly (multigrid on nearly incompressible problems), ew2 from here on */
-        if (s->eta_prev == s->eta_global && eo_linsolve_get_stats(ls)->iterations > s->global_max_iters)
-            s->guard_off = 1;
-        if (!s->guard_off &&
-            (s->alpha_prev < 1 || (s->dec_prev2 > 0 && s->dec_prev > s->local_ratio * s->dec_prev2))) {
-            /* not yet fast local convergence (forcing.h): η = eta_global */
-            eta = s->eta_global;
-            eo_linsolve_set_rtol(ls, eta);
-            s->eta_prev = eta;
-            s->k++;
-            return eta;
-        }
-        eta = eo_forcing_eta(&s->fp, s->k, gnorm, s->gnorm_prev, s->eta_prev);
+        if (s->guarded && eo_linsolve_get_stats(ls)->iterations > s->global_max_iters) s->guard_off = 1;
+        /* not yet fast local convergence (forcing.h): η = eta_global */
+        s->guarded = !s->guard_off &&
+                     (s->alpha_prev < 1 || (s->dec_prev2 > 0 && s->dec_prev > s->local_ratio * s->dec_prev2));
+        eta = s->guarded ? s->eta_global : eo_forcing_eta(&s->fp, s->k, gnorm, s->gnorm_prev, s->eta_prev);
         break;
     case EO_FORCING_EW2: eta = eo_forcing_eta(&s->fp, s->k, gnorm, s->gnorm_prev, s->eta_prev); break;
     default: return 0;

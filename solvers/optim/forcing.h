@@ -85,6 +85,7 @@ typedef struct eo_inexact {
     double eta_global;  /* auto: η before fast local convergence */
     int global_max_iters; /* auto: a solve at eta_global needing more iterations ends the guard */
     int guard_off;        /* auto: the guard ended for this minimization */
+    int guarded;          /* auto: the last direction was solved at eta_global */
 } eo_inexact;
 
 /* kind from its name ("none", "constant", "ew1", "ew2", "auto"); -1 if unknown. */
